@@ -1,0 +1,17 @@
+# fleetnav_module(NAME <target> SOURCES ... DEPS ...): one static library per module, public
+# headers in include/, warnings on.
+function(fleetnav_module)
+  cmake_parse_arguments(ARG "" "NAME" "SOURCES;DEPS" ${ARGN})
+  add_library(${ARG_NAME} STATIC ${ARG_SOURCES})
+  target_include_directories(${ARG_NAME} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+  target_link_libraries(${ARG_NAME} PUBLIC ${ARG_DEPS} PRIVATE fleetnav_warnings)
+endfunction()
+
+# fleetnav_test(NAME <name> SOURCES ... DEPS ... [LABELS ...]): one GoogleTest binary.
+function(fleetnav_test)
+  cmake_parse_arguments(ARG "" "NAME" "SOURCES;DEPS;LABELS" ${ARGN})
+  add_executable(${ARG_NAME} ${ARG_SOURCES})
+  target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS} GTest::gtest_main GTest::gmock fleetnav_warnings)
+  include(GoogleTest)
+  gtest_discover_tests(${ARG_NAME} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${ARG_LABELS}")
+endfunction()

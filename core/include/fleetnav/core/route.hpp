@@ -1,0 +1,110 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "fleetnav/core/pose2.hpp"
+
+namespace fleetnav {
+
+/// What ends an action (Lely thesis §6.3: "until distance or stripe").
+enum class EndConditionKind {
+  kDistance,        ///< the action's own distance or angle is covered
+  kMarkerDetected,  ///< an inductive sensor crosses the stripe marker `marker_id`
+  kStripeEnd,       ///< the followed stripe ends
+  kChargerContact,  ///< the charger contact closes
+  kGoalReached,     ///< the navigation goal is reached within tolerance
+};
+
+struct EndCondition {
+  EndConditionKind kind = EndConditionKind::kDistance;
+  int marker_id = 0;  ///< for kMarkerDetected
+};
+
+/// Turn in place by angle_rad (positive = counter-clockwise / left).
+struct TurnAction {
+  double angle_rad = 0.0;
+  double yaw_rate_radps = 0.3;
+};
+/// Drive straight, holding the initial heading (PID), for distance_m (> 0 forward).
+struct StraightAction {
+  double distance_m = 0.0;
+  double speed_mps = 0.25;
+};
+/// Map-based navigation through waypoints to a goal pose.
+struct FreeNavigationAction {
+  std::vector<Eigen::Vector2d> waypoints_m;
+  Pose2 goal;
+  double speed_mps = 0.25;
+};
+enum class Side { kLeft, kRight };
+/// Follow a feeding fence on one side at a set distance (ultrasonic PID), for distance_m.
+struct FenceNavigationAction {
+  Side side = Side::kLeft;
+  double fence_distance_m = 0.5;
+  double distance_m = 0.0;
+  double speed_mps = 0.25;
+};
+/// Follow a numbered floor stripe with the inductive pair, for distance_m.
+struct StripeNavigationAction {
+  int stripe_id = 0;
+  double distance_m = 0.0;
+  double speed_mps = 0.25;
+};
+enum class DockTarget { kCharger, kTrolley };
+/// Dock at the charger or under a trolley.
+struct DockAction {
+  DockTarget target = DockTarget::kCharger;
+  std::string target_id;
+};
+
+using ActionParams = std::variant<TurnAction, StraightAction, FreeNavigationAction,
+                                  FenceNavigationAction, StripeNavigationAction, DockAction>;
+
+/// One step of a route with its end condition.
+struct RouteAction {
+  ActionParams params;
+  EndCondition end;
+};
+
+/// A named, ordered list of actions on one map (the thesis's route file, §6.3). Validate()
+/// checks each action on its own (finite numbers, non-zero distance or angle, positive speed,
+/// end condition fitting the action); errors are InvalidArgument and name the action's index,
+/// e.g. "actions[2] (straight): distance_m must be > 0".
+struct Route {
+  std::string name;
+  std::string map_id;
+  std::vector<RouteAction> actions;
+
+  absl::Status Validate() const;
+};
+
+std::string_view ActionTypeName(const ActionParams& params);
+std::string_view EndConditionKindName(EndConditionKind kind);
+absl::StatusOr<EndConditionKind> ParseEndConditionKind(std::string_view name);
+
+/// Route YAML:
+///   name: feed-round-1
+///   map: barn
+///   actions:
+///     - straight: {distance: 5.0, speed: 0.25}
+///     - turn: {angle_deg: 90, yaw_rate: 0.3}
+///     - straight: {distance: 3.0}
+///       until: {marker: 4}            # optional end condition
+///     - free_navigation: {waypoints: [[1, 2], [3, 4]], goal: {x: 5, y: 6, yaw_deg: 90}}
+///     - fence_navigation: {side: left, fence_distance: 0.5, distance: 10}
+///     - stripe_navigation: {stripe: 3, distance: 12}
+///       until: stripe_end
+///     - dock: {target: charger}
+/// Unknown action types and unknown keys are InvalidArgument naming the index.
+absl::StatusOr<Route> ParseRouteYaml(std::string_view yaml_text);
+std::string RouteToYaml(const Route& route);
+absl::StatusOr<Route> LoadRoute(const std::string& path);
+absl::Status SaveRoute(const Route& route, const std::string& path);
+
+}  // namespace fleetnav
