@@ -1,0 +1,29 @@
+#include "fleetnav/core/clock.hpp"
+
+#include <chrono>
+
+namespace fleetnav {
+
+int64_t SystemClock::NowNs() const {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+int64_t ManualClock::NowNs() const {
+  absl::MutexLock lock(&mutex_);
+  return now_ns_;
+}
+
+void ManualClock::AdvanceNs(int64_t delta_ns) {
+  if (delta_ns <= 0) return;  // time never goes backwards
+  absl::MutexLock lock(&mutex_);
+  now_ns_ += delta_ns;
+}
+
+void ManualClock::SetNs(int64_t now_ns) {
+  absl::MutexLock lock(&mutex_);
+  if (now_ns > now_ns_) now_ns_ = now_ns;
+}
+
+}  // namespace fleetnav
