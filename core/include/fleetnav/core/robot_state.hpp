@@ -1,0 +1,64 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "fleetnav/core/pose2.hpp"
+#include "fleetnav/core/robot_model.hpp"
+
+namespace fleetnav {
+
+/// Which controller drives the robot (Lely thesis §6.3's five modes, split into their reactive
+/// and map-based halves, plus idle, docking, paused and fault).
+enum class NavigationMode {
+  kIdle,
+  kTurn,
+  kStraight,
+  kFreeNavigation,
+  kFenceReactive,
+  kFenceMapBased,
+  kStripeReactive,
+  kStripeMapBased,
+  kDocking,
+  kPaused,
+  kFault,
+};
+
+enum class ConnectionState { kOnline, kStale, kOffline };
+
+/// Planar velocity in base_link.
+struct Twist2 {
+  double vx_mps = 0.0;
+  double vy_mps = 0.0;
+  double yaw_rate_radps = 0.0;
+};
+
+/// What a robot reports many times a second. stamp_ns is the robot's clock (sim time in a
+/// simulated run). covariance is row-major 3×3 over (x, y, yaw).
+struct Telemetry {
+  int64_t stamp_ns = 0;
+  uint64_t sequence = 0;
+  Pose2 pose_in_map;
+  std::array<double, 9> covariance{};
+  Pose2 pose_in_odom;
+  Twist2 velocity;
+  NavigationMode mode = NavigationMode::kIdle;
+  double localization_confidence = 0.0;
+  bool localization_lost = false;
+  double battery_fraction = 1.0;
+  std::string job_id;
+  int action_index = -1;
+  double job_progress_fraction = 0.0;
+};
+
+/// Who a robot says it is when it connects.
+struct RobotIdentity {
+  std::string robot_id;
+  RobotModel model;
+  std::vector<std::string> capabilities;
+  std::string software_version;
+};
+
+}  // namespace fleetnav

@@ -1,0 +1,92 @@
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "fleetnav/core/robot_state.hpp"
+
+namespace fleetnav {
+
+struct EncoderReading {
+  std::string name;
+  int64_t ticks = 0;  ///< cumulative since start
+};
+
+struct ImuSample {
+  double gyro_z_radps = 0.0;
+  double accel_x_mps2 = 0.0;
+  double accel_y_mps2 = 0.0;
+};
+
+struct RangeReading {
+  std::string name;
+  double range_m = 0.0;  ///< max range when there is no echo
+  bool echo = false;
+};
+
+struct InductiveSample {
+  std::string name;
+  bool detected = false;
+};
+
+struct LaserScanSample {
+  std::string name;
+  double angle_min_rad = 0.0;
+  double angle_increment_rad = 0.0;
+  double range_max_m = 0.0;
+  std::vector<float> ranges_m;
+};
+
+struct GpsFix {
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double stddev_m = 0.0;
+};
+
+/// Everything a robot's sensors report in one control tick, stamped with the tick and the
+/// (simulated or real) time. The HAL delivers one frame per tick; the agent answers with one
+/// ActuatorCommand for the same tick.
+struct SensorFrame {
+  uint64_t tick = 0;
+  int64_t stamp_ns = 0;
+  double control_period_s = 0.0;
+  std::vector<EncoderReading> encoders;  ///< differential: "left", "right"
+  ImuSample imu;
+  std::vector<RangeReading> ultrasonic;
+  std::vector<InductiveSample> inductive;
+  std::vector<LaserScanSample> lasers;
+  bool charger_contact = false;
+  bool bumper = false;
+  std::optional<GpsFix> gps;
+
+  const EncoderReading* FindEncoder(std::string_view name) const {
+    for (const EncoderReading& e : encoders) {
+      if (e.name == name) return &e;
+    }
+    return nullptr;
+  }
+};
+
+/// Wheel angular velocities for a differential drive.
+struct WheelSpeeds {
+  double left_radps = 0.0;
+  double right_radps = 0.0;
+};
+
+/// Speed and steering angle for an Ackermann drive.
+struct AckermannDrive {
+  double speed_mps = 0.0;
+  double steering_rad = 0.0;
+};
+
+/// What the agent tells the drive for one tick: a body twist (tracked by the robot's own motor
+/// controller), wheel speeds, or an Ackermann command.
+struct ActuatorCommand {
+  uint64_t tick = 0;
+  std::variant<Twist2, WheelSpeeds, AckermannDrive> drive = Twist2{};
+};
+
+}  // namespace fleetnav

@@ -1,0 +1,72 @@
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "absl/synchronization/mutex.h"
+#include "fleetnav/core/clock.hpp"
+#include "fleetnav/core/robot_state.hpp"
+
+namespace fleetnav::server {
+
+/// What the server knows about one robot at one moment.
+struct RobotRecord {
+  RobotIdentity identity;
+  ConnectionState connection = ConnectionState::kOffline;
+  std::optional<Telemetry> last_telemetry;
+  int64_t last_seen_ns = 0;      ///< server clock
+  uint64_t telemetry_count = 0;  ///< messages accepted since the server started
+  std::string current_job_id;
+  uint64_t revision = 0;  ///< grows on every change; lets watchers send only what changed
+};
+
+struct FleetRegistryParams {
+  /// A connected robot with no telemetry for this long is shown as stale.
+  double stale_after_s = 2.0;
+  absl::Status Validate() const;
+};
+
+/// The live table of robots: who is connected, their latest telemetry and connection state.
+/// Connection rule: a second connection with the same robot id replaces the first; the first
+/// session's later telemetry is refused with FailedPrecondition so that its stream ends.
+/// Thread-safe; every method takes the internal mutex briefly and never blocks on I/O.
+class FleetRegistry {
+ public:
+  FleetRegistry(const Clock* clock, FleetRegistryParams params);
+
+  /// Registers a connection and returns its session id.
+  uint64_t Connect(const RobotIdentity& identity);
+  /// Accepts telemetry from a live session. NotFound for an unknown robot,
+  /// FailedPrecondition for a replaced session.
+  absl::Status RecordTelemetry(const std::string& robot_id, uint64_t session,
+                               const Telemetry& telemetry);
+  /// Marks the robot offline if `session` is still its current one.
+  void Disconnect(const std::string& robot_id, uint64_t session);
+
+  absl::StatusOr<RobotRecord> Get(const std::string& robot_id) const;
+  /// Every robot, ordered by id, with stale state computed at the current time.
+  std::vector<RobotRecord> Snapshot() const;
+  /// Robots whose revision is greater than `after_revision`; sets *latest_revision.
+  std::vector<RobotRecord> ChangedSince(uint64_t after_revision, uint64_t* latest_revision) const;
+
+ private:
+  struct Entry {
+    RobotRecord record;
+    uint64_t session = 0;
+  };
+  RobotRecord WithConnectionState(const Entry& entry) const ABSL_SHARED_LOCKS_REQUIRED(mutex_);
+
+  const Clock* clock_;
+  const FleetRegistryParams params_;
+  mutable absl::Mutex mutex_;
+  std::map<std::string, Entry> robots_ ABSL_GUARDED_BY(mutex_);
+  uint64_t next_session_ ABSL_GUARDED_BY(mutex_) = 1;
+  uint64_t revision_ ABSL_GUARDED_BY(mutex_) = 0;
+};
+
+}  // namespace fleetnav::server

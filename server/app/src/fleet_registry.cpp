@@ -1,0 +1,94 @@
+#include "fleetnav/server/fleet_registry.hpp"
+
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+
+namespace fleetnav::server {
+
+absl::Status FleetRegistryParams::Validate() const {
+  if (!std::isfinite(stale_after_s) || stale_after_s <= 0.0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("stale_after_s must be finite and > 0, got ", stale_after_s));
+  }
+  return absl::OkStatus();
+}
+
+FleetRegistry::FleetRegistry(const Clock* clock, FleetRegistryParams params)
+    : clock_(clock), params_(params) {}
+
+uint64_t FleetRegistry::Connect(const RobotIdentity& identity) {
+  absl::MutexLock lock(&mutex_);
+  Entry& entry = robots_[identity.robot_id];
+  entry.session = next_session_++;
+  entry.record.identity = identity;
+  entry.record.connection = ConnectionState::kOnline;
+  entry.record.last_seen_ns = clock_->NowNs();
+  entry.record.revision = ++revision_;
+  return entry.session;
+}
+
+absl::Status FleetRegistry::RecordTelemetry(const std::string& robot_id, uint64_t session,
+                                            const Telemetry& telemetry) {
+  absl::MutexLock lock(&mutex_);
+  auto it = robots_.find(robot_id);
+  if (it == robots_.end()) {
+    return absl::NotFoundError(absl::StrCat("robot '", robot_id, "' is not registered"));
+  }
+  Entry& entry = it->second;
+  if (entry.session != session) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("robot '", robot_id, "' connected again; this stream was replaced"));
+  }
+  entry.record.last_telemetry = telemetry;
+  entry.record.last_seen_ns = clock_->NowNs();
+  entry.record.connection = ConnectionState::kOnline;
+  ++entry.record.telemetry_count;
+  entry.record.revision = ++revision_;
+  return absl::OkStatus();
+}
+
+void FleetRegistry::Disconnect(const std::string& robot_id, uint64_t session) {
+  absl::MutexLock lock(&mutex_);
+  auto it = robots_.find(robot_id);
+  if (it == robots_.end() || it->second.session != session) return;
+  it->second.record.connection = ConnectionState::kOffline;
+  it->second.record.revision = ++revision_;
+}
+
+RobotRecord FleetRegistry::WithConnectionState(const Entry& entry) const {
+  RobotRecord record = entry.record;
+  if (record.connection == ConnectionState::kOnline) {
+    const double silent_s = static_cast<double>(clock_->NowNs() - record.last_seen_ns) * 1e-9;
+    if (silent_s > params_.stale_after_s) record.connection = ConnectionState::kStale;
+  }
+  return record;
+}
+
+absl::StatusOr<RobotRecord> FleetRegistry::Get(const std::string& robot_id) const {
+  absl::ReaderMutexLock lock(&mutex_);
+  auto it = robots_.find(robot_id);
+  if (it == robots_.end()) return absl::NotFoundError(absl::StrCat("robot '", robot_id, "' not found"));
+  return WithConnectionState(it->second);
+}
+
+std::vector<RobotRecord> FleetRegistry::Snapshot() const {
+  absl::ReaderMutexLock lock(&mutex_);
+  std::vector<RobotRecord> out;
+  out.reserve(robots_.size());
+  for (const auto& [id, entry] : robots_) out.push_back(WithConnectionState(entry));
+  return out;
+}
+
+std::vector<RobotRecord> FleetRegistry::ChangedSince(uint64_t after_revision,
+                                                     uint64_t* latest_revision) const {
+  absl::ReaderMutexLock lock(&mutex_);
+  std::vector<RobotRecord> out;
+  for (const auto& [id, entry] : robots_) {
+    if (entry.record.revision > after_revision) out.push_back(WithConnectionState(entry));
+  }
+  *latest_revision = revision_;
+  return out;
+}
+
+}  // namespace fleetnav::server

@@ -1,0 +1,41 @@
+#include "fleetnav/server/map_catalog.hpp"
+
+#include "absl/strings/str_cat.h"
+#include "absl/time/clock.h"
+#include "fleetnav/core/status_macros.hpp"
+
+namespace fleetnav::server {
+
+absl::Status MapCatalog::ValidateMapId(const std::string& map_id) {
+  bool ok = !map_id.empty() && map_id.size() <= 64;
+  for (char c : map_id) {
+    ok = ok && ((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-');
+  }
+  if (!ok) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("map_id: must be 1-64 characters of [a-z0-9_-], got '", map_id, "'"));
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<storage::MapInfo> MapCatalog::Put(const std::string& map_id,
+                                                 const OccupancyGrid& grid,
+                                                 const std::string& description) {
+  RETURN_IF_ERROR(ValidateMapId(map_id));
+  const int64_t now_ms = absl::ToUnixMillis(absl::Now());
+  return repository_->PutMap(map_id, grid, description, now_ms);
+}
+
+absl::StatusOr<storage::StoredMap> MapCatalog::Get(const std::string& map_id, uint32_t version) {
+  RETURN_IF_ERROR(ValidateMapId(map_id));
+  return repository_->GetMap(map_id, version);
+}
+
+absl::StatusOr<std::vector<storage::MapInfo>> MapCatalog::List() { return repository_->ListMaps(); }
+
+absl::Status MapCatalog::Delete(const std::string& map_id) {
+  RETURN_IF_ERROR(ValidateMapId(map_id));
+  return repository_->DeleteMap(map_id);
+}
+
+}  // namespace fleetnav::server

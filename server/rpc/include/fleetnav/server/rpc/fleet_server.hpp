@@ -1,0 +1,55 @@
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <string>
+
+#include <grpcpp/server.h>
+
+#include "absl/status/statusor.h"
+#include "fleetnav/core/clock.hpp"
+#include "fleetnav/server/fleet_registry.hpp"
+#include "fleetnav/server/map_catalog.hpp"
+#include "fleetnav/server/rpc/agent_service.hpp"
+#include "fleetnav/server/rpc/fleet_service.hpp"
+#include "fleetnav/storage/sqlite/sqlite_database.hpp"
+#include "fleetnav/storage/sqlite/sqlite_map_repository.hpp"
+
+namespace fleetnav::server {
+
+struct FleetServerParams {
+  std::string listen_address = "127.0.0.1:50051";  ///< port 0 picks a free port
+  std::string db_path = "fleetnav.db";             ///< SQLite file, created if missing
+  FleetRegistryParams registry;
+  int max_message_bytes = 64 << 20;  ///< largest request accepted (a 8k×8k map fits)
+  absl::Status Validate() const;
+};
+
+/// fleetnavd as a library: opens the store, builds FleetService and AgentService with health
+/// checking and reflection, and serves on a socket. Used by main() and by integration tests
+/// (real gRPC over loopback). Start once; Shutdown() ends open streams within a second.
+class FleetServer {
+ public:
+  explicit FleetServer(FleetServerParams params);
+  ~FleetServer();
+
+  /// Opens the database and starts serving; returns the bound port.
+  absl::StatusOr<int> Start();
+  void Shutdown();
+  void Wait();
+  FleetRegistry& registry() { return registry_; }
+
+ private:
+  FleetServerParams params_;
+  SystemClock clock_;
+  std::atomic<bool> stopping_{false};
+  FleetRegistry registry_;
+  std::unique_ptr<storage::SqliteDatabase> db_;
+  std::unique_ptr<storage::SqliteMapRepository> map_repository_;
+  std::unique_ptr<MapCatalog> maps_;
+  std::unique_ptr<FleetServiceImpl> fleet_service_;
+  std::unique_ptr<AgentServiceImpl> agent_service_;
+  std::unique_ptr<grpc::Server> server_;
+};
+
+}  // namespace fleetnav::server

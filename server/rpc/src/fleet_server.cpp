@@ -1,0 +1,65 @@
+#include "fleetnav/server/rpc/fleet_server.hpp"
+
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/health_check_service_interface.h>
+#include <grpcpp/server_builder.h>
+
+#include <chrono>
+
+#include "absl/strings/str_cat.h"
+#include "fleetnav/core/status_macros.hpp"
+#include "fleetnav/storage/sqlite/schema.hpp"
+
+namespace fleetnav::server {
+
+absl::Status FleetServerParams::Validate() const {
+  if (listen_address.empty()) return absl::InvalidArgumentError("listen_address: empty");
+  if (db_path.empty()) return absl::InvalidArgumentError("db_path: empty");
+  if (max_message_bytes < 1024) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("max_message_bytes: must be >= 1024, got ", max_message_bytes));
+  }
+  return registry.Validate();
+}
+
+FleetServer::FleetServer(FleetServerParams params)
+    : params_(std::move(params)), registry_(&clock_, params_.registry) {}
+
+FleetServer::~FleetServer() { Shutdown(); }
+
+absl::StatusOr<int> FleetServer::Start() {
+  RETURN_IF_ERROR(params_.Validate());
+  ASSIGN_OR_RETURN(db_,
+                   storage::SqliteDatabase::Open(params_.db_path, storage::FleetSchemaMigrations()));
+  map_repository_ = std::make_unique<storage::SqliteMapRepository>(db_.get());
+  maps_ = std::make_unique<MapCatalog>(map_repository_.get());
+  fleet_service_ = std::make_unique<FleetServiceImpl>(maps_.get(), &registry_, &stopping_);
+  agent_service_ = std::make_unique<AgentServiceImpl>(&registry_, &stopping_);
+
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::ServerBuilder builder;
+  int port = 0;
+  builder.AddListeningPort(params_.listen_address, grpc::InsecureServerCredentials(), &port);
+  builder.SetMaxReceiveMessageSize(params_.max_message_bytes);
+  builder.SetMaxSendMessageSize(params_.max_message_bytes);
+  builder.RegisterService(fleet_service_.get());
+  builder.RegisterService(agent_service_.get());
+  server_ = builder.BuildAndStart();
+  if (server_ == nullptr || port == 0) {
+    return absl::UnavailableError(
+        absl::StrCat("cannot listen on '", params_.listen_address, "'"));
+  }
+  return port;
+}
+
+void FleetServer::Shutdown() {
+  if (server_ == nullptr || stopping_.exchange(true)) return;
+  server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
+}
+
+void FleetServer::Wait() {
+  if (server_ != nullptr) server_->Wait();
+}
+
+}  // namespace fleetnav::server

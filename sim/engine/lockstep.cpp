@@ -1,0 +1,186 @@
+#include "fleetnav/sim/lockstep.hpp"
+
+#include <chrono>
+#include <thread>
+
+#include "absl/strings/str_cat.h"
+
+namespace fleetnav::sim {
+
+absl::Status LockstepParams::Validate() const {
+  if (!(real_time_factor >= 0.0)) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("real_time_factor: must be >= 0, got ", real_time_factor));
+  }
+  if (min_attached < 0) return absl::InvalidArgumentError("min_attached: must be >= 0");
+  if (!(max_sim_time_s >= 0.0)) return absl::InvalidArgumentError("max_sim_time_s: must be >= 0");
+  return absl::OkStatus();
+}
+
+Attachment::~Attachment() { owner_->Detach(robot_id_); }
+
+std::optional<SensorFrame> Attachment::WaitFrame() { return owner_->WaitFrame(robot_id_); }
+
+absl::Status Attachment::Submit(const ActuatorCommand& command) {
+  return owner_->Submit(robot_id_, command);
+}
+
+Lockstep::Lockstep(Simulation* simulation, LockstepParams params)
+    : simulation_(simulation), params_(params) {}
+
+absl::StatusOr<std::unique_ptr<Attachment>> Lockstep::Attach(const std::string& robot_id) {
+  absl::MutexLock lock(&mutex_);
+  absl::StatusOr<RobotModel> model = simulation_->ModelOf(robot_id);
+  if (!model.ok()) return model.status();
+  if (slots_.count(robot_id) != 0) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("robot '", robot_id, "' already has an agent attached"));
+  }
+  slots_[robot_id] = Slot{};
+  return std::unique_ptr<Attachment>(new Attachment(this, robot_id));
+}
+
+void Lockstep::Detach(const std::string& robot_id) {
+  absl::MutexLock lock(&mutex_);
+  slots_.erase(robot_id);
+  (void)simulation_->Command(robot_id, ActuatorCommand{});  // a robot without an agent stops
+}
+
+std::optional<SensorFrame> Lockstep::WaitFrame(const std::string& robot_id) {
+  absl::MutexLock lock(&mutex_);
+  auto has_frame = [&]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) {
+    if (stopping_) return true;
+    auto it = slots_.find(robot_id);
+    return it == slots_.end() || (it->second.frame.has_value() && !it->second.taken);
+  };
+  mutex_.Await(absl::Condition(&has_frame));
+  auto it = slots_.find(robot_id);
+  if (stopping_ || it == slots_.end()) return std::nullopt;
+  it->second.taken = true;
+  return it->second.frame;
+}
+
+absl::Status Lockstep::Submit(const std::string& robot_id, const ActuatorCommand& command) {
+  absl::MutexLock lock(&mutex_);
+  auto it = slots_.find(robot_id);
+  if (it == slots_.end()) return absl::FailedPreconditionError("not attached");
+  Slot& slot = it->second;
+  if (!slot.frame || command.tick != slot.frame->tick) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "command.tick: expected ", slot.frame ? slot.frame->tick : 0, ", got ", command.tick));
+  }
+  if (slot.answered) return absl::InvalidArgumentError("command: tick already answered");
+  absl::Status status = simulation_->Command(robot_id, command);
+  slot.answered = true;  // an invalid command still answers the tick (the robot keeps its last one)
+  return status;
+}
+
+bool Lockstep::ReadyToTick() const {
+  if (stopping_) return true;
+  if (requested_ticks_ > 0) return true;
+  return static_cast<int>(slots_.size()) >= params_.min_attached && !slots_.empty();
+}
+
+bool Lockstep::AllAnswered() const {
+  if (stopping_) return true;
+  for (const auto& [id, slot] : slots_) {
+    if (!slot.answered) return false;
+  }
+  return true;
+}
+
+void Lockstep::Run() {
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point wall_start = Clock::now();
+  int64_t sim_start_ns = now_ns();
+  double rtf_in_force = 0.0;
+  while (true) {
+    absl::MutexLock lock(&mutex_);
+    mutex_.Await(absl::Condition(this, &Lockstep::ReadyToTick));
+    if (stopping_) break;
+    if (params_.max_sim_time_s > 0.0 &&
+        simulation_->now_ns() >= static_cast<int64_t>(params_.max_sim_time_s * 1e9)) {
+      stopping_ = true;
+      break;
+    }
+    // Hand out this tick's frames, then wait for every attached agent to answer.
+    for (auto& [id, slot] : slots_) {
+      absl::StatusOr<SensorFrame> frame = simulation_->Sense(id);
+      slot.frame = frame.ok() ? std::optional<SensorFrame>(*frame) : std::nullopt;
+      slot.taken = false;
+      slot.answered = !frame.ok();
+    }
+    mutex_.Await(absl::Condition(this, &Lockstep::AllAnswered));
+    if (stopping_) break;
+    simulation_->Advance();
+    if (requested_ticks_ > 0) --requested_ticks_;
+
+    const double rtf = params_.real_time_factor;
+    if (rtf != rtf_in_force) {  // restart the pacing reference when the factor changes
+      rtf_in_force = rtf;
+      wall_start = Clock::now();
+      sim_start_ns = simulation_->now_ns();
+    }
+    if (rtf > 0.0) {
+      const double sim_elapsed_s = static_cast<double>(simulation_->now_ns() - sim_start_ns) * 1e-9;
+      const auto due = wall_start + std::chrono::duration_cast<Clock::duration>(
+                                        std::chrono::duration<double>(sim_elapsed_s / rtf));
+      mutex_.Unlock();
+      std::this_thread::sleep_until(due);
+      mutex_.Lock();
+    }
+  }
+}
+
+void Lockstep::Stop() {
+  absl::MutexLock lock(&mutex_);
+  stopping_ = true;
+}
+
+bool Lockstep::stopped() const {
+  absl::MutexLock lock(&mutex_);
+  return stopping_;
+}
+
+void Lockstep::RequestTicks(uint64_t ticks) {
+  absl::MutexLock lock(&mutex_);
+  requested_ticks_ += ticks;
+}
+
+void Lockstep::SetRealTimeFactor(double real_time_factor) {
+  absl::MutexLock lock(&mutex_);
+  params_.real_time_factor = real_time_factor;
+}
+
+absl::Status Lockstep::Spawn(const std::string& robot_id, const std::string& kind_name,
+                             const Pose2& pose) {
+  absl::MutexLock lock(&mutex_);
+  return simulation_->AddRobot(robot_id, kind_name, pose);
+}
+
+void Lockstep::Inspect(const std::function<void(const Simulation&)>& read) const {
+  absl::MutexLock lock(&mutex_);
+  read(*simulation_);
+}
+
+GroundTruthSnapshot Lockstep::GroundTruth() const {
+  absl::MutexLock lock(&mutex_);
+  return simulation_->GroundTruth();
+}
+
+uint64_t Lockstep::tick() const {
+  absl::MutexLock lock(&mutex_);
+  return simulation_->tick();
+}
+
+int64_t Lockstep::now_ns() const {
+  absl::MutexLock lock(&mutex_);
+  return simulation_->now_ns();
+}
+
+size_t Lockstep::attached_count() const {
+  absl::MutexLock lock(&mutex_);
+  return slots_.size();
+}
+
+}  // namespace fleetnav::sim

@@ -1,0 +1,117 @@
+#include "fleetnav/sim/ode_world.hpp"
+
+#include <mutex>
+
+namespace fleetnav::sim {
+namespace {
+
+constexpr int kMaxContactsPerPair = 8;
+constexpr int kQuickStepIterations = 20;
+
+// ODE keeps process-wide state; initialise it once and keep it for the process's life.
+void EnsureOdeInitialised() {
+  static std::once_flag once;
+  std::call_once(once, [] { dInitODE2(0); });
+}
+
+uint64_t SplitMix64(uint64_t* state) {
+  uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+const GeomTag* TagOf(dGeomID geom) { return static_cast<const GeomTag*>(dGeomGetData(geom)); }
+
+}  // namespace
+
+OdeWorld::OdeWorld(const WorldDescription& description, uint64_t seed) : rng_state_(seed) {
+  EnsureOdeInitialised();
+  world_ = dWorldCreate();
+  space_ = dHashSpaceCreate(nullptr);
+  contact_group_ = dJointGroupCreate(0);
+  dWorldSetGravity(world_, 0, 0, -9.81);
+  dWorldSetQuickStepNumIterations(world_, kQuickStepIterations);
+  dWorldSetERP(world_, 0.2);
+  dWorldSetCFM(world_, 1e-7);
+  dWorldSetContactSurfaceLayer(world_, 0.001);
+
+  dGeomID ground = dCreatePlane(space_, 0, 0, 1, 0);
+  dGeomSetData(ground, MakeTag(GeomRole::kGround, -1));
+  for (const BoxObstacle& box : description.boxes) {
+    dGeomID geom = dCreateBox(space_, box.size_m.x(), box.size_m.y(), box.height_m);
+    dGeomSetPosition(geom, box.center_m.x(), box.center_m.y(), 0.5 * box.height_m);
+    dMatrix3 rotation;
+    dRFromAxisAndAngle(rotation, 0, 0, 1, box.yaw_rad);
+    dGeomSetRotation(geom, rotation);
+    dGeomSetData(geom, MakeTag(GeomRole::kStatic, -1));
+  }
+  for (const CylinderObstacle& cylinder : description.cylinders) {
+    dGeomID geom = dCreateCylinder(space_, cylinder.radius_m, cylinder.height_m);
+    dGeomSetPosition(geom, cylinder.center_m.x(), cylinder.center_m.y(), 0.5 * cylinder.height_m);
+    dGeomSetData(geom, MakeTag(GeomRole::kStatic, -1));
+  }
+}
+
+OdeWorld::~OdeWorld() {
+  dJointGroupDestroy(contact_group_);
+  dSpaceDestroy(space_);  // destroys the geoms it holds
+  dWorldDestroy(world_);  // destroys bodies and joints
+}
+
+GeomTag* OdeWorld::MakeTag(GeomRole role, int robot_index) {
+  tags_.push_back(GeomTag{role, robot_index});
+  return &tags_.back();
+}
+
+void OdeWorld::Step(double step_s) {
+  contacts_.clear();
+  dSpaceCollide(space_, this, &OdeWorld::NearCallback);
+  dRandSetSeed(static_cast<unsigned long>(SplitMix64(&rng_state_)));
+  dWorldQuickStep(world_, step_s);
+  dJointGroupEmpty(contact_group_);
+}
+
+void OdeWorld::NearCallback(void* data, dGeomID a, dGeomID b) {
+  static_cast<OdeWorld*>(data)->HandlePair(a, b);
+}
+
+void OdeWorld::HandlePair(dGeomID a, dGeomID b) {
+  const GeomTag* tag_a = TagOf(a);
+  const GeomTag* tag_b = TagOf(b);
+  if (tag_a == nullptr || tag_b == nullptr) return;
+  const bool a_static = tag_a->role == GeomRole::kGround || tag_a->role == GeomRole::kStatic;
+  const bool b_static = tag_b->role == GeomRole::kGround || tag_b->role == GeomRole::kStatic;
+  if (a_static && b_static) return;
+  // A robot's own parts never collide with each other.
+  if (!a_static && !b_static && tag_a->robot_index == tag_b->robot_index) return;
+
+  dContact contacts[kMaxContactsPerPair];
+  const int count = dCollide(a, b, kMaxContactsPerPair, &contacts[0].geom, sizeof(dContact));
+  if (count == 0) return;
+
+  const bool caster = tag_a->role == GeomRole::kCaster || tag_b->role == GeomRole::kCaster;
+  const bool wheel = tag_a->role == GeomRole::kWheel || tag_b->role == GeomRole::kWheel;
+  double mu = 0.4;
+  if (caster) mu = 0.0;  // a swivel caster carries load but resists no direction
+  if (wheel) mu = 1.0;
+
+  for (int i = 0; i < count; ++i) {
+    dSurfaceParameters& surface = contacts[i].surface;
+    surface.mode = dContactApprox1 | dContactSoftCFM | dContactSoftERP;
+    surface.mu = mu;
+    surface.soft_cfm = 1e-6;
+    surface.soft_erp = 0.3;
+    dJointID joint = dJointCreateContact(world_, contact_group_, &contacts[i]);
+    dJointAttach(joint, dGeomGetBody(a), dGeomGetBody(b));
+  }
+  if (tag_a->role == GeomRole::kChassis || tag_b->role == GeomRole::kChassis) {
+    const GeomTag* robot = tag_a->role == GeomRole::kChassis ? tag_a : tag_b;
+    const GeomTag* other = robot == tag_a ? tag_b : tag_a;
+    if (other->role != GeomRole::kGround) {
+      contacts_.push_back({robot->robot_index, other->robot_index});
+    }
+  }
+}
+
+}  // namespace fleetnav::sim

@@ -1,0 +1,96 @@
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "absl/synchronization/mutex.h"
+#include "fleetnav/sim/simulation.hpp"
+
+namespace fleetnav::sim {
+
+struct LockstepParams {
+  /// Cap on sim time / wall time; 0 runs as fast as the agents answer.
+  double real_time_factor = 0.0;
+  /// Ticks advance on their own only while at least this many agents are attached.
+  int min_attached = 1;
+  /// Stop after this much sim time (0: never).
+  double max_sim_time_s = 0.0;
+  absl::Status Validate() const;
+};
+
+class Lockstep;
+
+/// One agent's side of the lockstep barrier for one robot: take the frame of each tick, answer
+/// with a command for that tick. Detaches on destruction. Thread-safe against the loop.
+class Attachment {
+ public:
+  ~Attachment();
+  /// Blocks until the frame of the next tick is ready; nullopt when the simulation stops.
+  std::optional<SensorFrame> WaitFrame();
+  /// The command for the tick of the last frame; InvalidArgument for another tick.
+  absl::Status Submit(const ActuatorCommand& command);
+  const std::string& robot_id() const { return robot_id_; }
+
+ private:
+  friend class Lockstep;
+  Attachment(Lockstep* owner, std::string robot_id) : owner_(owner), robot_id_(std::move(robot_id)) {}
+  Lockstep* owner_;
+  std::string robot_id_;
+};
+
+/// Barrier lockstep over a Simulation (ARCHITECTURE.md, "sim time is the only clock"): each
+/// tick it hands every attached agent its sensor frame and advances only when every attached
+/// agent has answered; an agent that detaches leaves the barrier and its robot stops. With
+/// real_time_factor > 0 the loop sleeps so that sim time runs at most that much faster than
+/// wall time. Thread-safe: Run() on one thread, attachments and queries from any other.
+class Lockstep {
+ public:
+  Lockstep(Simulation* simulation, LockstepParams params);
+
+  /// FailedPrecondition if already attached, NotFound for an unknown robot.
+  absl::StatusOr<std::unique_ptr<Attachment>> Attach(const std::string& robot_id);
+  /// Runs ticks until Stop() or max_sim_time_s.
+  void Run();
+  void Stop();
+  /// Advances `ticks` ticks now, whether or not min_attached agents are there.
+  void RequestTicks(uint64_t ticks);
+  void SetRealTimeFactor(double real_time_factor);
+  bool stopped() const;
+
+  /// Adds a robot between ticks (see Simulation::AddRobot).
+  absl::Status Spawn(const std::string& robot_id, const std::string& kind_name, const Pose2& pose);
+  /// Runs `read` on the simulation between ticks.
+  void Inspect(const std::function<void(const Simulation&)>& read) const;
+  GroundTruthSnapshot GroundTruth() const;
+  uint64_t tick() const;
+  int64_t now_ns() const;
+  size_t attached_count() const;
+
+ private:
+  friend class Attachment;
+  struct Slot {
+    std::optional<SensorFrame> frame;  ///< the frame to hand out for the current tick
+    bool taken = false;
+    bool answered = true;  ///< a new agent joins the barrier at the next tick
+  };
+  void Detach(const std::string& robot_id);
+  std::optional<SensorFrame> WaitFrame(const std::string& robot_id);
+  absl::Status Submit(const std::string& robot_id, const ActuatorCommand& command);
+  bool ReadyToTick() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  bool AllAnswered() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+
+  Simulation* simulation_;
+  mutable absl::Mutex mutex_;
+  LockstepParams params_ ABSL_GUARDED_BY(mutex_);
+  std::map<std::string, Slot> slots_ ABSL_GUARDED_BY(mutex_);
+  uint64_t requested_ticks_ ABSL_GUARDED_BY(mutex_) = 0;
+  bool stopping_ ABSL_GUARDED_BY(mutex_) = false;
+};
+
+}  // namespace fleetnav::sim

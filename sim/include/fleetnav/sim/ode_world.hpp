@@ -1,0 +1,62 @@
+#pragma once
+
+#include <ode/ode.h>
+
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fleetnav/sim/world_description.hpp"
+
+namespace fleetnav::sim {
+
+/// What a geom is, for contact parameters (friction per pair) and contact reports.
+enum class GeomRole : uint8_t { kGround, kStatic, kChassis, kWheel, kCaster };
+
+struct GeomTag {
+  GeomRole role = GeomRole::kStatic;
+  int robot_index = -1;  ///< for robot geoms
+};
+
+/// A contact between a robot's chassis and something else seen in the last step.
+struct ContactEvent {
+  int robot_index = -1;
+  int other_robot_index = -1;  ///< -1: a static obstacle
+};
+
+/// The ODE physics world of one simulation: world, collision space, contact group, a ground
+/// plane and the static obstacles of a WorldDescription. Owns every ODE handle (RAII). The
+/// quick-step solver reorders constraints with ODE's global random generator, so Step() reseeds
+/// it (dRandSetSeed) from the simulation's own seed stream for reproducible runs. Not
+/// thread-safe: one simulation thread drives it.
+class OdeWorld {
+ public:
+  OdeWorld(const WorldDescription& description, uint64_t seed);
+  ~OdeWorld();
+  OdeWorld(const OdeWorld&) = delete;
+  OdeWorld& operator=(const OdeWorld&) = delete;
+
+  dWorldID world() const { return world_; }
+  dSpaceID space() const { return space_; }
+  /// Tags are owned by the world and live as long as it does.
+  GeomTag* MakeTag(GeomRole role, int robot_index);
+
+  /// Collides, integrates one step of `step_s`, and records chassis contacts.
+  void Step(double step_s);
+  const std::vector<ContactEvent>& last_contacts() const { return contacts_; }
+
+ private:
+  static void NearCallback(void* data, dGeomID a, dGeomID b);
+  void HandlePair(dGeomID a, dGeomID b);
+
+  dWorldID world_ = nullptr;
+  dSpaceID space_ = nullptr;
+  dJointGroupID contact_group_ = nullptr;
+  std::deque<GeomTag> tags_;
+  std::vector<ContactEvent> contacts_;
+  uint64_t rng_state_;
+};
+
+}  // namespace fleetnav::sim

@@ -1,0 +1,42 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "fleetnav/core/sensor_frame.hpp"
+#include "fleetnav/sim/noise.hpp"
+
+namespace fleetnav::sim {
+
+/// Parameters of the wheel encoders and the gyro of one robot.
+struct ProprioceptiveParams {
+  int encoder_ticks_per_rev = 4096;
+  /// Relative error of the wheel radius the encoders imply (0.01 = 1 % too large).
+  double wheel_radius_scale_error = 0.0;
+  /// Gyro white noise (Lely thesis ch. 3: 0.015 °/s/√Hz).
+  double gyro_noise_density_radps_per_sqrt_hz = 0.015 * 3.14159265358979 / 180.0;
+  /// Gyro bias random walk (rad/s per √s).
+  double gyro_bias_walk_radps_per_sqrt_s = 1e-5;
+};
+
+/// Wheel encoders (cumulative ticks from the integrated wheel angle, thesis eq. 3.4's input)
+/// and a z-gyro with white noise and a random-walk bias, each on its own seeded noise stream.
+/// Not thread-safe.
+class ProprioceptiveSensors {
+ public:
+  ProprioceptiveSensors(ProprioceptiveParams params, uint64_t simulation_seed,
+                        const std::string& robot_id);
+
+  /// Fills frame->encoders ("left", "right") and frame->imu for one control period.
+  void Sample(double left_wheel_angle_rad, double right_wheel_angle_rad, double yaw_rate_radps,
+              double period_s, SensorFrame* frame);
+
+ private:
+  int64_t Ticks(double angle_rad) const;
+
+  ProprioceptiveParams params_;
+  NoiseStream gyro_noise_;
+  double gyro_bias_radps_ = 0.0;
+};
+
+}  // namespace fleetnav::sim

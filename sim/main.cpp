@@ -1,0 +1,113 @@
+// fleetnav-sim: the ODE simulator. Wiring only: flags -> world -> SimServer (or map export).
+#include <pthread.h>
+
+#include <csignal>
+#include <filesystem>
+#include <thread>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include "fleetnav/core/map_io.hpp"
+#include "fleetnav/core/stripe_marker.hpp"
+#include "fleetnav/sim/sim_server.hpp"
+#include "fleetnav/sim/world_rasterizer.hpp"
+
+namespace {
+
+int ExportMap(const fleetnav::sim::WorldDescription& world, const std::string& directory,
+              double resolution_m) {
+  std::filesystem::create_directories(directory);
+  absl::StatusOr<fleetnav::OccupancyGrid> grid = fleetnav::sim::RasterizeWorld(world, resolution_m);
+  if (!grid.ok()) {
+    spdlog::error("rasterize: {}", grid.status().ToString());
+    return 1;
+  }
+  const std::string stem = (std::filesystem::path(directory) / world.name).string();
+  absl::Status saved = fleetnav::SaveMapServer(*grid, stem + ".yaml");
+  if (saved.ok()) {
+    saved = fleetnav::SaveMarkerSet(fleetnav::sim::MarkerSetOf(world, world.name),
+                                    stem + ".markers.yaml");
+  }
+  if (!saved.ok()) {
+    spdlog::error("export: {}", saved.ToString());
+    return 1;
+  }
+  spdlog::info("wrote {0}.yaml, {0}.pgm and {0}.markers.yaml ({1} x {2} cells)", stem,
+               grid->width(), grid->height());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
+  fleetnav::sim::SimServerParams params;
+  std::string world_path;
+  std::string export_dir;
+  double map_resolution_m = 0.05;
+  std::string port_file;
+  CLI::App app{"fleetnav-sim: ODE simulator serving SimService in lockstep"};
+  app.add_option("--world", world_path, "world YAML file")->required();
+  app.add_option("--listen", params.listen_address, "address to serve on (port 0 = any)")
+      ->capture_default_str();
+  app.add_option("--seed", params.simulation.seed, "random seed")->capture_default_str();
+  app.add_option("--physics-step-s", params.simulation.physics_step_s, "ODE step")
+      ->capture_default_str();
+  app.add_option("--control-period-s", params.simulation.control_period_s, "lockstep tick")
+      ->capture_default_str();
+  app.add_option("--real-time-factor", params.lockstep.real_time_factor,
+                 "cap on sim/wall speed (0 = as fast as agents answer)")
+      ->capture_default_str();
+  app.add_option("--min-agents", params.lockstep.min_attached,
+                 "ticks advance only while this many agents are attached")
+      ->capture_default_str();
+  app.add_option("--max-sim-time-s", params.lockstep.max_sim_time_s, "stop after (0 = never)")
+      ->capture_default_str();
+  app.add_option("--export-map", export_dir,
+                 "write the world's map (map_server YAML+PGM) and markers to DIR, then exit");
+  app.add_option("--map-resolution-m", map_resolution_m, "resolution of --export-map")
+      ->capture_default_str();
+  app.add_option("--port-file", port_file, "write the bound port to this file once serving");
+  CLI11_PARSE(app, argc, argv);
+
+  absl::StatusOr<fleetnav::sim::WorldDescription> world = fleetnav::sim::LoadWorld(world_path);
+  if (!world.ok()) {
+    spdlog::error("{}", world.status().ToString());
+    return 1;
+  }
+  if (!export_dir.empty()) return ExportMap(*world, export_dir, map_resolution_m);
+
+  fleetnav::sim::SimServer server(*world, params);
+  absl::StatusOr<int> port = server.Start();
+  if (!port.ok()) {
+    spdlog::error("fleetnav-sim: {}", port.status().ToString());
+    return 1;
+  }
+  spdlog::info("fleetnav-sim: world '{}' with {} robot(s) on port {}", world->name,
+               world->robots.size(), *port);
+  if (!port_file.empty()) {
+    FILE* f = std::fopen(port_file.c_str(), "w");
+    if (f != nullptr) {
+      std::fprintf(f, "%d\n", *port);
+      std::fclose(f);
+    }
+  }
+  // Stop on a signal, or when the loop ends by itself (max sim time).
+  std::thread signal_waiter([&] {
+    int signal_number = 0;
+    sigwait(&stop_signals, &signal_number);
+    server.lockstep().Stop();
+  });
+  server.WaitForLoop();
+  spdlog::info("fleetnav-sim: stopped at sim time {:.2f} s", server.lockstep().now_ns() * 1e-9);
+  server.Shutdown();
+  pthread_kill(signal_waiter.native_handle(), SIGTERM);
+  signal_waiter.join();
+  return 0;
+}

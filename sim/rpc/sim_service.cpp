@@ -1,0 +1,131 @@
+#include "fleetnav/sim/sim_service.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include "absl/strings/str_cat.h"
+#include "fleetnav/proto/geometry_convert.hpp"
+#include "fleetnav/proto/grpc_status.hpp"
+#include "fleetnav/proto/robot_convert.hpp"
+#include "fleetnav/proto/sensor_convert.hpp"
+
+namespace fleetnav::sim {
+namespace {
+
+v1::Twist2 ToProto(const Twist2& twist) {
+  v1::Twist2 out;
+  out.set_vx_mps(twist.vx_mps);
+  out.set_vy_mps(twist.vy_mps);
+  out.set_yaw_rate_radps(twist.yaw_rate_radps);
+  return out;
+}
+
+}  // namespace
+
+grpc::Status SimServiceImpl::Attach(
+    grpc::ServerContext* context,
+    grpc::ServerReaderWriter<v1::SensorFrame, v1::AttachMessage>* stream) {
+  stream->SendInitialMetadata();
+  v1::AttachMessage message;
+  if (!stream->Read(&message)) return grpc::Status::OK;
+  if (message.payload_case() != v1::AttachMessage::kAttach) {
+    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                        "the first message on an Attach stream must be `attach`");
+  }
+  absl::StatusOr<std::unique_ptr<sim::Attachment>> attachment =
+      lockstep_->Attach(message.attach().robot_id());
+  if (!attachment.ok()) return ToGrpcStatus(attachment.status());
+
+  while (!context->IsCancelled()) {
+    std::optional<SensorFrame> frame = (*attachment)->WaitFrame();
+    if (!frame) return grpc::Status::OK;  // the simulation stopped
+    if (!stream->Write(fleetnav::ToProto(*frame))) break;
+    if (!stream->Read(&message)) break;
+    if (message.payload_case() == v1::AttachMessage::kDetach) break;
+    if (message.payload_case() != v1::AttachMessage::kCommand) {
+      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                          "expected a `command` answering the last frame");
+    }
+    absl::StatusOr<ActuatorCommand> command = FromProto(message.command());
+    absl::Status submitted = command.ok() ? (*attachment)->Submit(*command) : command.status();
+    if (!submitted.ok()) return ToGrpcStatus(submitted);
+  }
+  return grpc::Status::OK;
+}
+
+grpc::Status SimServiceImpl::GetWorld(grpc::ServerContext*, const v1::GetWorldRequest*,
+                                      v1::GetWorldResponse* response) {
+  lockstep_->Inspect([&](const Simulation& simulation) {
+    const WorldDescription& world = simulation.world();
+    response->set_world_name(world.name);
+    response->set_width_m(world.max_corner_m.x() - world.min_corner_m.x());
+    response->set_height_m(world.max_corner_m.y() - world.min_corner_m.y());
+    response->set_control_period_s(simulation.params().control_period_s);
+    response->set_physics_step_s(simulation.params().physics_step_s);
+    response->set_sim_time_ns(simulation.now_ns());
+    for (const std::string& id : simulation.robot_ids()) {
+      v1::SimRobotInfo* info = response->add_robots();
+      info->set_robot_id(id);
+      absl::StatusOr<RobotModel> model = simulation.ModelOf(id);
+      if (model.ok()) *info->mutable_model() = fleetnav::ToProto(*model);
+    }
+  });
+  return grpc::Status::OK;
+}
+
+grpc::Status SimServiceImpl::Spawn(grpc::ServerContext*, const v1::SpawnRequest* request,
+                                   v1::SpawnResponse*) {
+  absl::StatusOr<Pose2> pose = FromProto(request->pose(), "pose");
+  if (!pose.ok()) return ToGrpcStatus(pose.status());
+  return ToGrpcStatus(lockstep_->Spawn(request->robot_id(), request->kind_name(), *pose));
+}
+
+grpc::Status SimServiceImpl::GetGroundTruth(grpc::ServerContext*, const v1::GetGroundTruthRequest*,
+                                            v1::GroundTruth* response) {
+  const GroundTruthSnapshot truth = lockstep_->GroundTruth();
+  response->set_sim_time_ns(truth.sim_time_ns);
+  response->set_tick(truth.tick);
+  for (const RobotTruth& robot : truth.robots) {
+    v1::RobotGroundTruth* wire = response->add_robots();
+    wire->set_robot_id(robot.robot_id);
+    *wire->mutable_pose() = fleetnav::ToProto(robot.pose);
+    *wire->mutable_velocity() = ToProto(robot.velocity);
+    wire->set_up_z(robot.up_z);
+  }
+  for (const SimContact& contact : truth.contacts) {
+    v1::Contact* wire = response->add_contacts();
+    wire->set_robot_id(contact.robot_id);
+    wire->set_other(contact.other);
+    wire->set_sim_time_ns(contact.sim_time_ns);
+  }
+  response->set_min_separation_m(std::isfinite(truth.min_separation_m) ? truth.min_separation_m
+                                                                       : 1e9);
+  return grpc::Status::OK;
+}
+
+grpc::Status SimServiceImpl::Step(grpc::ServerContext* context, const v1::StepRequest* request,
+                                  v1::StepResponse* response) {
+  const uint64_t target = lockstep_->tick() + request->ticks();
+  lockstep_->RequestTicks(request->ticks());
+  while (lockstep_->tick() < target && !lockstep_->stopped() && !context->IsCancelled()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  response->set_tick(lockstep_->tick());
+  response->set_sim_time_ns(lockstep_->now_ns());
+  return grpc::Status::OK;
+}
+
+grpc::Status SimServiceImpl::Run(grpc::ServerContext*, const v1::RunRequest* request,
+                                 v1::RunResponse* response) {
+  if (!(request->real_time_factor() >= 0.0) || !std::isfinite(request->real_time_factor())) {
+    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                        "real_time_factor: must be finite and >= 0");
+  }
+  lockstep_->SetRealTimeFactor(request->real_time_factor());
+  response->set_tick(lockstep_->tick());
+  response->set_sim_time_ns(lockstep_->now_ns());
+  return grpc::Status::OK;
+}
+
+}  // namespace fleetnav::sim

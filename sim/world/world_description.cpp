@@ -1,0 +1,165 @@
+#include "fleetnav/sim/world_description.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
+#include "fleetnav/core/status_macros.hpp"
+
+namespace fleetnav::sim {
+namespace {
+
+absl::StatusOr<Eigen::Vector2d> ReadPoint(const YAML::Node& node, const std::string& field) {
+  if (!node || !node.IsSequence() || node.size() != 2) {
+    return absl::InvalidArgumentError(absl::StrCat(field, ": expected [x, y]"));
+  }
+  Eigen::Vector2d p(node[0].as<double>(), node[1].as<double>());
+  if (!p.allFinite()) return absl::InvalidArgumentError(absl::StrCat(field, ": not finite"));
+  return p;
+}
+
+absl::StatusOr<double> ReadPositive(const YAML::Node& node, const std::string& field,
+                                    double fallback) {
+  const double value = node ? node.as<double>() : fallback;
+  if (!std::isfinite(value) || value <= 0.0) {
+    return absl::InvalidArgumentError(absl::StrCat(field, ": must be > 0, got ", value));
+  }
+  return value;
+}
+
+// A wall or fence given as a segment becomes a box along it.
+absl::StatusOr<BoxObstacle> SegmentBox(const YAML::Node& node, const std::string& field,
+                                       const std::string& kind, double default_thickness,
+                                       double default_height) {
+  ASSIGN_OR_RETURN(Eigen::Vector2d from, ReadPoint(node["from"], field + ".from"));
+  ASSIGN_OR_RETURN(Eigen::Vector2d to, ReadPoint(node["to"], field + ".to"));
+  const double length = (to - from).norm();
+  if (length <= 1e-6) {
+    return absl::InvalidArgumentError(absl::StrCat(field, ": from and to are the same point"));
+  }
+  ASSIGN_OR_RETURN(double thickness,
+                   ReadPositive(node["thickness"], field + ".thickness", default_thickness));
+  ASSIGN_OR_RETURN(double height, ReadPositive(node["height"], field + ".height", default_height));
+  BoxObstacle box;
+  box.kind = kind;
+  box.center_m = 0.5 * (from + to);
+  box.size_m = Eigen::Vector2d(length, thickness);
+  box.yaw_rad = std::atan2(to.y() - from.y(), to.x() - from.x());
+  box.height_m = height;
+  return box;
+}
+
+absl::StatusOr<WorldDescription> ParseRoot(const YAML::Node& root) {
+  WorldDescription world;
+  if (!root.IsMap()) return absl::InvalidArgumentError("world: expected a YAML mapping");
+  world.name = root["name"] ? root["name"].as<std::string>() : "world";
+  const YAML::Node extent = root["extent"];
+  if (!extent) return absl::InvalidArgumentError("extent: missing ({min: [x, y], max: [x, y]})");
+  ASSIGN_OR_RETURN(world.min_corner_m, ReadPoint(extent["min"], "extent.min"));
+  ASSIGN_OR_RETURN(world.max_corner_m, ReadPoint(extent["max"], "extent.max"));
+  if ((world.max_corner_m - world.min_corner_m).minCoeff() <= 0.0) {
+    return absl::InvalidArgumentError("extent: max must exceed min in x and y");
+  }
+  for (size_t i = 0; i < root["walls"].size(); ++i) {
+    ASSIGN_OR_RETURN(BoxObstacle box, SegmentBox(root["walls"][i], absl::StrCat("walls[", i, "]"),
+                                                 "wall", 0.2, 2.5));
+    world.boxes.push_back(box);
+  }
+  for (size_t i = 0; i < root["fences"].size(); ++i) {
+    ASSIGN_OR_RETURN(BoxObstacle box, SegmentBox(root["fences"][i],
+                                                 absl::StrCat("fences[", i, "]"), "fence", 0.1, 1.2));
+    world.boxes.push_back(box);
+  }
+  for (size_t i = 0; i < root["boxes"].size(); ++i) {
+    const YAML::Node node = root["boxes"][i];
+    const std::string field = absl::StrCat("boxes[", i, "]");
+    BoxObstacle box;
+    box.kind = node["kind"] ? node["kind"].as<std::string>() : "box";
+    ASSIGN_OR_RETURN(box.center_m, ReadPoint(node["center"], field + ".center"));
+    ASSIGN_OR_RETURN(box.size_m, ReadPoint(node["size"], field + ".size"));
+    if (box.size_m.minCoeff() <= 0.0) {
+      return absl::InvalidArgumentError(absl::StrCat(field, ".size: must be > 0"));
+    }
+    box.yaw_rad = DegToRad(node["yaw_deg"] ? node["yaw_deg"].as<double>() : 0.0);
+    ASSIGN_OR_RETURN(box.height_m, ReadPositive(node["height"], field + ".height", 1.0));
+    world.boxes.push_back(box);
+  }
+  for (size_t i = 0; i < root["cylinders"].size(); ++i) {
+    const YAML::Node node = root["cylinders"][i];
+    const std::string field = absl::StrCat("cylinders[", i, "]");
+    CylinderObstacle cylinder;
+    cylinder.kind = node["kind"] ? node["kind"].as<std::string>() : "post";
+    ASSIGN_OR_RETURN(cylinder.center_m, ReadPoint(node["center"], field + ".center"));
+    ASSIGN_OR_RETURN(cylinder.radius_m, ReadPositive(node["radius"], field + ".radius", 0.1));
+    ASSIGN_OR_RETURN(cylinder.height_m, ReadPositive(node["height"], field + ".height", 1.5));
+    world.cylinders.push_back(cylinder);
+  }
+  for (size_t i = 0; i < root["stripes"].size(); ++i) {
+    const YAML::Node node = root["stripes"][i];
+    const std::string field = absl::StrCat("stripes[", i, "]");
+    FloorStripe stripe;
+    stripe.id = node["id"].as<int>();
+    for (size_t k = 0; k < node["points"].size(); ++k) {
+      ASSIGN_OR_RETURN(Eigen::Vector2d p,
+                       ReadPoint(node["points"][k], absl::StrCat(field, ".points[", k, "]")));
+      stripe.points_m.push_back(p);
+    }
+    if (stripe.points_m.size() < 2) {
+      return absl::InvalidArgumentError(absl::StrCat(field, ".points: needs at least 2 points"));
+    }
+    ASSIGN_OR_RETURN(stripe.width_m, ReadPositive(node["width"], field + ".width", 0.05));
+    world.stripes.push_back(stripe);
+  }
+  for (size_t i = 0; i < root["markers"].size(); ++i) {
+    const YAML::Node node = root["markers"][i];
+    const std::string field = absl::StrCat("markers[", i, "]");
+    StripeMarker marker;
+    marker.id = node["id"].as<int>();
+    ASSIGN_OR_RETURN(marker.position_m, ReadPoint(node["at"], field + ".at"));
+    marker.yaw_rad = NormalizeMarkerYaw(DegToRad(node["yaw_deg"] ? node["yaw_deg"].as<double>() : 0));
+    ASSIGN_OR_RETURN(marker.length_m, ReadPositive(node["length"], field + ".length", 0.6));
+    world.markers.push_back(marker);
+  }
+  for (size_t i = 0; i < root["robots"].size(); ++i) {
+    const YAML::Node node = root["robots"][i];
+    const std::string field = absl::StrCat("robots[", i, "]");
+    RobotSpawn spawn;
+    spawn.robot_id = node["id"].as<std::string>();
+    spawn.kind_name = node["kind"].as<std::string>();
+    const YAML::Node pose = node["pose"];
+    if (!pose || !pose.IsSequence() || pose.size() != 3) {
+      return absl::InvalidArgumentError(absl::StrCat(field, ".pose: expected [x, y, yaw_deg]"));
+    }
+    spawn.pose = Pose2(pose[0].as<double>(), pose[1].as<double>(), DegToRad(pose[2].as<double>()));
+    world.robots.push_back(spawn);
+  }
+  return world;
+}
+
+}  // namespace
+
+absl::StatusOr<WorldDescription> ParseWorldYaml(std::string_view yaml_text) {
+  try {
+    return ParseRoot(YAML::Load(std::string(yaml_text)));
+  } catch (const YAML::Exception& e) {
+    return absl::InvalidArgumentError(absl::StrCat("world YAML: ", e.what()));
+  }
+}
+
+absl::StatusOr<WorldDescription> LoadWorld(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return absl::NotFoundError(absl::StrCat("cannot open world file '", path, "'"));
+  std::stringstream text;
+  text << in.rdbuf();
+  absl::StatusOr<WorldDescription> world = ParseWorldYaml(text.str());
+  if (!world.ok()) {
+    return absl::Status(world.status().code(), absl::StrCat(path, ": ", world.status().message()));
+  }
+  return world;
+}
+
+}  // namespace fleetnav::sim

@@ -1,0 +1,49 @@
+#include "fleetnav/sim/world_rasterizer.hpp"
+
+#include <cmath>
+
+#include "fleetnav/core/status_macros.hpp"
+
+namespace fleetnav::sim {
+namespace {
+
+bool InsideBox(const BoxObstacle& box, const Eigen::Vector2d& p) {
+  const Eigen::Vector2d d = p - box.center_m;
+  const double c = std::cos(box.yaw_rad), s = std::sin(box.yaw_rad);
+  const double local_x = c * d.x() + s * d.y();
+  const double local_y = -s * d.x() + c * d.y();
+  return std::abs(local_x) <= 0.5 * box.size_m.x() && std::abs(local_y) <= 0.5 * box.size_m.y();
+}
+
+}  // namespace
+
+absl::StatusOr<OccupancyGrid> RasterizeWorld(const WorldDescription& world, double resolution_m) {
+  const Eigen::Vector2d size = world.max_corner_m - world.min_corner_m;
+  const int width = static_cast<int>(std::ceil(size.x() / resolution_m - 1e-9));
+  const int height = static_cast<int>(std::ceil(size.y() / resolution_m - 1e-9));
+  ASSIGN_OR_RETURN(OccupancyGrid grid,
+                   OccupancyGrid::Filled(width, height, resolution_m,
+                                         Pose2(world.min_corner_m.x(), world.min_corner_m.y(), 0),
+                                         OccupancyGrid::kFreeValue));
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const Eigen::Vector2d p = grid.CellToWorld({x, y});
+      bool occupied = false;
+      for (const BoxObstacle& box : world.boxes) occupied = occupied || InsideBox(box, p);
+      for (const CylinderObstacle& c : world.cylinders) {
+        occupied = occupied || (p - c.center_m).norm() <= c.radius_m;
+      }
+      if (occupied) grid.SetValue({x, y}, OccupancyGrid::kOccupiedValue);
+    }
+  }
+  return grid;
+}
+
+MarkerSet MarkerSetOf(const WorldDescription& world, const std::string& map_id) {
+  MarkerSet set;
+  set.map_id = map_id;
+  set.markers = world.markers;
+  return set;
+}
+
+}  // namespace fleetnav::sim
