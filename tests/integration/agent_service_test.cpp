@@ -1,0 +1,227 @@
+// AgentService and the fleet views over real loopback gRPC: registration, telemetry ingest,
+// bad streams, the replace-on-reconnect rule, and WatchFleet's snapshot-then-updates.
+#include <grpcpp/create_channel.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <limits>
+
+#include "fleetnav/proto/telemetry_convert.hpp"
+#include "fleetnav/server/rpc/fleet_server.hpp"
+#include "fleetnav/v1/agent_service.grpc.pb.h"
+#include "fleetnav/v1/fleet_service.grpc.pb.h"
+#include "test_paths.hpp"
+
+namespace fleetnav {
+namespace {
+
+using ::testing::HasSubstr;
+using AgentStream = grpc::ClientReaderWriter<v1::AgentMessage, v1::ServerMessage>;
+
+class AgentServiceTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    db_path_ = testing::UniqueTempPath("agent-service") + ".db";
+    server::FleetServerParams params;
+    params.listen_address = "127.0.0.1:0";
+    params.db_path = db_path_;
+    server_ = std::make_unique<server::FleetServer>(params);
+    absl::StatusOr<int> port = server_->Start();
+    ASSERT_TRUE(port.ok()) << port.status();
+    auto channel = grpc::CreateChannel("127.0.0.1:" + std::to_string(*port),
+                                       grpc::InsecureChannelCredentials());
+    agents_ = v1::AgentService::NewStub(channel);
+    fleet_ = v1::FleetService::NewStub(channel);
+  }
+  void TearDown() override {
+    server_->Shutdown();
+    server_.reset();
+    std::filesystem::remove(db_path_);
+  }
+
+  static v1::AgentMessage Hello(const std::string& robot_id) {
+    v1::AgentMessage message;
+    *message.mutable_hello() = ToProto(RobotIdentity{robot_id, LelyVectorModel(), {}, "test"});
+    return message;
+  }
+
+  static v1::AgentMessage TelemetryAt(double x_m, int64_t stamp_ns) {
+    Telemetry telemetry;
+    telemetry.stamp_ns = stamp_ns;
+    telemetry.pose_in_map = Pose2(x_m, 1.0, 0.5);
+    v1::AgentMessage message;
+    *message.mutable_telemetry() = ToProto(telemetry);
+    return message;
+  }
+
+  /// Waits (bounded) until the server's registry satisfies `done`.
+  template <typename Predicate>
+  bool Eventually(Predicate done) {
+    for (int i = 0; i < 200; ++i) {
+      if (done()) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+  }
+
+  std::string db_path_;
+  std::unique_ptr<server::FleetServer> server_;
+  std::unique_ptr<v1::AgentService::Stub> agents_;
+  std::unique_ptr<v1::FleetService::Stub> fleet_;
+};
+
+TEST_F(AgentServiceTest, HelloThenTelemetryIsVisibleThroughFleetService) {
+  grpc::ClientContext context;
+  std::unique_ptr<AgentStream> stream = agents_->Connect(&context);
+  ASSERT_TRUE(stream->Write(Hello("lely1")));
+  v1::ServerMessage welcome;
+  ASSERT_TRUE(stream->Read(&welcome));
+  EXPECT_TRUE(welcome.has_welcome());
+  for (int i = 0; i < 5; ++i) ASSERT_TRUE(stream->Write(TelemetryAt(i * 0.1, i * 100'000'000)));
+
+  ASSERT_TRUE(Eventually([&] {
+    auto record = server_->registry().Get("lely1");
+    return record.ok() && record->telemetry_count == 5;
+  }));
+  grpc::ClientContext get_context;
+  v1::GetRobotRequest request;
+  request.set_robot_id("lely1");
+  v1::GetRobotResponse robot;
+  ASSERT_TRUE(fleet_->GetRobot(&get_context, request, &robot).ok());
+  EXPECT_EQ(robot.robot().connection(), v1::CONNECTION_STATE_ONLINE);
+  EXPECT_EQ(robot.robot().kind_name(), "lely-vector");
+  EXPECT_NEAR(robot.robot().last_telemetry().pose_in_map().pose().x_m(), 0.4, 1e-12);
+
+  stream->WritesDone();
+  EXPECT_TRUE(stream->Finish().ok());
+  EXPECT_TRUE(Eventually([&] {
+    return server_->registry().Get("lely1")->connection == ConnectionState::kOffline;
+  }));
+}
+
+TEST_F(AgentServiceTest, FirstMessageMustBeHello) {
+  grpc::ClientContext context;
+  std::unique_ptr<AgentStream> stream = agents_->Connect(&context);
+  ASSERT_TRUE(stream->Write(TelemetryAt(0, 0)));
+  stream->WritesDone();
+  const grpc::Status status = stream->Finish();
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_THAT(status.error_message(), HasSubstr("hello"));
+  EXPECT_TRUE(server_->registry().Snapshot().empty());
+}
+
+TEST_F(AgentServiceTest, BadRobotIdIsRefusedAndNotRegistered) {
+  grpc::ClientContext context;
+  std::unique_ptr<AgentStream> stream = agents_->Connect(&context);
+  ASSERT_TRUE(stream->Write(Hello("no spaces allowed")));
+  stream->WritesDone();
+  const grpc::Status status = stream->Finish();
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_THAT(status.error_message(), HasSubstr("robot_id"));
+  EXPECT_TRUE(server_->registry().Snapshot().empty());
+}
+
+TEST_F(AgentServiceTest, NonFiniteTelemetryEndsTheStreamAndIsNotStored) {
+  grpc::ClientContext context;
+  std::unique_ptr<AgentStream> stream = agents_->Connect(&context);
+  ASSERT_TRUE(stream->Write(Hello("lely1")));
+  stream->Write(TelemetryAt(std::numeric_limits<double>::quiet_NaN(), 0));
+  stream->WritesDone();
+  v1::ServerMessage ignored;
+  while (stream->Read(&ignored)) {
+  }
+  const grpc::Status status = stream->Finish();
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_THAT(status.error_message(), HasSubstr("pose_in_map"));
+  EXPECT_EQ(server_->registry().Get("lely1")->telemetry_count, 0u);
+}
+
+TEST_F(AgentServiceTest, SecondConnectionWithSameIdReplacesTheFirst) {
+  grpc::ClientContext first_context;
+  std::unique_ptr<AgentStream> first = agents_->Connect(&first_context);
+  ASSERT_TRUE(first->Write(Hello("lely1")));
+  v1::ServerMessage welcome;
+  ASSERT_TRUE(first->Read(&welcome));
+
+  grpc::ClientContext second_context;
+  std::unique_ptr<AgentStream> second = agents_->Connect(&second_context);
+  ASSERT_TRUE(second->Write(Hello("lely1")));
+  ASSERT_TRUE(second->Read(&welcome));
+
+  // The replaced stream's next telemetry ends it with FailedPrecondition.
+  first->Write(TelemetryAt(1.0, 1));
+  first->WritesDone();
+  v1::ServerMessage ignored;
+  while (first->Read(&ignored)) {
+  }
+  const grpc::Status first_status = first->Finish();
+  EXPECT_EQ(first_status.error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+  EXPECT_THAT(first_status.error_message(), HasSubstr("replaced"));
+
+  // The replacement keeps working and the robot stays online.
+  ASSERT_TRUE(second->Write(TelemetryAt(2.0, 2)));
+  ASSERT_TRUE(Eventually([&] { return server_->registry().Get("lely1")->telemetry_count == 1; }));
+  EXPECT_EQ(server_->registry().Get("lely1")->connection, ConnectionState::kOnline);
+  EXPECT_NEAR(server_->registry().Get("lely1")->last_telemetry->pose_in_map.x_m(), 2.0, 1e-12);
+  second->WritesDone();
+  EXPECT_TRUE(second->Finish().ok());
+}
+
+TEST_F(AgentServiceTest, WatchFleetStartsWithSnapshotThenSendsUpdates) {
+  grpc::ClientContext agent_context;
+  std::unique_ptr<AgentStream> agent = agents_->Connect(&agent_context);
+  ASSERT_TRUE(agent->Write(Hello("lely1")));
+  v1::ServerMessage welcome;
+  ASSERT_TRUE(agent->Read(&welcome));
+
+  grpc::ClientContext watch_context;
+  v1::WatchFleetRequest request;
+  request.set_rate_hz(50);
+  auto watch = fleet_->WatchFleet(&watch_context, request);
+  v1::FleetUpdate update;
+  ASSERT_TRUE(watch->Read(&update));
+  EXPECT_TRUE(update.snapshot());
+  ASSERT_EQ(update.robots_size(), 1);
+  EXPECT_EQ(update.robots(0).robot_id(), "lely1");
+
+  ASSERT_TRUE(agent->Write(TelemetryAt(3.0, 5)));
+  bool saw_pose = false;
+  for (int i = 0; i < 50 && !saw_pose; ++i) {
+    ASSERT_TRUE(watch->Read(&update));
+    EXPECT_FALSE(update.snapshot());
+    for (const auto& robot : update.robots()) {
+      saw_pose |= std::abs(robot.last_telemetry().pose_in_map().pose().x_m() - 3.0) < 1e-12;
+    }
+  }
+  EXPECT_TRUE(saw_pose);
+  watch_context.TryCancel();
+  (void)watch->Finish();
+  agent->WritesDone();
+  (void)agent->Finish();
+}
+
+TEST_F(AgentServiceTest, WatchFleetRefusesABadRate) {
+  grpc::ClientContext context;
+  v1::WatchFleetRequest request;
+  request.set_rate_hz(-1);
+  auto watch = fleet_->WatchFleet(&context, request);
+  v1::FleetUpdate update;
+  EXPECT_FALSE(watch->Read(&update));
+  const grpc::Status status = watch->Finish();
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_THAT(status.error_message(), HasSubstr("rate_hz"));
+}
+
+TEST_F(AgentServiceTest, UnknownRobotIsNotFound) {
+  grpc::ClientContext context;
+  v1::GetRobotRequest request;
+  request.set_robot_id("ghost");
+  v1::GetRobotResponse response;
+  const grpc::Status status = fleet_->GetRobot(&context, request, &response);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
+  EXPECT_THAT(status.error_message(), HasSubstr("ghost"));
+}
+
+}  // namespace
+}  // namespace fleetnav

@@ -1,0 +1,134 @@
+#include <grpcpp/client_context.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "fleetnav/core/map_io.hpp"
+#include "fleetnav/ctl/commands.hpp"
+#include "fleetnav/ctl/table.hpp"
+#include "fleetnav/proto/grpc_status.hpp"
+#include "fleetnav/proto/map_convert.hpp"
+#include "fleetnav/v1/fleet_service.grpc.pb.h"
+
+namespace fleetnav::ctl {
+namespace {
+
+absl::Status ReadFile(const std::string& path, std::string* contents) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return absl::NotFoundError(absl::StrCat("cannot read '", path, "'"));
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  *contents = buffer.str();
+  return absl::OkStatus();
+}
+
+void SetDeadline(const CommandContext& context, grpc::ClientContext* rpc) {
+  rpc->set_deadline(std::chrono::system_clock::now() +
+                    std::chrono::milliseconds(static_cast<int64_t>(context.timeout_s * 1000)));
+}
+
+}  // namespace
+
+absl::Status ImportMap(const CommandContext& context, const std::string& map_id,
+                       const std::string& yaml_path, const std::string& description) {
+  v1::PutMapRequest request;
+  request.set_map_id(map_id);
+  request.set_description(description);
+  std::string yaml;
+  if (absl::Status s = ReadFile(yaml_path, &yaml); !s.ok()) return s;
+  absl::StatusOr<MapServerMetadata> metadata = ParseMapServerYaml(yaml);
+  if (!metadata.ok()) {
+    return absl::Status(metadata.status().code(),
+                        absl::StrCat(yaml_path, ": ", metadata.status().message()));
+  }
+  std::filesystem::path image = metadata->image;
+  if (image.is_relative()) image = std::filesystem::path(yaml_path).parent_path() / image;
+  std::string pgm;
+  if (absl::Status s = ReadFile(image.string(), &pgm); !s.ok()) return s;
+  request.mutable_map_server()->set_yaml(yaml);
+  request.mutable_map_server()->set_pgm(pgm);
+
+  auto stub = v1::FleetService::NewStub(context.channel);
+  grpc::ClientContext rpc;
+  SetDeadline(context, &rpc);
+  v1::PutMapResponse response;
+  if (absl::Status s = FromGrpcStatus(stub->PutMap(&rpc, request, &response)); !s.ok()) return s;
+  if (context.json) {
+    *context.out << nlohmann::json{{"map_id", response.map_id()}, {"version", response.version()}}
+                 << '\n';
+  } else {
+    *context.out << "imported map '" << response.map_id() << "' as version " << response.version()
+                 << '\n';
+  }
+  return absl::OkStatus();
+}
+
+absl::Status ListMaps(const CommandContext& context) {
+  auto stub = v1::FleetService::NewStub(context.channel);
+  grpc::ClientContext rpc;
+  SetDeadline(context, &rpc);
+  v1::ListMapsResponse response;
+  if (absl::Status s = FromGrpcStatus(stub->ListMaps(&rpc, {}, &response)); !s.ok()) return s;
+  if (context.json) {
+    nlohmann::json maps = nlohmann::json::array();
+    for (const v1::MapInfo& info : response.maps()) {
+      maps.push_back({{"map_id", info.map_id()},
+                      {"version", info.version()},
+                      {"width", info.width()},
+                      {"height", info.height()},
+                      {"resolution_m", info.resolution_m()},
+                      {"description", info.description()},
+                      {"created_unix_ms", info.created_unix_ms()}});
+    }
+    *context.out << maps.dump() << '\n';
+    return absl::OkStatus();
+  }
+  Table table({"MAP", "VERSION", "CELLS", "RESOLUTION", "SIZE", "DESCRIPTION"});
+  for (const v1::MapInfo& info : response.maps()) {
+    table.AddRow({info.map_id(), absl::StrCat(info.version()),
+                  absl::StrCat(info.width(), "x", info.height()),
+                  absl::StrFormat("%.3f m", info.resolution_m()),
+                  absl::StrFormat("%.1f x %.1f m", info.width() * info.resolution_m(),
+                                  info.height() * info.resolution_m()),
+                  info.description()});
+  }
+  table.Print(*context.out);
+  return absl::OkStatus();
+}
+
+absl::Status ExportMap(const CommandContext& context, const std::string& map_id, uint32_t version,
+                       const std::string& yaml_path) {
+  auto stub = v1::FleetService::NewStub(context.channel);
+  grpc::ClientContext rpc;
+  SetDeadline(context, &rpc);
+  v1::GetMapRequest request;
+  request.set_map_id(map_id);
+  request.set_version(version);
+  v1::GetMapResponse response;
+  if (absl::Status s = FromGrpcStatus(stub->GetMap(&rpc, request, &response)); !s.ok()) return s;
+  absl::StatusOr<OccupancyGrid> grid = FromProto(response.grid());
+  if (!grid.ok()) return grid.status();
+  if (absl::Status s = SaveMapServer(*grid, yaml_path); !s.ok()) return s;
+  *context.out << "wrote map '" << map_id << "' version " << response.info().version() << " to "
+               << yaml_path << '\n';
+  return absl::OkStatus();
+}
+
+absl::Status DeleteMap(const CommandContext& context, const std::string& map_id) {
+  auto stub = v1::FleetService::NewStub(context.channel);
+  grpc::ClientContext rpc;
+  SetDeadline(context, &rpc);
+  v1::DeleteMapRequest request;
+  request.set_map_id(map_id);
+  v1::DeleteMapResponse response;
+  if (absl::Status s = FromGrpcStatus(stub->DeleteMap(&rpc, request, &response)); !s.ok()) return s;
+  *context.out << "deleted map '" << map_id << "'\n";
+  return absl::OkStatus();
+}
+
+}  // namespace fleetnav::ctl
