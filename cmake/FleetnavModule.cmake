@@ -15,3 +15,10 @@ function(fleetnav_test)
   include(GoogleTest)
   gtest_discover_tests(${ARG_NAME} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${ARG_LABELS}")
 endfunction()
+
+# fleetnav_benchmark(NAME <name> SOURCES ... DEPS ...): one Google Benchmark program.
+function(fleetnav_benchmark)
+  cmake_parse_arguments(ARG "" "NAME" "SOURCES;DEPS" ${ARGN})
+  add_executable(${ARG_NAME} ${ARG_SOURCES})
+  target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS} benchmark::benchmark fleetnav_warnings)
+endfunction()
