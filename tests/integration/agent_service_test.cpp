@@ -21,11 +21,18 @@ using AgentStream = grpc::ClientReaderWriter<v1::AgentMessage, v1::ServerMessage
 
 class AgentServiceTest : public ::testing::Test {
  protected:
-  void SetUp() override {
+  void SetUp() override { StartServer(/*stale_after_s=*/2.0); }
+
+  void StartServer(double stale_after_s) {
+    if (server_ != nullptr) {
+      server_->Shutdown();
+      server_.reset();
+    }
     db_path_ = testing::UniqueTempPath("agent-service") + ".db";
     server::FleetServerParams params;
     params.listen_address = "127.0.0.1:0";
     params.db_path = db_path_;
+    params.registry.stale_after_s = stale_after_s;
     server_ = std::make_unique<server::FleetServer>(params);
     absl::StatusOr<int> port = server_->Start();
     ASSERT_TRUE(port.ok()) << port.status();
@@ -195,6 +202,36 @@ TEST_F(AgentServiceTest, WatchFleetStartsWithSnapshotThenSendsUpdates) {
     }
   }
   EXPECT_TRUE(saw_pose);
+  watch_context.TryCancel();
+  (void)watch->Finish();
+  agent->WritesDone();
+  (void)agent->Finish();
+}
+
+TEST_F(AgentServiceTest, WatchFleetReportsARobotThatFallsSilentAsStale) {
+  StartServer(/*stale_after_s=*/0.2);
+  grpc::ClientContext agent_context;
+  std::unique_ptr<AgentStream> agent = agents_->Connect(&agent_context);
+  ASSERT_TRUE(agent->Write(Hello("lely1")));
+  v1::ServerMessage welcome;
+  ASSERT_TRUE(agent->Read(&welcome));
+
+  grpc::ClientContext watch_context;
+  v1::WatchFleetRequest request;
+  request.set_rate_hz(20);
+  auto watch = fleet_->WatchFleet(&watch_context, request);
+  v1::FleetUpdate update;
+  ASSERT_TRUE(watch->Read(&update));
+  ASSERT_EQ(update.robots_size(), 1);
+  EXPECT_EQ(update.robots(0).connection(), v1::CONNECTION_STATE_ONLINE);
+  bool saw_stale = false;
+  for (int i = 0; i < 40 && !saw_stale; ++i) {  // the robot says nothing after its hello
+    ASSERT_TRUE(watch->Read(&update));
+    for (const auto& robot : update.robots()) {
+      saw_stale |= robot.connection() == v1::CONNECTION_STATE_STALE;
+    }
+  }
+  EXPECT_TRUE(saw_stale);
   watch_context.TryCancel();
   (void)watch->Finish();
   agent->WritesDone();

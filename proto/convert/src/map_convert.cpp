@@ -73,6 +73,7 @@ v1::StripeMarker ToProto(const StripeMarker& marker) {
   out.mutable_pose()->set_yaw_rad(marker.yaw_rad);
   out.set_length_m(marker.length_m);
   out.set_kind(ToProto(marker.kind));
+  out.set_z_m(marker.z_m);
   return out;
 }
 
@@ -83,6 +84,10 @@ absl::StatusOr<StripeMarker> FromProto(const v1::StripeMarker& marker, const std
   ASSIGN_OR_RETURN(Pose2 pose, FromProto(marker.pose(), pose_field));
   out.position_m = pose.translation();
   out.yaw_rad = NormalizeMarkerYaw(marker.pose().yaw_rad());
+  out.z_m = marker.z_m();
+  if (!std::isfinite(out.z_m)) {
+    return absl::InvalidArgumentError(absl::StrCat(field, ".z_m must be finite"));
+  }
   out.length_m = marker.length_m();
   if (!std::isfinite(out.length_m) || out.length_m <= 0.0) {
     return absl::InvalidArgumentError(

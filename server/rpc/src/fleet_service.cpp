@@ -1,6 +1,7 @@
 #include "fleetnav/server/rpc/fleet_service.hpp"
 
 #include <chrono>
+#include <map>
 #include <cmath>
 #include <thread>
 
@@ -98,19 +99,25 @@ grpc::Status FleetServiceImpl::WatchFleet(grpc::ServerContext* context,
                         absl::StrCat("rate_hz: must be in (0, 100], got ", request->rate_hz()));
   }
   const auto period = std::chrono::duration<double>(1.0 / rate_hz);
-  uint64_t revision = 0;
+  // What this watcher last saw of each robot: its revision and connection state. A robot that
+  // goes stale changes no revision, so the state is compared too.
+  std::map<std::string, std::pair<uint64_t, ConnectionState>> seen;
   bool first = true;
   while (!context->IsCancelled() && !stopping_->load()) {
-    std::vector<RobotRecord> changed = registry_->ChangedSince(revision, &revision);
-    if (first) changed = registry_->Snapshot();
-    if (first || !changed.empty()) {
-      v1::FleetUpdate update;
-      update.set_snapshot(first);
-      update.set_server_time_ns(
-          std::chrono::duration_cast<std::chrono::nanoseconds>(
-              std::chrono::steady_clock::now().time_since_epoch())
-              .count());
-      for (const RobotRecord& record : changed) *update.add_robots() = ToProto(record);
+    v1::FleetUpdate update;
+    update.set_snapshot(first);
+    for (const RobotRecord& record : registry_->Snapshot()) {
+      auto [it, inserted] = seen.try_emplace(record.identity.robot_id, record.revision,
+                                             record.connection);
+      const bool changed = inserted || it->second.first != record.revision ||
+                           it->second.second != record.connection;
+      it->second = {record.revision, record.connection};
+      if (first || changed) *update.add_robots() = ToProto(record);
+    }
+    if (first || update.robots_size() > 0) {
+      update.set_server_time_ns(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                    std::chrono::steady_clock::now().time_since_epoch())
+                                    .count());
       if (!writer->Write(update)) break;
       first = false;
     }
