@@ -93,7 +93,10 @@ dBodyID DiffDriveRobot::CreateWheel(double y_m, const Pose2& start, double axle_
   dMatrix3 rotation;
   dRFromZAxis(rotation, -std::sin(start.yaw_rad()), std::cos(start.yaw_rad()), 0);
   dBodySetRotation(wheel, rotation);
-  dGeomID geom = dCreateCylinder(world_->space(), model_.wheel_radius_m, params_.wheel_width_m);
+  // Contact geometry: a sphere touches the floor in one point on the wheel's mid-plane, as a tyre
+  // patch does. A cylinder touches at both rims; the contact sticks at the outer rims and the
+  // robot turns as if its track were track + wheel width (10 % slow on the Lely).
+  dGeomID geom = dCreateSphere(world_->space(), model_.wheel_radius_m);
   dGeomSetBody(geom, wheel);
   dGeomSetData(geom, world_->MakeTag(GeomRole::kWheel, robot_index_));
   return wheel;

@@ -53,6 +53,13 @@ absl::StatusOr<BoxObstacle> SegmentBox(const YAML::Node& node, const std::string
   return box;
 }
 
+// The number of entries of an optional list. yaml-cpp throws on size() of a missing key of a
+// const node, so a world without, say, cylinders would fail to parse.
+size_t ListSize(const YAML::Node& root, const char* key) {
+  const YAML::Node list = root[key];
+  return list ? list.size() : 0;
+}
+
 absl::StatusOr<WorldDescription> ParseRoot(const YAML::Node& root) {
   WorldDescription world;
   if (!root.IsMap()) return absl::InvalidArgumentError("world: expected a YAML mapping");
@@ -64,17 +71,17 @@ absl::StatusOr<WorldDescription> ParseRoot(const YAML::Node& root) {
   if ((world.max_corner_m - world.min_corner_m).minCoeff() <= 0.0) {
     return absl::InvalidArgumentError("extent: max must exceed min in x and y");
   }
-  for (size_t i = 0; i < root["walls"].size(); ++i) {
+  for (size_t i = 0; i < ListSize(root, "walls"); ++i) {
     ASSIGN_OR_RETURN(BoxObstacle box, SegmentBox(root["walls"][i], absl::StrCat("walls[", i, "]"),
                                                  "wall", 0.2, 2.5));
     world.boxes.push_back(box);
   }
-  for (size_t i = 0; i < root["fences"].size(); ++i) {
+  for (size_t i = 0; i < ListSize(root, "fences"); ++i) {
     ASSIGN_OR_RETURN(BoxObstacle box, SegmentBox(root["fences"][i],
                                                  absl::StrCat("fences[", i, "]"), "fence", 0.1, 1.2));
     world.boxes.push_back(box);
   }
-  for (size_t i = 0; i < root["boxes"].size(); ++i) {
+  for (size_t i = 0; i < ListSize(root, "boxes"); ++i) {
     const YAML::Node node = root["boxes"][i];
     const std::string field = absl::StrCat("boxes[", i, "]");
     BoxObstacle box;
@@ -88,7 +95,7 @@ absl::StatusOr<WorldDescription> ParseRoot(const YAML::Node& root) {
     ASSIGN_OR_RETURN(box.height_m, ReadPositive(node["height"], field + ".height", 1.0));
     world.boxes.push_back(box);
   }
-  for (size_t i = 0; i < root["cylinders"].size(); ++i) {
+  for (size_t i = 0; i < ListSize(root, "cylinders"); ++i) {
     const YAML::Node node = root["cylinders"][i];
     const std::string field = absl::StrCat("cylinders[", i, "]");
     CylinderObstacle cylinder;
@@ -98,7 +105,7 @@ absl::StatusOr<WorldDescription> ParseRoot(const YAML::Node& root) {
     ASSIGN_OR_RETURN(cylinder.height_m, ReadPositive(node["height"], field + ".height", 1.5));
     world.cylinders.push_back(cylinder);
   }
-  for (size_t i = 0; i < root["stripes"].size(); ++i) {
+  for (size_t i = 0; i < ListSize(root, "stripes"); ++i) {
     const YAML::Node node = root["stripes"][i];
     const std::string field = absl::StrCat("stripes[", i, "]");
     FloorStripe stripe;
@@ -114,7 +121,7 @@ absl::StatusOr<WorldDescription> ParseRoot(const YAML::Node& root) {
     ASSIGN_OR_RETURN(stripe.width_m, ReadPositive(node["width"], field + ".width", 0.05));
     world.stripes.push_back(stripe);
   }
-  for (size_t i = 0; i < root["markers"].size(); ++i) {
+  for (size_t i = 0; i < ListSize(root, "markers"); ++i) {
     const YAML::Node node = root["markers"][i];
     const std::string field = absl::StrCat("markers[", i, "]");
     StripeMarker marker;
@@ -124,7 +131,7 @@ absl::StatusOr<WorldDescription> ParseRoot(const YAML::Node& root) {
     ASSIGN_OR_RETURN(marker.length_m, ReadPositive(node["length"], field + ".length", 0.6));
     world.markers.push_back(marker);
   }
-  for (size_t i = 0; i < root["robots"].size(); ++i) {
+  for (size_t i = 0; i < ListSize(root, "robots"); ++i) {
     const YAML::Node node = root["robots"][i];
     const std::string field = absl::StrCat("robots[", i, "]");
     RobotSpawn spawn;

@@ -21,11 +21,12 @@ struct DiffDriveBodyParams {
 };
 
 /// A differential-drive robot as ODE bodies: a box chassis of the footprint's extent carrying
-/// the model's mass, a frictionless sphere as the swivel caster, and two cylinder wheels on
-/// hinge joints whose velocity motors have a torque limit (the Lely MFR of thesis ch. 3 by
-/// default: 1485 kg, Ø 300 mm wheels on a 0.92 m track). base_link is the middle of the drive
-/// axle on the floor. Wheel angles are integrated every physics step so encoders never wrap.
-/// Not thread-safe; owned by the simulation thread.
+/// the model's mass, a frictionless sphere as the swivel caster, and two wheels (cylinder
+/// inertia, one sphere contact on the wheel's mid-plane) on hinge joints whose velocity motors
+/// have a torque limit (the Lely MFR of thesis ch. 3 by default: 1485 kg, Ø 300 mm wheels on a
+/// 0.92 m track). base_link is the middle of the drive axle on the floor. Wheel angles are
+/// integrated every physics step so encoders never wrap. Not thread-safe; owned by the
+/// simulation thread.
 class DiffDriveRobot {
  public:
   DiffDriveRobot(OdeWorld* world, int robot_index, const RobotModel& model, const Pose2& start,

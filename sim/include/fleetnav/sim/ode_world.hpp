@@ -27,10 +27,11 @@ struct ContactEvent {
 };
 
 /// The ODE physics world of one simulation: world, collision space, contact group, a ground
-/// plane and the static obstacles of a WorldDescription. Owns every ODE handle (RAII). The
-/// quick-step solver reorders constraints with ODE's global random generator, so Step() reseeds
-/// it (dRandSetSeed) from the simulation's own seed stream for reproducible runs. Not
-/// thread-safe: one simulation thread drives it.
+/// plane and the static obstacles of a WorldDescription. Owns every ODE handle (RAII). Step()
+/// uses ODE's exact solver (dWorldStep) so that resting contacts hold; it still reseeds ODE's
+/// global random generator (dRandSetSeed) from the simulation's own seed stream before each
+/// step, so runs stay reproducible whatever ODE draws from it. Not thread-safe: one simulation
+/// thread drives it.
 class OdeWorld {
  public:
   OdeWorld(const WorldDescription& description, uint64_t seed);

@@ -1,0 +1,225 @@
+// The agent's control loop over a fake HAL: a kinematic robot that follows the commanded twist
+// and reports what its encoders and gyro would, and a sink that records the telemetry.
+#include "fleetnav/robot_agent/agent.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "fleetnav/core/angles.hpp"
+#include "kinematic_unicycle.hpp"
+
+namespace fleetnav::agent {
+namespace {
+
+using ::testing::HasSubstr;
+using testing::KinematicUnicycle;
+
+constexpr double kPeriodS = 0.02;
+constexpr int64_t kPeriodNs = 20'000'000;
+
+/// A robot that does exactly what it is told: each tick integrates the last command over one
+/// control period, rolls its wheels accordingly (v ∓ ω·L/2 over r) and reports cumulative
+/// encoder ticks and the yaw rate on the gyro. Ends after max_ticks frames.
+class KinematicHal : public RobotHal {
+ public:
+  KinematicHal(const RobotModel& model, uint64_t max_ticks)
+      : model_(model), max_ticks_(max_ticks) {}
+
+  absl::StatusOr<std::optional<SensorFrame>> NextFrame() override {
+    if (issued_ > 0) {
+      EXPECT_TRUE(answered_) << "no command for tick " << issued_ - 1;
+      const double half_track = 0.5 * model_.track_m;
+      left_angle_rad_ += (command_.vx_mps - command_.yaw_rate_radps * half_track) /
+                         model_.wheel_radius_m * kPeriodS;
+      right_angle_rad_ += (command_.vx_mps + command_.yaw_rate_radps * half_track) /
+                          model_.wheel_radius_m * kPeriodS;
+      robot_.Step(command_, kPeriodS);
+    }
+    if (issued_ >= max_ticks_) return std::optional<SensorFrame>();
+    SensorFrame frame;
+    frame.tick = issued_;
+    frame.stamp_ns = static_cast<int64_t>(issued_) * kPeriodNs;
+    frame.control_period_s = kPeriodS;
+    frame.encoders = {{"left", Ticks(left_angle_rad_)}, {"right", Ticks(right_angle_rad_)}};
+    frame.imu.gyro_z_radps = command_.yaw_rate_radps;
+    ++issued_;
+    answered_ = false;
+    return std::optional<SensorFrame>(frame);
+  }
+
+  absl::Status Send(const ActuatorCommand& command) override {
+    EXPECT_EQ(command.tick, issued_ - 1);
+    EXPECT_FALSE(answered_) << "two commands for tick " << command.tick;
+    const Twist2* twist = std::get_if<Twist2>(&command.drive);
+    if (twist == nullptr) return absl::InvalidArgumentError("expected a twist");
+    command_ = *twist;
+    answered_ = true;
+    commands_.push_back(*twist);
+    return absl::OkStatus();
+  }
+
+  Pose2 pose_in_start() const { return robot_.pose(); }
+  const std::vector<Twist2>& commands() const { return commands_; }
+
+ private:
+  int64_t Ticks(double angle_rad) const {
+    return static_cast<int64_t>(std::floor(angle_rad / (2.0 * kPi) * model_.encoder_ticks_per_rev));
+  }
+
+  RobotModel model_;
+  uint64_t max_ticks_;
+  uint64_t issued_ = 0;
+  bool answered_ = true;
+  Twist2 command_;
+  double left_angle_rad_ = 0.0;
+  double right_angle_rad_ = 0.0;
+  KinematicUnicycle robot_;
+  std::vector<Twist2> commands_;
+};
+
+class RecordingSink : public TelemetrySink {
+ public:
+  void Publish(const Telemetry& telemetry) override { messages.push_back(telemetry); }
+  std::vector<Telemetry> messages;
+};
+
+Route FeedRoute() {
+  Route route;
+  route.name = "feed";
+  route.map_id = "barn";
+  route.actions = {{StraightAction{2.0, 0.25}, {}},
+                   {TurnAction{DegToRad(90), 0.3}, {}},
+                   {StraightAction{1.0, 0.25}, {}}};
+  return route;
+}
+
+TEST(AgentTest, DrivesTheRouteAndReportsAtTenHertzOrMore) {
+  const RobotModel model = LelyVectorModel();
+  KinematicHal hal(model, 10000);
+  RecordingSink sink;
+  const Pose2 initial(-5.5, 1.0, DegToRad(30));
+  Agent agent(model, &hal, &sink, FeedRoute(), AgentParams{.initial_pose_in_map = initial});
+  absl::StatusOr<AgentResult> result = agent.Run();
+  ASSERT_TRUE(result.ok()) << result.status();
+  EXPECT_EQ(result->state, ExecutionState::kSucceeded) << result->failure_reason;
+  EXPECT_TRUE(result->failure_reason.empty());
+  EXPECT_LT(result->ticks, 10000u);  // it returned once done, not when the HAL ran out
+
+  // The robot really is at initial ∘ (2, 1, 90°), and so is the agent's estimate.
+  const Pose2 target = initial * Pose2(2.0, 1.0, DegToRad(90));
+  const Pose2 truth_in_map = initial * hal.pose_in_start();
+  EXPECT_TRUE(truth_in_map.IsNear(target, 0.01, DegToRad(0.5))) << truth_in_map.DebugString();
+  EXPECT_TRUE(result->final_pose_in_map.IsNear(truth_in_map, 0.005, DegToRad(0.2)))
+      << result->final_pose_in_map.DebugString() << " vs " << truth_in_map.DebugString();
+
+  // Telemetry: one message per ≤ 0.1 s of robot time from the first tick to the last.
+  ASSERT_FALSE(sink.messages.empty());
+  EXPECT_EQ(result->telemetry_sent, sink.messages.size());
+  EXPECT_EQ(sink.messages.front().stamp_ns, 0);
+  for (size_t i = 1; i < sink.messages.size(); ++i) {
+    const Telemetry& previous = sink.messages[i - 1];
+    const Telemetry& current = sink.messages[i];
+    ASSERT_GT(current.stamp_ns, previous.stamp_ns) << i;
+    ASSERT_LE(current.stamp_ns - previous.stamp_ns, 100'000'000) << i;  // ≥ 10 Hz
+    ASSERT_EQ(current.sequence, previous.sequence + 1) << i;
+    ASSERT_GE(current.job_progress_fraction, previous.job_progress_fraction - 1e-12) << i;
+  }
+  const int64_t last_tick_ns = static_cast<int64_t>(result->ticks - 1) * kPeriodNs;
+  EXPECT_LE(last_tick_ns - sink.messages.back().stamp_ns, 100'000'000);
+  const double rate_hz = static_cast<double>(sink.messages.size() - 1) /
+                         (static_cast<double>(sink.messages.back().stamp_ns) * 1e-9);
+  std::printf("[ figures  ] agent telemetry %.2f Hz of robot time over %llu ticks\n", rate_hz,
+              static_cast<unsigned long long>(result->ticks));
+  EXPECT_GE(rate_hz, 10.0);
+
+  // Every message's map pose is initial ∘ its odometry pose; the last is the final pose.
+  for (const Telemetry& t : sink.messages) {
+    ASSERT_TRUE(t.pose_in_map.IsNear(initial * t.pose_in_odom, 1e-9, 1e-9));
+  }
+  const Telemetry& last = sink.messages.back();
+  EXPECT_TRUE(last.pose_in_map.IsNear(result->final_pose_in_map, 1e-6, 1e-6));
+  EXPECT_EQ(last.job_progress_fraction, 1.0);
+  EXPECT_EQ(last.mode, NavigationMode::kIdle);
+  EXPECT_TRUE(sink.messages.front().pose_in_map.IsNear(initial, 1e-12, 1e-12));
+  // The route's modes showed up on the way.
+  bool saw_turn = false, saw_straight = false;
+  for (const Telemetry& t : sink.messages) {
+    saw_turn = saw_turn || t.mode == NavigationMode::kTurn;
+    saw_straight = saw_straight || t.mode == NavigationMode::kStraight;
+  }
+  EXPECT_TRUE(saw_turn);
+  EXPECT_TRUE(saw_straight);
+
+  // It settled: the last settle_ticks commands are standstill.
+  const AgentParams defaults;
+  ASSERT_GT(hal.commands().size(), static_cast<size_t>(defaults.settle_ticks));
+  for (size_t i = hal.commands().size() - defaults.settle_ticks; i < hal.commands().size(); ++i) {
+    EXPECT_EQ(hal.commands()[i].vx_mps, 0.0);
+    EXPECT_EQ(hal.commands()[i].yaw_rate_radps, 0.0);
+  }
+  // Never a reverse command, never over the robot's limits.
+  for (const Twist2& command : hal.commands()) {
+    ASSERT_GE(command.vx_mps, 0.0);
+    ASSERT_LE(command.vx_mps, model.limits.max_speed_mps);
+    ASSERT_LE(std::abs(command.yaw_rate_radps), model.limits.max_yaw_rate_radps);
+  }
+}
+
+TEST(AgentTest, UnsupportedActionEndsTheRunAsFailed) {
+  const RobotModel model = LelyVectorModel();
+  KinematicHal hal(model, 10000);
+  RecordingSink sink;
+  Route route = FeedRoute();
+  route.actions[1] = {FenceNavigationAction{Side::kLeft, 0.5, 10.0, 0.25}, {}};
+  Agent agent(model, &hal, &sink, route, AgentParams{});
+  absl::StatusOr<AgentResult> result = agent.Run();
+  ASSERT_TRUE(result.ok()) << result.status();
+  EXPECT_EQ(result->state, ExecutionState::kFailed);
+  EXPECT_THAT(result->failure_reason, HasSubstr("actions[1]"));
+  EXPECT_LT(result->ticks, 10000u);
+  EXPECT_NEAR(hal.pose_in_start().x_m(), 2.0, 0.01);  // drove the first straight only
+  // The robot was told to stop when the route failed.
+  EXPECT_EQ(hal.commands().back().vx_mps, 0.0);
+  EXPECT_EQ(hal.commands().back().yaw_rate_radps, 0.0);
+  EXPECT_NEAR(sink.messages.back().velocity.vx_mps, 0.0, 1e-9);
+}
+
+TEST(AgentTest, WithoutARouteRunsUntilTheHardwareEnds) {
+  const RobotModel model = LelyVectorModel();
+  KinematicHal hal(model, 123);
+  RecordingSink sink;
+  Agent agent(model, &hal, &sink, std::nullopt, AgentParams{});
+  absl::StatusOr<AgentResult> result = agent.Run();
+  ASSERT_TRUE(result.ok()) << result.status();
+  EXPECT_EQ(result->ticks, 123u);
+  EXPECT_EQ(result->state, ExecutionState::kRunning);
+  EXPECT_TRUE(result->final_pose_in_map.IsNear(Pose2(), 1e-12, 1e-12));
+  EXPECT_GE(sink.messages.size(), 123u * kPeriodS * 10.0);
+}
+
+class FailingHal : public RobotHal {
+ public:
+  absl::StatusOr<std::optional<SensorFrame>> NextFrame() override {
+    return absl::UnavailableError("bus down");
+  }
+  absl::Status Send(const ActuatorCommand&) override { return absl::OkStatus(); }
+};
+
+TEST(AgentTest, HalErrorsAndBadParamsPropagate) {
+  const RobotModel model = LelyVectorModel();
+  FailingHal failing;
+  RecordingSink sink;
+  Agent agent(model, &failing, &sink, FeedRoute(), AgentParams{});
+  EXPECT_EQ(agent.Run().status().code(), absl::StatusCode::kUnavailable);
+
+  KinematicHal hal(model, 10);
+  Agent slow(model, &hal, &sink, FeedRoute(), AgentParams{.telemetry_period_s = 0.5});
+  EXPECT_EQ(slow.Run().status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_TRUE(sink.messages.empty());
+}
+
+}  // namespace
+}  // namespace fleetnav::agent
