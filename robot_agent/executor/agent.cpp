@@ -1,5 +1,6 @@
 #include "fleetnav/robot_agent/agent.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
@@ -60,6 +61,9 @@ absl::StatusOr<AgentResult> Agent::Run() {
 
     ExecutorOutput output;
     if (executor_) output = executor_->Step(odometry_.pose_in_odom(), dt_s);
+    if (executor_ && executor_->state() == ExecutionState::kFailed) {
+      output.mode = NavigationMode::kFault;  // keep reporting the fault while settling
+    }
     ActuatorCommand command;
     command.tick = frame->tick;
     command.drive = output.command;
@@ -70,8 +74,9 @@ absl::StatusOr<AgentResult> Agent::Run() {
       telemetry.sequence = ++sequence_;
       telemetry_->Publish(telemetry);
       ++result.telemetry_sent;
-      next_telemetry_ns =
-          frame->stamp_ns + static_cast<int64_t>(std::llround(params_.telemetry_period_s * 1e9));
+      // Schedule from the due time, not the frame time, so the rate holds whatever the tick.
+      const int64_t period_ns = static_cast<int64_t>(std::llround(params_.telemetry_period_s * 1e9));
+      next_telemetry_ns = std::max(next_telemetry_ns + period_ns, frame->stamp_ns - period_ns / 2);
     }
     result.state = executor_ ? executor_->state() : ExecutionState::kRunning;
     if (result.state != ExecutionState::kRunning && params_.exit_when_done &&

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "absl/strings/str_cat.h"
 #include "fleetnav/core/status_macros.hpp"
 
 namespace fleetnav::sim {
@@ -18,6 +19,10 @@ bool InsideBox(const BoxObstacle& box, const Eigen::Vector2d& p) {
 }  // namespace
 
 absl::StatusOr<OccupancyGrid> RasterizeWorld(const WorldDescription& world, double resolution_m) {
+  if (!std::isfinite(resolution_m) || resolution_m <= 0.0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("resolution_m: must be finite and > 0, got ", resolution_m));
+  }
   const Eigen::Vector2d size = world.max_corner_m - world.min_corner_m;
   const int width = static_cast<int>(std::ceil(size.x() / resolution_m - 1e-9));
   const int height = static_cast<int>(std::ceil(size.y() / resolution_m - 1e-9));
