@@ -48,12 +48,13 @@ absl::Status FleetRegistry::RecordTelemetry(const std::string& robot_id, uint64_
   return absl::OkStatus();
 }
 
-void FleetRegistry::Disconnect(const std::string& robot_id, uint64_t session) {
+bool FleetRegistry::Disconnect(const std::string& robot_id, uint64_t session) {
   absl::MutexLock lock(&mutex_);
   auto it = robots_.find(robot_id);
-  if (it == robots_.end() || it->second.session != session) return;
+  if (it == robots_.end() || it->second.session != session) return false;
   it->second.record.connection = ConnectionState::kOffline;
   it->second.record.revision = ++revision_;
+  return true;
 }
 
 RobotRecord FleetRegistry::WithConnectionState(const Entry& entry) const {
@@ -63,6 +64,23 @@ RobotRecord FleetRegistry::WithConnectionState(const Entry& entry) const {
     if (silent_s > params_.stale_after_s) record.connection = ConnectionState::kStale;
   }
   return record;
+}
+
+void FleetRegistry::RestoreOffline(const RobotIdentity& identity) {
+  absl::MutexLock lock(&mutex_);
+  if (robots_.count(identity.robot_id) != 0) return;
+  Entry& entry = robots_[identity.robot_id];
+  entry.record.identity = identity;
+  entry.record.connection = ConnectionState::kOffline;
+  entry.record.revision = ++revision_;
+}
+
+void FleetRegistry::SetCurrentJob(const std::string& robot_id, const std::string& job_id) {
+  absl::MutexLock lock(&mutex_);
+  auto it = robots_.find(robot_id);
+  if (it == robots_.end()) return;
+  it->second.record.current_job_id = job_id;
+  it->second.record.revision = ++revision_;
 }
 
 absl::StatusOr<RobotRecord> FleetRegistry::Get(const std::string& robot_id) const {

@@ -1,10 +1,12 @@
 #include "fleetnav/server/rpc/agent_service.hpp"
 
 #include <chrono>
+#include <thread>
 
 #include "absl/strings/str_cat.h"
-#include "fleetnav/proto/telemetry_convert.hpp"
 #include "fleetnav/proto/grpc_status.hpp"
+#include "fleetnav/proto/job_convert.hpp"
+#include "fleetnav/proto/telemetry_convert.hpp"
 
 namespace fleetnav::server {
 
@@ -31,6 +33,15 @@ grpc::Status AgentServiceImpl::Connect(
   welcome.mutable_welcome()->set_telemetry_rate_hz(10.0);
   stream->Write(welcome);
 
+  // Assignments and commands reach the robot through its outbox, written by this thread.
+  std::shared_ptr<AgentOutbox> outbox = mailbox_->Open(robot_id);
+  std::thread writer([stream, outbox] {
+    while (std::optional<v1::ServerMessage> next = outbox->Pop()) {
+      if (!stream->Write(*next)) break;
+    }
+  });
+  jobs_->OnRobotConnected(*identity, message.hello().resume_job_id());
+
   absl::Status status = absl::OkStatus();
   while (status.ok() && !stopping_->load() && !context->IsCancelled() && stream->Read(&message)) {
     switch (message.payload_case()) {
@@ -38,10 +49,18 @@ grpc::Status AgentServiceImpl::Connect(
         absl::StatusOr<Telemetry> telemetry = FromProto(message.telemetry());
         status = telemetry.ok() ? registry_->RecordTelemetry(robot_id, session, *telemetry)
                                 : telemetry.status();
+        if (status.ok()) jobs_->OnTelemetry(robot_id, *telemetry);
         break;
       }
-      case v1::AgentMessage::kEvent:
-        break;  // job events are consumed by the job service (fleet-server issue)
+      case v1::AgentMessage::kEvent: {
+        absl::StatusOr<JobEvent> event = JobEventFromAgentEvent(message.event());
+        if (event.ok()) {
+          jobs_->OnRobotEvent(robot_id, *event);
+        } else if (message.event().type() == v1::AgentEvent::TYPE_UNSPECIFIED) {
+          status = event.status();
+        }
+        break;
+      }
       case v1::AgentMessage::kHello:
         status = absl::InvalidArgumentError("hello: sent twice on one stream");
         break;
@@ -50,7 +69,9 @@ grpc::Status AgentServiceImpl::Connect(
         break;
     }
   }
-  registry_->Disconnect(robot_id, session);
+  mailbox_->Close(robot_id, outbox);
+  writer.join();
+  if (registry_->Disconnect(robot_id, session)) jobs_->OnRobotDisconnected(robot_id);
   return ToGrpcStatus(status);
 }
 

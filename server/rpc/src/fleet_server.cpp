@@ -19,6 +19,11 @@ absl::Status FleetServerParams::Validate() const {
     return absl::InvalidArgumentError(
         absl::StrCat("max_message_bytes: must be >= 1024, got ", max_message_bytes));
   }
+  if (!(dispatch_period_s > 0.0 && dispatch_period_s <= 10.0)) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("dispatch_period_s: must be in (0, 10], got ", dispatch_period_s));
+  }
+  RETURN_IF_ERROR(jobs.Validate());
   return registry.Validate();
 }
 
@@ -32,9 +37,21 @@ absl::StatusOr<int> FleetServer::Start() {
   ASSIGN_OR_RETURN(db_,
                    storage::SqliteDatabase::Open(params_.db_path, storage::FleetSchemaMigrations()));
   map_repository_ = std::make_unique<storage::SqliteMapRepository>(db_.get());
+  marker_repository_ = std::make_unique<storage::SqliteMarkerSetRepository>(db_.get());
+  route_repository_ = std::make_unique<storage::SqliteRouteRepository>(db_.get());
+  robot_repository_ = std::make_unique<storage::SqliteRobotRepository>(db_.get());
+  job_repository_ = std::make_unique<storage::SqliteJobRepository>(db_.get());
   maps_ = std::make_unique<MapCatalog>(map_repository_.get());
-  fleet_service_ = std::make_unique<FleetServiceImpl>(maps_.get(), &registry_, &stopping_);
-  agent_service_ = std::make_unique<AgentServiceImpl>(&registry_, &stopping_);
+  site_ = std::make_unique<SiteCatalog>(map_repository_.get(), marker_repository_.get(),
+                                        route_repository_.get(), job_repository_.get());
+  jobs_ = std::make_unique<JobService>(job_repository_.get(), robot_repository_.get(),
+                                       map_repository_.get(), marker_repository_.get(),
+                                       site_.get(), &registry_, &mailbox_, &clock_, params_.jobs);
+  RETURN_IF_ERROR(jobs_->Recover());
+  fleet_service_ = std::make_unique<FleetServiceImpl>(maps_.get(), site_.get(), jobs_.get(),
+                                                      &registry_, &stopping_);
+  agent_service_ =
+      std::make_unique<AgentServiceImpl>(&registry_, jobs_.get(), &mailbox_, &stopping_);
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
@@ -50,12 +67,20 @@ absl::StatusOr<int> FleetServer::Start() {
     return absl::UnavailableError(
         absl::StrCat("cannot listen on '", params_.listen_address, "'"));
   }
+  dispatcher_ = std::thread([this] {
+    const auto period = std::chrono::duration<double>(params_.dispatch_period_s);
+    while (!stopping_.load()) {
+      jobs_->DispatchOnce();
+      std::this_thread::sleep_for(period);
+    }
+  });
   return port;
 }
 
 void FleetServer::Shutdown() {
   if (server_ == nullptr || stopping_.exchange(true)) return;
   server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
+  if (dispatcher_.joinable()) dispatcher_.join();
 }
 
 void FleetServer::Wait() {

@@ -7,7 +7,10 @@
 
 #include "absl/strings/str_cat.h"
 #include "fleetnav/core/map_io.hpp"
+#include "fleetnav/proto/geometry_convert.hpp"
+#include "fleetnav/proto/job_convert.hpp"
 #include "fleetnav/proto/map_convert.hpp"
+#include "fleetnav/proto/route_convert.hpp"
 #include "fleetnav/proto/robot_convert.hpp"
 #include "fleetnav/proto/telemetry_convert.hpp"
 #include "fleetnav/server/rpc/robot_state_convert.hpp"
@@ -73,7 +76,7 @@ grpc::Status FleetServiceImpl::ListMaps(grpc::ServerContext*, const v1::ListMaps
 
 grpc::Status FleetServiceImpl::DeleteMap(grpc::ServerContext*, const v1::DeleteMapRequest* request,
                                          v1::DeleteMapResponse*) {
-  return ToGrpcStatus(maps_->Delete(request->map_id()));
+  return ToGrpcStatus(site_->DeleteMap(request->map_id()));
 }
 
 grpc::Status FleetServiceImpl::ListRobots(grpc::ServerContext*, const v1::ListRobotsRequest*,
@@ -122,6 +125,142 @@ grpc::Status FleetServiceImpl::WatchFleet(grpc::ServerContext* context,
       first = false;
     }
     std::this_thread::sleep_for(period);
+  }
+  return grpc::Status::OK;
+}
+
+grpc::Status FleetServiceImpl::PutMarkerSet(grpc::ServerContext*,
+                                            const v1::PutMarkerSetRequest* request,
+                                            v1::PutMarkerSetResponse* response) {
+  absl::StatusOr<MarkerSet> markers = FromProto(request->marker_set());
+  if (!markers.ok()) return ToGrpcStatus(markers.status());
+  absl::StatusOr<uint32_t> version = site_->PutMarkerSet(*markers);
+  if (!version.ok()) return ToGrpcStatus(version.status());
+  response->set_map_id(markers->map_id);
+  response->set_version(*version);
+  return grpc::Status::OK;
+}
+
+grpc::Status FleetServiceImpl::GetMarkerSet(grpc::ServerContext*,
+                                            const v1::GetMarkerSetRequest* request,
+                                            v1::GetMarkerSetResponse* response) {
+  absl::StatusOr<storage::StoredMarkerSet> stored =
+      site_->GetMarkerSet(request->map_id(), request->version());
+  if (!stored.ok()) return ToGrpcStatus(stored.status());
+  *response->mutable_marker_set() = fleetnav::ToProto(stored->markers);
+  response->set_version(stored->version);
+  return grpc::Status::OK;
+}
+
+grpc::Status FleetServiceImpl::PutRoute(grpc::ServerContext*, const v1::PutRouteRequest* request,
+                                        v1::PutRouteResponse* response) {
+  absl::StatusOr<Route> route = FromProto(request->route());
+  if (!route.ok()) return ToGrpcStatus(route.status());
+  absl::StatusOr<uint32_t> version = site_->PutRoute(*route);
+  if (!version.ok()) return ToGrpcStatus(version.status());
+  response->set_name(route->name);
+  response->set_version(*version);
+  return grpc::Status::OK;
+}
+
+grpc::Status FleetServiceImpl::GetRoute(grpc::ServerContext*, const v1::GetRouteRequest* request,
+                                        v1::GetRouteResponse* response) {
+  absl::StatusOr<storage::StoredRoute> stored = site_->GetRoute(request->name(), 0);
+  if (!stored.ok()) return ToGrpcStatus(stored.status());
+  *response->mutable_route() = fleetnav::ToProto(stored->route);
+  response->set_version(stored->version);
+  return grpc::Status::OK;
+}
+
+grpc::Status FleetServiceImpl::ListRoutes(grpc::ServerContext*,
+                                          const v1::ListRoutesRequest* request,
+                                          v1::ListRoutesResponse* response) {
+  absl::StatusOr<std::vector<storage::StoredRoute>> routes = site_->ListRoutes(request->map_id());
+  if (!routes.ok()) return ToGrpcStatus(routes.status());
+  for (const storage::StoredRoute& stored : *routes) {
+    *response->add_routes() = fleetnav::ToProto(stored.route);
+  }
+  return grpc::Status::OK;
+}
+
+grpc::Status FleetServiceImpl::SubmitJob(grpc::ServerContext*, const v1::SubmitJobRequest* request,
+                                         v1::SubmitJobResponse* response) {
+  SubmitJobRequest submit;
+  if (request->has_goal()) {
+    absl::StatusOr<Pose2> goal = FromProto(request->goal().goal(), "goal.goal");
+    if (!goal.ok()) return ToGrpcStatus(goal.status());
+    submit.goal = *goal;
+    submit.goal_map_id = request->goal().map_id();
+  } else {
+    submit.route_name = request->route_name();
+  }
+  absl::StatusOr<RequeuePolicy> policy = RequeuePolicyFromProto(request->on_robot_lost());
+  if (!policy.ok()) return ToGrpcStatus(policy.status());
+  submit.on_robot_lost = *policy;
+  submit.robot_id = request->robot_id();
+  submit.priority = request->priority();
+  submit.idempotency_key = request->idempotency_key();
+  absl::StatusOr<storage::CreatedJob> created = jobs_->Submit(submit);
+  if (!created.ok()) return ToGrpcStatus(created.status());
+  *response->mutable_job() = fleetnav::ToProto(created->job);
+  response->set_deduplicated(created->deduplicated);
+  return grpc::Status::OK;
+}
+
+grpc::Status FleetServiceImpl::GetJob(grpc::ServerContext*, const v1::GetJobRequest* request,
+                                      v1::GetJobResponse* response) {
+  absl::StatusOr<Job> job = jobs_->Get(request->job_id());
+  if (!job.ok()) return ToGrpcStatus(job.status());
+  *response->mutable_job() = fleetnav::ToProto(*job);
+  return grpc::Status::OK;
+}
+
+grpc::Status FleetServiceImpl::ListJobs(grpc::ServerContext*, const v1::ListJobsRequest* request,
+                                        v1::ListJobsResponse* response) {
+  storage::JobFilter filter;
+  for (int state : request->states()) {
+    absl::StatusOr<JobState> parsed = JobStateFromProto(state);
+    if (!parsed.ok()) {
+      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                          absl::StrCat("states: unspecified or unknown value ", state));
+    }
+    filter.states.push_back(*parsed);
+  }
+  filter.robot_id = request->robot_id();
+  filter.page_size = static_cast<int>(std::min<uint32_t>(request->page_size(), 1u << 30));
+  filter.page_token = request->page_token();
+  absl::StatusOr<storage::JobPage> page = jobs_->List(filter);
+  if (!page.ok()) return ToGrpcStatus(page.status());
+  for (const Job& job : page->jobs) *response->add_jobs() = fleetnav::ToProto(job);
+  response->set_next_page_token(page->next_page_token);
+  return grpc::Status::OK;
+}
+
+grpc::Status FleetServiceImpl::CancelJob(grpc::ServerContext*, const v1::CancelJobRequest* request,
+                                         v1::CancelJobResponse* response) {
+  absl::StatusOr<Job> job = jobs_->Cancel(request->job_id(), request->reason());
+  if (!job.ok()) return ToGrpcStatus(job.status());
+  *response->mutable_job() = fleetnav::ToProto(*job);
+  return grpc::Status::OK;
+}
+
+grpc::Status FleetServiceImpl::WatchJob(grpc::ServerContext* context,
+                                        const v1::WatchJobRequest* request,
+                                        grpc::ServerWriter<v1::JobEvent>* writer) {
+  absl::StatusOr<Job> job = jobs_->Get(request->job_id());
+  if (!job.ok()) return ToGrpcStatus(job.status());
+  int64_t after = 0;
+  while (!context->IsCancelled() && !stopping_->load()) {
+    absl::StatusOr<std::vector<JobEvent>> events = jobs_->Events(request->job_id(), after);
+    if (!events.ok()) return ToGrpcStatus(events.status());
+    bool ended = false;
+    for (const JobEvent& event : *events) {
+      if (!writer->Write(fleetnav::ToProto(event))) return grpc::Status::OK;
+      after = event.sequence;
+      ended = IsTerminal(event.state);
+    }
+    if (ended) return grpc::Status::OK;  // the job is over: the stream ends with it
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   return grpc::Status::OK;
 }

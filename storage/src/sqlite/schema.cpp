@@ -21,6 +21,68 @@ const std::vector<std::string>& FleetSchemaMigrations() {
           PRIMARY KEY (map_id, version)
         );
       )sql",
+      // 2: marker sets, routes, robots and jobs with their events.
+      R"sql(
+        CREATE TABLE marker_sets (
+          map_id TEXT NOT NULL,
+          version INTEGER NOT NULL,
+          yaml TEXT NOT NULL,
+          created_unix_ms INTEGER NOT NULL,
+          PRIMARY KEY (map_id, version)
+        );
+        CREATE TABLE routes (
+          name TEXT NOT NULL,
+          version INTEGER NOT NULL,
+          map_id TEXT NOT NULL,
+          yaml TEXT NOT NULL,
+          created_unix_ms INTEGER NOT NULL,
+          PRIMARY KEY (name, version)
+        );
+        CREATE INDEX routes_by_map ON routes (map_id);
+        CREATE TABLE robots (
+          robot_id TEXT PRIMARY KEY,
+          kind_name TEXT NOT NULL,
+          capabilities TEXT NOT NULL,
+          software_version TEXT NOT NULL,
+          last_seen_unix_ms INTEGER NOT NULL
+        );
+        CREATE TABLE jobs (
+          seq INTEGER PRIMARY KEY AUTOINCREMENT,
+          job_id TEXT NOT NULL UNIQUE,
+          state INTEGER NOT NULL,
+          route_name TEXT NOT NULL,
+          route_version INTEGER NOT NULL,
+          map_id TEXT NOT NULL,
+          has_goal INTEGER NOT NULL,
+          goal_x_m REAL NOT NULL,
+          goal_y_m REAL NOT NULL,
+          goal_yaw_rad REAL NOT NULL,
+          requested_robot_id TEXT NOT NULL,
+          assigned_robot_id TEXT NOT NULL,
+          priority INTEGER NOT NULL,
+          idempotency_key TEXT,
+          on_robot_lost INTEGER NOT NULL,
+          created_unix_ms INTEGER NOT NULL,
+          updated_unix_ms INTEGER NOT NULL,
+          progress_fraction REAL NOT NULL,
+          reason TEXT NOT NULL
+        );
+        CREATE UNIQUE INDEX jobs_by_key ON jobs (idempotency_key) WHERE idempotency_key IS NOT NULL;
+        CREATE INDEX jobs_by_state ON jobs (state);
+        CREATE TABLE job_events (
+          job_id TEXT NOT NULL REFERENCES jobs (job_id) ON DELETE CASCADE,
+          sequence INTEGER NOT NULL,
+          type INTEGER NOT NULL,
+          unix_ms INTEGER NOT NULL,
+          robot_id TEXT NOT NULL,
+          action_index INTEGER NOT NULL,
+          progress_fraction REAL NOT NULL,
+          mode INTEGER NOT NULL,
+          reason TEXT NOT NULL,
+          state INTEGER NOT NULL,
+          PRIMARY KEY (job_id, sequence)
+        );
+      )sql",
   };
   return kMigrations;
 }

@@ -45,8 +45,13 @@ class FleetRegistry {
   /// FailedPrecondition for a replaced session.
   absl::Status RecordTelemetry(const std::string& robot_id, uint64_t session,
                                const Telemetry& telemetry);
-  /// Marks the robot offline if `session` is still its current one.
-  void Disconnect(const std::string& robot_id, uint64_t session);
+  /// Marks the robot offline if `session` is still its current one; returns whether it was.
+  bool Disconnect(const std::string& robot_id, uint64_t session);
+
+  /// Adds a robot known from the store as offline (after a restart); no-op if present.
+  void RestoreOffline(const RobotIdentity& identity);
+  /// Records the job a robot is working on (empty: idle).
+  void SetCurrentJob(const std::string& robot_id, const std::string& job_id);
 
   absl::StatusOr<RobotRecord> Get(const std::string& robot_id) const;
   /// Every robot, ordered by id, with stale state computed at the current time.

@@ -3,6 +3,7 @@
 #include <atomic>
 #include <memory>
 #include <string>
+#include <thread>
 
 #include <grpcpp/server.h>
 
@@ -12,7 +13,11 @@
 #include "fleetnav/server/map_catalog.hpp"
 #include "fleetnav/server/rpc/agent_service.hpp"
 #include "fleetnav/server/rpc/fleet_service.hpp"
+#include "fleetnav/server/job_service.hpp"
+#include "fleetnav/server/rpc/agent_mailbox.hpp"
+#include "fleetnav/server/site_catalog.hpp"
 #include "fleetnav/storage/sqlite/sqlite_database.hpp"
+#include "fleetnav/storage/sqlite/sqlite_fleet_repositories.hpp"
 #include "fleetnav/storage/sqlite/sqlite_map_repository.hpp"
 
 namespace fleetnav::server {
@@ -21,13 +26,16 @@ struct FleetServerParams {
   std::string listen_address = "127.0.0.1:50051";  ///< port 0 picks a free port
   std::string db_path = "fleetnav.db";             ///< SQLite file, created if missing
   FleetRegistryParams registry;
+  JobServiceParams jobs;
+  double dispatch_period_s = 0.2;    ///< how often queued jobs are matched to idle robots
   int max_message_bytes = 64 << 20;  ///< largest request accepted (a 8k×8k map fits)
   absl::Status Validate() const;
 };
 
-/// fleetnavd as a library: opens the store, builds FleetService and AgentService with health
-/// checking and reflection, and serves on a socket. Used by main() and by integration tests
-/// (real gRPC over loopback). Start once; Shutdown() ends open streams within a second.
+/// fleetnavd as a library: opens the store, recovers robots and unfinished jobs, builds
+/// FleetService and AgentService with health checking and reflection, serves on a socket and
+/// runs the dispatcher on a thread of its own. Used by main() and by integration tests (real
+/// gRPC over loopback). Start once; Shutdown() ends open streams within a second.
 class FleetServer {
  public:
   explicit FleetServer(FleetServerParams params);
@@ -38,6 +46,7 @@ class FleetServer {
   void Shutdown();
   void Wait();
   FleetRegistry& registry() { return registry_; }
+  JobService& jobs() { return *jobs_; }
 
  private:
   FleetServerParams params_;
@@ -46,7 +55,15 @@ class FleetServer {
   FleetRegistry registry_;
   std::unique_ptr<storage::SqliteDatabase> db_;
   std::unique_ptr<storage::SqliteMapRepository> map_repository_;
+  std::unique_ptr<storage::SqliteMarkerSetRepository> marker_repository_;
+  std::unique_ptr<storage::SqliteRouteRepository> route_repository_;
+  std::unique_ptr<storage::SqliteRobotRepository> robot_repository_;
+  std::unique_ptr<storage::SqliteJobRepository> job_repository_;
   std::unique_ptr<MapCatalog> maps_;
+  std::unique_ptr<SiteCatalog> site_;
+  AgentMailbox mailbox_;
+  std::unique_ptr<JobService> jobs_;
+  std::thread dispatcher_;
   std::unique_ptr<FleetServiceImpl> fleet_service_;
   std::unique_ptr<AgentServiceImpl> agent_service_;
   std::unique_ptr<grpc::Server> server_;

@@ -3,18 +3,22 @@
 #include <atomic>
 
 #include "fleetnav/server/fleet_registry.hpp"
+#include "fleetnav/server/job_service.hpp"
 #include "fleetnav/server/map_catalog.hpp"
+#include "fleetnav/server/site_catalog.hpp"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
 
 namespace fleetnav::server {
 
 /// gRPC edge of FleetService: converts the request, calls a use case, converts the answer.
-/// Maps and robots are served here; jobs, marker sets, routes and PlanPaths answer
-/// UNIMPLEMENTED until the fleet-server issue lands them. Thread-safe.
+/// PlanPaths answers UNIMPLEMENTED until the planner is wired in. Streams (WatchFleet,
+/// WatchJob) poll their source at their own rate, so a slow client only slows itself.
+/// Thread-safe.
 class FleetServiceImpl final : public v1::FleetService::Service {
  public:
-  FleetServiceImpl(MapCatalog* maps, FleetRegistry* registry, const std::atomic<bool>* stopping)
-      : maps_(maps), registry_(registry), stopping_(stopping) {}
+  FleetServiceImpl(MapCatalog* maps, SiteCatalog* site, JobService* jobs, FleetRegistry* registry,
+                   const std::atomic<bool>* stopping)
+      : maps_(maps), site_(site), jobs_(jobs), registry_(registry), stopping_(stopping) {}
 
   grpc::Status PutMap(grpc::ServerContext* context, const v1::PutMapRequest* request,
                       v1::PutMapResponse* response) override;
@@ -30,9 +34,31 @@ class FleetServiceImpl final : public v1::FleetService::Service {
                         v1::GetRobotResponse* response) override;
   grpc::Status WatchFleet(grpc::ServerContext* context, const v1::WatchFleetRequest* request,
                           grpc::ServerWriter<v1::FleetUpdate>* writer) override;
+  grpc::Status PutMarkerSet(grpc::ServerContext* context, const v1::PutMarkerSetRequest* request,
+                            v1::PutMarkerSetResponse* response) override;
+  grpc::Status GetMarkerSet(grpc::ServerContext* context, const v1::GetMarkerSetRequest* request,
+                            v1::GetMarkerSetResponse* response) override;
+  grpc::Status PutRoute(grpc::ServerContext* context, const v1::PutRouteRequest* request,
+                        v1::PutRouteResponse* response) override;
+  grpc::Status GetRoute(grpc::ServerContext* context, const v1::GetRouteRequest* request,
+                        v1::GetRouteResponse* response) override;
+  grpc::Status ListRoutes(grpc::ServerContext* context, const v1::ListRoutesRequest* request,
+                          v1::ListRoutesResponse* response) override;
+  grpc::Status SubmitJob(grpc::ServerContext* context, const v1::SubmitJobRequest* request,
+                         v1::SubmitJobResponse* response) override;
+  grpc::Status GetJob(grpc::ServerContext* context, const v1::GetJobRequest* request,
+                      v1::GetJobResponse* response) override;
+  grpc::Status ListJobs(grpc::ServerContext* context, const v1::ListJobsRequest* request,
+                        v1::ListJobsResponse* response) override;
+  grpc::Status CancelJob(grpc::ServerContext* context, const v1::CancelJobRequest* request,
+                         v1::CancelJobResponse* response) override;
+  grpc::Status WatchJob(grpc::ServerContext* context, const v1::WatchJobRequest* request,
+                        grpc::ServerWriter<v1::JobEvent>* writer) override;
 
  private:
   MapCatalog* maps_;
+  SiteCatalog* site_;
+  JobService* jobs_;
   FleetRegistry* registry_;
   const std::atomic<bool>* stopping_;
 };

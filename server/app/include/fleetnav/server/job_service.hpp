@@ -1,0 +1,94 @@
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "absl/synchronization/mutex.h"
+#include "fleetnav/core/clock.hpp"
+#include "fleetnav/core/job.hpp"
+#include "fleetnav/server/fleet_registry.hpp"
+#include "fleetnav/server/robot_mailbox.hpp"
+#include "fleetnav/server/site_catalog.hpp"
+#include "fleetnav/storage/job_repository.hpp"
+#include "fleetnav/storage/map_repository.hpp"
+#include "fleetnav/storage/robot_repository.hpp"
+
+namespace fleetnav::server {
+
+struct JobServiceParams {
+  /// A paused job whose robot stays away this long is failed or re-queued by its policy.
+  double lost_robot_timeout_s = 30.0;
+  int max_page_size = 1000;
+  absl::Status Validate() const;
+};
+
+struct SubmitJobRequest {
+  std::string route_name;  ///< either a route …
+  std::string goal_map_id;  ///< … or a goal on a map
+  std::optional<Pose2> goal;
+  std::string robot_id;  ///< empty: any capable robot
+  int priority = 0;
+  std::string idempotency_key;
+  RequeuePolicy on_robot_lost = RequeuePolicy::kFail;
+};
+
+/// Jobs from submission to their end, and the dispatcher. Every transition is stored with its
+/// event (JobRepository) before anyone is told. Dispatch (DispatchOnce): queued jobs in order of
+/// priority (high first) then age go to connected, idle robots whose capabilities include every
+/// action type of the route (go-to-goal jobs need "free_navigation"), the nearest robot to the
+/// job's first known point first. A robot that drops holds its job paused; when it returns
+/// with the job it resumes, and after lost_robot_timeout_s the job is failed or re-queued by
+/// its policy. Thread-safe: transitions are serialised by one mutex.
+class JobService {
+ public:
+  JobService(storage::JobRepository* jobs, storage::RobotRepository* robots,
+             storage::MapRepository* maps, storage::MarkerSetRepository* markers,
+             SiteCatalog* site, FleetRegistry* registry, RobotMailbox* mailbox,
+             const Clock* clock, JobServiceParams params);
+
+  /// Restores robots (offline) and pauses jobs that were assigned or running when the server
+  /// stopped. Call once before serving.
+  absl::Status Recover();
+
+  absl::StatusOr<storage::CreatedJob> Submit(const SubmitJobRequest& request);
+  absl::StatusOr<Job> Get(const std::string& job_id);
+  absl::StatusOr<storage::JobPage> List(storage::JobFilter filter);
+  /// FailedPrecondition for a job that has already ended.
+  absl::StatusOr<Job> Cancel(const std::string& job_id, const std::string& reason);
+  absl::StatusOr<std::vector<JobEvent>> Events(const std::string& job_id, int64_t after_sequence);
+
+  void OnRobotConnected(const RobotIdentity& identity, const std::string& resume_job_id);
+  void OnRobotDisconnected(const std::string& robot_id);
+  /// A job event a robot reports (action started/finished, succeeded, failed, mode switch).
+  void OnRobotEvent(const std::string& robot_id, const JobEvent& event);
+  void OnTelemetry(const std::string& robot_id, const Telemetry& telemetry);
+
+  /// One dispatcher pass: lost-robot timeouts, then assignments. Returns jobs assigned.
+  int DispatchOnce();
+
+ private:
+  absl::Status Transition(Job& job, JobState state, JobEventType type, const std::string& reason,
+                          const std::string& robot_id) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  absl::StatusOr<Assignment> Resolve(const Job& job);
+  std::vector<std::string> RequiredCapabilities(const Job& job);
+  std::optional<Eigen::Vector2d> StartPoint(const Job& job);
+  void HandleLostRobots() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+
+  storage::JobRepository* jobs_;
+  storage::RobotRepository* robots_;
+  storage::MapRepository* maps_;
+  storage::MarkerSetRepository* markers_;
+  SiteCatalog* site_;
+  FleetRegistry* registry_;
+  RobotMailbox* mailbox_;
+  const Clock* clock_;
+  JobServiceParams params_;
+  absl::Mutex mutex_;
+  std::map<std::string, int64_t> lost_since_ns_ ABSL_GUARDED_BY(mutex_);  ///< by job id
+  std::map<std::string, int> progress_decile_ ABSL_GUARDED_BY(mutex_);    ///< by job id
+};
+
+}  // namespace fleetnav::server

@@ -1,0 +1,32 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "fleetnav/core/job.hpp"
+#include "fleetnav/core/route.hpp"
+
+namespace fleetnav::server {
+
+/// A job as a robot receives it: resolved to fixed versions of its route, map and marker set.
+struct Assignment {
+  Job job;
+  Route route;
+  uint32_t route_version = 0;
+  uint32_t map_version = 0;
+  uint32_t marker_set_version = 0;  ///< 0: the map has no marker set
+};
+
+enum class RobotCommandType { kPause, kResume, kCancel };
+
+/// The way from the use cases to connected robots (implemented by the AgentService edge).
+/// Sends never block; they return false when the robot has no open stream.
+class RobotMailbox {
+ public:
+  virtual ~RobotMailbox() = default;
+  virtual bool SendAssignment(const std::string& robot_id, const Assignment& assignment) = 0;
+  virtual bool SendCommand(const std::string& robot_id, RobotCommandType type,
+                           const std::string& job_id, const std::string& reason) = 0;
+};
+
+}  // namespace fleetnav::server

@@ -1,0 +1,48 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "fleetnav/core/route.hpp"
+#include "fleetnav/core/stripe_marker.hpp"
+#include "fleetnav/storage/job_repository.hpp"
+#include "fleetnav/storage/map_repository.hpp"
+#include "fleetnav/storage/marker_set_repository.hpp"
+#include "fleetnav/storage/route_repository.hpp"
+
+namespace fleetnav::server {
+
+/// The use cases around a site's marker sets and routes, checked against its maps: a marker
+/// set needs its map; a route needs its map, may only name markers of the map's latest marker
+/// set, and its free-navigation waypoints and goals must lie on free cells inside the map
+/// (InvalidArgument naming `actions[i]`). Also answers whether a map is still in use, so that
+/// deleting it can be refused. Thread-safe as its repositories are.
+class SiteCatalog {
+ public:
+  SiteCatalog(storage::MapRepository* maps, storage::MarkerSetRepository* markers,
+              storage::RouteRepository* routes, storage::JobRepository* jobs)
+      : maps_(maps), markers_(markers), routes_(routes), jobs_(jobs) {}
+
+  absl::StatusOr<uint32_t> PutMarkerSet(const MarkerSet& markers);
+  absl::StatusOr<storage::StoredMarkerSet> GetMarkerSet(const std::string& map_id,
+                                                        uint32_t version);
+  absl::StatusOr<uint32_t> PutRoute(const Route& route);
+  absl::StatusOr<storage::StoredRoute> GetRoute(const std::string& name, uint32_t version);
+  absl::StatusOr<std::vector<storage::StoredRoute>> ListRoutes(const std::string& map_id);
+  /// FailedPrecondition naming what still uses the map (routes, unfinished jobs), else deletes.
+  absl::Status DeleteMap(const std::string& map_id);
+
+  /// Route names are 1-64 characters of [A-Za-z0-9_.-].
+  static absl::Status ValidateRouteName(const std::string& name);
+
+ private:
+  absl::Status CheckRouteAgainstSite(const Route& route);
+
+  storage::MapRepository* maps_;
+  storage::MarkerSetRepository* markers_;
+  storage::RouteRepository* routes_;
+  storage::JobRepository* jobs_;
+};
+
+}  // namespace fleetnav::server

@@ -1,0 +1,384 @@
+#include "fleetnav/server/job_service.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "absl/strings/str_cat.h"
+#include "absl/time/clock.h"
+#include "fleetnav/core/status_macros.hpp"
+
+namespace fleetnav::server {
+namespace {
+
+int64_t NowUnixMs() { return absl::ToUnixMillis(absl::Now()); }
+
+JobEvent MakeEvent(const Job& job, JobEventType type, const std::string& reason,
+                   const std::string& robot_id) {
+  JobEvent event;
+  event.job_id = job.job_id;
+  event.type = type;
+  event.unix_ms = NowUnixMs();
+  event.robot_id = robot_id;
+  event.progress_fraction = job.progress_fraction;
+  event.reason = reason;
+  event.state = job.state;
+  return event;
+}
+
+}  // namespace
+
+absl::Status JobServiceParams::Validate() const {
+  if (!std::isfinite(lost_robot_timeout_s) || lost_robot_timeout_s <= 0.0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("lost_robot_timeout_s: must be finite and > 0, got ", lost_robot_timeout_s));
+  }
+  if (max_page_size < 1) return absl::InvalidArgumentError("max_page_size: must be >= 1");
+  return absl::OkStatus();
+}
+
+JobService::JobService(storage::JobRepository* jobs, storage::RobotRepository* robots,
+                       storage::MapRepository* maps, storage::MarkerSetRepository* markers,
+                       SiteCatalog* site, FleetRegistry* registry, RobotMailbox* mailbox,
+                       const Clock* clock, JobServiceParams params)
+    : jobs_(jobs),
+      robots_(robots),
+      maps_(maps),
+      markers_(markers),
+      site_(site),
+      registry_(registry),
+      mailbox_(mailbox),
+      clock_(clock),
+      params_(params) {}
+
+absl::Status JobService::Transition(Job& job, JobState state, JobEventType type,
+                                    const std::string& reason, const std::string& robot_id) {
+  job.state = state;
+  job.updated_unix_ms = NowUnixMs();
+  if (!reason.empty()) job.reason = reason;
+  if (IsTerminal(state)) progress_decile_.erase(job.job_id);
+  return jobs_->UpdateJob(job, MakeEvent(job, type, reason, robot_id)).status();
+}
+
+absl::Status JobService::Recover() {
+  ASSIGN_OR_RETURN(std::vector<storage::StoredRobot> robots, robots_->ListRobots());
+  for (const storage::StoredRobot& stored : robots) {
+    RobotIdentity identity;
+    identity.robot_id = stored.robot_id;
+    absl::StatusOr<RobotModel> model = RobotModelByKind(stored.kind_name);
+    if (model.ok()) identity.model = *model;
+    identity.model.kind_name = stored.kind_name;
+    identity.capabilities = stored.capabilities;
+    identity.software_version = stored.software_version;
+    registry_->RestoreOffline(identity);
+  }
+  absl::MutexLock lock(&mutex_);
+  storage::JobFilter in_flight;
+  in_flight.states = {JobState::kAssigned, JobState::kRunning, JobState::kPaused};
+  in_flight.page_size = params_.max_page_size;
+  while (true) {
+    ASSIGN_OR_RETURN(storage::JobPage page, jobs_->ListJobs(in_flight));
+    for (Job& job : page.jobs) {
+      if (job.state != JobState::kPaused) {
+        RETURN_IF_ERROR(Transition(job, JobState::kPaused, JobEventType::kPaused,
+                                   "server restarted; waiting for the robot to reconnect",
+                                   job.assigned_robot_id));
+      }
+      lost_since_ns_[job.job_id] = clock_->NowNs();
+      registry_->SetCurrentJob(job.assigned_robot_id, job.job_id);
+    }
+    if (page.next_page_token.empty()) break;
+    in_flight.page_token = page.next_page_token;
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<storage::CreatedJob> JobService::Submit(const SubmitJobRequest& request) {
+  Job job;
+  const bool has_route = !request.route_name.empty();
+  if (has_route == request.goal.has_value()) {
+    return absl::InvalidArgumentError("target: give either `route_name` or `goal`");
+  }
+  if (has_route) {
+    ASSIGN_OR_RETURN(storage::StoredRoute route, site_->GetRoute(request.route_name, 0));
+    job.route_name = route.route.name;
+    job.route_version = route.version;
+    job.map_id = route.route.map_id;
+  } else {
+    if (!request.goal->IsFinite()) return absl::InvalidArgumentError("goal.goal: must be finite");
+    ASSIGN_OR_RETURN(storage::StoredMap map, maps_->GetMap(request.goal_map_id, 0));
+    if (!map.grid.ContainsWorld(request.goal->translation())) {
+      return absl::InvalidArgumentError("goal.goal: outside the map");
+    }
+    job.map_id = request.goal_map_id;
+    job.goal = request.goal;
+  }
+  if (!request.robot_id.empty()) RETURN_IF_ERROR(registry_->Get(request.robot_id).status());
+  if (request.idempotency_key.size() > 128) {
+    return absl::InvalidArgumentError("idempotency_key: at most 128 characters");
+  }
+  job.requested_robot_id = request.robot_id;
+  job.priority = request.priority;
+  job.idempotency_key = request.idempotency_key;
+  job.on_robot_lost = request.on_robot_lost;
+  job.created_unix_ms = job.updated_unix_ms = NowUnixMs();
+  job.state = JobState::kQueued;
+  return jobs_->CreateJob(job, MakeEvent(job, JobEventType::kQueued, "", ""));
+}
+
+absl::StatusOr<Job> JobService::Get(const std::string& job_id) { return jobs_->GetJob(job_id); }
+
+absl::StatusOr<storage::JobPage> JobService::List(storage::JobFilter filter) {
+  if (filter.page_size == 0) filter.page_size = 100;
+  if (filter.page_size < 0 || filter.page_size > params_.max_page_size) {
+    return absl::InvalidArgumentError(absl::StrCat("page_size: must be in [0, ",
+                                                   params_.max_page_size, "], got ",
+                                                   filter.page_size));
+  }
+  return jobs_->ListJobs(filter);
+}
+
+absl::StatusOr<Job> JobService::Cancel(const std::string& job_id, const std::string& reason) {
+  absl::MutexLock lock(&mutex_);
+  ASSIGN_OR_RETURN(Job job, jobs_->GetJob(job_id));
+  if (IsTerminal(job.state)) {
+    return absl::FailedPreconditionError(absl::StrCat("job '", job_id, "' has already ",
+                                                      std::string(JobStateName(job.state))));
+  }
+  const std::string robot = job.assigned_robot_id;
+  const std::string why = reason.empty() ? "cancelled by operator" : reason;
+  RETURN_IF_ERROR(Transition(job, JobState::kCancelled, JobEventType::kCancelled, why, robot));
+  lost_since_ns_.erase(job_id);
+  if (!robot.empty()) {
+    mailbox_->SendCommand(robot, RobotCommandType::kCancel, job_id, why);
+    registry_->SetCurrentJob(robot, "");
+  }
+  return job;
+}
+
+absl::StatusOr<std::vector<JobEvent>> JobService::Events(const std::string& job_id,
+                                                         int64_t after_sequence) {
+  return jobs_->ListEvents(job_id, after_sequence);
+}
+
+void JobService::OnRobotConnected(const RobotIdentity& identity,
+                                  const std::string& resume_job_id) {
+  (void)robots_->UpsertRobot(storage::StoredRobot{identity.robot_id, identity.model.kind_name,
+                                                  identity.capabilities,
+                                                  identity.software_version, NowUnixMs()});
+  absl::MutexLock lock(&mutex_);
+  storage::JobFilter held;
+  held.robot_id = identity.robot_id;
+  held.states = {JobState::kPaused, JobState::kAssigned, JobState::kRunning};
+  held.page_size = 10;
+  absl::StatusOr<storage::JobPage> page = jobs_->ListJobs(held);
+  if (!page.ok()) return;
+  for (Job& job : page->jobs) {
+    if (job.assigned_robot_id != identity.robot_id) continue;
+    lost_since_ns_.erase(job.job_id);
+    if (job.job_id == resume_job_id) {
+      (void)Transition(job, JobState::kRunning, JobEventType::kResumed, "robot reconnected",
+                       identity.robot_id);
+      registry_->SetCurrentJob(identity.robot_id, job.job_id);
+    } else if (job.on_robot_lost == RequeuePolicy::kRequeue) {
+      job.assigned_robot_id.clear();
+      (void)Transition(job, JobState::kQueued, JobEventType::kQueued,
+                       "robot reconnected without the job; re-queued", identity.robot_id);
+      registry_->SetCurrentJob(identity.robot_id, "");
+    } else {
+      (void)Transition(job, JobState::kFailed, JobEventType::kFailed,
+                       "robot reconnected without the job", identity.robot_id);
+      registry_->SetCurrentJob(identity.robot_id, "");
+    }
+  }
+}
+
+void JobService::OnRobotDisconnected(const std::string& robot_id) {
+  absl::MutexLock lock(&mutex_);
+  absl::StatusOr<RobotRecord> record = registry_->Get(robot_id);
+  if (!record.ok() || record->current_job_id.empty()) return;
+  absl::StatusOr<Job> job = jobs_->GetJob(record->current_job_id);
+  if (!job.ok() || IsTerminal(job->state) || job->state == JobState::kPaused) return;
+  (void)Transition(*job, JobState::kPaused, JobEventType::kPaused, "robot disconnected", robot_id);
+  lost_since_ns_[job->job_id] = clock_->NowNs();
+}
+
+void JobService::OnRobotEvent(const std::string& robot_id, const JobEvent& event) {
+  absl::MutexLock lock(&mutex_);
+  absl::StatusOr<Job> found = jobs_->GetJob(event.job_id);
+  if (!found.ok() || found->assigned_robot_id != robot_id || IsTerminal(found->state)) return;
+  Job job = *found;
+  switch (event.type) {
+    case JobEventType::kSucceeded:
+      job.progress_fraction = 1.0;
+      (void)Transition(job, JobState::kSucceeded, JobEventType::kSucceeded, event.reason,
+                       robot_id);
+      registry_->SetCurrentJob(robot_id, "");
+      return;
+    case JobEventType::kFailed:
+      (void)Transition(job, JobState::kFailed, JobEventType::kFailed, event.reason, robot_id);
+      registry_->SetCurrentJob(robot_id, "");
+      return;
+    case JobEventType::kActionStarted:
+    case JobEventType::kActionFinished:
+    case JobEventType::kModeSwitch: {
+      const bool starts = job.state == JobState::kAssigned;
+      if (starts) job.state = JobState::kRunning;
+      JobEvent stored = MakeEvent(job, starts ? JobEventType::kStarted : event.type, event.reason,
+                                  robot_id);
+      if (starts) (void)jobs_->UpdateJob(job, stored);
+      stored = MakeEvent(job, event.type, event.reason, robot_id);
+      stored.action_index = event.action_index;
+      stored.mode = event.mode;
+      (void)jobs_->UpdateJob(job, stored);
+      return;
+    }
+    default:
+      return;
+  }
+}
+
+void JobService::OnTelemetry(const std::string& robot_id, const Telemetry& telemetry) {
+  if (telemetry.job_id.empty()) return;
+  const int decile = static_cast<int>(std::floor(telemetry.job_progress_fraction * 10.0));
+  absl::MutexLock lock(&mutex_);
+  auto [it, inserted] = progress_decile_.try_emplace(telemetry.job_id, -1);
+  if (decile <= it->second) return;  // progress is stored in steps of 10 %
+  absl::StatusOr<Job> job = jobs_->GetJob(telemetry.job_id);
+  if (!job.ok() || job->assigned_robot_id != robot_id || job->state != JobState::kRunning) return;
+  it->second = decile;
+  job->progress_fraction = std::clamp(telemetry.job_progress_fraction, 0.0, 1.0);
+  job->updated_unix_ms = NowUnixMs();
+  JobEvent event = MakeEvent(*job, JobEventType::kProgress, "", robot_id);
+  event.action_index = telemetry.action_index;
+  event.mode = telemetry.mode;
+  (void)jobs_->UpdateJob(*job, event);
+}
+
+void JobService::HandleLostRobots() {
+  const int64_t now_ns = clock_->NowNs();
+  for (auto it = lost_since_ns_.begin(); it != lost_since_ns_.end();) {
+    if ((now_ns - it->second) * 1e-9 < params_.lost_robot_timeout_s) {
+      ++it;
+      continue;
+    }
+    absl::StatusOr<Job> job = jobs_->GetJob(it->first);
+    it = lost_since_ns_.erase(it);
+    if (!job.ok() || job->state != JobState::kPaused) continue;
+    const std::string robot = job->assigned_robot_id;
+    registry_->SetCurrentJob(robot, "");
+    if (job->on_robot_lost == RequeuePolicy::kRequeue) {
+      job->assigned_robot_id.clear();
+      (void)Transition(*job, JobState::kQueued, JobEventType::kQueued,
+                       "robot lost; re-queued by policy", robot);
+    } else {
+      (void)Transition(*job, JobState::kFailed, JobEventType::kFailed, "robot lost", robot);
+    }
+  }
+}
+
+std::vector<std::string> JobService::RequiredCapabilities(const Job& job) {
+  if (job.goal) return {"free_navigation"};
+  std::set<std::string> needed;
+  absl::StatusOr<storage::StoredRoute> route = site_->GetRoute(job.route_name, job.route_version);
+  if (route.ok()) {
+    for (const RouteAction& action : route->route.actions) {
+      needed.insert(std::string(ActionTypeName(action.params)));
+    }
+  }
+  return {needed.begin(), needed.end()};
+}
+
+std::optional<Eigen::Vector2d> JobService::StartPoint(const Job& job) {
+  if (job.goal) return job.goal->translation();
+  absl::StatusOr<storage::StoredRoute> route = site_->GetRoute(job.route_name, job.route_version);
+  if (!route.ok()) return std::nullopt;
+  for (const RouteAction& action : route->route.actions) {
+    if (const auto* nav = std::get_if<FreeNavigationAction>(&action.params)) {
+      return nav->waypoints_m.empty() ? nav->goal.translation() : nav->waypoints_m.front();
+    }
+  }
+  return std::nullopt;
+}
+
+absl::StatusOr<Assignment> JobService::Resolve(const Job& job) {
+  Assignment assignment;
+  assignment.job = job;
+  if (!job.route_name.empty()) {
+    ASSIGN_OR_RETURN(storage::StoredRoute route, site_->GetRoute(job.route_name, job.route_version));
+    assignment.route = route.route;
+    assignment.route_version = route.version;
+  }
+  ASSIGN_OR_RETURN(storage::StoredMap map, maps_->GetMap(job.map_id, 0));
+  assignment.map_version = map.info.version;
+  absl::StatusOr<storage::StoredMarkerSet> markers = markers_->GetMarkerSet(job.map_id, 0);
+  assignment.marker_set_version = markers.ok() ? markers->version : 0;
+  return assignment;
+}
+
+int JobService::DispatchOnce() {
+  absl::MutexLock lock(&mutex_);
+  HandleLostRobots();
+  storage::JobFilter queued_filter;
+  queued_filter.states = {JobState::kQueued};
+  queued_filter.page_size = params_.max_page_size;
+  absl::StatusOr<storage::JobPage> page = jobs_->ListJobs(queued_filter);
+  if (!page.ok() || page->jobs.empty()) return 0;
+  std::vector<Job> queued = page->jobs;
+  std::stable_sort(queued.begin(), queued.end(), [](const Job& a, const Job& b) {
+    return a.priority != b.priority ? a.priority > b.priority
+                                    : a.created_unix_ms < b.created_unix_ms;
+  });
+  std::vector<RobotRecord> idle;
+  for (RobotRecord& record : registry_->Snapshot()) {
+    if (record.connection == ConnectionState::kOnline && record.current_job_id.empty()) {
+      idle.push_back(std::move(record));
+    }
+  }
+  int assigned = 0;
+  for (Job& job : queued) {
+    if (idle.empty()) break;
+    const std::vector<std::string> needed = RequiredCapabilities(job);
+    const std::optional<Eigen::Vector2d> start = StartPoint(job);
+    auto best = idle.end();
+    double best_distance_m = std::numeric_limits<double>::infinity();
+    for (auto it = idle.begin(); it != idle.end(); ++it) {
+      if (!job.requested_robot_id.empty() && it->identity.robot_id != job.requested_robot_id) {
+        continue;
+      }
+      const auto& have = it->identity.capabilities;
+      const bool fits = std::all_of(needed.begin(), needed.end(), [&](const std::string& c) {
+        return std::find(have.begin(), have.end(), c) != have.end();
+      });
+      if (!fits) continue;
+      double distance_m = 0.0;
+      if (start && it->last_telemetry) {
+        distance_m = (it->last_telemetry->pose_in_map.translation() - *start).norm();
+      }
+      if (distance_m < best_distance_m) {
+        best_distance_m = distance_m;
+        best = it;
+      }
+    }
+    if (best == idle.end()) continue;
+    const std::string robot = best->identity.robot_id;
+    job.assigned_robot_id = robot;
+    if (!Transition(job, JobState::kAssigned, JobEventType::kAssigned, "", robot).ok()) continue;
+    absl::StatusOr<Assignment> assignment = Resolve(job);
+    if (!assignment.ok() || !mailbox_->SendAssignment(robot, *assignment)) {
+      job.assigned_robot_id.clear();
+      (void)Transition(job, JobState::kQueued, JobEventType::kQueued,
+                       assignment.ok() ? "robot unreachable; re-queued"
+                                       : std::string(assignment.status().message()),
+                       robot);
+      continue;
+    }
+    registry_->SetCurrentJob(robot, job.job_id);
+    idle.erase(best);
+    ++assigned;
+  }
+  return assigned;
+}
+
+}  // namespace fleetnav::server

@@ -1,0 +1,116 @@
+#include "fleetnav/server/site_catalog.hpp"
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/time/clock.h"
+#include "fleetnav/core/status_macros.hpp"
+#include "fleetnav/server/map_catalog.hpp"
+
+namespace fleetnav::server {
+namespace {
+
+int64_t NowUnixMs() { return absl::ToUnixMillis(absl::Now()); }
+
+absl::Status CheckPointFree(const OccupancyGrid& grid, const Eigen::Vector2d& point, int index,
+                            const std::string& action, const std::string& what) {
+  const std::string where = absl::StrCat("actions[", index, "] (", action, "): ", what,
+                                         absl::StrFormat(" (%.2f, %.2f)", point.x(), point.y()));
+  if (!grid.ContainsWorld(point)) return absl::InvalidArgumentError(where + " is outside the map");
+  const std::optional<CellIndex> cell = grid.WorldToCell(point);
+  if (!cell || grid.State(*cell) != CellState::kFree) {
+    return absl::InvalidArgumentError(where + " is not on a free cell of the map");
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+absl::Status SiteCatalog::ValidateRouteName(const std::string& name) {
+  bool ok = !name.empty() && name.size() <= 64;
+  for (char c : name) {
+    ok = ok && ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                c == '_' || c == '-' || c == '.');
+  }
+  if (!ok) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("route.name: must be 1-64 characters of [A-Za-z0-9_.-], got '", name, "'"));
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<uint32_t> SiteCatalog::PutMarkerSet(const MarkerSet& markers) {
+  RETURN_IF_ERROR(MapCatalog::ValidateMapId(markers.map_id));
+  RETURN_IF_ERROR(markers.Validate());
+  RETURN_IF_ERROR(maps_->GetMap(markers.map_id, 0).status());
+  return markers_->PutMarkerSet(markers, NowUnixMs());
+}
+
+absl::StatusOr<storage::StoredMarkerSet> SiteCatalog::GetMarkerSet(const std::string& map_id,
+                                                                   uint32_t version) {
+  RETURN_IF_ERROR(MapCatalog::ValidateMapId(map_id));
+  return markers_->GetMarkerSet(map_id, version);
+}
+
+absl::Status SiteCatalog::CheckRouteAgainstSite(const Route& route) {
+  ASSIGN_OR_RETURN(storage::StoredMap map, maps_->GetMap(route.map_id, 0));
+  absl::StatusOr<storage::StoredMarkerSet> markers = markers_->GetMarkerSet(route.map_id, 0);
+  for (size_t i = 0; i < route.actions.size(); ++i) {
+    const RouteAction& action = route.actions[i];
+    const std::string type(ActionTypeName(action.params));
+    const int index = static_cast<int>(i);
+    if (action.end.kind == EndConditionKind::kMarkerDetected &&
+        (!markers.ok() || markers->markers.Find(action.end.marker_id) == nullptr)) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("actions[", index, "] (", type, "): unknown marker ", action.end.marker_id,
+                       " on map '", route.map_id, "'"));
+    }
+    if (const auto* nav = std::get_if<FreeNavigationAction>(&action.params)) {
+      for (const Eigen::Vector2d& waypoint : nav->waypoints_m) {
+        RETURN_IF_ERROR(CheckPointFree(map.grid, waypoint, index, type, "waypoint"));
+      }
+      RETURN_IF_ERROR(CheckPointFree(map.grid, nav->goal.translation(), index, type, "goal"));
+    }
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<uint32_t> SiteCatalog::PutRoute(const Route& route) {
+  RETURN_IF_ERROR(ValidateRouteName(route.name));
+  RETURN_IF_ERROR(MapCatalog::ValidateMapId(route.map_id));
+  RETURN_IF_ERROR(route.Validate());
+  RETURN_IF_ERROR(CheckRouteAgainstSite(route));
+  return routes_->PutRoute(route, NowUnixMs());
+}
+
+absl::StatusOr<storage::StoredRoute> SiteCatalog::GetRoute(const std::string& name,
+                                                           uint32_t version) {
+  RETURN_IF_ERROR(ValidateRouteName(name));
+  return routes_->GetRoute(name, version);
+}
+
+absl::StatusOr<std::vector<storage::StoredRoute>> SiteCatalog::ListRoutes(
+    const std::string& map_id) {
+  if (!map_id.empty()) RETURN_IF_ERROR(MapCatalog::ValidateMapId(map_id));
+  return routes_->ListRoutes(map_id);
+}
+
+absl::Status SiteCatalog::DeleteMap(const std::string& map_id) {
+  RETURN_IF_ERROR(MapCatalog::ValidateMapId(map_id));
+  ASSIGN_OR_RETURN(int routes, routes_->CountRoutesOnMap(map_id));
+  if (routes > 0) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("map '", map_id, "' is used by ", routes, " route(s)"));
+  }
+  storage::JobFilter active;
+  active.map_id = map_id;
+  active.states = {JobState::kQueued, JobState::kAssigned, JobState::kRunning, JobState::kPaused};
+  active.page_size = 1;
+  ASSIGN_OR_RETURN(storage::JobPage page, jobs_->ListJobs(active));
+  if (!page.jobs.empty()) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("map '", map_id, "' is used by unfinished job ", page.jobs[0].job_id));
+  }
+  return maps_->DeleteMap(map_id);
+}
+
+}  // namespace fleetnav::server

@@ -1,0 +1,82 @@
+#include "fleetnav/server/rpc/agent_mailbox.hpp"
+
+#include "fleetnav/proto/job_convert.hpp"
+#include "fleetnav/proto/route_convert.hpp"
+
+namespace fleetnav::server {
+
+void AgentOutbox::Push(v1::ServerMessage message) {
+  absl::MutexLock lock(&mutex_);
+  if (!closed_) queue_.push_back(std::move(message));
+}
+
+std::optional<v1::ServerMessage> AgentOutbox::Pop() {
+  absl::MutexLock lock(&mutex_);
+  auto ready = [this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) {
+    return closed_ || !queue_.empty();
+  };
+  mutex_.Await(absl::Condition(&ready));
+  if (queue_.empty()) return std::nullopt;
+  v1::ServerMessage message = std::move(queue_.front());
+  queue_.pop_front();
+  return message;
+}
+
+void AgentOutbox::Close() {
+  absl::MutexLock lock(&mutex_);
+  closed_ = true;
+}
+
+std::shared_ptr<AgentOutbox> AgentMailbox::Open(const std::string& robot_id) {
+  auto outbox = std::make_shared<AgentOutbox>();
+  absl::MutexLock lock(&mutex_);
+  auto& slot = outboxes_[robot_id];
+  if (slot != nullptr) slot->Close();
+  slot = outbox;
+  return outbox;
+}
+
+void AgentMailbox::Close(const std::string& robot_id, const std::shared_ptr<AgentOutbox>& outbox) {
+  outbox->Close();
+  absl::MutexLock lock(&mutex_);
+  auto it = outboxes_.find(robot_id);
+  if (it != outboxes_.end() && it->second == outbox) outboxes_.erase(it);
+}
+
+bool AgentMailbox::Send(const std::string& robot_id, v1::ServerMessage message) {
+  std::shared_ptr<AgentOutbox> outbox;
+  {
+    absl::MutexLock lock(&mutex_);
+    auto it = outboxes_.find(robot_id);
+    if (it == outboxes_.end()) return false;
+    outbox = it->second;
+  }
+  outbox->Push(std::move(message));
+  return true;
+}
+
+bool AgentMailbox::SendAssignment(const std::string& robot_id, const Assignment& assignment) {
+  v1::ServerMessage message;
+  v1::Assignment* wire = message.mutable_assignment();
+  *wire->mutable_job() = ToProto(assignment.job);
+  *wire->mutable_route() = ToProto(assignment.route);
+  wire->set_route_version(assignment.route_version);
+  wire->set_map_id(assignment.job.map_id);
+  wire->set_map_version(assignment.map_version);
+  wire->set_marker_set_version(assignment.marker_set_version);
+  return Send(robot_id, std::move(message));
+}
+
+bool AgentMailbox::SendCommand(const std::string& robot_id, RobotCommandType type,
+                               const std::string& job_id, const std::string& reason) {
+  v1::ServerMessage message;
+  v1::Command* command = message.mutable_command();
+  command->set_type(type == RobotCommandType::kPause    ? v1::Command::TYPE_PAUSE
+                    : type == RobotCommandType::kResume ? v1::Command::TYPE_RESUME
+                                                        : v1::Command::TYPE_CANCEL);
+  command->set_job_id(job_id);
+  command->set_reason(reason);
+  return Send(robot_id, std::move(message));
+}
+
+}  // namespace fleetnav::server

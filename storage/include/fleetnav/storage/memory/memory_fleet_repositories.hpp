@@ -1,0 +1,67 @@
+#pragma once
+
+#include <map>
+#include <vector>
+
+#include "absl/synchronization/mutex.h"
+#include "fleetnav/storage/job_repository.hpp"
+#include "fleetnav/storage/marker_set_repository.hpp"
+#include "fleetnav/storage/robot_repository.hpp"
+#include "fleetnav/storage/route_repository.hpp"
+
+namespace fleetnav::storage {
+
+/// MarkerSetRepository in memory, for unit tests of the layers above. Thread-safe.
+class MemoryMarkerSetRepository final : public MarkerSetRepository {
+ public:
+  absl::StatusOr<uint32_t> PutMarkerSet(const MarkerSet& markers, int64_t created_unix_ms) override;
+  absl::StatusOr<StoredMarkerSet> GetMarkerSet(const std::string& map_id,
+                                               uint32_t version) override;
+
+ private:
+  absl::Mutex mutex_;
+  std::map<std::string, std::vector<StoredMarkerSet>> sets_ ABSL_GUARDED_BY(mutex_);
+};
+
+/// RouteRepository in memory, for unit tests of the layers above. Thread-safe.
+class MemoryRouteRepository final : public RouteRepository {
+ public:
+  absl::StatusOr<uint32_t> PutRoute(const Route& route, int64_t created_unix_ms) override;
+  absl::StatusOr<StoredRoute> GetRoute(const std::string& name, uint32_t version) override;
+  absl::StatusOr<std::vector<StoredRoute>> ListRoutes(const std::string& map_id) override;
+  absl::StatusOr<int> CountRoutesOnMap(const std::string& map_id) override;
+
+ private:
+  absl::Mutex mutex_;
+  std::map<std::string, std::vector<StoredRoute>> routes_ ABSL_GUARDED_BY(mutex_);
+};
+
+/// RobotRepository in memory. Thread-safe.
+class MemoryRobotRepository final : public RobotRepository {
+ public:
+  absl::Status UpsertRobot(const StoredRobot& robot) override;
+  absl::StatusOr<std::vector<StoredRobot>> ListRobots() override;
+
+ private:
+  absl::Mutex mutex_;
+  std::map<std::string, StoredRobot> robots_ ABSL_GUARDED_BY(mutex_);
+};
+
+/// JobRepository in memory, with the same id, idempotency and paging rules as SQLite.
+/// Thread-safe.
+class MemoryJobRepository final : public JobRepository {
+ public:
+  absl::StatusOr<CreatedJob> CreateJob(Job job, JobEvent first_event) override;
+  absl::StatusOr<Job> GetJob(const std::string& job_id) override;
+  absl::StatusOr<JobPage> ListJobs(const JobFilter& filter) override;
+  absl::StatusOr<int64_t> UpdateJob(const Job& job, JobEvent event) override;
+  absl::StatusOr<std::vector<JobEvent>> ListEvents(const std::string& job_id,
+                                                   int64_t after_sequence) override;
+
+ private:
+  absl::Mutex mutex_;
+  std::vector<Job> jobs_ ABSL_GUARDED_BY(mutex_);  ///< index = seq - 1
+  std::map<std::string, std::vector<JobEvent>> events_ ABSL_GUARDED_BY(mutex_);
+};
+
+}  // namespace fleetnav::storage

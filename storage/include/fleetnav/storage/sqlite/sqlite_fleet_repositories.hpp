@@ -1,0 +1,63 @@
+#pragma once
+
+#include "fleetnav/storage/job_repository.hpp"
+#include "fleetnav/storage/marker_set_repository.hpp"
+#include "fleetnav/storage/robot_repository.hpp"
+#include "fleetnav/storage/route_repository.hpp"
+#include "fleetnav/storage/sqlite/sqlite_database.hpp"
+
+namespace fleetnav::storage {
+
+/// Marker sets on SQLite, each version stored as the thesis's marker YAML. Thread-safe.
+class SqliteMarkerSetRepository final : public MarkerSetRepository {
+ public:
+  explicit SqliteMarkerSetRepository(SqliteDatabase* db) : db_(db) {}
+  absl::StatusOr<uint32_t> PutMarkerSet(const MarkerSet& markers, int64_t created_unix_ms) override;
+  absl::StatusOr<StoredMarkerSet> GetMarkerSet(const std::string& map_id,
+                                               uint32_t version) override;
+
+ private:
+  SqliteDatabase* db_;
+};
+
+/// Routes on SQLite, each version stored as route YAML. Thread-safe.
+class SqliteRouteRepository final : public RouteRepository {
+ public:
+  explicit SqliteRouteRepository(SqliteDatabase* db) : db_(db) {}
+  absl::StatusOr<uint32_t> PutRoute(const Route& route, int64_t created_unix_ms) override;
+  absl::StatusOr<StoredRoute> GetRoute(const std::string& name, uint32_t version) override;
+  absl::StatusOr<std::vector<StoredRoute>> ListRoutes(const std::string& map_id) override;
+  absl::StatusOr<int> CountRoutesOnMap(const std::string& map_id) override;
+
+ private:
+  SqliteDatabase* db_;
+};
+
+/// Robots on SQLite. Thread-safe.
+class SqliteRobotRepository final : public RobotRepository {
+ public:
+  explicit SqliteRobotRepository(SqliteDatabase* db) : db_(db) {}
+  absl::Status UpsertRobot(const StoredRobot& robot) override;
+  absl::StatusOr<std::vector<StoredRobot>> ListRobots() override;
+
+ private:
+  SqliteDatabase* db_;
+};
+
+/// Jobs and events on SQLite: a job row and its event rows change in one transaction; the
+/// idempotency key is a unique index. Thread-safe.
+class SqliteJobRepository final : public JobRepository {
+ public:
+  explicit SqliteJobRepository(SqliteDatabase* db) : db_(db) {}
+  absl::StatusOr<CreatedJob> CreateJob(Job job, JobEvent first_event) override;
+  absl::StatusOr<Job> GetJob(const std::string& job_id) override;
+  absl::StatusOr<JobPage> ListJobs(const JobFilter& filter) override;
+  absl::StatusOr<int64_t> UpdateJob(const Job& job, JobEvent event) override;
+  absl::StatusOr<std::vector<JobEvent>> ListEvents(const std::string& job_id,
+                                                   int64_t after_sequence) override;
+
+ private:
+  SqliteDatabase* db_;
+};
+
+}  // namespace fleetnav::storage

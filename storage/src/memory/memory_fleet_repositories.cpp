@@ -1,0 +1,174 @@
+#include "fleetnav/storage/memory/memory_fleet_repositories.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+
+namespace fleetnav::storage {
+namespace {
+
+template <typename T>
+absl::StatusOr<T> PickVersion(const std::vector<T>& versions, uint32_t version,
+                              const std::string& what) {
+  if (versions.empty()) return absl::NotFoundError(absl::StrCat(what, " not found"));
+  if (version == 0) return versions.back();
+  if (version > versions.size()) {
+    return absl::NotFoundError(absl::StrCat(what, " has no version ", version));
+  }
+  return versions[version - 1];
+}
+
+bool Matches(const Job& job, const JobFilter& filter) {
+  if (!filter.states.empty() &&
+      std::find(filter.states.begin(), filter.states.end(), job.state) == filter.states.end()) {
+    return false;
+  }
+  if (!filter.robot_id.empty() && job.requested_robot_id != filter.robot_id &&
+      job.assigned_robot_id != filter.robot_id) {
+    return false;
+  }
+  return filter.map_id.empty() || job.map_id == filter.map_id;
+}
+
+}  // namespace
+
+absl::StatusOr<uint32_t> MemoryMarkerSetRepository::PutMarkerSet(const MarkerSet& markers,
+                                                                 int64_t created_unix_ms) {
+  absl::MutexLock lock(&mutex_);
+  auto& versions = sets_[markers.map_id];
+  const auto version = static_cast<uint32_t>(versions.size() + 1);
+  versions.push_back(StoredMarkerSet{markers, version, created_unix_ms});
+  return version;
+}
+
+absl::StatusOr<StoredMarkerSet> MemoryMarkerSetRepository::GetMarkerSet(const std::string& map_id,
+                                                                        uint32_t version) {
+  absl::MutexLock lock(&mutex_);
+  return PickVersion(sets_[map_id], version, absl::StrCat("marker set of map '", map_id, "'"));
+}
+
+absl::StatusOr<uint32_t> MemoryRouteRepository::PutRoute(const Route& route,
+                                                         int64_t created_unix_ms) {
+  absl::MutexLock lock(&mutex_);
+  auto& versions = routes_[route.name];
+  const auto version = static_cast<uint32_t>(versions.size() + 1);
+  versions.push_back(StoredRoute{route, version, created_unix_ms});
+  return version;
+}
+
+absl::StatusOr<StoredRoute> MemoryRouteRepository::GetRoute(const std::string& name,
+                                                           uint32_t version) {
+  absl::MutexLock lock(&mutex_);
+  return PickVersion(routes_[name], version, absl::StrCat("route '", name, "'"));
+}
+
+absl::StatusOr<std::vector<StoredRoute>> MemoryRouteRepository::ListRoutes(
+    const std::string& map_id) {
+  absl::MutexLock lock(&mutex_);
+  std::vector<StoredRoute> out;
+  for (const auto& [name, versions] : routes_) {
+    if (!versions.empty() && (map_id.empty() || versions.back().route.map_id == map_id)) {
+      out.push_back(versions.back());
+    }
+  }
+  return out;
+}
+
+absl::StatusOr<int> MemoryRouteRepository::CountRoutesOnMap(const std::string& map_id) {
+  absl::MutexLock lock(&mutex_);
+  int count = 0;
+  for (const auto& [name, versions] : routes_) {
+    count += std::any_of(versions.begin(), versions.end(),
+                         [&](const StoredRoute& r) { return r.route.map_id == map_id; });
+  }
+  return count;
+}
+
+absl::Status MemoryRobotRepository::UpsertRobot(const StoredRobot& robot) {
+  absl::MutexLock lock(&mutex_);
+  robots_[robot.robot_id] = robot;
+  return absl::OkStatus();
+}
+
+absl::StatusOr<std::vector<StoredRobot>> MemoryRobotRepository::ListRobots() {
+  absl::MutexLock lock(&mutex_);
+  std::vector<StoredRobot> out;
+  for (const auto& [id, robot] : robots_) out.push_back(robot);
+  return out;
+}
+
+absl::StatusOr<CreatedJob> MemoryJobRepository::CreateJob(Job job, JobEvent first_event) {
+  absl::MutexLock lock(&mutex_);
+  if (!job.idempotency_key.empty()) {
+    for (const Job& existing : jobs_) {
+      if (existing.idempotency_key == job.idempotency_key) return CreatedJob{existing, true};
+    }
+  }
+  job.job_id = absl::StrFormat("job-%06d", jobs_.size() + 1);
+  jobs_.push_back(job);
+  first_event.job_id = job.job_id;
+  first_event.sequence = 1;
+  events_[job.job_id].push_back(first_event);
+  return CreatedJob{job, false};
+}
+
+absl::StatusOr<Job> MemoryJobRepository::GetJob(const std::string& job_id) {
+  absl::MutexLock lock(&mutex_);
+  for (const Job& job : jobs_) {
+    if (job.job_id == job_id) return job;
+  }
+  return absl::NotFoundError(absl::StrCat("job '", job_id, "' not found"));
+}
+
+absl::StatusOr<JobPage> MemoryJobRepository::ListJobs(const JobFilter& filter) {
+  int64_t after_seq = 0;
+  if (!filter.page_token.empty()) {
+    char* end = nullptr;
+    after_seq = std::strtoll(filter.page_token.c_str(), &end, 10);
+    if (end == filter.page_token.c_str() || *end != '\0' || after_seq < 0) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("page_token: not a token this server issued: '", filter.page_token, "'"));
+    }
+  }
+  absl::MutexLock lock(&mutex_);
+  JobPage page;
+  int64_t last_seq = after_seq;
+  for (size_t i = static_cast<size_t>(after_seq); i < jobs_.size(); ++i) {
+    if (!Matches(jobs_[i], filter)) continue;
+    if (static_cast<int>(page.jobs.size()) == filter.page_size) {
+      page.next_page_token = absl::StrCat(last_seq);
+      break;
+    }
+    page.jobs.push_back(jobs_[i]);
+    last_seq = static_cast<int64_t>(i + 1);
+  }
+  return page;
+}
+
+absl::StatusOr<int64_t> MemoryJobRepository::UpdateJob(const Job& job, JobEvent event) {
+  absl::MutexLock lock(&mutex_);
+  for (Job& stored : jobs_) {
+    if (stored.job_id != job.job_id) continue;
+    stored = job;
+    auto& events = events_[job.job_id];
+    event.job_id = job.job_id;
+    event.sequence = static_cast<int64_t>(events.size() + 1);
+    events.push_back(event);
+    return event.sequence;
+  }
+  return absl::NotFoundError(absl::StrCat("job '", job.job_id, "' not found"));
+}
+
+absl::StatusOr<std::vector<JobEvent>> MemoryJobRepository::ListEvents(const std::string& job_id,
+                                                                     int64_t after_sequence) {
+  absl::MutexLock lock(&mutex_);
+  std::vector<JobEvent> out;
+  for (const JobEvent& event : events_[job_id]) {
+    if (event.sequence > after_sequence) out.push_back(event);
+  }
+  return out;
+}
+
+}  // namespace fleetnav::storage
