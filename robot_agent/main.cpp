@@ -26,7 +26,11 @@ int main(int argc, char** argv) {
   app.add_option("--sim", sim_address, "fleetnav-sim address (SimService)")->capture_default_str();
   app.add_option("--server", server_address, "fleetnavd address (AgentService)")
       ->capture_default_str();
-  app.add_option("--route", route_path, "route YAML to run (turn and straight actions)");
+  app.add_option("--route", route_path,
+                 "route YAML to run once (turn and straight actions); without it the agent "
+                 "takes jobs from fleetnavd");
+  app.add_option("--max-jobs", params.max_jobs,
+                 "in job mode, exit after this many jobs have ended (0 = run until the sim ends)");
   app.add_option("--initial-pose", initial_pose, "pose in the map at start: x_m y_m yaw_deg")
       ->expected(3);
   app.add_option("--telemetry-hz", telemetry_hz, "telemetry rate in robot time (>= 10)")
@@ -52,12 +56,14 @@ int main(int argc, char** argv) {
   params.telemetry_period_s = telemetry_hz > 0 ? 1.0 / telemetry_hz : 0.0;
   params.exit_when_done = route.has_value();
 
+  // What this agent can execute: a job needs every one of its route's action types here.
   fleetnav::RobotIdentity identity{robot_id, *model, {"straight", "turn"}, "0.1.0"};
   fleetnav::agent::ServerLink link(
       grpc::CreateChannel(server_address, grpc::InsecureChannelCredentials()), identity);
   fleetnav::agent::SimHal hal(grpc::CreateChannel(sim_address, grpc::InsecureChannelCredentials()),
                               robot_id);
-  fleetnav::agent::Agent agent(*model, &hal, &link, route, params);
+  fleetnav::agent::Agent agent(*model, &hal, &link, route, params,
+                               route.has_value() ? nullptr : &link);
   spdlog::info("fleetnav-agent '{}' ({}) attached to {}, reporting to {}", robot_id, kind,
                sim_address, server_address);
   absl::StatusOr<fleetnav::agent::AgentResult> result = agent.Run();
@@ -69,7 +75,8 @@ int main(int argc, char** argv) {
   const fleetnav::Pose2& end = result->final_pose_in_map;
   spdlog::info("fleetnav-agent: {} after {} ticks; odometry pose ({:.3f}, {:.3f}, {:.2f} deg); "
                "{} telemetry messages sent",
-               result->state == fleetnav::agent::ExecutionState::kSucceeded ? "route succeeded"
+               !route.has_value() ? std::to_string(result->jobs_finished) + " job(s) ended"
+               : result->state == fleetnav::agent::ExecutionState::kSucceeded ? "route succeeded"
                : result->state == fleetnav::agent::ExecutionState::kFailed
                    ? "route failed: " + result->failure_reason
                    : "stopped",

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include "fleetnav/proto/job_convert.hpp"
+#include "fleetnav/proto/route_convert.hpp"
 #include "fleetnav/proto/telemetry_convert.hpp"
 
 namespace fleetnav::agent {
@@ -26,11 +28,62 @@ void ServerLink::Publish(const Telemetry& telemetry) {
   }
 }
 
+std::optional<JobAssignment> ServerLink::TakeAssignment() {
+  absl::MutexLock lock(&mutex_);
+  if (assignments_.empty()) return std::nullopt;
+  JobAssignment next = std::move(assignments_.front());
+  assignments_.pop_front();
+  return next;
+}
+
+std::vector<JobCommand> ServerLink::TakeCommands() {
+  absl::MutexLock lock(&mutex_);
+  std::vector<JobCommand> out;
+  out.swap(commands_);
+  return out;
+}
+
+void ServerLink::ReportEvent(const JobEvent& event) {
+  absl::MutexLock lock(&mutex_);
+  events_.push_back(event);
+}
+
+void ServerLink::SetCurrentJob(const std::string& job_id) {
+  absl::MutexLock lock(&mutex_);
+  current_job_id_ = job_id;
+}
+
+void ServerLink::OnServerMessage(const v1::ServerMessage& message) {
+  absl::MutexLock lock(&mutex_);
+  if (message.has_assignment()) {
+    absl::StatusOr<Job> job = FromProto(message.assignment().job());
+    absl::StatusOr<Route> route = FromProto(message.assignment().route());
+    if (job.ok() && route.ok()) {
+      assignments_.push_back(JobAssignment{*job, *route});
+    } else {
+      // The job cannot run here: say so, so the server fails it rather than waiting.
+      JobEvent failed;
+      failed.job_id = message.assignment().job().job_id();
+      failed.type = JobEventType::kFailed;
+      failed.reason = std::string(job.ok() ? route.status().message() : job.status().message());
+      events_.push_back(failed);
+    }
+  } else if (message.has_command()) {
+    const v1::Command& command = message.command();
+    const JobCommandType type = command.type() == v1::Command::TYPE_PAUSE    ? JobCommandType::kPause
+                                : command.type() == v1::Command::TYPE_RESUME ? JobCommandType::kResume
+                                                                              : JobCommandType::kCancel;
+    commands_.push_back(JobCommand{type, command.job_id(), command.reason()});
+  }
+}
+
 void ServerLink::Close(double timeout_s) {
   {
     absl::MutexLock lock(&mutex_);
     if (closing_ && !thread_.joinable()) return;
-    auto drained = [this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) { return queue_.empty(); };
+    auto drained = [this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) {
+      return queue_.empty() && events_.empty();
+    };
     mutex_.AwaitWithTimeout(absl::Condition(&drained), absl::Seconds(timeout_s));
     closing_ = true;
   }
@@ -59,35 +112,47 @@ void ServerLink::RunSession() {
   auto stream = stub_->Connect(&context);
   v1::AgentMessage hello;
   *hello.mutable_hello() = ToProto(identity_);
+  {
+    absl::MutexLock lock(&mutex_);
+    hello.mutable_hello()->set_resume_job_id(current_job_id_);
+  }
   bool ok = stream->Write(hello);
   connections_.fetch_add(ok ? 1 : 0);
 
   // Server messages (welcome, later assignments and commands) are read on a second thread.
   std::atomic<bool> server_done{false};
-  std::thread reader([&stream, &server_done] {
+  std::thread reader([this, &stream, &server_done] {
     v1::ServerMessage message;
-    while (stream->Read(&message)) {
-    }
+    while (stream->Read(&message)) OnServerMessage(message);
     server_done.store(true);
   });
   while (ok) {
-    Telemetry next;
+    v1::AgentMessage message;
+    bool is_event = false;
     {
       absl::MutexLock lock(&mutex_);
       auto ready = [this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) {
-        return closing_ || !queue_.empty();
+        return closing_ || !queue_.empty() || !events_.empty();
       };
       mutex_.Await(absl::Condition(&ready));
-      if (queue_.empty()) break;  // closing with nothing left to send
-      next = queue_.front();
+      if (!events_.empty()) {  // events first: they change job states
+        *message.mutable_event() = ToAgentEvent(events_.front(), 0);
+        is_event = true;
+      } else if (!queue_.empty()) {
+        *message.mutable_telemetry() = ToProto(queue_.front());
+      } else {
+        break;  // closing with nothing left to send
+      }
     }
-    v1::AgentMessage message;
-    *message.mutable_telemetry() = ToProto(next);
     ok = stream->Write(message);
     if (ok) {
       absl::MutexLock lock(&mutex_);
-      if (!queue_.empty()) queue_.pop_front();
-      sent_.fetch_add(1);
+      if (is_event && !events_.empty()) {
+        events_.pop_front();
+      } else if (!is_event && !queue_.empty()) {
+        queue_.pop_front();
+        sent_.fetch_add(1);
+      }
     }
   }
   // Half-close and let the server read everything it has; cancel only if it does not finish.

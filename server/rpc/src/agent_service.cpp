@@ -23,6 +23,10 @@ grpc::Status AgentServiceImpl::Connect(
   absl::StatusOr<RobotIdentity> identity = FromProto(message.hello());
   if (!identity.ok()) return ToGrpcStatus(identity.status());
   const std::string robot_id = identity->robot_id;
+  // Settle the jobs this robot held before it shows as online, so that the dispatcher cannot
+  // hand it new work in between; its outbox is open before then too.
+  std::shared_ptr<AgentOutbox> outbox = mailbox_->Open(robot_id);
+  jobs_->OnRobotConnected(*identity, message.hello().resume_job_id());
   const uint64_t session = registry_->Connect(*identity);
 
   v1::ServerMessage welcome;
@@ -34,13 +38,11 @@ grpc::Status AgentServiceImpl::Connect(
   stream->Write(welcome);
 
   // Assignments and commands reach the robot through its outbox, written by this thread.
-  std::shared_ptr<AgentOutbox> outbox = mailbox_->Open(robot_id);
   std::thread writer([stream, outbox] {
     while (std::optional<v1::ServerMessage> next = outbox->Pop()) {
       if (!stream->Write(*next)) break;
     }
   });
-  jobs_->OnRobotConnected(*identity, message.hello().resume_job_id());
 
   absl::Status status = absl::OkStatus();
   while (status.ok() && !stopping_->load() && !context->IsCancelled() && stream->Read(&message)) {

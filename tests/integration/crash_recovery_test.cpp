@@ -1,0 +1,159 @@
+// Durability: fleetnavd as a real process is killed with SIGKILL in the middle of a burst of
+// SubmitJob calls and restarted on the same SQLite file. Every acknowledged job must be there,
+// in a consistent state, and none twice.
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <atomic>
+#include <fstream>
+#include <map>
+#include <set>
+#include <thread>
+
+#include "fleet_fixture.hpp"
+
+extern char** environ;
+
+namespace fleetnav {
+namespace {
+
+/// fleetnavd in a child process on an ephemeral port.
+class ServerProcess {
+ public:
+  explicit ServerProcess(const std::string& db_path) {
+    port_file_ = testing::UniqueTempPath("port");
+    std::vector<std::string> args = {FLEETNAV_FLEETNAVD_PATH, "--listen", "127.0.0.1:0",
+                                     "--db",                  db_path,    "--port-file",
+                                     port_file_};
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+    EXPECT_EQ(posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), environ), 0);
+    posix_spawn_file_actions_destroy(&actions);
+    for (int i = 0; i < 200 && port_ == 0; ++i) {
+      std::ifstream in(port_file_);
+      in >> port_;
+      if (port_ == 0) std::this_thread::sleep_for(std::chrono::milliseconds(25));
+    }
+  }
+  ~ServerProcess() {
+    if (pid_ > 0) Kill(SIGTERM);
+    std::remove(port_file_.c_str());
+  }
+  void Kill(int signal) {
+    kill(pid_, signal);
+    int status = 0;
+    waitpid(pid_, &status, 0);
+    pid_ = -1;
+  }
+  int port() const { return port_; }
+
+ private:
+  pid_t pid_ = -1;
+  int port_ = 0;
+  std::string port_file_;
+};
+
+std::unique_ptr<v1::FleetService::Stub> StubFor(int port) {
+  return v1::FleetService::NewStub(grpc::CreateChannel("127.0.0.1:" + std::to_string(port),
+                                                       grpc::InsecureChannelCredentials()));
+}
+
+TEST(CrashRecoveryTest, EveryAcknowledgedJobSurvivesKillDashNineExactlyOnce) {
+  const std::string db_path = testing::UniqueTempPath("crash") + ".db";
+  std::map<std::string, std::string> acknowledged;  // idempotency key -> job id
+  {
+    ServerProcess server(db_path);
+    ASSERT_GT(server.port(), 0) << "fleetnavd did not start";
+    auto fleet = StubFor(server.port());
+    // A map and a route to submit jobs for.
+    absl::StatusOr<OccupancyGrid> grid = OccupancyGrid::Filled(40, 40, 0.1, Pose2(), 0);
+    grpc::ClientContext map_context;
+    v1::PutMapRequest map;
+    map.set_map_id("barn");
+    *map.mutable_grid() = ToProto(*grid);
+    v1::PutMapResponse map_response;
+    ASSERT_TRUE(fleet->PutMap(&map_context, map, &map_response).ok());
+    grpc::ClientContext route_context;
+    v1::PutRouteRequest route;
+    *route.mutable_route() = ToProto(testing::FleetServerFixture::StraightRoute("alley", 1.0));
+    v1::PutRouteResponse route_response;
+    ASSERT_TRUE(fleet->PutRoute(&route_context, route, &route_response).ok());
+
+    // Two submitters until the kill; each remembers what the server acknowledged.
+    std::atomic<bool> stop{false};
+    std::mutex mutex;
+    std::atomic<int> sent{0};
+    auto submitter = [&](int id) {
+      for (int i = 0; !stop.load(); ++i) {
+        const std::string key = "s" + std::to_string(id) + "-" + std::to_string(i);
+        grpc::ClientContext context;
+        context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(2));
+        v1::SubmitJobRequest request;
+        request.set_route_name("alley");
+        request.set_idempotency_key(key);
+        v1::SubmitJobResponse response;
+        sent.fetch_add(1);
+        if (!fleet->SubmitJob(&context, request, &response).ok()) return;
+        std::lock_guard<std::mutex> lock(mutex);
+        acknowledged[key] = response.job().job_id();
+      }
+    };
+    std::thread a(submitter, 0), b(submitter, 1);
+    while (sent.load() < 150) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    server.Kill(SIGKILL);
+    stop.store(true);
+    a.join();
+    b.join();
+  }
+  ASSERT_GE(acknowledged.size(), 100u);
+
+  ServerProcess restarted(db_path);
+  ASSERT_GT(restarted.port(), 0) << "fleetnavd did not restart";
+  auto fleet = StubFor(restarted.port());
+  std::vector<v1::Job> jobs;
+  std::string token;
+  do {
+    grpc::ClientContext context;
+    v1::ListJobsRequest request;
+    request.set_page_size(1000);
+    request.set_page_token(token);
+    v1::ListJobsResponse page;
+    ASSERT_TRUE(fleet->ListJobs(&context, request, &page).ok());
+    jobs.insert(jobs.end(), page.jobs().begin(), page.jobs().end());
+    token = page.next_page_token();
+  } while (!token.empty());
+
+  std::set<std::string> keys, ids;
+  for (const v1::Job& job : jobs) {
+    EXPECT_TRUE(keys.insert(job.idempotency_key()).second) << "twice: " << job.idempotency_key();
+    EXPECT_TRUE(ids.insert(job.job_id()).second);
+    EXPECT_EQ(job.state(), v1::JOB_STATE_QUEUED);  // nothing could have run it
+    // Every stored job has its first event, stored in the same transaction.
+    grpc::ClientContext watch_context;
+    watch_context.set_deadline(std::chrono::system_clock::now() + std::chrono::milliseconds(300));
+    v1::WatchJobRequest watch;
+    watch.set_job_id(job.job_id());
+    auto reader = fleet->WatchJob(&watch_context, watch);
+    v1::JobEvent first;
+    ASSERT_TRUE(reader->Read(&first));
+    EXPECT_EQ(first.type(), v1::JOB_EVENT_TYPE_QUEUED);
+    watch_context.TryCancel();
+    (void)reader->Finish();
+    if (ids.size() >= 20) break;  // the event check on a sample is enough
+  }
+  for (const v1::Job& job : jobs) keys.insert(job.idempotency_key());
+  for (const auto& [key, job_id] : acknowledged) {
+    EXPECT_TRUE(keys.count(key)) << "acknowledged job lost: " << key << " (" << job_id << ")";
+  }
+  std::remove(db_path.c_str());
+}
+
+}  // namespace
+}  // namespace fleetnav

@@ -1,0 +1,195 @@
+// A job end to end over real loopback gRPC: fleetnavd dispatches it to a simulated robot's
+// agent, the agent drives it in the ODE barn, and the job's events and end state come back.
+#include <gmock/gmock.h>
+
+#include <thread>
+
+#include "fleet_fixture.hpp"
+#include "fleetnav/core/angles.hpp"
+#include "fleetnav/robot_agent/agent.hpp"
+#include "fleetnav/robot_agent/server_link.hpp"
+#include "fleetnav/robot_agent/sim_hal.hpp"
+#include "fleetnav/sim/sim_server.hpp"
+
+namespace fleetnav {
+namespace {
+
+class JobFlowTest : public testing::FleetServerFixture {
+ protected:
+  server::FleetServerParams Params() override {
+    server::FleetServerParams params = FleetServerFixture::Params();
+    params.jobs.lost_robot_timeout_s = 0.5;
+    return params;
+  }
+
+  void StartSimulator() {
+    sim::SimServerParams params;
+    params.listen_address = "127.0.0.1:0";
+    params.simulation.seed = 3;
+    simulator_ = std::make_unique<sim::SimServer>(Barn(), params);
+    absl::StatusOr<int> port = simulator_->Start();
+    ASSERT_TRUE(port.ok()) << port.status();
+    sim_port_ = *port;
+  }
+
+  /// Runs an agent in job mode on a thread until it has ended `jobs` jobs.
+  std::thread StartAgent(int jobs, agent::AgentResult* result) {
+    return std::thread([this, jobs, result] {
+      const RobotModel model = LelyVectorModel();
+      agent::ServerLink link(channel_, RobotIdentity{"lely1", model, {"straight", "turn"}, "t"});
+      agent::SimHal hal(grpc::CreateChannel("127.0.0.1:" + std::to_string(sim_port_),
+                                            grpc::InsecureChannelCredentials()),
+                        "lely1");
+      agent::AgentParams params;
+      params.initial_pose_in_map = Barn().robots[0].pose;
+      params.max_jobs = jobs;
+      agent::Agent agent(model, &hal, &link, std::nullopt, params, &link);
+      absl::StatusOr<agent::AgentResult> run = agent.Run();
+      link.Close();
+      if (run.ok()) *result = *run;
+    });
+  }
+
+  std::vector<v1::JobEvent> WatchToTheEnd(const std::string& job_id) {
+    grpc::ClientContext context;
+    context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(60));
+    v1::WatchJobRequest request;
+    request.set_job_id(job_id);
+    auto reader = fleet_->WatchJob(&context, request);
+    std::vector<v1::JobEvent> events;
+    v1::JobEvent event;
+    while (reader->Read(&event)) events.push_back(event);
+    EXPECT_TRUE(reader->Finish().ok());
+    return events;
+  }
+
+  std::unique_ptr<sim::SimServer> simulator_;
+  int sim_port_ = 0;
+};
+
+TEST_F(JobFlowTest, SubmittedRouteIsDispatchedDrivenAndSucceeds) {
+  PutBarn();
+  absl::StatusOr<Route> route = LoadRoute(std::string(FLEETNAV_ROUTES_DIR) + "/demo.yaml");
+  ASSERT_TRUE(route.ok());
+  ASSERT_TRUE(PutRoute(*route).ok());
+  StartSimulator();
+  agent::AgentResult result;
+  std::thread agent = StartAgent(/*jobs=*/1, &result);
+
+  v1::SubmitJobResponse submitted;
+  ASSERT_TRUE(Submit(route->name, "demo-1", &submitted).ok());
+  const std::vector<v1::JobEvent> events = WatchToTheEnd(submitted.job().job_id());
+  agent.join();
+
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(events.front().type(), v1::JOB_EVENT_TYPE_QUEUED);
+  EXPECT_EQ(events.back().type(), v1::JOB_EVENT_TYPE_SUCCEEDED) << events.back().reason();
+  EXPECT_EQ(events.back().state(), v1::JOB_STATE_SUCCEEDED);
+  std::vector<v1::JobEventType> types;
+  int actions_started = 0;
+  for (const auto& e : events) {
+    types.push_back(e.type());
+    actions_started += e.type() == v1::JOB_EVENT_TYPE_ACTION_STARTED;
+  }
+  EXPECT_THAT(types, ::testing::Contains(v1::JOB_EVENT_TYPE_ASSIGNED));
+  EXPECT_THAT(types, ::testing::Contains(v1::JOB_EVENT_TYPE_STARTED));
+  EXPECT_THAT(types, ::testing::Contains(v1::JOB_EVENT_TYPE_PROGRESS));
+  EXPECT_EQ(actions_started, 3);
+  EXPECT_EQ(result.jobs_finished, 1);
+
+  grpc::ClientContext context;
+  v1::GetJobRequest get;
+  get.set_job_id(submitted.job().job_id());
+  v1::GetJobResponse job;
+  ASSERT_TRUE(fleet_->GetJob(&context, get, &job).ok());
+  EXPECT_EQ(job.job().assigned_robot_id(), "lely1");
+  EXPECT_DOUBLE_EQ(job.job().progress_fraction(), 1.0);
+
+  const Pose2 nominal = Barn().robots[0].pose * Pose2(5.0, 3.0, kPi / 2);
+  const sim::GroundTruthSnapshot truth = simulator_->lockstep().GroundTruth();
+  EXPECT_LT((truth.robots[0].pose.translation() - nominal.translation()).norm(), 0.2);
+  EXPECT_LT(std::abs(AngleDifference(truth.robots[0].pose.yaw_rad(), nominal.yaw_rad())),
+            DegToRad(3.0));
+  simulator_->Shutdown();
+}
+
+TEST_F(JobFlowTest, JobsGoByPriorityAndARouteTheRobotCannotDriveStaysQueued) {
+  PutBarn();
+  ASSERT_TRUE(PutRoute(StraightRoute("short", 0.3)).ok());
+  Route fence = StraightRoute("fence", 1.0);
+  fence.actions[0] = RouteAction{FenceNavigationAction{Side::kLeft, 0.5, 5.0, 0.25}, {}};
+  ASSERT_TRUE(PutRoute(fence).ok());
+  v1::SubmitJobResponse low, high, unfit;
+  ASSERT_TRUE(Submit("fence", "", &unfit, /*priority=*/9).ok());
+  ASSERT_TRUE(Submit("short", "", &low, /*priority=*/1).ok());
+  ASSERT_TRUE(Submit("short", "", &high, /*priority=*/5).ok());
+  StartSimulator();
+  agent::AgentResult result;
+  std::thread agent = StartAgent(/*jobs=*/2, &result);
+  const std::vector<v1::JobEvent> high_events = WatchToTheEnd(high.job().job_id());
+  const std::vector<v1::JobEvent> low_events = WatchToTheEnd(low.job().job_id());
+  agent.join();
+  ASSERT_FALSE(high_events.empty());
+  ASSERT_FALSE(low_events.empty());
+  EXPECT_EQ(high_events.back().state(), v1::JOB_STATE_SUCCEEDED) << high_events.back().reason();
+  EXPECT_EQ(low_events.back().state(), v1::JOB_STATE_SUCCEEDED);
+  // The higher priority job was assigned first.
+  auto assigned_at = [](const std::vector<v1::JobEvent>& events) {
+    for (const auto& e : events) {
+      if (e.type() == v1::JOB_EVENT_TYPE_ASSIGNED) return e.unix_ms();
+    }
+    return int64_t{-1};
+  };
+  EXPECT_LE(assigned_at(high_events), assigned_at(low_events));
+  grpc::ClientContext context;
+  v1::GetJobRequest get;
+  get.set_job_id(unfit.job().job_id());
+  v1::GetJobResponse job;
+  ASSERT_TRUE(fleet_->GetJob(&context, get, &job).ok());
+  EXPECT_EQ(job.job().state(), v1::JOB_STATE_QUEUED);  // no robot can follow a fence yet
+  simulator_->Shutdown();
+}
+
+TEST_F(JobFlowTest, ARobotThatDropsMidJobPausesItAndTheJobFailsAfterTheTimeout) {
+  PutBarn();
+  ASSERT_TRUE(PutRoute(StraightRoute("long", 8.0)).ok());
+  StartSimulator();
+  v1::SubmitJobResponse submitted;
+  ASSERT_TRUE(Submit("long", "", &submitted).ok());
+  {
+    // An agent that takes the job, drives a little, then vanishes.
+    const RobotModel model = LelyVectorModel();
+    agent::ServerLink link(channel_, RobotIdentity{"lely1", model, {"straight"}, "t"});
+    agent::SimHal hal(grpc::CreateChannel("127.0.0.1:" + std::to_string(sim_port_),
+                                          grpc::InsecureChannelCredentials()),
+                      "lely1");
+    for (int tick = 0; tick < 2000; ++tick) {
+      absl::StatusOr<std::optional<SensorFrame>> frame = hal.NextFrame();
+      ASSERT_TRUE(frame.ok() && frame->has_value());
+      ActuatorCommand command;
+      command.tick = (*frame)->tick;
+      ASSERT_TRUE(hal.Send(command).ok());
+      if (std::optional<agent::JobAssignment> assignment = link.TakeAssignment()) {
+        link.SetCurrentJob(assignment->job.job_id);
+        JobEvent started;
+        started.job_id = assignment->job.job_id;
+        started.type = JobEventType::kActionStarted;
+        started.action_index = 0;
+        link.ReportEvent(started);
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    link.Close();
+  }
+  const std::vector<v1::JobEvent> events = WatchToTheEnd(submitted.job().job_id());
+  std::vector<v1::JobEventType> types;
+  for (const auto& e : events) types.push_back(e.type());
+  EXPECT_THAT(types, ::testing::Contains(v1::JOB_EVENT_TYPE_PAUSED));
+  EXPECT_EQ(types.back(), v1::JOB_EVENT_TYPE_FAILED);
+  EXPECT_THAT(events.back().reason(), ::testing::HasSubstr("lost"));
+  simulator_->Shutdown();
+}
+
+}  // namespace
+}  // namespace fleetnav

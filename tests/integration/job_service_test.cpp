@@ -1,0 +1,235 @@
+// Marker sets, routes and jobs over real loopback gRPC against a real SQLite file: success
+// paths, idempotency, paging, cancellation, and bad input refused with nothing stored.
+#include <gmock/gmock.h>
+
+#include "fleet_fixture.hpp"
+#include "fleetnav/proto/job_convert.hpp"
+
+namespace fleetnav {
+namespace {
+
+using ::testing::HasSubstr;
+
+class JobServiceTest : public testing::FleetServerFixture {
+ protected:
+  void SetUp() override {
+    FleetServerFixture::SetUp();
+    PutBarn();
+  }
+
+  int RouteCount() {
+    grpc::ClientContext context;
+    v1::ListRoutesResponse response;
+    EXPECT_TRUE(fleet_->ListRoutes(&context, {}, &response).ok());
+    return response.routes_size();
+  }
+
+  int JobCount() {
+    grpc::ClientContext context;
+    v1::ListJobsRequest request;
+    request.set_page_size(1000);
+    v1::ListJobsResponse response;
+    EXPECT_TRUE(fleet_->ListJobs(&context, request, &response).ok());
+    return response.jobs_size();
+  }
+};
+
+TEST_F(JobServiceTest, MarkerSetsAreVersionedPerMapAndNeedTheirMap) {
+  grpc::ClientContext context;
+  v1::GetMarkerSetRequest get;
+  get.set_map_id("barn");
+  v1::GetMarkerSetResponse markers;
+  ASSERT_TRUE(fleet_->GetMarkerSet(&context, get, &markers).ok());
+  EXPECT_EQ(markers.version(), 1u);
+  EXPECT_EQ(markers.marker_set().markers_size(), 3);
+
+  grpc::ClientContext unknown_context;
+  v1::PutMarkerSetRequest put;
+  put.mutable_marker_set()->set_map_id("nowhere");
+  v1::PutMarkerSetResponse response;
+  const grpc::Status status = fleet_->PutMarkerSet(&unknown_context, put, &response);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
+  EXPECT_THAT(status.error_message(), HasSubstr("nowhere"));
+}
+
+TEST_F(JobServiceTest, RoutesAreValidatedAgainstMapAndMarkers) {
+  ASSERT_TRUE(PutRoute(StraightRoute("alley", 3.0)).ok());
+  EXPECT_EQ(RouteCount(), 1);
+
+  Route unknown_marker = StraightRoute("bad-marker", 3.0);
+  unknown_marker.actions.push_back(
+      RouteAction{StraightAction{2.0, 0.2}, EndCondition{EndConditionKind::kMarkerDetected, 42}});
+  Route inside_obstacle = StraightRoute("bad-goal", 3.0);
+  inside_obstacle.actions.push_back(
+      RouteAction{FreeNavigationAction{{}, Pose2(11.0, 0.0, 0.0), 0.25},
+                  EndCondition{EndConditionKind::kGoalReached, 0}});  // the feed kitchen
+  Route outside_map = StraightRoute("bad-waypoint", 3.0);
+  outside_map.actions.push_back(
+      RouteAction{FreeNavigationAction{{Eigen::Vector2d(40, 0)}, Pose2(0, 0, 0), 0.25},
+                  EndCondition{EndConditionKind::kGoalReached, 0}});
+  Route unknown_map = StraightRoute("bad-map", 3.0);
+  unknown_map.map_id = "nowhere";
+
+  for (const auto& [route, code, text] :
+       std::vector<std::tuple<Route, grpc::StatusCode, std::string>>{
+           {unknown_marker, grpc::StatusCode::INVALID_ARGUMENT, "actions[1]"},
+           {inside_obstacle, grpc::StatusCode::INVALID_ARGUMENT, "actions[1]"},
+           {outside_map, grpc::StatusCode::INVALID_ARGUMENT, "outside the map"},
+           {unknown_map, grpc::StatusCode::NOT_FOUND, "nowhere"}}) {
+    SCOPED_TRACE(route.name);
+    const grpc::Status status = PutRoute(route);
+    EXPECT_EQ(status.error_code(), code);
+    EXPECT_THAT(status.error_message(), HasSubstr(text));
+  }
+  // A zero-length action is refused when the wire message is converted.
+  Route zero = StraightRoute("zero", 0.0);
+  const grpc::Status status = PutRoute(zero);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_THAT(status.error_message(), HasSubstr("actions[0]"));
+  EXPECT_EQ(RouteCount(), 1);
+}
+
+TEST_F(JobServiceTest, DeletingAMapInUseIsRefused) {
+  ASSERT_TRUE(PutRoute(StraightRoute("alley", 3.0)).ok());
+  grpc::ClientContext context;
+  v1::DeleteMapRequest request;
+  request.set_map_id("barn");
+  v1::DeleteMapResponse response;
+  const grpc::Status status = fleet_->DeleteMap(&context, request, &response);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+  EXPECT_THAT(status.error_message(), HasSubstr("route"));
+  grpc::ClientContext get_context;
+  v1::GetMapRequest get;
+  get.set_map_id("barn");
+  v1::GetMapResponse map;
+  EXPECT_TRUE(fleet_->GetMap(&get_context, get, &map).ok());
+}
+
+TEST_F(JobServiceTest, SubmitIsIdempotentOnItsKey) {
+  ASSERT_TRUE(PutRoute(StraightRoute("alley", 3.0)).ok());
+  v1::SubmitJobResponse first, second, third;
+  ASSERT_TRUE(Submit("alley", "order-17", &first).ok());
+  EXPECT_FALSE(first.deduplicated());
+  EXPECT_EQ(first.job().state(), v1::JOB_STATE_QUEUED);
+  EXPECT_EQ(first.job().route_version(), 1u);
+  ASSERT_TRUE(Submit("alley", "order-17", &second).ok());
+  EXPECT_TRUE(second.deduplicated());
+  EXPECT_EQ(second.job().job_id(), first.job().job_id());
+  ASSERT_TRUE(Submit("alley", "", &third).ok());
+  EXPECT_NE(third.job().job_id(), first.job().job_id());
+  EXPECT_EQ(JobCount(), 2);
+}
+
+TEST_F(JobServiceTest, BadSubmissionsAreRefusedAndNothingIsStored) {
+  ASSERT_TRUE(PutRoute(StraightRoute("alley", 3.0)).ok());
+  v1::SubmitJobResponse response;
+  grpc::Status status = Submit("no-such-route", "", &response);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
+  EXPECT_THAT(status.error_message(), HasSubstr("no-such-route"));
+
+  grpc::ClientContext neither_context;
+  status = fleet_->SubmitJob(&neither_context, v1::SubmitJobRequest{}, &response);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_THAT(status.error_message(), HasSubstr("target"));
+
+  grpc::ClientContext nan_context;
+  v1::SubmitJobRequest nan_goal;
+  nan_goal.mutable_goal()->set_map_id("barn");
+  nan_goal.mutable_goal()->mutable_goal()->set_x_m(std::numeric_limits<double>::quiet_NaN());
+  status = fleet_->SubmitJob(&nan_context, nan_goal, &response);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_THAT(status.error_message(), HasSubstr("goal"));
+
+  grpc::ClientContext robot_context;
+  v1::SubmitJobRequest unknown_robot;
+  unknown_robot.set_route_name("alley");
+  unknown_robot.set_robot_id("ghost");
+  status = fleet_->SubmitJob(&robot_context, unknown_robot, &response);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
+
+  grpc::ClientContext policy_context;
+  v1::SubmitJobRequest bad_policy;
+  bad_policy.set_route_name("alley");
+  bad_policy.set_on_robot_lost(static_cast<v1::RequeuePolicy>(9));
+  status = fleet_->SubmitJob(&policy_context, bad_policy, &response);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_THAT(status.error_message(), HasSubstr("on_robot_lost"));
+  EXPECT_EQ(JobCount(), 0);
+}
+
+TEST_F(JobServiceTest, ListJobsPagesAndFilters) {
+  ASSERT_TRUE(PutRoute(StraightRoute("alley", 3.0)).ok());
+  for (int i = 0; i < 5; ++i) {
+    v1::SubmitJobResponse response;
+    ASSERT_TRUE(Submit("alley", "k" + std::to_string(i), &response).ok());
+  }
+  std::vector<std::string> seen;
+  std::string token;
+  do {
+    grpc::ClientContext context;
+    v1::ListJobsRequest request;
+    request.set_page_size(2);
+    request.set_page_token(token);
+    v1::ListJobsResponse page;
+    ASSERT_TRUE(fleet_->ListJobs(&context, request, &page).ok());
+    EXPECT_LE(page.jobs_size(), 2);
+    for (const auto& job : page.jobs()) seen.push_back(job.job_id());
+    token = page.next_page_token();
+  } while (!token.empty());
+  EXPECT_EQ(seen.size(), 5u);
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+
+  grpc::ClientContext filter_context;
+  v1::ListJobsRequest cancelled_only;
+  cancelled_only.add_states(v1::JOB_STATE_CANCELLED);
+  v1::ListJobsResponse none;
+  ASSERT_TRUE(fleet_->ListJobs(&filter_context, cancelled_only, &none).ok());
+  EXPECT_EQ(none.jobs_size(), 0);
+
+  grpc::ClientContext bad_context;
+  v1::ListJobsRequest bad;
+  bad.set_page_token("xyz");
+  EXPECT_EQ(fleet_->ListJobs(&bad_context, bad, &none).error_code(),
+            grpc::StatusCode::INVALID_ARGUMENT);
+  grpc::ClientContext state_context;
+  v1::ListJobsRequest bad_state;
+  bad_state.add_states(static_cast<v1::JobState>(42));
+  EXPECT_EQ(fleet_->ListJobs(&state_context, bad_state, &none).error_code(),
+            grpc::StatusCode::INVALID_ARGUMENT);
+}
+
+TEST_F(JobServiceTest, CancelEndsAQueuedJobOnceAndWatchJobReplaysItsEvents) {
+  ASSERT_TRUE(PutRoute(StraightRoute("alley", 3.0)).ok());
+  v1::SubmitJobResponse submitted;
+  ASSERT_TRUE(Submit("alley", "", &submitted).ok());
+  grpc::ClientContext context;
+  v1::CancelJobRequest cancel;
+  cancel.set_job_id(submitted.job().job_id());
+  cancel.set_reason("operator changed plans");
+  v1::CancelJobResponse cancelled;
+  ASSERT_TRUE(fleet_->CancelJob(&context, cancel, &cancelled).ok());
+  EXPECT_EQ(cancelled.job().state(), v1::JOB_STATE_CANCELLED);
+
+  grpc::ClientContext again_context;
+  const grpc::Status again = fleet_->CancelJob(&again_context, cancel, &cancelled);
+  EXPECT_EQ(again.error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+
+  grpc::ClientContext watch_context;
+  v1::WatchJobRequest watch;
+  watch.set_job_id(submitted.job().job_id());
+  auto reader = fleet_->WatchJob(&watch_context, watch);
+  std::vector<v1::JobEventType> types;
+  v1::JobEvent event;
+  while (reader->Read(&event)) types.push_back(event.type());
+  EXPECT_TRUE(reader->Finish().ok());  // the stream ends with the job
+  EXPECT_THAT(types, ::testing::ElementsAre(v1::JOB_EVENT_TYPE_QUEUED,
+                                            v1::JOB_EVENT_TYPE_CANCELLED));
+
+  grpc::ClientContext unknown_context;
+  cancel.set_job_id("job-999999");
+  EXPECT_EQ(fleet_->CancelJob(&unknown_context, cancel, &cancelled).error_code(),
+            grpc::StatusCode::NOT_FOUND);
+}
+
+}  // namespace
+}  // namespace fleetnav
