@@ -34,6 +34,53 @@ int main(int argc, char** argv) {
   CLI::App* map_delete = map->add_subcommand("delete", "delete every version of a map");
   map_delete->add_option("--id", map_id, "map id")->required();
 
+  CLI::App* markers = app.add_subcommand("markers", "stripe-marker sets: put, get");
+  markers->require_subcommand(1);
+  CLI::App* markers_put = markers->add_subcommand("put", "upload a marker YAML as a new version");
+  std::string marker_map;
+  markers_put->add_option("--map", marker_map, "map id (default: the file's `map:`)");
+  markers_put->add_option("yaml", yaml_path, "marker YAML file")->required();
+  CLI::App* markers_get = markers->add_subcommand("get", "print a map's marker set as YAML");
+  markers_get->add_option("--map", marker_map, "map id")->required();
+  markers_get->add_option("--version", version, "version (0 = latest)");
+
+  CLI::App* routes = app.add_subcommand("routes", "routes: put, get, list");
+  routes->require_subcommand(1);
+  std::string route_name;
+  CLI::App* routes_put = routes->add_subcommand("put", "upload a route YAML as a new version");
+  routes_put->add_option("yaml", yaml_path, "route YAML file")->required();
+  CLI::App* routes_get = routes->add_subcommand("get", "print a route as YAML");
+  routes_get->add_option("name", route_name, "route name")->required();
+  CLI::App* routes_list = routes->add_subcommand("list", "list routes");
+  routes_list->add_option("--map", marker_map, "only routes on this map");
+
+  CLI::App* jobs = app.add_subcommand("job", "jobs: submit, get, list, cancel, watch");
+  jobs->require_subcommand(1);
+  fleetnav::ctl::SubmitOptions submit;
+  std::string job_id, job_state, reason;
+  uint32_t page_size = 100;
+  bool wait = false;
+  CLI::App* job_submit = jobs->add_subcommand("submit", "run a route with a robot");
+  job_submit->add_option("--route", submit.route_name, "route name")->required();
+  job_submit->add_option("--robot", submit.robot_id, "a given robot (default: any capable one)");
+  job_submit->add_option("--priority", submit.priority, "higher first")->capture_default_str();
+  job_submit->add_option("--key", submit.idempotency_key,
+                         "idempotency key: the same key returns the same job");
+  job_submit->add_flag("--requeue-on-robot-lost", submit.requeue_on_robot_lost,
+                       "re-queue instead of failing when the robot is lost");
+  job_submit->add_flag("--wait", wait, "then follow the job until it ends (like `job watch`)");
+  CLI::App* job_get = jobs->add_subcommand("get", "show one job");
+  job_get->add_option("job_id", job_id, "job id")->required();
+  CLI::App* job_list = jobs->add_subcommand("list", "list jobs");
+  job_list->add_option("--state", job_state, "queued|assigned|running|paused|succeeded|failed|cancelled");
+  job_list->add_option("--robot", submit.robot_id, "only jobs of this robot");
+  job_list->add_option("--page-size", page_size, "jobs per request")->capture_default_str();
+  CLI::App* job_cancel = jobs->add_subcommand("cancel", "cancel a job");
+  job_cancel->add_option("job_id", job_id, "job id")->required();
+  job_cancel->add_option("--reason", reason, "why");
+  CLI::App* job_watch = jobs->add_subcommand("watch", "follow a job live until it ends");
+  job_watch->add_option("job_id", job_id, "job id")->required();
+
   CLI::App* robots = app.add_subcommand("robots", "list robots with state and pose");
   CLI::App* watch = app.add_subcommand("watch", "follow the fleet live");
   double rate_hz = 5.0, duration_s = 0.0;
@@ -63,6 +110,28 @@ int main(int argc, char** argv) {
     status = fleetnav::ctl::ExportMap(context, map_id, version, yaml_path);
   } else if (map_delete->parsed()) {
     status = fleetnav::ctl::DeleteMap(context, map_id);
+  } else if (markers_put->parsed()) {
+    status = fleetnav::ctl::PutMarkers(context, marker_map, yaml_path);
+  } else if (markers_get->parsed()) {
+    status = fleetnav::ctl::GetMarkers(context, marker_map, version);
+  } else if (routes_put->parsed()) {
+    status = fleetnav::ctl::PutRoute(context, yaml_path);
+  } else if (routes_get->parsed()) {
+    status = fleetnav::ctl::GetRoute(context, route_name);
+  } else if (routes_list->parsed()) {
+    status = fleetnav::ctl::ListRoutes(context, marker_map);
+  } else if (job_submit->parsed()) {
+    absl::StatusOr<std::string> id = fleetnav::ctl::SubmitJob(context, submit);
+    status = id.status();
+    if (id.ok() && wait) status = fleetnav::ctl::WatchJob(context, *id);
+  } else if (job_get->parsed()) {
+    status = fleetnav::ctl::GetJob(context, job_id);
+  } else if (job_list->parsed()) {
+    status = fleetnav::ctl::ListJobs(context, job_state, submit.robot_id, page_size);
+  } else if (job_cancel->parsed()) {
+    status = fleetnav::ctl::CancelJob(context, job_id, reason);
+  } else if (job_watch->parsed()) {
+    status = fleetnav::ctl::WatchJob(context, job_id);
   } else if (robots->parsed()) {
     status = fleetnav::ctl::ListRobots(context);
   } else if (sim_truth->parsed()) {

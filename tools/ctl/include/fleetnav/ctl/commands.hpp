@@ -8,6 +8,7 @@
 #include <grpcpp/channel.h>
 
 #include "absl/status/status.h"
+#include "absl/status/statusor.h"
 
 namespace fleetnav::ctl {
 
@@ -35,5 +36,38 @@ absl::Status ListRobots(const CommandContext& context);
 /// messages (0 = never) or `duration_s` seconds (0 = never).
 absl::Status WatchFleet(const CommandContext& context, double rate_hz, int max_updates,
                         double duration_s);
+
+}  // namespace fleetnav::ctl
+
+namespace fleetnav::ctl {
+
+/// Uploads a marker YAML file as a new version of its map's marker set (`--map` overrides the
+/// file's `map:`).
+absl::Status PutMarkers(const CommandContext& context, const std::string& map_id,
+                        const std::string& yaml_path);
+absl::Status GetMarkers(const CommandContext& context, const std::string& map_id,
+                        uint32_t version);
+/// Uploads a route YAML file as a new version of its route.
+absl::Status PutRoute(const CommandContext& context, const std::string& yaml_path);
+absl::Status GetRoute(const CommandContext& context, const std::string& name);
+absl::Status ListRoutes(const CommandContext& context, const std::string& map_id);
+
+struct SubmitOptions {
+  std::string route_name;
+  std::string robot_id;
+  int priority = 0;
+  std::string idempotency_key;
+  bool requeue_on_robot_lost = false;
+};
+/// Submits and prints the job; returns its id.
+absl::StatusOr<std::string> SubmitJob(const CommandContext& context, const SubmitOptions& options);
+absl::Status GetJob(const CommandContext& context, const std::string& job_id);
+absl::Status ListJobs(const CommandContext& context, const std::string& state,
+                      const std::string& robot_id, uint32_t page_size);
+absl::Status CancelJob(const CommandContext& context, const std::string& job_id,
+                       const std::string& reason);
+/// Follows a job's events with a live progress bar until it ends; the status is an error when
+/// the job failed or was cancelled (so scripts can rely on the exit code).
+absl::Status WatchJob(const CommandContext& context, const std::string& job_id);
 
 }  // namespace fleetnav::ctl

@@ -1,0 +1,297 @@
+#include <grpcpp/client_context.h>
+
+#include <chrono>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/time/clock.h"
+#include "absl/time/time.h"
+#include "fleetnav/core/route.hpp"
+#include "fleetnav/core/stripe_marker.hpp"
+#include "fleetnav/ctl/commands.hpp"
+#include "fleetnav/ctl/table.hpp"
+#include "fleetnav/proto/grpc_status.hpp"
+#include "fleetnav/proto/map_convert.hpp"
+#include "fleetnav/proto/route_convert.hpp"
+#include "fleetnav/v1/fleet_service.grpc.pb.h"
+
+namespace fleetnav::ctl {
+namespace {
+
+void SetDeadline(const CommandContext& context, grpc::ClientContext* rpc) {
+  rpc->set_deadline(std::chrono::system_clock::now() +
+                    std::chrono::milliseconds(static_cast<int64_t>(context.timeout_s * 1000)));
+}
+
+std::string Lower(std::string name, const std::string& prefix) {
+  if (name.rfind(prefix, 0) == 0) name = name.substr(prefix.size());
+  for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return name;
+}
+
+std::string StateName(v1::JobState state) { return Lower(v1::JobState_Name(state), "JOB_STATE_"); }
+
+std::string EventName(v1::JobEventType type) {
+  return Lower(v1::JobEventType_Name(type), "JOB_EVENT_TYPE_");
+}
+
+std::string TimeText(int64_t unix_ms) {
+  return absl::FormatTime("%H:%M:%E3S", absl::FromUnixMillis(unix_ms), absl::LocalTimeZone());
+}
+
+nlohmann::json JobJson(const v1::Job& job) {
+  return {{"job_id", job.job_id()},
+          {"state", StateName(job.state())},
+          {"route", job.route_name()},
+          {"route_version", job.route_version()},
+          {"robot", job.assigned_robot_id()},
+          {"priority", job.priority()},
+          {"progress", job.progress_fraction()},
+          {"idempotency_key", job.idempotency_key()},
+          {"created_unix_ms", job.created_unix_ms()},
+          {"reason", job.reason()}};
+}
+
+std::string ProgressBar(double fraction) {
+  const int width = 30;
+  const int filled = static_cast<int>(fraction * width + 0.5);
+  return absl::StrCat("[", std::string(filled, '#'), std::string(width - filled, '.'), "]",
+                      absl::StrFormat(" %3.0f%%", fraction * 100.0));
+}
+
+}  // namespace
+
+absl::Status PutMarkers(const CommandContext& context, const std::string& map_id,
+                        const std::string& yaml_path) {
+  absl::StatusOr<MarkerSet> markers = LoadMarkerSet(yaml_path);
+  if (!markers.ok()) return markers.status();
+  if (!map_id.empty()) markers->map_id = map_id;
+  auto stub = v1::FleetService::NewStub(context.channel);
+  grpc::ClientContext rpc;
+  SetDeadline(context, &rpc);
+  v1::PutMarkerSetRequest request;
+  *request.mutable_marker_set() = ToProto(*markers);
+  v1::PutMarkerSetResponse response;
+  if (absl::Status s = FromGrpcStatus(stub->PutMarkerSet(&rpc, request, &response)); !s.ok()) {
+    return s;
+  }
+  *context.out << "stored " << markers->markers.size() << " marker(s) of map '"
+               << response.map_id() << "' as version " << response.version() << '\n';
+  return absl::OkStatus();
+}
+
+absl::Status GetMarkers(const CommandContext& context, const std::string& map_id,
+                        uint32_t version) {
+  auto stub = v1::FleetService::NewStub(context.channel);
+  grpc::ClientContext rpc;
+  SetDeadline(context, &rpc);
+  v1::GetMarkerSetRequest request;
+  request.set_map_id(map_id);
+  request.set_version(version);
+  v1::GetMarkerSetResponse response;
+  if (absl::Status s = FromGrpcStatus(stub->GetMarkerSet(&rpc, request, &response)); !s.ok()) {
+    return s;
+  }
+  absl::StatusOr<MarkerSet> markers = FromProto(response.marker_set());
+  if (!markers.ok()) return markers.status();
+  *context.out << "# version " << response.version() << '\n' << MarkerSetToYaml(*markers);
+  return absl::OkStatus();
+}
+
+absl::Status PutRoute(const CommandContext& context, const std::string& yaml_path) {
+  absl::StatusOr<Route> route = LoadRoute(yaml_path);
+  if (!route.ok()) return route.status();
+  auto stub = v1::FleetService::NewStub(context.channel);
+  grpc::ClientContext rpc;
+  SetDeadline(context, &rpc);
+  v1::PutRouteRequest request;
+  *request.mutable_route() = ToProto(*route);
+  v1::PutRouteResponse response;
+  if (absl::Status s = FromGrpcStatus(stub->PutRoute(&rpc, request, &response)); !s.ok()) return s;
+  *context.out << "stored route '" << response.name() << "' (" << route->actions.size()
+               << " actions) as version " << response.version() << '\n';
+  return absl::OkStatus();
+}
+
+absl::Status GetRoute(const CommandContext& context, const std::string& name) {
+  auto stub = v1::FleetService::NewStub(context.channel);
+  grpc::ClientContext rpc;
+  SetDeadline(context, &rpc);
+  v1::GetRouteRequest request;
+  request.set_name(name);
+  v1::GetRouteResponse response;
+  if (absl::Status s = FromGrpcStatus(stub->GetRoute(&rpc, request, &response)); !s.ok()) return s;
+  absl::StatusOr<Route> route = FromProto(response.route());
+  if (!route.ok()) return route.status();
+  *context.out << "# version " << response.version() << '\n' << RouteToYaml(*route);
+  return absl::OkStatus();
+}
+
+absl::Status ListRoutes(const CommandContext& context, const std::string& map_id) {
+  auto stub = v1::FleetService::NewStub(context.channel);
+  grpc::ClientContext rpc;
+  SetDeadline(context, &rpc);
+  v1::ListRoutesRequest request;
+  request.set_map_id(map_id);
+  v1::ListRoutesResponse response;
+  if (absl::Status s = FromGrpcStatus(stub->ListRoutes(&rpc, request, &response)); !s.ok()) {
+    return s;
+  }
+  if (context.json) {
+    nlohmann::json routes = nlohmann::json::array();
+    for (const v1::Route& r : response.routes()) {
+      routes.push_back({{"name", r.name()}, {"map", r.map_id()}, {"actions", r.actions_size()}});
+    }
+    *context.out << routes.dump() << '\n';
+    return absl::OkStatus();
+  }
+  Table table({"ROUTE", "MAP", "ACTIONS"});
+  for (const v1::Route& r : response.routes()) {
+    table.AddRow({r.name(), r.map_id(), absl::StrCat(r.actions_size())});
+  }
+  table.Print(*context.out);
+  return absl::OkStatus();
+}
+
+absl::StatusOr<std::string> SubmitJob(const CommandContext& context,
+                                      const SubmitOptions& options) {
+  auto stub = v1::FleetService::NewStub(context.channel);
+  grpc::ClientContext rpc;
+  SetDeadline(context, &rpc);
+  v1::SubmitJobRequest request;
+  request.set_route_name(options.route_name);
+  request.set_robot_id(options.robot_id);
+  request.set_priority(options.priority);
+  request.set_idempotency_key(options.idempotency_key);
+  request.set_on_robot_lost(options.requeue_on_robot_lost ? v1::REQUEUE_POLICY_REQUEUE
+                                                          : v1::REQUEUE_POLICY_FAIL);
+  v1::SubmitJobResponse response;
+  if (absl::Status s = FromGrpcStatus(stub->SubmitJob(&rpc, request, &response)); !s.ok()) {
+    return s;
+  }
+  if (context.json) {
+    nlohmann::json out = JobJson(response.job());
+    out["deduplicated"] = response.deduplicated();
+    *context.out << out.dump() << '\n';
+  } else {
+    *context.out << (response.deduplicated() ? "already submitted: " : "submitted ")
+                 << response.job().job_id() << " (" << StateName(response.job().state()) << ")\n";
+  }
+  return response.job().job_id();
+}
+
+absl::Status GetJob(const CommandContext& context, const std::string& job_id) {
+  auto stub = v1::FleetService::NewStub(context.channel);
+  grpc::ClientContext rpc;
+  SetDeadline(context, &rpc);
+  v1::GetJobRequest request;
+  request.set_job_id(job_id);
+  v1::GetJobResponse response;
+  if (absl::Status s = FromGrpcStatus(stub->GetJob(&rpc, request, &response)); !s.ok()) return s;
+  *context.out << JobJson(response.job()).dump(context.json ? -1 : 2) << '\n';
+  return absl::OkStatus();
+}
+
+absl::Status ListJobs(const CommandContext& context, const std::string& state,
+                      const std::string& robot_id, uint32_t page_size) {
+  v1::ListJobsRequest request;
+  if (!state.empty()) {
+    v1::JobState parsed;
+    std::string upper = "JOB_STATE_";
+    for (char c : state) upper += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    if (!v1::JobState_Parse(upper, &parsed)) {
+      return absl::InvalidArgumentError(absl::StrCat("--state: unknown state '", state, "'"));
+    }
+    request.add_states(parsed);
+  }
+  request.set_robot_id(robot_id);
+  request.set_page_size(page_size);
+  auto stub = v1::FleetService::NewStub(context.channel);
+  std::vector<v1::Job> jobs;
+  do {
+    grpc::ClientContext rpc;
+    SetDeadline(context, &rpc);
+    v1::ListJobsResponse page;
+    if (absl::Status s = FromGrpcStatus(stub->ListJobs(&rpc, request, &page)); !s.ok()) return s;
+    jobs.insert(jobs.end(), page.jobs().begin(), page.jobs().end());
+    request.set_page_token(page.next_page_token());
+  } while (!request.page_token().empty());
+  if (context.json) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const v1::Job& job : jobs) out.push_back(JobJson(job));
+    *context.out << out.dump() << '\n';
+    return absl::OkStatus();
+  }
+  Table table({"JOB", "STATE", "ROUTE", "ROBOT", "PRIORITY", "PROGRESS", "CREATED", "REASON"});
+  for (const v1::Job& job : jobs) {
+    table.AddRow({job.job_id(), StateName(job.state()), job.route_name(), job.assigned_robot_id(),
+                  absl::StrCat(job.priority()),
+                  absl::StrFormat("%.0f%%", 100.0 * job.progress_fraction()),
+                  TimeText(job.created_unix_ms()), job.reason()});
+  }
+  table.Print(*context.out);
+  return absl::OkStatus();
+}
+
+absl::Status CancelJob(const CommandContext& context, const std::string& job_id,
+                       const std::string& reason) {
+  auto stub = v1::FleetService::NewStub(context.channel);
+  grpc::ClientContext rpc;
+  SetDeadline(context, &rpc);
+  v1::CancelJobRequest request;
+  request.set_job_id(job_id);
+  request.set_reason(reason);
+  v1::CancelJobResponse response;
+  if (absl::Status s = FromGrpcStatus(stub->CancelJob(&rpc, request, &response)); !s.ok()) {
+    return s;
+  }
+  *context.out << "cancelled " << job_id << '\n';
+  return absl::OkStatus();
+}
+
+absl::Status WatchJob(const CommandContext& context, const std::string& job_id) {
+  auto stub = v1::FleetService::NewStub(context.channel);
+  grpc::ClientContext rpc;
+  v1::WatchJobRequest request;
+  request.set_job_id(job_id);
+  auto reader = stub->WatchJob(&rpc, request);
+  v1::JobEvent event;
+  v1::JobEvent last;
+  while (reader->Read(&event)) {
+    last = event;
+    if (context.json) {
+      *context.out << nlohmann::json{{"job_id", event.job_id()},
+                                     {"event", EventName(event.type())},
+                                     {"state", StateName(event.state())},
+                                     {"robot", event.robot_id()},
+                                     {"action", event.action_index()},
+                                     {"progress", event.progress_fraction()},
+                                     {"reason", event.reason()},
+                                     {"unix_ms", event.unix_ms()}}
+                          .dump()
+                   << '\n';
+    } else {
+      std::string detail = event.robot_id();
+      if (event.type() == v1::JOB_EVENT_TYPE_ACTION_STARTED ||
+          event.type() == v1::JOB_EVENT_TYPE_ACTION_FINISHED) {
+        absl::StrAppend(&detail, " action ", event.action_index());
+      }
+      if (!event.reason().empty()) absl::StrAppend(&detail, " — ", event.reason());
+      *context.out << absl::StrFormat("%s  %-16s %-10s %s  %s\n", TimeText(event.unix_ms()),
+                                      EventName(event.type()), StateName(event.state()),
+                                      ProgressBar(event.progress_fraction()), detail);
+    }
+    context.out->flush();
+  }
+  if (absl::Status s = FromGrpcStatus(reader->Finish()); !s.ok()) return s;
+  if (last.state() == v1::JOB_STATE_FAILED || last.state() == v1::JOB_STATE_CANCELLED) {
+    return absl::AbortedError(
+        absl::StrCat("job ", job_id, " ", StateName(last.state()), ": ", last.reason()));
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace fleetnav::ctl
