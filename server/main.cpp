@@ -1,11 +1,15 @@
-// fleetnavd: the fleet server. Wiring only: flags -> FleetServer -> serve until SIGINT/SIGTERM.
-#include <csignal>
+// fleetnavd: the fleet server. Wiring only: config file and flags -> FleetServer -> serve until
+// SIGINT/SIGTERM.
 #include <pthread.h>
+
+#include <csignal>
+#include <cstdio>
 
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
 #include "fleetnav/server/rpc/fleet_server.hpp"
+#include "fleetnav/server/rpc/fleet_server_config.hpp"
 
 int main(int argc, char** argv) {
   // SIGINT/SIGTERM are blocked in every thread and taken synchronously below.
@@ -15,20 +19,38 @@ int main(int argc, char** argv) {
   sigaddset(&stop_signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
-  fleetnav::server::FleetServerParams params;
+  // Flags override the config file, which overrides the defaults.
+  fleetnav::server::FleetServerConfig defaults;
   CLI::App app{"fleetnavd: fleet navigation server (FleetService + AgentService)"};
-  app.add_option("--listen", params.listen_address, "address to serve on (host:port; port 0 = any)")
-      ->capture_default_str();
-  app.add_option("--db", params.db_path, "SQLite database file (created if missing)")
-      ->capture_default_str();
-  app.add_option("--stale-after-s", params.registry.stale_after_s,
-                 "seconds without telemetry before a robot shows as stale")
-      ->capture_default_str();
-  app.add_option("--max-message-bytes", params.max_message_bytes, "largest request accepted")
-      ->capture_default_str();
-  std::string port_file;
+  std::string config_path, listen, db, log_level, port_file;
+  double stale_after_s = 0, lost_robot_timeout_s = 0;
+  int max_message_bytes = 0;
+  app.add_option("--config", config_path, "YAML configuration file (see docs/server.md)");
+  app.add_option("--listen", listen, "address to serve on (host:port; port 0 = any) [127.0.0.1:50051]");
+  app.add_option("--db", db, "SQLite database file, created if missing [fleetnav.db]");
+  app.add_option("--stale-after-s", stale_after_s, "seconds without telemetry before a robot is stale [2]");
+  app.add_option("--lost-robot-timeout-s", lost_robot_timeout_s,
+                 "seconds a paused job waits for its robot before failing or re-queueing [30]");
+  app.add_option("--max-message-bytes", max_message_bytes, "largest request accepted [67108864]");
+  app.add_option("--log-level", log_level, "trace|debug|info|warn|error [info]");
   app.add_option("--port-file", port_file, "write the bound port to this file once serving");
   CLI11_PARSE(app, argc, argv);
+
+  absl::StatusOr<fleetnav::server::FleetServerConfig> config =
+      config_path.empty() ? absl::StatusOr<fleetnav::server::FleetServerConfig>(defaults)
+                          : fleetnav::server::LoadFleetServerConfig(config_path, defaults);
+  if (!config.ok()) {
+    spdlog::error("fleetnavd: {}", config.status().ToString());
+    return 2;
+  }
+  fleetnav::server::FleetServerParams& params = config->params;
+  if (!listen.empty()) params.listen_address = listen;
+  if (!db.empty()) params.db_path = db;
+  if (stale_after_s > 0) params.registry.stale_after_s = stale_after_s;
+  if (lost_robot_timeout_s > 0) params.jobs.lost_robot_timeout_s = lost_robot_timeout_s;
+  if (max_message_bytes > 0) params.max_message_bytes = max_message_bytes;
+  if (!log_level.empty()) config->log_level = log_level;
+  spdlog::set_level(spdlog::level::from_str(config->log_level));
 
   fleetnav::server::FleetServer server(params);
   absl::StatusOr<int> port = server.Start();

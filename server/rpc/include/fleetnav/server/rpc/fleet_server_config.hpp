@@ -1,0 +1,28 @@
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "absl/status/statusor.h"
+#include "fleetnav/server/rpc/fleet_server.hpp"
+
+namespace fleetnav::server {
+
+/// fleetnavd's YAML configuration (see docs/server.md); every key is optional:
+///   listen: 0.0.0.0:50051
+///   db: /var/lib/fleetnav/fleet.db
+///   log_level: info                # trace | debug | info | warn | error
+///   limits: {max_message_bytes: 67108864, max_page_size: 1000}
+///   timeouts: {stale_after_s: 2.0, lost_robot_timeout_s: 30.0, dispatch_period_s: 0.2}
+/// Unknown keys and bad values are InvalidArgument naming the key; the result is validated.
+struct FleetServerConfig {
+  FleetServerParams params;
+  std::string log_level = "info";
+};
+
+absl::StatusOr<FleetServerConfig> ParseFleetServerConfig(std::string_view yaml_text,
+                                                         FleetServerConfig defaults = {});
+absl::StatusOr<FleetServerConfig> LoadFleetServerConfig(const std::string& path,
+                                                        FleetServerConfig defaults = {});
+
+}  // namespace fleetnav::server

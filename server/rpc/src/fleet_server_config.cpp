@@ -1,0 +1,92 @@
+#include "fleetnav/server/rpc/fleet_server_config.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "absl/strings/str_cat.h"
+#include "fleetnav/core/status_macros.hpp"
+
+namespace fleetnav::server {
+namespace {
+
+absl::Status CheckKeys(const YAML::Node& node, const std::set<std::string>& known,
+                       const std::string& where) {
+  if (!node.IsMap()) return absl::InvalidArgumentError(absl::StrCat(where, ": expected a mapping"));
+  for (const auto& entry : node) {
+    const std::string key = entry.first.as<std::string>();
+    if (known.count(key) == 0) {
+      return absl::InvalidArgumentError(absl::StrCat(where, ": unknown key '", key, "'"));
+    }
+  }
+  return absl::OkStatus();
+}
+
+template <typename T>
+absl::Status Read(const YAML::Node& node, const std::string& key, const std::string& where,
+                  T* value) {
+  if (!node[key]) return absl::OkStatus();
+  try {
+    *value = node[key].as<T>();
+  } catch (const YAML::Exception&) {
+    return absl::InvalidArgumentError(absl::StrCat(where, key, ": bad value"));
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+absl::StatusOr<FleetServerConfig> ParseFleetServerConfig(std::string_view yaml_text,
+                                                         FleetServerConfig config) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(std::string(yaml_text));
+  } catch (const YAML::Exception& e) {
+    return absl::InvalidArgumentError(absl::StrCat("config: ", e.what()));
+  }
+  if (root.IsNull()) return config;
+  RETURN_IF_ERROR(CheckKeys(root, {"listen", "db", "log_level", "limits", "timeouts"}, "config"));
+  FleetServerParams& p = config.params;
+  RETURN_IF_ERROR(Read(root, "listen", "", &p.listen_address));
+  RETURN_IF_ERROR(Read(root, "db", "", &p.db_path));
+  RETURN_IF_ERROR(Read(root, "log_level", "", &config.log_level));
+  if (const YAML::Node limits = root["limits"]) {
+    RETURN_IF_ERROR(CheckKeys(limits, {"max_message_bytes", "max_page_size"}, "limits"));
+    RETURN_IF_ERROR(Read(limits, "max_message_bytes", "limits.", &p.max_message_bytes));
+    RETURN_IF_ERROR(Read(limits, "max_page_size", "limits.", &p.jobs.max_page_size));
+  }
+  if (const YAML::Node timeouts = root["timeouts"]) {
+    RETURN_IF_ERROR(CheckKeys(
+        timeouts, {"stale_after_s", "lost_robot_timeout_s", "dispatch_period_s"}, "timeouts"));
+    RETURN_IF_ERROR(Read(timeouts, "stale_after_s", "timeouts.", &p.registry.stale_after_s));
+    RETURN_IF_ERROR(
+        Read(timeouts, "lost_robot_timeout_s", "timeouts.", &p.jobs.lost_robot_timeout_s));
+    RETURN_IF_ERROR(Read(timeouts, "dispatch_period_s", "timeouts.", &p.dispatch_period_s));
+  }
+  static const std::set<std::string> kLevels = {"trace", "debug", "info", "warn", "error"};
+  if (kLevels.count(config.log_level) == 0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("log_level: one of trace, debug, info, warn, error; got '", config.log_level,
+                     "'"));
+  }
+  RETURN_IF_ERROR(p.Validate());
+  return config;
+}
+
+absl::StatusOr<FleetServerConfig> LoadFleetServerConfig(const std::string& path,
+                                                        FleetServerConfig defaults) {
+  std::ifstream in(path);
+  if (!in) return absl::NotFoundError(absl::StrCat("cannot read config '", path, "'"));
+  std::stringstream text;
+  text << in.rdbuf();
+  absl::StatusOr<FleetServerConfig> config = ParseFleetServerConfig(text.str(), defaults);
+  if (!config.ok()) {
+    return absl::Status(config.status().code(),
+                        absl::StrCat(path, ": ", config.status().message()));
+  }
+  return config;
+}
+
+}  // namespace fleetnav::server

@@ -1,0 +1,61 @@
+#include "fleetnav/server/rpc/fleet_server_config.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace fleetnav::server {
+namespace {
+
+using ::testing::HasSubstr;
+
+TEST(FleetServerConfigTest, EmptyConfigKeepsTheDefaults) {
+  absl::StatusOr<FleetServerConfig> config = ParseFleetServerConfig("");
+  ASSERT_TRUE(config.ok()) << config.status();
+  EXPECT_EQ(config->params.listen_address, "127.0.0.1:50051");
+  EXPECT_DOUBLE_EQ(config->params.jobs.lost_robot_timeout_s, 30.0);
+  EXPECT_EQ(config->log_level, "info");
+}
+
+TEST(FleetServerConfigTest, EveryKeyIsRead) {
+  absl::StatusOr<FleetServerConfig> config = ParseFleetServerConfig(R"(
+listen: 0.0.0.0:6000
+db: /tmp/x.db
+log_level: debug
+limits: {max_message_bytes: 2048, max_page_size: 50}
+timeouts: {stale_after_s: 1.5, lost_robot_timeout_s: 9, dispatch_period_s: 0.1}
+)");
+  ASSERT_TRUE(config.ok()) << config.status();
+  EXPECT_EQ(config->params.listen_address, "0.0.0.0:6000");
+  EXPECT_EQ(config->params.db_path, "/tmp/x.db");
+  EXPECT_EQ(config->log_level, "debug");
+  EXPECT_EQ(config->params.max_message_bytes, 2048);
+  EXPECT_EQ(config->params.jobs.max_page_size, 50);
+  EXPECT_DOUBLE_EQ(config->params.registry.stale_after_s, 1.5);
+  EXPECT_DOUBLE_EQ(config->params.jobs.lost_robot_timeout_s, 9.0);
+  EXPECT_DOUBLE_EQ(config->params.dispatch_period_s, 0.1);
+}
+
+TEST(FleetServerConfigTest, BadConfigsNameTheKey) {
+  for (const auto& [yaml, text] : std::vector<std::pair<std::string, std::string>>{
+           {"lissten: x", "lissten"},
+           {"timeouts: {stale_after_s: -1}", "stale_after_s"},
+           {"timeouts: {stale_after_s: abc}", "stale_after_s"},
+           {"limits: {max_message_bytes: 10}", "max_message_bytes"},
+           {"log_level: loud", "log_level"},
+           {"timeouts: {nap_s: 3}", "nap_s"},
+           {"listen: [1, 2", "config"}}) {
+    SCOPED_TRACE(yaml);
+    absl::StatusOr<FleetServerConfig> config = ParseFleetServerConfig(yaml);
+    ASSERT_FALSE(config.ok());
+    EXPECT_EQ(config.status().code(), absl::StatusCode::kInvalidArgument);
+    EXPECT_THAT(config.status().message(), HasSubstr(text));
+  }
+}
+
+TEST(FleetServerConfigTest, MissingFileIsNotFound) {
+  EXPECT_EQ(LoadFleetServerConfig("/nonexistent/fleetnavd.yaml").status().code(),
+            absl::StatusCode::kNotFound);
+}
+
+}  // namespace
+}  // namespace fleetnav::server
