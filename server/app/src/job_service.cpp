@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <set>
 
 #include "absl/strings/str_cat.h"
@@ -336,11 +337,23 @@ int JobService::DispatchOnce() {
       idle.push_back(std::move(record));
     }
   }
+  // Routes are read once per pass, however many jobs share them.
+  struct RouteFacts {
+    std::vector<std::string> needed;
+    std::optional<Eigen::Vector2d> start;
+  };
+  std::map<std::pair<std::string, uint32_t>, RouteFacts> facts;
   int assigned = 0;
   for (Job& job : queued) {
     if (idle.empty()) break;
-    const std::vector<std::string> needed = RequiredCapabilities(job);
-    const std::optional<Eigen::Vector2d> start = StartPoint(job);
+    auto key = std::make_pair(job.route_name, job.route_version);
+    auto known = facts.find(key);
+    if (job.goal || known == facts.end()) {
+      known = facts.insert_or_assign(key, RouteFacts{RequiredCapabilities(job), StartPoint(job)})
+                  .first;
+    }
+    const std::vector<std::string>& needed = known->second.needed;
+    const std::optional<Eigen::Vector2d> start = known->second.start;
     auto best = idle.end();
     double best_distance_m = std::numeric_limits<double>::infinity();
     for (auto it = idle.begin(); it != idle.end(); ++it) {
