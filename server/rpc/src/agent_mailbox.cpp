@@ -6,16 +6,20 @@
 namespace fleetnav::server {
 
 void AgentOutbox::Push(v1::ServerMessage message) {
+  {
+    absl::MutexLock lock(&mutex_);
+    if (closed_) return;
+    queue_.push_back(std::move(message));
+    if (!on_push_) return;
+    ++listeners_running_;
+  }
+  on_push_();
   absl::MutexLock lock(&mutex_);
-  if (!closed_) queue_.push_back(std::move(message));
+  --listeners_running_;
 }
 
-std::optional<v1::ServerMessage> AgentOutbox::Pop() {
+std::optional<v1::ServerMessage> AgentOutbox::TryPop() {
   absl::MutexLock lock(&mutex_);
-  auto ready = [this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) {
-    return closed_ || !queue_.empty();
-  };
-  mutex_.Await(absl::Condition(&ready));
   if (queue_.empty()) return std::nullopt;
   v1::ServerMessage message = std::move(queue_.front());
   queue_.pop_front();
@@ -25,10 +29,13 @@ std::optional<v1::ServerMessage> AgentOutbox::Pop() {
 void AgentOutbox::Close() {
   absl::MutexLock lock(&mutex_);
   closed_ = true;
+  auto idle = [this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) { return listeners_running_ == 0; };
+  mutex_.Await(absl::Condition(&idle));
 }
 
-std::shared_ptr<AgentOutbox> AgentMailbox::Open(const std::string& robot_id) {
-  auto outbox = std::make_shared<AgentOutbox>();
+std::shared_ptr<AgentOutbox> AgentMailbox::Open(const std::string& robot_id,
+                                               std::function<void()> on_push) {
+  auto outbox = std::make_shared<AgentOutbox>(std::move(on_push));
   absl::MutexLock lock(&mutex_);
   auto& slot = outboxes_[robot_id];
   if (slot != nullptr) slot->Close();

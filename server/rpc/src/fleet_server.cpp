@@ -51,7 +51,7 @@ absl::StatusOr<int> FleetServer::Start() {
   fleet_service_ = std::make_unique<FleetServiceImpl>(maps_.get(), site_.get(), jobs_.get(),
                                                       &registry_, &stopping_);
   agent_service_ =
-      std::make_unique<AgentServiceImpl>(&registry_, jobs_.get(), &mailbox_, &stopping_);
+      std::make_unique<AgentServiceImpl>(&registry_, jobs_.get(), &mailbox_);
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();

@@ -1,6 +1,8 @@
 #pragma once
 
 #include <deque>
+#include <functional>
+#include <optional>
 #include <map>
 #include <memory>
 #include <string>
@@ -11,26 +13,32 @@
 
 namespace fleetnav::server {
 
-/// The queue of server messages for one open agent stream, drained by that stream's writer.
-/// Thread-safe.
+/// The queue of server messages for one open agent stream. The stream registers a listener
+/// that Push() calls (outside the lock) so it can start its next write. Thread-safe.
 class AgentOutbox {
  public:
+  explicit AgentOutbox(std::function<void()> on_push = nullptr) : on_push_(std::move(on_push)) {}
   void Push(v1::ServerMessage message);
-  /// Blocks until a message is queued or the outbox is closed (then nullopt).
-  std::optional<v1::ServerMessage> Pop();
+  /// The oldest queued message, or nullopt when none is queued.
+  std::optional<v1::ServerMessage> TryPop();
+  /// Refuses further pushes and waits until no listener call is running, so the listener's
+  /// owner may go away afterwards. Must not be called from the listener.
   void Close();
 
  private:
+  const std::function<void()> on_push_;
   absl::Mutex mutex_;
   std::deque<v1::ServerMessage> queue_ ABSL_GUARDED_BY(mutex_);
   bool closed_ ABSL_GUARDED_BY(mutex_) = false;
+  int listeners_running_ ABSL_GUARDED_BY(mutex_) = 0;
 };
 
 /// RobotMailbox over the open AgentService streams: one outbox per connected robot, replaced
 /// when the robot connects again. Thread-safe; sends never block.
 class AgentMailbox final : public RobotMailbox {
  public:
-  std::shared_ptr<AgentOutbox> Open(const std::string& robot_id);
+  /// Opens the robot's outbox (closing a previous one); `on_push` runs after each Push.
+  std::shared_ptr<AgentOutbox> Open(const std::string& robot_id, std::function<void()> on_push);
   /// Removes the robot's outbox if it is still `outbox`, and closes it.
   void Close(const std::string& robot_id, const std::shared_ptr<AgentOutbox>& outbox);
 

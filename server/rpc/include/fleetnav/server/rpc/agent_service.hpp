@@ -9,27 +9,25 @@
 
 namespace fleetnav::server {
 
-/// gRPC edge of AgentService. One Connect stream per robot: the server sends its initial
-/// metadata at once (so clients do not buffer for retries), expects a hello first
-/// (InvalidArgument otherwise), answers with a welcome, then records telemetry and job events
-/// until the agent hangs up, while a writer thread forwards the robot's outbox (assignments,
-/// commands). A later connection with the same robot id replaces this one, which then ends
-/// with FailedPrecondition. Thread-safe.
-class AgentServiceImpl final : public v1::AgentService::Service {
+/// gRPC edge of AgentService on the callback API: one reactor per robot stream, no thread per
+/// stream, so thousands of robots cost memory, not threads. A stream sends its initial metadata
+/// at once (so clients do not buffer for retries), expects a hello first (InvalidArgument
+/// otherwise), answers with a welcome, then records telemetry and job events until the agent
+/// hangs up, while the robot's outbox (assignments, commands) is written as it fills. A later
+/// connection with the same robot id replaces this one, which then ends with
+/// FailedPrecondition. Thread-safe.
+class AgentServiceImpl final : public v1::AgentService::CallbackService {
  public:
-  AgentServiceImpl(FleetRegistry* registry, JobService* jobs, AgentMailbox* mailbox,
-                   const std::atomic<bool>* stopping)
-      : registry_(registry), jobs_(jobs), mailbox_(mailbox), stopping_(stopping) {}
+  AgentServiceImpl(FleetRegistry* registry, JobService* jobs, AgentMailbox* mailbox)
+      : registry_(registry), jobs_(jobs), mailbox_(mailbox) {}
 
-  grpc::Status Connect(
-      grpc::ServerContext* context,
-      grpc::ServerReaderWriter<v1::ServerMessage, v1::AgentMessage>* stream) override;
+  grpc::ServerBidiReactor<v1::AgentMessage, v1::ServerMessage>* Connect(
+      grpc::CallbackServerContext* context) override;
 
  private:
   FleetRegistry* registry_;
   JobService* jobs_;
   AgentMailbox* mailbox_;
-  const std::atomic<bool>* stopping_;
 };
 
 }  // namespace fleetnav::server
