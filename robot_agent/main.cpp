@@ -1,8 +1,8 @@
 // fleetnav-agent: the robot daemon. Wiring only: flags -> HAL + server link + route -> Agent.
 #include <grpcpp/create_channel.h>
+#include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
-#include <spdlog/spdlog.h>
 
 #include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/route.hpp"
@@ -51,8 +51,8 @@ int main(int argc, char** argv) {
     }
     route = *loaded;
   }
-  params.initial_pose_in_map = fleetnav::Pose2(initial_pose[0], initial_pose[1],
-                                               fleetnav::DegToRad(initial_pose[2]));
+  params.initial_pose_in_map =
+      fleetnav::Pose2(initial_pose[0], initial_pose[1], fleetnav::DegToRad(initial_pose[2]));
   params.telemetry_period_s = telemetry_hz > 0 ? 1.0 / telemetry_hz : 0.0;
   params.exit_when_done = route.has_value();
 
@@ -73,14 +73,14 @@ int main(int argc, char** argv) {
     return 1;
   }
   const fleetnav::Pose2& end = result->final_pose_in_map;
-  spdlog::info("fleetnav-agent: {} after {} ticks; odometry pose ({:.3f}, {:.3f}, {:.2f} deg); "
-               "{} telemetry messages sent",
-               !route.has_value() ? std::to_string(result->jobs_finished) + " job(s) ended"
-               : result->state == fleetnav::agent::ExecutionState::kSucceeded ? "route succeeded"
-               : result->state == fleetnav::agent::ExecutionState::kFailed
-                   ? "route failed: " + result->failure_reason
-                   : "stopped",
-               result->ticks, end.x_m(), end.y_m(), fleetnav::RadToDeg(end.yaw_rad()),
-               link.sent());
+  spdlog::info(
+      "fleetnav-agent: {} after {} ticks; odometry pose ({:.3f}, {:.3f}, {:.2f} deg); "
+      "{} telemetry messages sent",
+      !route.has_value() ? std::to_string(result->jobs_finished) + " job(s) ended"
+      : result->state == fleetnav::agent::ExecutionState::kSucceeded ? "route succeeded"
+      : result->state == fleetnav::agent::ExecutionState::kFailed
+          ? "route failed: " + result->failure_reason
+          : "stopped",
+      result->ticks, end.x_m(), end.y_m(), fleetnav::RadToDeg(end.yaw_rad()), link.sent());
   return result->state == fleetnav::agent::ExecutionState::kFailed ? 1 : 0;
 }

@@ -1,12 +1,11 @@
 // fleetnavd: the fleet server. Wiring only: config file and flags -> FleetServer -> serve until
 // SIGINT/SIGTERM.
 #include <pthread.h>
-
-#include <csignal>
-#include <cstdio>
+#include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
-#include <spdlog/spdlog.h>
+#include <csignal>
+#include <cstdio>
 
 #include "fleetnav/server/rpc/fleet_server.hpp"
 #include "fleetnav/server/rpc/fleet_server_config.hpp"
@@ -26,9 +25,11 @@ int main(int argc, char** argv) {
   double stale_after_s = 0, lost_robot_timeout_s = 0;
   int max_message_bytes = 0;
   app.add_option("--config", config_path, "YAML configuration file (see docs/server.md)");
-  app.add_option("--listen", listen, "address to serve on (host:port; port 0 = any) [127.0.0.1:50051]");
+  app.add_option("--listen", listen,
+                 "address to serve on (host:port; port 0 = any) [127.0.0.1:50051]");
   app.add_option("--db", db, "SQLite database file, created if missing [fleetnav.db]");
-  app.add_option("--stale-after-s", stale_after_s, "seconds without telemetry before a robot is stale [2]");
+  app.add_option("--stale-after-s", stale_after_s,
+                 "seconds without telemetry before a robot is stale [2]");
   app.add_option("--lost-robot-timeout-s", lost_robot_timeout_s,
                  "seconds a paused job waits for its robot before failing or re-queueing [30]");
   app.add_option("--max-message-bytes", max_message_bytes, "largest request accepted [67108864]");

@@ -93,7 +93,7 @@ Telemetry Agent::MakeTelemetry(int64_t stamp_ns, const ExecutorOutput& output) c
   t.pose_in_map = params_.initial_pose_in_map * odometry_.pose_in_odom();
   // Dead reckoning: uncertainty grows with distance (1 % of distance, 0.5° per metre).
   const double d = odometry_.distance_travelled_m();
-  t.covariance = {std::pow(0.01 * d, 2), 0, 0, 0, std::pow(0.01 * d, 2), 0, 0, 0,
+  t.covariance = {std::pow(0.01 * d, 2),  0, 0, 0, std::pow(0.01 * d, 2), 0, 0, 0,
                   std::pow(0.0087 * d, 2)};
   t.velocity = odometry_.velocity();
   t.mode = output.mode;
@@ -139,7 +139,8 @@ absl::StatusOr<AgentResult> Agent::Run() {
       telemetry_->Publish(telemetry);
       ++result.telemetry_sent;
       // Schedule from the due time, not the frame time, so the rate holds whatever the tick.
-      const int64_t period_ns = static_cast<int64_t>(std::llround(params_.telemetry_period_s * 1e9));
+      const int64_t period_ns =
+          static_cast<int64_t>(std::llround(params_.telemetry_period_s * 1e9));
       next_telemetry_ns = std::max(next_telemetry_ns + period_ns, frame->stamp_ns - period_ns / 2);
     }
     if (jobs_ != nullptr) {

@@ -12,8 +12,8 @@ absl::Status RouteExecutor::StartAction(int index) {
   const RouteAction& action = route_.actions[index];
   if (action.end.kind != EndConditionKind::kDistance) {
     return absl::FailedPreconditionError(
-        absl::StrCat("actions[", index, "] (", std::string(ActionTypeName(action.params)), "): end condition '",
-                     std::string(EndConditionKindName(action.end.kind)),
+        absl::StrCat("actions[", index, "] (", std::string(ActionTypeName(action.params)),
+                     "): end condition '", std::string(EndConditionKindName(action.end.kind)),
                      "' needs sensing this agent version does not have"));
   }
   if (const auto* straight = std::get_if<StraightAction>(&action.params)) {
@@ -24,9 +24,9 @@ absl::Status RouteExecutor::StartAction(int index) {
     controller_.emplace<TurnController>(turn->angle_rad, turn->yaw_rate_radps, profile_);
     return absl::OkStatus();
   }
-  return absl::FailedPreconditionError(
-      absl::StrCat("actions[", index, "] (", std::string(ActionTypeName(action.params)),
-                   "): not supported by this agent version"));
+  return absl::FailedPreconditionError(absl::StrCat("actions[", index, "] (",
+                                                    std::string(ActionTypeName(action.params)),
+                                                    "): not supported by this agent version"));
 }
 
 ExecutorOutput RouteExecutor::Step(const Pose2& pose_in_odom, double dt_s) {

@@ -70,9 +70,10 @@ void ServerLink::OnServerMessage(const v1::ServerMessage& message) {
     }
   } else if (message.has_command()) {
     const v1::Command& command = message.command();
-    const JobCommandType type = command.type() == v1::Command::TYPE_PAUSE    ? JobCommandType::kPause
-                                : command.type() == v1::Command::TYPE_RESUME ? JobCommandType::kResume
-                                                                              : JobCommandType::kCancel;
+    const JobCommandType type = command.type() == v1::Command::TYPE_PAUSE ? JobCommandType::kPause
+                                : command.type() == v1::Command::TYPE_RESUME
+                                    ? JobCommandType::kResume
+                                    : JobCommandType::kCancel;
     commands_.push_back(JobCommand{type, command.job_id(), command.reason()});
   }
 }

@@ -30,7 +30,7 @@ void WheelOdometry::Update(const SensorFrame& frame) {
   last_stamp_ns_ = frame.stamp_ns;
   if (dt_s <= 0.0) return;
 
-  const double distance_m = 0.5 * (left_m + right_m);                 // eq. 3.1 × Δt
+  const double distance_m = 0.5 * (left_m + right_m);                   // eq. 3.1 × Δt
   const double encoder_dyaw_rad = (right_m - left_m) / model_.track_m;  // eq. 3.2 × Δt
   const double gyro_dyaw_rad = frame.imu.gyro_z_radps * dt_s;
   const double dyaw_rad =

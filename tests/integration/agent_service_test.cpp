@@ -1,7 +1,7 @@
 // AgentService and the fleet views over real loopback gRPC: registration, telemetry ingest,
 // bad streams, the replace-on-reconnect rule, and WatchFleet's snapshot-then-updates.
-#include <grpcpp/create_channel.h>
 #include <gmock/gmock.h>
+#include <grpcpp/create_channel.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -102,9 +102,8 @@ TEST_F(AgentServiceTest, HelloThenTelemetryIsVisibleThroughFleetService) {
 
   stream->WritesDone();
   EXPECT_TRUE(stream->Finish().ok());
-  EXPECT_TRUE(Eventually([&] {
-    return server_->registry().Get("lely1")->connection == ConnectionState::kOffline;
-  }));
+  EXPECT_TRUE(Eventually(
+      [&] { return server_->registry().Get("lely1")->connection == ConnectionState::kOffline; }));
 }
 
 TEST_F(AgentServiceTest, FirstMessageMustBeHello) {

@@ -24,9 +24,9 @@ class ServerProcess {
  public:
   explicit ServerProcess(const std::string& db_path) {
     port_file_ = testing::UniqueTempPath("port");
-    std::vector<std::string> args = {FLEETNAV_FLEETNAVD_PATH, "--listen", "127.0.0.1:0",
-                                     "--db",                  db_path,    "--port-file",
-                                     port_file_};
+    std::vector<std::string> args = {
+        FLEETNAV_FLEETNAVD_PATH, "--listen", "127.0.0.1:0", "--db", db_path,
+        "--port-file",           port_file_};
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
@@ -61,8 +61,8 @@ class ServerProcess {
 };
 
 std::unique_ptr<v1::FleetService::Stub> StubFor(int port) {
-  return v1::FleetService::NewStub(grpc::CreateChannel("127.0.0.1:" + std::to_string(port),
-                                                       grpc::InsecureChannelCredentials()));
+  return v1::FleetService::NewStub(
+      grpc::CreateChannel("127.0.0.1:" + std::to_string(port), grpc::InsecureChannelCredentials()));
 }
 
 TEST(CrashRecoveryTest, EveryAcknowledgedJobSurvivesKillDashNineExactlyOnce) {

@@ -1,7 +1,7 @@
 // FleetService over real loopback gRPC against a real SQLite file: every map RPC's success and
 // failure paths, with the status code, the field named, and nothing stored on failure.
-#include <grpcpp/create_channel.h>
 #include <gmock/gmock.h>
+#include <grpcpp/create_channel.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>

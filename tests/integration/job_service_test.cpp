@@ -222,8 +222,8 @@ TEST_F(JobServiceTest, CancelEndsAQueuedJobOnceAndWatchJobReplaysItsEvents) {
   v1::JobEvent event;
   while (reader->Read(&event)) types.push_back(event.type());
   EXPECT_TRUE(reader->Finish().ok());  // the stream ends with the job
-  EXPECT_THAT(types, ::testing::ElementsAre(v1::JOB_EVENT_TYPE_QUEUED,
-                                            v1::JOB_EVENT_TYPE_CANCELLED));
+  EXPECT_THAT(types,
+              ::testing::ElementsAre(v1::JOB_EVENT_TYPE_QUEUED, v1::JOB_EVENT_TYPE_CANCELLED));
 
   grpc::ClientContext unknown_context;
   cancel.set_job_id("job-999999");

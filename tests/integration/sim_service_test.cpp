@@ -1,7 +1,7 @@
 // SimService over real loopback gRPC: world description, spawning, attach rules, lockstep
 // stepping of a real ODE world, and ground truth.
-#include <grpcpp/create_channel.h>
 #include <gmock/gmock.h>
+#include <grpcpp/create_channel.h>
 #include <gtest/gtest.h>
 
 #include "fleetnav/sim/sim_server.hpp"

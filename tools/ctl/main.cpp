@@ -1,9 +1,8 @@
 // fleetnavctl: the operator CLI. Wiring only: flags -> command functions in fleetnav_ctl.
 #include <grpcpp/create_channel.h>
 
-#include <iostream>
-
 #include <CLI/CLI.hpp>
+#include <iostream>
 
 #include "fleetnav/ctl/commands.hpp"
 #include "fleetnav/ctl/sim_commands.hpp"
@@ -72,7 +71,8 @@ int main(int argc, char** argv) {
   CLI::App* job_get = jobs->add_subcommand("get", "show one job");
   job_get->add_option("job_id", job_id, "job id")->required();
   CLI::App* job_list = jobs->add_subcommand("list", "list jobs");
-  job_list->add_option("--state", job_state, "queued|assigned|running|paused|succeeded|failed|cancelled");
+  job_list->add_option("--state", job_state,
+                       "queued|assigned|running|paused|succeeded|failed|cancelled");
   job_list->add_option("--robot", submit.robot_id, "only jobs of this robot");
   job_list->add_option("--page-size", page_size, "jobs per request")->capture_default_str();
   CLI::App* job_cancel = jobs->add_subcommand("cancel", "cancel a job");
@@ -99,8 +99,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   fleetnav::ctl::CommandContext context{
-      grpc::CreateChannel(server, grpc::InsecureChannelCredentials()), &std::cout, json,
-      timeout_s};
+      grpc::CreateChannel(server, grpc::InsecureChannelCredentials()), &std::cout, json, timeout_s};
   absl::Status status;
   if (map_import->parsed()) {
     status = fleetnav::ctl::ImportMap(context, map_id, yaml_path, description);

@@ -2,15 +2,14 @@
 // watching jobs against a running fleetnavd on loopback; prints one JSON object.
 #include <grpcpp/create_channel.h>
 
+#include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <iostream>
 #include <mutex>
-#include <thread>
-
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
 #include "load_agents.hpp"
@@ -24,7 +23,7 @@ namespace v1 = fleetnav::v1;
 
 std::shared_ptr<grpc::Channel> NewChannel(const std::string& server, int index) {
   grpc::ChannelArguments args;
-  args.SetInt(GRPC_ARG_ENABLE_RETRIES, 0);         // no retry buffering on long streams
+  args.SetInt(GRPC_ARG_ENABLE_RETRIES, 0);             // no retry buffering on long streams
   args.SetInt(GRPC_ARG_USE_LOCAL_SUBCHANNEL_POOL, 1);  // one connection per channel
   args.SetInt("fleetnav.loadgen.channel", index);
   return grpc::CreateCustomChannel(server, grpc::InsecureChannelCredentials(), args);
@@ -90,8 +89,8 @@ int main(int argc, char** argv) {
   }
   std::vector<std::unique_ptr<LoadAgent>> fleet;
   for (int i = 0; i < agents; ++i) {
-    fleet.push_back(std::make_unique<LoadAgent>(stubs[i % channel_count].get(),
-                                                "load-" + std::to_string(i)));
+    fleet.push_back(
+        std::make_unique<LoadAgent>(stubs[i % channel_count].get(), "load-" + std::to_string(i)));
   }
   const auto connect_deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   int ready = 0;

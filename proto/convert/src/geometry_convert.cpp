@@ -15,11 +15,10 @@ v1::Pose2 ToProto(const Pose2& pose) {
 }
 
 absl::StatusOr<Pose2> FromProto(const v1::Pose2& pose, const std::string& field) {
-  if (!std::isfinite(pose.x_m()) || !std::isfinite(pose.y_m()) ||
-      !std::isfinite(pose.yaw_rad())) {
-    return absl::InvalidArgumentError(
-        absl::StrCat(field, ": pose components must be finite, got (", pose.x_m(), ", ",
-                     pose.y_m(), ", ", pose.yaw_rad(), ")"));
+  if (!std::isfinite(pose.x_m()) || !std::isfinite(pose.y_m()) || !std::isfinite(pose.yaw_rad())) {
+    return absl::InvalidArgumentError(absl::StrCat(field, ": pose components must be finite, got (",
+                                                   pose.x_m(), ", ", pose.y_m(), ", ",
+                                                   pose.yaw_rad(), ")"));
   }
   return Pose2(pose.x_m(), pose.y_m(), pose.yaw_rad());
 }

@@ -45,7 +45,8 @@ absl::StatusOr<JobState> JobStateFromProto(int value) {
     case v1::JOB_STATE_CANCELLED:
       return JobState::kCancelled;
     default:
-      return absl::InvalidArgumentError(absl::StrCat("state: unspecified or unknown value ", value));
+      return absl::InvalidArgumentError(
+          absl::StrCat("state: unspecified or unknown value ", value));
   }
 }
 

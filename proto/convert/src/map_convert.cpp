@@ -26,9 +26,9 @@ absl::StatusOr<OccupancyGrid> FromProto(const v1::OccupancyGrid& grid) {
                                                    " cells exceeds the limit of ", kMaxGridCells));
   }
   if (grid.cells().size() != expected) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("grid.cells: width × height = ", grid.width(), " × ", grid.height(), " = ",
-                     expected, " but ", grid.cells().size(), " cells were sent"));
+    return absl::InvalidArgumentError(absl::StrCat("grid.cells: width × height = ", grid.width(),
+                                                   " × ", grid.height(), " = ", expected, " but ",
+                                                   grid.cells().size(), " cells were sent"));
   }
   ASSIGN_OR_RETURN(Pose2 origin, FromProto(grid.origin(), "grid.origin"));
   std::vector<int8_t> cells(grid.cells().begin(), grid.cells().end());

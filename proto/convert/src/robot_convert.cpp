@@ -40,8 +40,8 @@ v1::SensorType ToProto(SensorType type) {
 
 absl::StatusOr<SensorType> SensorTypeFromProto(int value, int index) {
   if (value <= v1::SENSOR_TYPE_UNSPECIFIED || value > v1::SENSOR_TYPE_GPS) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "model.sensors[", index, "].type: unspecified or unknown value ", value));
+    return absl::InvalidArgumentError(
+        absl::StrCat("model.sensors[", index, "].type: unspecified or unknown value ", value));
   }
   return static_cast<SensorType>(value - 1);
 }

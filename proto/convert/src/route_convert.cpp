@@ -57,7 +57,8 @@ struct ParamsToProto {
   }
   void operator()(const FreeNavigationAction& a) const {
     v1::FreeNavigationAction* wire = out->mutable_free_navigation();
-    for (const Eigen::Vector2d& waypoint : a.waypoints_m) *wire->add_waypoints() = ToProto(waypoint);
+    for (const Eigen::Vector2d& waypoint : a.waypoints_m)
+      *wire->add_waypoints() = ToProto(waypoint);
     *wire->mutable_goal() = ToProto(a.goal);
     wire->set_speed_mps(a.speed_mps);
   }

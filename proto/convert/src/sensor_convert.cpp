@@ -53,7 +53,8 @@ SensorFrame FromProto(const v1::SensorFrame& frame) {
   out.control_period_s = frame.control_period_s();
   for (const auto& e : frame.encoders()) out.encoders.push_back({e.name(), e.ticks()});
   out.imu = {frame.imu().gyro_z_radps(), frame.imu().accel_x_mps2(), frame.imu().accel_y_mps2()};
-  for (const auto& r : frame.ultrasonic()) out.ultrasonic.push_back({r.name(), r.range_m(), r.echo()});
+  for (const auto& r : frame.ultrasonic())
+    out.ultrasonic.push_back({r.name(), r.range_m(), r.echo()});
   for (const auto& s : frame.inductive()) out.inductive.push_back({s.name(), s.detected()});
   for (const auto& scan : frame.lasers()) {
     out.lasers.push_back({scan.name(), scan.angle_min_rad(), scan.angle_increment_rad(),
@@ -62,7 +63,8 @@ SensorFrame FromProto(const v1::SensorFrame& frame) {
   }
   out.charger_contact = frame.charger_contact();
   out.bumper = frame.bumper();
-  if (frame.has_gps()) out.gps = GpsFix{frame.gps().x_m(), frame.gps().y_m(), frame.gps().stddev_m()};
+  if (frame.has_gps())
+    out.gps = GpsFix{frame.gps().x_m(), frame.gps().y_m(), frame.gps().stddev_m()};
   return out;
 }
 

@@ -86,7 +86,8 @@ void FleetRegistry::SetCurrentJob(const std::string& robot_id, const std::string
 absl::StatusOr<RobotRecord> FleetRegistry::Get(const std::string& robot_id) const {
   absl::ReaderMutexLock lock(&mutex_);
   auto it = robots_.find(robot_id);
-  if (it == robots_.end()) return absl::NotFoundError(absl::StrCat("robot '", robot_id, "' not found"));
+  if (it == robots_.end())
+    return absl::NotFoundError(absl::StrCat("robot '", robot_id, "' not found"));
   return WithConnectionState(it->second);
 }
 

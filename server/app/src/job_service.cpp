@@ -133,9 +133,8 @@ absl::StatusOr<Job> JobService::Get(const std::string& job_id) { return jobs_->G
 absl::StatusOr<storage::JobPage> JobService::List(storage::JobFilter filter) {
   if (filter.page_size == 0) filter.page_size = 100;
   if (filter.page_size < 0 || filter.page_size > params_.max_page_size) {
-    return absl::InvalidArgumentError(absl::StrCat("page_size: must be in [0, ",
-                                                   params_.max_page_size, "], got ",
-                                                   filter.page_size));
+    return absl::InvalidArgumentError(absl::StrCat(
+        "page_size: must be in [0, ", params_.max_page_size, "], got ", filter.page_size));
   }
   return jobs_->ListJobs(filter);
 }
@@ -144,8 +143,8 @@ absl::StatusOr<Job> JobService::Cancel(const std::string& job_id, const std::str
   absl::MutexLock lock(&mutex_);
   ASSIGN_OR_RETURN(Job job, jobs_->GetJob(job_id));
   if (IsTerminal(job.state)) {
-    return absl::FailedPreconditionError(absl::StrCat("job '", job_id, "' has already ",
-                                                      std::string(JobStateName(job.state))));
+    return absl::FailedPreconditionError(
+        absl::StrCat("job '", job_id, "' has already ", std::string(JobStateName(job.state))));
   }
   const std::string robot = job.assigned_robot_id;
   const std::string why = reason.empty() ? "cancelled by operator" : reason;
@@ -163,11 +162,10 @@ absl::StatusOr<std::vector<JobEvent>> JobService::Events(const std::string& job_
   return jobs_->ListEvents(job_id, after_sequence);
 }
 
-void JobService::OnRobotConnected(const RobotIdentity& identity,
-                                  const std::string& resume_job_id) {
+void JobService::OnRobotConnected(const RobotIdentity& identity, const std::string& resume_job_id) {
   (void)robots_->UpsertRobot(storage::StoredRobot{identity.robot_id, identity.model.kind_name,
-                                                  identity.capabilities,
-                                                  identity.software_version, NowUnixMs()});
+                                                  identity.capabilities, identity.software_version,
+                                                  NowUnixMs()});
   absl::MutexLock lock(&mutex_);
   storage::JobFilter held;
   held.robot_id = identity.robot_id;
@@ -213,8 +211,7 @@ void JobService::OnRobotEvent(const std::string& robot_id, const JobEvent& event
   switch (event.type) {
     case JobEventType::kSucceeded:
       job.progress_fraction = 1.0;
-      (void)Transition(job, JobState::kSucceeded, JobEventType::kSucceeded, event.reason,
-                       robot_id);
+      (void)Transition(job, JobState::kSucceeded, JobEventType::kSucceeded, event.reason, robot_id);
       registry_->SetCurrentJob(robot_id, "");
       return;
     case JobEventType::kFailed:
@@ -226,8 +223,8 @@ void JobService::OnRobotEvent(const std::string& robot_id, const JobEvent& event
     case JobEventType::kModeSwitch: {
       const bool starts = job.state == JobState::kAssigned;
       if (starts) job.state = JobState::kRunning;
-      JobEvent stored = MakeEvent(job, starts ? JobEventType::kStarted : event.type, event.reason,
-                                  robot_id);
+      JobEvent stored =
+          MakeEvent(job, starts ? JobEventType::kStarted : event.type, event.reason, robot_id);
       if (starts) (void)jobs_->UpdateJob(job, stored);
       stored = MakeEvent(job, event.type, event.reason, robot_id);
       stored.action_index = event.action_index;
@@ -307,7 +304,8 @@ absl::StatusOr<Assignment> JobService::Resolve(const Job& job) {
   Assignment assignment;
   assignment.job = job;
   if (!job.route_name.empty()) {
-    ASSIGN_OR_RETURN(storage::StoredRoute route, site_->GetRoute(job.route_name, job.route_version));
+    ASSIGN_OR_RETURN(storage::StoredRoute route,
+                     site_->GetRoute(job.route_name, job.route_version));
     assignment.route = route.route;
     assignment.route_version = route.version;
   }
@@ -349,8 +347,8 @@ int JobService::DispatchOnce() {
     auto key = std::make_pair(job.route_name, job.route_version);
     auto known = facts.find(key);
     if (job.goal || known == facts.end()) {
-      known = facts.insert_or_assign(key, RouteFacts{RequiredCapabilities(job), StartPoint(job)})
-                  .first;
+      known =
+          facts.insert_or_assign(key, RouteFacts{RequiredCapabilities(job), StartPoint(job)}).first;
     }
     const std::vector<std::string>& needed = known->second.needed;
     const std::optional<Eigen::Vector2d> start = known->second.start;

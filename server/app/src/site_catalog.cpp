@@ -60,9 +60,9 @@ absl::Status SiteCatalog::CheckRouteAgainstSite(const Route& route) {
     const int index = static_cast<int>(i);
     if (action.end.kind == EndConditionKind::kMarkerDetected &&
         (!markers.ok() || markers->markers.Find(action.end.marker_id) == nullptr)) {
-      return absl::InvalidArgumentError(
-          absl::StrCat("actions[", index, "] (", type, "): unknown marker ", action.end.marker_id,
-                       " on map '", route.map_id, "'"));
+      return absl::InvalidArgumentError(absl::StrCat("actions[", index, "] (", type,
+                                                     "): unknown marker ", action.end.marker_id,
+                                                     " on map '", route.map_id, "'"));
     }
     if (const auto* nav = std::get_if<FreeNavigationAction>(&action.params)) {
       for (const Eigen::Vector2d& waypoint : nav->waypoints_m) {

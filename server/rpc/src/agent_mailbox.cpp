@@ -34,7 +34,7 @@ void AgentOutbox::Close() {
 }
 
 std::shared_ptr<AgentOutbox> AgentMailbox::Open(const std::string& robot_id,
-                                               std::function<void()> on_push) {
+                                                std::function<void()> on_push) {
   auto outbox = std::make_shared<AgentOutbox>(std::move(on_push));
   absl::MutexLock lock(&mutex_);
   auto& slot = outboxes_[robot_id];

@@ -98,7 +98,7 @@ class AgentConnection final : public grpc::ServerBidiReactor<v1::AgentMessage, v
         }
         // Events that are not about jobs (bumper, localization lost) are accepted as is.
         return message.event().type() == v1::AgentEvent::TYPE_UNSPECIFIED ? event.status()
-                                                                           : absl::OkStatus();
+                                                                          : absl::OkStatus();
       }
       case v1::AgentMessage::kHello:
         return absl::InvalidArgumentError("hello: sent twice on one stream");

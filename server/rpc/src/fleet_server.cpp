@@ -34,8 +34,8 @@ FleetServer::~FleetServer() { Shutdown(); }
 
 absl::StatusOr<int> FleetServer::Start() {
   RETURN_IF_ERROR(params_.Validate());
-  ASSIGN_OR_RETURN(db_,
-                   storage::SqliteDatabase::Open(params_.db_path, storage::FleetSchemaMigrations()));
+  ASSIGN_OR_RETURN(
+      db_, storage::SqliteDatabase::Open(params_.db_path, storage::FleetSchemaMigrations()));
   map_repository_ = std::make_unique<storage::SqliteMapRepository>(db_.get());
   marker_repository_ = std::make_unique<storage::SqliteMarkerSetRepository>(db_.get());
   route_repository_ = std::make_unique<storage::SqliteRouteRepository>(db_.get());
@@ -45,13 +45,12 @@ absl::StatusOr<int> FleetServer::Start() {
   site_ = std::make_unique<SiteCatalog>(map_repository_.get(), marker_repository_.get(),
                                         route_repository_.get(), job_repository_.get());
   jobs_ = std::make_unique<JobService>(job_repository_.get(), robot_repository_.get(),
-                                       map_repository_.get(), marker_repository_.get(),
-                                       site_.get(), &registry_, &mailbox_, &clock_, params_.jobs);
+                                       map_repository_.get(), marker_repository_.get(), site_.get(),
+                                       &registry_, &mailbox_, &clock_, params_.jobs);
   RETURN_IF_ERROR(jobs_->Recover());
   fleet_service_ = std::make_unique<FleetServiceImpl>(maps_.get(), site_.get(), jobs_.get(),
                                                       &registry_, &stopping_);
-  agent_service_ =
-      std::make_unique<AgentServiceImpl>(&registry_, jobs_.get(), &mailbox_);
+  agent_service_ = std::make_unique<AgentServiceImpl>(&registry_, jobs_.get(), &mailbox_);
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
@@ -64,8 +63,7 @@ absl::StatusOr<int> FleetServer::Start() {
   builder.RegisterService(agent_service_.get());
   server_ = builder.BuildAndStart();
   if (server_ == nullptr || port == 0) {
-    return absl::UnavailableError(
-        absl::StrCat("cannot listen on '", params_.listen_address, "'"));
+    return absl::UnavailableError(absl::StrCat("cannot listen on '", params_.listen_address, "'"));
   }
   dispatcher_ = std::thread([this] {
     const auto period = std::chrono::duration<double>(params_.dispatch_period_s);

@@ -67,9 +67,8 @@ absl::StatusOr<FleetServerConfig> ParseFleetServerConfig(std::string_view yaml_t
   }
   static const std::set<std::string> kLevels = {"trace", "debug", "info", "warn", "error"};
   if (kLevels.count(config.log_level) == 0) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("log_level: one of trace, debug, info, warn, error; got '", config.log_level,
-                     "'"));
+    return absl::InvalidArgumentError(absl::StrCat(
+        "log_level: one of trace, debug, info, warn, error; got '", config.log_level, "'"));
   }
   RETURN_IF_ERROR(p.Validate());
   return config;

@@ -1,20 +1,20 @@
 #include "fleetnav/server/rpc/fleet_service.hpp"
 
 #include <chrono>
-#include <map>
 #include <cmath>
+#include <map>
 #include <thread>
 
 #include "absl/strings/str_cat.h"
 #include "fleetnav/core/map_io.hpp"
 #include "fleetnav/proto/geometry_convert.hpp"
+#include "fleetnav/proto/grpc_status.hpp"
 #include "fleetnav/proto/job_convert.hpp"
 #include "fleetnav/proto/map_convert.hpp"
-#include "fleetnav/proto/route_convert.hpp"
 #include "fleetnav/proto/robot_convert.hpp"
+#include "fleetnav/proto/route_convert.hpp"
 #include "fleetnav/proto/telemetry_convert.hpp"
 #include "fleetnav/server/rpc/robot_state_convert.hpp"
-#include "fleetnav/proto/grpc_status.hpp"
 
 namespace fleetnav::server {
 namespace {
@@ -110,10 +110,10 @@ grpc::Status FleetServiceImpl::WatchFleet(grpc::ServerContext* context,
     v1::FleetUpdate update;
     update.set_snapshot(first);
     for (const RobotRecord& record : registry_->Snapshot()) {
-      auto [it, inserted] = seen.try_emplace(record.identity.robot_id, record.revision,
-                                             record.connection);
-      const bool changed = inserted || it->second.first != record.revision ||
-                           it->second.second != record.connection;
+      auto [it, inserted] =
+          seen.try_emplace(record.identity.robot_id, record.revision, record.connection);
+      const bool changed =
+          inserted || it->second.first != record.revision || it->second.second != record.connection;
       it->second = {record.revision, record.connection};
       if (first || changed) *update.add_robots() = ToProto(record);
     }

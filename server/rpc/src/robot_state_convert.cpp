@@ -15,7 +15,8 @@ v1::RobotState ToProto(const RobotRecord& record) {
   }
   out.set_software_version(record.identity.software_version);
   out.set_connection(fleetnav::ToProto(record.connection));
-  if (record.last_telemetry) *out.mutable_last_telemetry() = fleetnav::ToProto(*record.last_telemetry);
+  if (record.last_telemetry)
+    *out.mutable_last_telemetry() = fleetnav::ToProto(*record.last_telemetry);
   out.set_last_seen_ns(record.last_seen_ns);
   out.set_current_job_id(record.current_job_id);
   return out;

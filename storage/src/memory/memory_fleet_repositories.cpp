@@ -59,7 +59,7 @@ absl::StatusOr<uint32_t> MemoryRouteRepository::PutRoute(const Route& route,
 }
 
 absl::StatusOr<StoredRoute> MemoryRouteRepository::GetRoute(const std::string& name,
-                                                           uint32_t version) {
+                                                            uint32_t version) {
   absl::MutexLock lock(&mutex_);
   return PickVersion(routes_[name], version, absl::StrCat("route '", name, "'"));
 }
@@ -162,7 +162,7 @@ absl::StatusOr<int64_t> MemoryJobRepository::UpdateJob(const Job& job, JobEvent 
 }
 
 absl::StatusOr<std::vector<JobEvent>> MemoryJobRepository::ListEvents(const std::string& job_id,
-                                                                     int64_t after_sequence) {
+                                                                      int64_t after_sequence) {
   absl::MutexLock lock(&mutex_);
   std::vector<JobEvent> out;
   for (const JobEvent& event : events_[job_id]) {

@@ -10,16 +10,18 @@ absl::StatusOr<MapInfo> MemoryMapRepository::PutMap(const std::string& map_id,
                                                     int64_t created_unix_ms) {
   absl::MutexLock lock(&mutex_);
   std::vector<StoredMap>& versions = maps_[map_id];
-  MapInfo info{map_id,         static_cast<uint32_t>(versions.size() + 1),
-               grid.width(),   grid.height(),
-               grid.resolution_m(), description,
+  MapInfo info{map_id,
+               static_cast<uint32_t>(versions.size() + 1),
+               grid.width(),
+               grid.height(),
+               grid.resolution_m(),
+               description,
                created_unix_ms};
   versions.push_back(StoredMap{info, grid});
   return info;
 }
 
-absl::StatusOr<StoredMap> MemoryMapRepository::GetMap(const std::string& map_id,
-                                                      uint32_t version) {
+absl::StatusOr<StoredMap> MemoryMapRepository::GetMap(const std::string& map_id, uint32_t version) {
   absl::MutexLock lock(&mutex_);
   auto it = maps_.find(map_id);
   if (it == maps_.end() || it->second.empty()) {

@@ -125,7 +125,8 @@ absl::StatusOr<SqliteStatement> SqliteDatabase::Prepare(std::string_view sql) {
   sqlite3_stmt* stmt = nullptr;
   const int code =
       sqlite3_prepare_v2(db_, sql.data(), static_cast<int>(sql.size()), &stmt, nullptr);
-  if (code != SQLITE_OK) return SqliteError(db_, code, absl::StrCat("prepare '", std::string(sql), "'"));
+  if (code != SQLITE_OK)
+    return SqliteError(db_, code, absl::StrCat("prepare '", std::string(sql), "'"));
   return SqliteStatement(db_, stmt);
 }
 
@@ -169,9 +170,8 @@ absl::Status SqliteDatabase::Migrate(const std::vector<std::string>& migrations)
   const int current = user_version();
   if (current < 0) return absl::InternalError("cannot read PRAGMA user_version");
   if (current > static_cast<int>(migrations.size())) {
-    return absl::FailedPreconditionError(
-        absl::StrCat("database schema version ", current, " is newer than this binary's ",
-                     migrations.size()));
+    return absl::FailedPreconditionError(absl::StrCat(
+        "database schema version ", current, " is newer than this binary's ", migrations.size()));
   }
   for (int version = current; version < static_cast<int>(migrations.size()); ++version) {
     RETURN_IF_ERROR(Transaction([&]() -> absl::Status {

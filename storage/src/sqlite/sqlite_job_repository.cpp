@@ -126,8 +126,9 @@ absl::StatusOr<CreatedJob> SqliteJobRepository::CreateJob(Job job, JobEvent firs
 absl::StatusOr<Job> SqliteJobRepository::GetJob(const std::string& job_id) {
   std::optional<Job> found;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement query,
-                     db_->Prepare(absl::StrCat("SELECT ", kJobColumns, " FROM jobs WHERE job_id = ?")));
+    ASSIGN_OR_RETURN(
+        SqliteStatement query,
+        db_->Prepare(absl::StrCat("SELECT ", kJobColumns, " FROM jobs WHERE job_id = ?")));
     query.Bind(1, job_id);
     ASSIGN_OR_RETURN(bool has_row, query.Step());
     if (has_row) found = JobFromRow(query);
@@ -212,7 +213,7 @@ absl::StatusOr<int64_t> SqliteJobRepository::UpdateJob(const Job& job, JobEvent 
 }
 
 absl::StatusOr<std::vector<JobEvent>> SqliteJobRepository::ListEvents(const std::string& job_id,
-                                                                     int64_t after_sequence) {
+                                                                      int64_t after_sequence) {
   std::vector<JobEvent> out;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
     ASSIGN_OR_RETURN(SqliteStatement query,

@@ -28,7 +28,7 @@ absl::StatusOr<MapInfo> SqliteMapRepository::PutMap(const std::string& map_id,
                                                     const OccupancyGrid& grid,
                                                     const std::string& description,
                                                     int64_t created_unix_ms) {
-  MapInfo info{map_id, 0, grid.width(), grid.height(), grid.resolution_m(), description,
+  MapInfo info{map_id,         0, grid.width(), grid.height(), grid.resolution_m(), description,
                created_unix_ms};
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
     ASSIGN_OR_RETURN(SqliteStatement latest,
@@ -58,13 +58,11 @@ absl::StatusOr<MapInfo> SqliteMapRepository::PutMap(const std::string& map_id,
   return info;
 }
 
-absl::StatusOr<StoredMap> SqliteMapRepository::GetMap(const std::string& map_id,
-                                                      uint32_t version) {
+absl::StatusOr<StoredMap> SqliteMapRepository::GetMap(const std::string& map_id, uint32_t version) {
   std::optional<StoredMap> found;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
-    const std::string where = version == 0
-                                  ? "WHERE map_id = ? ORDER BY version DESC LIMIT 1"
-                                  : "WHERE map_id = ? AND version = ?";
+    const std::string where = version == 0 ? "WHERE map_id = ? ORDER BY version DESC LIMIT 1"
+                                           : "WHERE map_id = ? AND version = ?";
     ASSIGN_OR_RETURN(SqliteStatement query, db_->Prepare(absl::StrCat(kSelectColumns, where)));
     query.Bind(1, map_id);
     if (version != 0) query.Bind(2, static_cast<int64_t>(version));
@@ -73,19 +71,18 @@ absl::StatusOr<StoredMap> SqliteMapRepository::GetMap(const std::string& map_id,
     MapInfo info = InfoFromRow(query);
     std::vector<uint8_t> blob = query.ColumnBlob(10);
     std::vector<int8_t> cells(blob.begin(), blob.end());
-    ASSIGN_OR_RETURN(
-        OccupancyGrid grid,
-        OccupancyGrid::Create(info.width, info.height, info.resolution_m,
-                              Pose2(query.ColumnDouble(7), query.ColumnDouble(8),
-                                    query.ColumnDouble(9)),
-                              std::move(cells)));
+    ASSIGN_OR_RETURN(OccupancyGrid grid,
+                     OccupancyGrid::Create(
+                         info.width, info.height, info.resolution_m,
+                         Pose2(query.ColumnDouble(7), query.ColumnDouble(8), query.ColumnDouble(9)),
+                         std::move(cells)));
     found = StoredMap{std::move(info), std::move(grid)};
     return absl::OkStatus();
   }));
   if (!found) {
-    return absl::NotFoundError(version == 0 ? absl::StrCat("map '", map_id, "' not found")
-                                            : absl::StrCat("map '", map_id, "' has no version ",
-                                                           version));
+    return absl::NotFoundError(version == 0
+                                   ? absl::StrCat("map '", map_id, "' not found")
+                                   : absl::StrCat("map '", map_id, "' has no version ", version));
   }
   return *std::move(found);
 }

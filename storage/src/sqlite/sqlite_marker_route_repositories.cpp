@@ -60,9 +60,9 @@ absl::StatusOr<StoredMarkerSet> SqliteMarkerSetRepository::GetMarkerSet(const st
     return absl::OkStatus();
   }));
   if (!found) {
-    return absl::NotFoundError(
-        absl::StrCat("marker set of map '", map_id, "'", version == 0 ? " not found" : "",
-                     VersionText(version)));
+    return absl::NotFoundError(absl::StrCat("marker set of map '", map_id, "'",
+                                            version == 0 ? " not found" : "",
+                                            VersionText(version)));
   }
   return *std::move(found);
 }
@@ -86,7 +86,7 @@ absl::StatusOr<uint32_t> SqliteRouteRepository::PutRoute(const Route& route,
 }
 
 absl::StatusOr<StoredRoute> SqliteRouteRepository::GetRoute(const std::string& name,
-                                                           uint32_t version) {
+                                                            uint32_t version) {
   std::optional<StoredRoute> found;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
     ASSIGN_OR_RETURN(
@@ -105,8 +105,8 @@ absl::StatusOr<StoredRoute> SqliteRouteRepository::GetRoute(const std::string& n
     return absl::OkStatus();
   }));
   if (!found) {
-    return absl::NotFoundError(absl::StrCat("route '", name, "'",
-                                            version == 0 ? " not found" : "", VersionText(version)));
+    return absl::NotFoundError(
+        absl::StrCat("route '", name, "'", version == 0 ? " not found" : "", VersionText(version)));
   }
   return *std::move(found);
 }
@@ -176,8 +176,8 @@ absl::StatusOr<std::vector<StoredRobot>> SqliteRobotRepository::ListRobots() {
     while (true) {
       ASSIGN_OR_RETURN(bool has_row, query.Step());
       if (!has_row) break;
-      StoredRobot robot{query.ColumnText(0), query.ColumnText(1), {}, query.ColumnText(3),
-                        query.ColumnInt(4)};
+      StoredRobot robot{
+          query.ColumnText(0), query.ColumnText(1), {}, query.ColumnText(3), query.ColumnInt(4)};
       const std::string capabilities = query.ColumnText(2);
       size_t start = 0;
       while (start < capabilities.size()) {

@@ -78,8 +78,8 @@ absl::Status PutMarkers(const CommandContext& context, const std::string& map_id
   if (absl::Status s = FromGrpcStatus(stub->PutMarkerSet(&rpc, request, &response)); !s.ok()) {
     return s;
   }
-  *context.out << "stored " << markers->markers.size() << " marker(s) of map '"
-               << response.map_id() << "' as version " << response.version() << '\n';
+  *context.out << "stored " << markers->markers.size() << " marker(s) of map '" << response.map_id()
+               << "' as version " << response.version() << '\n';
   return absl::OkStatus();
 }
 
@@ -156,8 +156,7 @@ absl::Status ListRoutes(const CommandContext& context, const std::string& map_id
   return absl::OkStatus();
 }
 
-absl::StatusOr<std::string> SubmitJob(const CommandContext& context,
-                                      const SubmitOptions& options) {
+absl::StatusOr<std::string> SubmitJob(const CommandContext& context, const SubmitOptions& options) {
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;
   SetDeadline(context, &rpc);

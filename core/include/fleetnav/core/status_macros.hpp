@@ -7,14 +7,13 @@
 #define FLEETNAV_CONCAT_INNER(a, b) a##b
 #define FLEETNAV_CONCAT(a, b) FLEETNAV_CONCAT_INNER(a, b)
 
-#define RETURN_IF_ERROR(expr)                                 \
-  do {                                                        \
-    if (absl::Status _fleetnav_status = (expr); !_fleetnav_status.ok()) \
-      return _fleetnav_status;                                \
+#define RETURN_IF_ERROR(expr)                                                                    \
+  do {                                                                                           \
+    if (absl::Status _fleetnav_status = (expr); !_fleetnav_status.ok()) return _fleetnav_status; \
   } while (0)
 
-#define ASSIGN_OR_RETURN_IMPL(tmp, lhs, expr) \
-  auto tmp = (expr);                          \
+#define ASSIGN_OR_RETURN_IMPL(tmp, lhs, expr)    \
+  auto tmp = (expr);                             \
   if (!tmp.ok()) return std::move(tmp).status(); \
   lhs = std::move(tmp).value()
 

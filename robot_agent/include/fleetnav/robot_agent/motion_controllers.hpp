@@ -10,7 +10,7 @@ struct MotionProfile {
   double accel_mps2 = 0.3;
   double decel_mps2 = 0.3;
   double yaw_accel_radps2 = 0.6;
-  double min_speed_mps = 0.02;       ///< creep speed near the end so the goal is reached
+  double min_speed_mps = 0.02;  ///< creep speed near the end so the goal is reached
   double min_yaw_rate_radps = 0.02;
 };
 

@@ -19,7 +19,7 @@ struct JobFilter {
 };
 
 struct JobPage {
-  std::vector<Job> jobs;  ///< oldest first
+  std::vector<Job> jobs;        ///< oldest first
   std::string next_page_token;  ///< empty on the last page
 };
 

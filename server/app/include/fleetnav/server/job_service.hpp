@@ -26,7 +26,7 @@ struct JobServiceParams {
 };
 
 struct SubmitJobRequest {
-  std::string route_name;  ///< either a route …
+  std::string route_name;   ///< either a route …
   std::string goal_map_id;  ///< … or a goal on a map
   std::optional<Pose2> goal;
   std::string robot_id;  ///< empty: any capable robot
@@ -45,9 +45,9 @@ struct SubmitJobRequest {
 class JobService {
  public:
   JobService(storage::JobRepository* jobs, storage::RobotRepository* robots,
-             storage::MapRepository* maps, storage::MarkerSetRepository* markers,
-             SiteCatalog* site, FleetRegistry* registry, RobotMailbox* mailbox,
-             const Clock* clock, JobServiceParams params);
+             storage::MapRepository* maps, storage::MarkerSetRepository* markers, SiteCatalog* site,
+             FleetRegistry* registry, RobotMailbox* mailbox, const Clock* clock,
+             JobServiceParams params);
 
   /// Restores robots (offline) and pauses jobs that were assigned or running when the server
   /// stopped. Call once before serving.

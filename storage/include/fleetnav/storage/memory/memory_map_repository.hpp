@@ -12,8 +12,7 @@ namespace fleetnav::storage {
 class MemoryMapRepository final : public MapRepository {
  public:
   absl::StatusOr<MapInfo> PutMap(const std::string& map_id, const OccupancyGrid& grid,
-                                 const std::string& description,
-                                 int64_t created_unix_ms) override;
+                                 const std::string& description, int64_t created_unix_ms) override;
   absl::StatusOr<StoredMap> GetMap(const std::string& map_id, uint32_t version) override;
   absl::StatusOr<std::vector<MapInfo>> ListMaps() override;
   absl::Status DeleteMap(const std::string& map_id) override;

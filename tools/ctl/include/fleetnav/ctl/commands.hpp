@@ -1,11 +1,11 @@
 #pragma once
 
+#include <grpcpp/channel.h>
+
 #include <cstdint>
 #include <memory>
 #include <ostream>
 #include <string>
-
-#include <grpcpp/channel.h>
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
@@ -26,8 +26,8 @@ absl::Status ImportMap(const CommandContext& context, const std::string& map_id,
 /// Lists the latest version of every map.
 absl::Status ListMaps(const CommandContext& context);
 /// Downloads a map version (0 = latest) and writes it as map_server YAML + PGM.
-absl::Status ExportMap(const CommandContext& context, const std::string& map_id,
-                       uint32_t version, const std::string& yaml_path);
+absl::Status ExportMap(const CommandContext& context, const std::string& map_id, uint32_t version,
+                       const std::string& yaml_path);
 absl::Status DeleteMap(const CommandContext& context, const std::string& map_id);
 
 /// Lists robots with their connection state and last pose.
@@ -45,8 +45,7 @@ namespace fleetnav::ctl {
 /// file's `map:`).
 absl::Status PutMarkers(const CommandContext& context, const std::string& map_id,
                         const std::string& yaml_path);
-absl::Status GetMarkers(const CommandContext& context, const std::string& map_id,
-                        uint32_t version);
+absl::Status GetMarkers(const CommandContext& context, const std::string& map_id, uint32_t version);
 /// Uploads a route YAML file as a new version of its route.
 absl::Status PutRoute(const CommandContext& context, const std::string& yaml_path);
 absl::Status GetRoute(const CommandContext& context, const std::string& name);

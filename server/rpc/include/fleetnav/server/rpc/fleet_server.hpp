@@ -1,20 +1,20 @@
 #pragma once
 
+#include <grpcpp/server.h>
+
 #include <atomic>
 #include <memory>
 #include <string>
 #include <thread>
 
-#include <grpcpp/server.h>
-
 #include "absl/status/statusor.h"
 #include "fleetnav/core/clock.hpp"
 #include "fleetnav/server/fleet_registry.hpp"
+#include "fleetnav/server/job_service.hpp"
 #include "fleetnav/server/map_catalog.hpp"
+#include "fleetnav/server/rpc/agent_mailbox.hpp"
 #include "fleetnav/server/rpc/agent_service.hpp"
 #include "fleetnav/server/rpc/fleet_service.hpp"
-#include "fleetnav/server/job_service.hpp"
-#include "fleetnav/server/rpc/agent_mailbox.hpp"
 #include "fleetnav/server/site_catalog.hpp"
 #include "fleetnav/storage/sqlite/sqlite_database.hpp"
 #include "fleetnav/storage/sqlite/sqlite_fleet_repositories.hpp"
