@@ -233,3 +233,42 @@ TEST_F(JobServiceTest, CancelEndsAQueuedJobOnceAndWatchJobReplaysItsEvents) {
 
 }  // namespace
 }  // namespace fleetnav
+
+namespace fleetnav {
+namespace {
+
+TEST_F(JobServiceTest, GetRouteReturnsTheLatestVersionAndUnknownIsNotFound) {
+  ASSERT_TRUE(PutRoute(StraightRoute("alley", 3.0)).ok());
+  ASSERT_TRUE(PutRoute(StraightRoute("alley", 4.0)).ok());
+  grpc::ClientContext context;
+  v1::GetRouteRequest request;
+  request.set_name("alley");
+  v1::GetRouteResponse response;
+  ASSERT_TRUE(fleet_->GetRoute(&context, request, &response).ok());
+  EXPECT_EQ(response.version(), 2u);
+  ASSERT_EQ(response.route().actions_size(), 1);
+  EXPECT_DOUBLE_EQ(response.route().actions(0).straight().distance_m(), 4.0);
+
+  grpc::ClientContext unknown_context;
+  request.set_name("nowhere");
+  const grpc::Status status = fleet_->GetRoute(&unknown_context, request, &response);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
+  grpc::ClientContext bad_context;
+  request.set_name("bad name!");
+  EXPECT_EQ(fleet_->GetRoute(&bad_context, request, &response).error_code(),
+            grpc::StatusCode::INVALID_ARGUMENT);
+}
+
+TEST_F(JobServiceTest, ListRobotsIsEmptyUntilARobotConnects) {
+  grpc::ClientContext context;
+  v1::ListRobotsResponse response;
+  ASSERT_TRUE(fleet_->ListRobots(&context, {}, &response).ok());
+  EXPECT_EQ(response.robots_size(), 0);
+  grpc::ClientContext plan_context;
+  v1::PlanPathsResponse plan;
+  EXPECT_EQ(fleet_->PlanPaths(&plan_context, {}, &plan).error_code(),
+            grpc::StatusCode::UNIMPLEMENTED);
+}
+
+}  // namespace
+}  // namespace fleetnav
