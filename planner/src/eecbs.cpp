@@ -44,7 +44,9 @@ struct CtNode {
   int parent;
   Constraint constraint;
   std::vector<std::shared_ptr<const Path>> paths;
-  int64_t cost;
+  int64_t cost;         // sum of path costs
+  std::vector<int> lb;  // per agent: lower bound of its optimal cost under the constraints
+  int64_t lb_sum;
   int conflicts;
   Conflict first;
 };
@@ -93,36 +95,71 @@ int CountConflicts(const std::vector<std::shared_ptr<const Path>>& paths, int nu
   return count;
 }
 
-// Space-time A* for one agent under constraints, breaking ties among equal f by fewer
-// conflicts with the other agents' paths (`cat`: occupancy count per (t, v), flat).
+// Focal space-time search for one agent under constraints (the low level of ECBS/EECBS):
+// OPEN holds every generated node by f = t + h; FOCAL holds those with f ≤ w · f_min, ordered
+// by the number of conflicts with the other agents' paths (`cat`: occupancy count per (t, v),
+// flat), then f. The path's length is at most w times the optimal one under the constraints,
+// and `lower_bound` (the lowest f in OPEN when the goal is taken) bounds the optimum below.
 class LowLevel {
  public:
   explicit LowLevel(const GridGraph& g) : g_(g) {}
 
-  // Returns an empty path when no path exists within the horizon.
-  Path Plan(int start, int goal, DistanceTable& dist,
-            const absl::flat_hash_set<int64_t>& vertex_forbidden,
-            const absl::flat_hash_set<int64_t>& edge_forbidden, int last_goal_constraint,
-            const std::vector<uint16_t>& cat, int cat_horizon) {
+  struct Result {
+    Path path;  // empty when no path exists within the horizon
+    int lower_bound = 0;
+  };
+
+  Result Plan(int start, int goal, double w, DistanceTable& dist,
+              const absl::flat_hash_set<int64_t>& vertex_forbidden,
+              const absl::flat_hash_set<int64_t>& edge_forbidden, int last_goal_constraint,
+              const std::vector<uint16_t>& cat, int cat_horizon) {
     nodes_.clear();
     closed_.clear();
-    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
+    std::priority_queue<OpenEntry, std::vector<OpenEntry>, std::greater<OpenEntry>> open;
+    std::priority_queue<OpenEntry, std::vector<OpenEntry>, std::greater<OpenEntry>> pending;
+    std::priority_queue<FocalEntry, std::vector<FocalEntry>, std::greater<FocalEntry>> focal;
     const int horizon = std::max(last_goal_constraint + 1, 0) + g_.size() + 1;
     auto conflicts_at = [&](int v, int t) -> int {
       const int tt = std::min(t, cat_horizon - 1);
       return tt < 0 ? 0 : cat[static_cast<size_t>(tt) * g_.size() + v];
     };
-    nodes_.push_back({start, 0, kNone, 0});
-    open.push({dist.Get(start), 0, 0, 0});
+    const int f0 = std::max(dist.Get(start), last_goal_constraint + 1);
+    double bound = w * f0;
+    auto push = [&](int id) {
+      const Node& n = nodes_[id];
+      open.push({n.f, id});
+      if (n.f <= bound) {
+        focal.push({n.conflicts, n.f, -n.t, id});
+      } else {
+        pending.push({n.f, id});
+      }
+    };
+    nodes_.push_back({start, 0, kNone, 0, dist.Get(start), false});
     closed_[Key(start, 0)] = 0;
-    while (!open.empty()) {
-      const Entry e = open.top();
-      open.pop();
-      const Node cur = nodes_[e.id];
+    push(0);
+    while (true) {
+      while (!open.empty() && nodes_[open.top().id].expanded) open.pop();
+      if (open.empty()) return {};
+      const int f_min = open.top().f;
+      if (w * f_min > bound) bound = w * f_min;
+      while (!pending.empty() && pending.top().f <= bound) {
+        const int id = pending.top().id;
+        pending.pop();
+        if (!nodes_[id].expanded)
+          focal.push({nodes_[id].conflicts, nodes_[id].f, -nodes_[id].t, id});
+      }
+      while (!focal.empty() && nodes_[focal.top().id].expanded) focal.pop();
+      if (focal.empty()) return {};
+      const int id = focal.top().id;
+      focal.pop();
+      nodes_[id].expanded = true;
+      const Node cur = nodes_[id];
       if (cur.v == goal && cur.t > last_goal_constraint) {
-        Path path(cur.t + 1);
-        for (int id = e.id; id != kNone; id = nodes_[id].parent) path[nodes_[id].t] = nodes_[id].v;
-        return path;
+        Result r;
+        r.path.resize(cur.t + 1);
+        for (int k = id; k != kNone; k = nodes_[k].parent) r.path[nodes_[k].t] = nodes_[k].v;
+        r.lower_bound = std::max(f_min, f0);
+        return r;
       }
       if (cur.t >= horizon || nodes_.size() > kMaxNodes) continue;
       const int t = cur.t + 1;
@@ -136,13 +173,17 @@ class LowLevel {
         const int c = cur.conflicts + conflicts_at(v, t);
         auto it = closed_.find(key);
         if (it != closed_.end() && nodes_[it->second].conflicts <= c) continue;
-        const int id = static_cast<int>(nodes_.size());
-        nodes_.push_back({v, t, e.id, c});
-        closed_[key] = id;
-        open.push({t + h, c, -t, id});
+        const int child = static_cast<int>(nodes_.size());
+        nodes_.push_back({v, t, id, c, t + h, false});
+        if (it != closed_.end()) {
+          nodes_[it->second].expanded = true;  // superseded by the less conflicting copy
+          it->second = child;
+        } else {
+          closed_[key] = child;
+        }
+        push(child);
       }
     }
-    return {};
   }
 
  private:
@@ -151,14 +192,21 @@ class LowLevel {
     int t;
     int parent;
     int conflicts;
-  };
-  struct Entry {
     int f;
+    bool expanded;
+  };
+  struct OpenEntry {
+    int f;
+    int id;
+    bool operator>(const OpenEntry& o) const { return std::tie(f, id) > std::tie(o.f, o.id); }
+  };
+  struct FocalEntry {
     int conflicts;
+    int f;
     int neg_g;
     int id;
-    bool operator>(const Entry& o) const {
-      return std::tie(f, conflicts, neg_g, id) > std::tie(o.f, o.conflicts, o.neg_g, o.id);
+    bool operator>(const FocalEntry& o) const {
+      return std::tie(conflicts, f, neg_g, id) > std::tie(o.conflicts, o.f, o.neg_g, o.id);
     }
   };
   static constexpr size_t kMaxNodes = 4'000'000;
@@ -220,30 +268,50 @@ absl::StatusOr<MapfResult> EecbsSolver::Solve(std::stop_token stop) {
   };
   auto path_cost = [&](const Path& p, int i) { return PathCost(p, instance_.goals[i]); };
 
+  const double w = params_.suboptimality;
   std::vector<CtNode> tree;
   // Root: plan agents one by one, each avoiding the conflicts of those already planned.
   {
-    CtNode root{kNone, {kNone, kNone, kNone, 0}, std::vector<std::shared_ptr<const Path>>(n), 0, 0,
+    CtNode root{kNone,
+                {kNone, kNone, kNone, 0},
+                std::vector<std::shared_ptr<const Path>>(n),
+                0,
+                std::vector<int>(n, 0),
+                0,
+                0,
                 {}};
     const absl::flat_hash_set<int64_t> none;
     for (int i = 0; i < n; ++i) {
       build_cat(root.paths, i);
-      Path p = low.Plan(instance_.starts[i], instance_.goals[i], dist[i], none, none, -1, cat,
-                        cat_horizon);
-      if (p.empty()) return absl::NotFoundError(absl::StrCat("eecbs: agent ", i, " has no path"));
-      root.cost += path_cost(p, i);
-      root.paths[i] = std::make_shared<const Path>(std::move(p));
+      LowLevel::Result r = low.Plan(instance_.starts[i], instance_.goals[i], w, dist[i], none, none,
+                                    -1, cat, cat_horizon);
+      if (r.path.empty()) {
+        return absl::NotFoundError(absl::StrCat("eecbs: agent ", i, " has no path"));
+      }
+      root.cost += path_cost(r.path, i);
+      root.lb[i] = r.lower_bound;
+      root.lb_sum += r.lower_bound;
+      root.paths[i] = std::make_shared<const Path>(std::move(r.path));
     }
     root.conflicts = CountConflicts(root.paths, nv, owner, stamp, &root.first);
     tree.push_back(std::move(root));
   }
 
-  // OPEN by cost, FOCAL (cost ≤ w · min cost) by conflicts.
+  // OPEN by lower bound; FOCAL holds the nodes whose cost ≤ w · (lowest open bound), by
+  // conflicts; WAITING holds the other open nodes by cost until the bound rises to them.
   std::set<std::pair<int64_t, int>> open;
   std::set<std::tuple<int, int64_t, int>> focal;
-  open.insert({tree[0].cost, 0});
-  focal.insert({tree[0].conflicts, tree[0].cost, 0});
-  int64_t focal_bound_cost = tree[0].cost;
+  std::set<std::pair<int64_t, int>> waiting;
+  double focal_bound = -1.0;
+  auto insert = [&](int id) {
+    open.insert({tree[id].lb_sum, id});
+    if (tree[id].cost <= focal_bound) {
+      focal.insert({tree[id].conflicts, tree[id].cost, id});
+    } else {
+      waiting.insert({tree[id].cost, id});
+    }
+  };
+  insert(0);
   MapfResult result;
   result.solver = "eecbs";
 
@@ -256,24 +324,24 @@ absl::StatusOr<MapfResult> EecbsSolver::Solve(std::stop_token stop) {
     if (static_cast<int>(tree.size()) > params_.max_high_level_nodes) {
       return absl::ResourceExhaustedError("eecbs: high-level node cap reached");
     }
-    // Grow FOCAL when the lowest open cost rose.
-    const int64_t lb = open.begin()->first;
-    const int64_t bound = static_cast<int64_t>(std::floor(params_.suboptimality * lb + 1e-9));
-    if (bound > focal_bound_cost) {
-      for (auto it = open.lower_bound({focal_bound_cost + 1, -1});
-           it != open.end() && it->first <= bound; ++it) {
-        focal.insert({tree[it->second].conflicts, it->first, it->second});
+    const double bound = w * static_cast<double>(open.begin()->first);
+    if (bound > focal_bound) {
+      focal_bound = bound;
+      while (!waiting.empty() && static_cast<double>(waiting.begin()->first) <= focal_bound) {
+        const int id = waiting.begin()->second;
+        waiting.erase(waiting.begin());
+        focal.insert({tree[id].conflicts, tree[id].cost, id});
       }
-      focal_bound_cost = bound;
     }
-    if (focal.empty()) {
-      // Every open node is above the bound; take the cheapest.
-      const int id = open.begin()->second;
-      focal.insert({tree[id].conflicts, tree[id].cost, id});
+    int id;
+    if (!focal.empty()) {
+      id = std::get<2>(*focal.begin());
+      focal.erase(focal.begin());
+    } else {
+      id = open.begin()->second;
+      waiting.erase({tree[id].cost, id});
     }
-    const int id = std::get<2>(*focal.begin());
-    focal.erase(focal.begin());
-    open.erase({tree[id].cost, id});
+    open.erase({tree[id].lb_sum, id});
     ++result.expanded_nodes;
     if (tree[id].conflicts == 0) {
       result.solution.paths.resize(n);
@@ -282,7 +350,8 @@ absl::StatusOr<MapfResult> EecbsSolver::Solve(std::stop_token stop) {
       return result;
     }
     const Conflict c = tree[id].first;
-    for (int side = 0; side < 2; ++side) {
+    bool bypassed = false;
+    for (int side = 0; side < 2 && !bypassed; ++side) {
       Constraint con;
       if (c.v == kNone) {
         con = {side == 0 ? c.a : c.b, kNone, c.u, c.t};
@@ -308,19 +377,34 @@ absl::StatusOr<MapfResult> EecbsSolver::Solve(std::stop_token stop) {
         add(tree[a].constraint);
       }
       build_cat(tree[id].paths, agent);
-      Path p = low.Plan(instance_.starts[agent], instance_.goals[agent], dist[agent],
-                        vertex_forbidden, edge_forbidden, last_goal_constraint, cat, cat_horizon);
-      if (p.empty()) continue;
-      CtNode child{id, con, tree[id].paths, tree[id].cost, 0, {}};
-      child.cost += path_cost(p, agent) - path_cost(*child.paths[agent], agent);
-      child.paths[agent] = std::make_shared<const Path>(std::move(p));
+      LowLevel::Result r =
+          low.Plan(instance_.starts[agent], instance_.goals[agent], w, dist[agent],
+                   vertex_forbidden, edge_forbidden, last_goal_constraint, cat, cat_horizon);
+      if (r.path.empty()) continue;
+      CtNode child{id, con, tree[id].paths, tree[id].cost, tree[id].lb, tree[id].lb_sum, 0, {}};
+      child.cost += path_cost(r.path, agent) - path_cost(*child.paths[agent], agent);
+      // A child's bound never drops below its parent's for that agent.
+      const int agent_lb = std::max(r.lower_bound, child.lb[agent]);
+      child.lb_sum += agent_lb - child.lb[agent];
+      child.lb[agent] = agent_lb;
+      child.paths[agent] = std::make_shared<const Path>(std::move(r.path));
       child.conflicts = CountConflicts(child.paths, nv, owner, stamp, &child.first);
+      // Bypass (Boyarski et al., IJCAI 2015, as used by EECBS): a replanned path that costs no
+      // more and leaves fewer conflicts also satisfies the parent's constraints, so the parent
+      // adopts it instead of branching.
+      if (child.cost <= tree[id].cost && child.conflicts < tree[id].conflicts) {
+        child.parent = tree[id].parent;
+        child.constraint = tree[id].constraint;
+        child.lb = tree[id].lb;
+        child.lb_sum = tree[id].lb_sum;
+        tree[id] = std::move(child);
+        insert(id);
+        bypassed = true;
+        break;
+      }
       const int child_id = static_cast<int>(tree.size());
       tree.push_back(std::move(child));
-      open.insert({tree[child_id].cost, child_id});
-      if (tree[child_id].cost <= focal_bound_cost) {
-        focal.insert({tree[child_id].conflicts, tree[child_id].cost, child_id});
-      }
+      insert(child_id);
     }
   }
   return absl::NotFoundError("eecbs: no plan exists");

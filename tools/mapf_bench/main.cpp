@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
   app.add_option("--time-limit-s", time_limit_s, "planning budget")->capture_default_str();
   app.add_option("--paths-out", paths_out, "write the paths, one line per agent");
   app.add_option("--solver", solver, "auto, lacam or eecbs")->capture_default_str();
-  double w = 1.1;
+  double w = 1.2;
   app.add_option("--w", w, "EECBS suboptimality bound")->capture_default_str();
   app.add_flag("--json", json, "print one JSON object (the only output format)");
   CLI11_PARSE(app, argc, argv);

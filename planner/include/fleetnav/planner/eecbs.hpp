@@ -20,14 +20,15 @@ struct EecbsParams {
 
 /// Bounded-suboptimal conflict-based search in the style of EECBS (Li, Ruml and Koenig,
 /// "EECBS: A Bounded-Suboptimal Search for Multi-Agent Path Finding", AAAI 2021), built on CBS
-/// (Sharon et al., AIJ 2015). The high level is a focal search over constraint-tree nodes:
-/// among the nodes whose sum of costs is within w of the lowest open one, it expands the node
-/// with the fewest pairwise conflicts. The low level is an optimal space-time A* with the
-/// node's vertex and edge constraints as reservations; among equally short paths it prefers
-/// the one with the fewest conflicts with the other agents' current paths (a conflict-avoidance
-/// table). Because every low-level path is optimal under its constraints, the open node with
-/// the lowest cost bounds the optimum from below and the returned plan's sum of costs is at
-/// most w times the optimum. One Solve at a time per object.
+/// (Sharon et al., AIJ 2015), in its ECBS form (Barer et al., SoCS 2014). The high level is a
+/// focal search over constraint-tree nodes: among the open nodes whose sum of costs is within
+/// w of the lowest open lower bound, it expands the node with the fewest pairwise conflicts.
+/// The low level is a focal space-time search with the node's vertex and edge constraints as
+/// reservations: among the nodes with f ≤ w · f_min it expands the one with the fewest
+/// conflicts with the other agents' current paths (a conflict-avoidance table), and it reports
+/// f_min as the agent's lower bound. The returned plan's sum of costs is at most w times the
+/// optimum. Not done from EECBS: explicit estimation (its third list and online cost
+/// learning), bypassing, conflict prioritisation and SIPP intervals. One Solve at a time.
 class EecbsSolver {
  public:
   EecbsSolver(const MapfInstance& instance, const EecbsParams& params);
