@@ -115,6 +115,7 @@ class LowLevel {
               const std::vector<uint16_t>& cat, int cat_horizon) {
     nodes_.clear();
     closed_.clear();
+    ++generation_;
     std::priority_queue<OpenEntry, std::vector<OpenEntry>, std::greater<OpenEntry>> open;
     std::priority_queue<OpenEntry, std::vector<OpenEntry>, std::greater<OpenEntry>> pending;
     std::priority_queue<FocalEntry, std::vector<FocalEntry>, std::greater<FocalEntry>> focal;
@@ -122,6 +123,30 @@ class LowLevel {
     auto conflicts_at = [&](int v, int t) -> int {
       const int tt = std::min(t, cat_horizon - 1);
       return tt < 0 ? 0 : cat[static_cast<size_t>(tt) * g_.size() + v];
+    };
+    // Closed table: dense (t, v) slots with generation stamps when small enough, else hashed.
+    const size_t dense_size = static_cast<size_t>(horizon + 2) * g_.size();
+    const bool dense = dense_size <= kMaxDenseSlots;
+    if (dense && slot_.size() < dense_size) {
+      slot_.resize(dense_size);
+      stamp_.resize(dense_size, 0);
+    }
+    auto find_closed = [&](int v, int t) -> int {
+      if (dense) {
+        const size_t k = static_cast<size_t>(t) * g_.size() + v;
+        return stamp_[k] == generation_ ? slot_[k] : kNone;
+      }
+      auto it = closed_.find(Key(v, t));
+      return it == closed_.end() ? kNone : it->second;
+    };
+    auto set_closed = [&](int v, int t, int id) {
+      if (dense) {
+        const size_t k = static_cast<size_t>(t) * g_.size() + v;
+        stamp_[k] = generation_;
+        slot_[k] = id;
+      } else {
+        closed_[Key(v, t)] = id;
+      }
     };
     const int f0 = std::max(dist.Get(start), last_goal_constraint + 1);
     double bound = w * f0;
@@ -135,7 +160,7 @@ class LowLevel {
       }
     };
     nodes_.push_back({start, 0, kNone, 0, dist.Get(start), false});
-    closed_[Key(start, 0)] = 0;
+    set_closed(start, 0, 0);
     push(0);
     while (true) {
       while (!open.empty() && nodes_[open.top().id].expanded) open.pop();
@@ -169,18 +194,14 @@ class LowLevel {
         if (v != cur.v && edge_forbidden.contains(EdgeKey(cur.v, v, t))) continue;
         const int h = dist.Get(v);
         if (h >= DistanceTable::kUnreachable) continue;
-        const int64_t key = Key(v, t);
         const int c = cur.conflicts + conflicts_at(v, t);
-        auto it = closed_.find(key);
-        if (it != closed_.end() && nodes_[it->second].conflicts <= c) continue;
+        const int known = find_closed(v, t);
+        if (known != kNone && nodes_[known].conflicts <= c) continue;
         const int child = static_cast<int>(nodes_.size());
         nodes_.push_back({v, t, id, c, t + h, false});
-        if (it != closed_.end()) {
-          nodes_[it->second].expanded = true;  // superseded by the less conflicting copy
-          it->second = child;
-        } else {
-          closed_[key] = child;
-        }
+        // A less conflicting copy supersedes the known one.
+        if (known != kNone) nodes_[known].expanded = true;
+        set_closed(v, t, child);
         push(child);
       }
     }
@@ -210,9 +231,13 @@ class LowLevel {
     }
   };
   static constexpr size_t kMaxNodes = 4'000'000;
+  static constexpr size_t kMaxDenseSlots = 16'000'000;
   const GridGraph& g_;
   std::vector<Node> nodes_;
   absl::flat_hash_map<int64_t, int> closed_;
+  std::vector<int> slot_;
+  std::vector<uint32_t> stamp_;
+  uint32_t generation_ = 0;
 };
 
 }  // namespace

@@ -25,12 +25,13 @@ struct MapfPlannerParams {
 };
 
 /// The multi-robot planner entry point: picks a solver for the instance and the budget and
-/// returns the best plan found. Selection kAuto: up to `eecbs_max_agents` agents, EECBS
-/// (EecbsSolver, bounded-suboptimal) runs first with `eecbs_budget_fraction` of the budget;
-/// when it does not finish, or for more agents, LaCAM* (LacamSolver) runs with the remaining
-/// time and refines its plan until the budget ends. Duplicate goals are refused as
-/// InvalidArgument by both (two robots cannot both rest on one vertex). Stateless between
-/// calls; one Solve at a time per object.
+/// returns the best plan found. Selection kAuto: up to `eecbs_max_agents` agents, a LaCAM plan
+/// (not anytime, usually milliseconds) is found first as the fallback, then EECBS
+/// (EecbsSolver, bounded-suboptimal) runs until `eecbs_budget_fraction` of the budget is used,
+/// and if it does not finish LaCAM* refines with the rest; the cheapest plan wins. For more
+/// agents LaCAM* (LacamSolver) runs alone and refines until the budget ends. Duplicate goals
+/// are refused as InvalidArgument (two robots cannot both rest on one vertex). Stateless
+/// between calls; one Solve at a time per object.
 class MapfPlanner {
  public:
   explicit MapfPlanner(const MapfPlannerParams& params) : params_(params) {}
