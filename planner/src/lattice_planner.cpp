@@ -215,8 +215,9 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
     const Node cur = nodes[id];
     int cx, cy;
     cell_of(cur.pose.x_m(), cur.pose.y_m(), &cx, &cy);
+    // Stale entry? best[] is float: compare with a tolerance above its rounding at ~100 m.
     if (cur.g >
-        best[(static_cast<size_t>(cy) * w + cx) * bins + bin_of(cur.pose.yaw_rad())] + 1e-6) {
+        best[(static_cast<size_t>(cy) * w + cx) * bins + bin_of(cur.pose.yaw_rad())] + 1e-3) {
       continue;
     }
     ++result.expanded;
