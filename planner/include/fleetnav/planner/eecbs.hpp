@@ -1,0 +1,45 @@
+#pragma once
+
+#include <cstdint>
+#include <stop_token>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "fleetnav/planner/mapf.hpp"
+
+namespace fleetnav::planner {
+
+/// Parameters of EecbsSolver.
+struct EecbsParams {
+  double suboptimality = 1.1;         ///< w ≥ 1: the plan's sum of costs ≤ w × the optimal one
+  double time_limit_s = 1.0;          ///< wall-clock budget, > 0
+  int max_high_level_nodes = 200000;  ///< search cap (a memory bound), > 0
+
+  absl::Status Validate() const;
+};
+
+/// Bounded-suboptimal conflict-based search in the style of EECBS (Li, Ruml and Koenig,
+/// "EECBS: A Bounded-Suboptimal Search for Multi-Agent Path Finding", AAAI 2021), built on CBS
+/// (Sharon et al., AIJ 2015), in its ECBS form (Barer et al., SoCS 2014). The high level is a
+/// focal search over constraint-tree nodes: among the open nodes whose sum of costs is within
+/// w of the lowest open lower bound, it expands the node with the fewest pairwise conflicts.
+/// The low level is a focal space-time search with the node's vertex and edge constraints as
+/// reservations: among the nodes with f ≤ w · f_min it expands the one with the fewest
+/// conflicts with the other agents' current paths (a conflict-avoidance table), and it reports
+/// f_min as the agent's lower bound. The returned plan's sum of costs is at most w times the
+/// optimum. Not done from EECBS: explicit estimation (its third list and online cost
+/// learning), bypassing, conflict prioritisation and SIPP intervals. One Solve at a time.
+class EecbsSolver {
+ public:
+  EecbsSolver(const MapfInstance& instance, const EecbsParams& params);
+
+  /// Errors: InvalidArgument (bad instance or params), DeadlineExceeded (no plan within the
+  /// budget), Cancelled (stop requested), ResourceExhausted (node cap), NotFound (no plan).
+  absl::StatusOr<MapfResult> Solve(std::stop_token stop = {});
+
+ private:
+  MapfInstance instance_;
+  EecbsParams params_;
+};
+
+}  // namespace fleetnav::planner
