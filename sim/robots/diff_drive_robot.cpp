@@ -68,8 +68,9 @@ DiffDriveRobot::DiffDriveRobot(OdeWorld* world, int robot_index, const RobotMode
   right_wheel_ = CreateWheel(-0.5 * model.track_m, start, axle_z);
 
   const Eigen::Vector2d axis = start.TransformPoint({0, 1}) - start.translation();
-  for (auto [wheel, hinge_ptr, y] : {std::tuple{left_wheel_, &left_hinge_, 0.5 * model.track_m},
-                                     std::tuple{right_wheel_, &right_hinge_, -0.5 * model.track_m}}) {
+  for (auto [wheel, hinge_ptr, y] :
+       {std::tuple{left_wheel_, &left_hinge_, 0.5 * model.track_m},
+        std::tuple{right_wheel_, &right_hinge_, -0.5 * model.track_m}}) {
     dJointID hinge = dJointCreateHinge(world->world(), nullptr);
     dJointAttach(hinge, chassis_, wheel);
     const Eigen::Vector2d anchor = start.TransformPoint({0, y});
@@ -116,9 +117,21 @@ void DiffDriveRobot::SetTwist(const Twist2& twist) {
   SetWheelSpeeds(v_left / model_.wheel_radius_m, v_right / model_.wheel_radius_m);
 }
 
-void DiffDriveRobot::AfterStep(double step_s) {
-  left_angle_rad_ += -dJointGetHingeAngleRate(left_hinge_) * step_s;
-  right_angle_rad_ += -dJointGetHingeAngleRate(right_hinge_) * step_s;
+absl::Status DiffDriveRobot::SetDrive(const DriveCommand& drive, double scale) {
+  if (const auto* twist = std::get_if<Twist2>(&drive)) {
+    SetTwist(Twist2{scale * twist->vx_mps, 0.0, scale * twist->yaw_rate_radps});
+  } else if (const auto* wheels = std::get_if<WheelSpeeds>(&drive)) {
+    SetWheelSpeeds(scale * wheels->left_radps, scale * wheels->right_radps);
+  } else {
+    return absl::InvalidArgumentError("the robot is differential: Ackermann commands do not apply");
+  }
+  return absl::OkStatus();
+}
+
+void DiffDriveRobot::AfterStep(double step_s, double traction) {
+  const double spin = traction > 0.0 ? 1.0 / traction : 1.0;
+  left_angle_rad_ += -dJointGetHingeAngleRate(left_hinge_) * step_s * spin;
+  right_angle_rad_ += -dJointGetHingeAngleRate(right_hinge_) * step_s * spin;
 }
 
 Pose2 DiffDriveRobot::GroundTruthPose() const {
