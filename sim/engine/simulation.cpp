@@ -125,6 +125,7 @@ void Simulation::Build() {
   for (const FaultSpec& fault : original_.faults) faults_.push_back({fault, 0});
   tick_ = 0;
   min_separation_m_ = std::numeric_limits<double>::infinity();
+  overlapping_.clear();
   description_ = original_;
   world_ = std::make_unique<OdeWorld>(original_, params_.seed);
   ApplyWorldFaults();
@@ -437,6 +438,18 @@ void Simulation::UpdateSeparation() {
           (a.GroundTruthPose().translation() - b.GroundTruthPose().translation()).norm() -
           a.model().CircumscribedRadius() - b.model().CircumscribedRadius();
       min_separation_m_ = std::min(min_separation_m_, distance);
+      // Footprints that start to overlap are a robot-robot contact, whatever their heights.
+      if (distance > 0.0) {
+        overlapping_.erase({i, j});
+        continue;
+      }
+      const Shape2 shape_a = FootprintShape(a.model().footprint_m, a.GroundTruthPose(), 1.0, 0);
+      const Shape2 shape_b = FootprintShape(b.model().footprint_m, b.GroundTruthPose(), 1.0, 1);
+      if (!Overlap(shape_a, shape_b)) {
+        overlapping_.erase({i, j});
+      } else if (overlapping_.insert({i, j}).second) {
+        RecordContact(robots_[i].robot_id, robots_[j].robot_id);
+      }
     }
   }
 }

@@ -57,6 +57,17 @@ DiffDriveRobot::DiffDriveRobot(OdeWorld* world, int robot_index, const RobotMode
                          params_.ground_clearance_m + 0.5 * model.height_m - chassis_z_m_);
   dGeomSetData(box, world->MakeTag(GeomRole::kChassis, robot_index));
 
+  // A bumper skirt across the front, down to skirt_bottom_m: the body sits high on its wheels,
+  // but its front bumper stops at low obstacles and platforms (it does not drive over them).
+  const double skirt_height = params_.ground_clearance_m - params_.skirt_bottom_m;
+  if (skirt_height > 0.0) {
+    dGeomID skirt = dCreateBox(world->space(), 0.1, width, skirt_height);
+    dGeomSetBody(skirt, chassis_);
+    dGeomSetOffsetPosition(skirt, extent.max_x - 0.05 - chassis_offset_x_m_, 0,
+                           params_.skirt_bottom_m + 0.5 * skirt_height - chassis_z_m_);
+    dGeomSetData(skirt, world->MakeTag(GeomRole::kChassis, robot_index));
+  }
+
   dGeomID caster = dCreateSphere(world->space(), params_.caster_radius_m);
   dGeomSetBody(caster, chassis_);
   dGeomSetOffsetPosition(caster, params_.caster_x_m - chassis_offset_x_m_, -center_y,

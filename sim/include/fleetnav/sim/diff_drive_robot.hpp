@@ -17,6 +17,7 @@ struct DiffDriveBodyParams {
   double wheel_width_m = 0.10;
   double wheel_mass_kg = 40.0;
   double ground_clearance_m = 0.20;
+  double skirt_bottom_m = 0.08;    ///< the front bumper skirt reaches down to here
   double mass_box_height_m = 0.6;  ///< the chassis mass is spread over this height (low CoM)
   double max_wheel_torque_nm = 800.0;
 };

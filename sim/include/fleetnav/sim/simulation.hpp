@@ -150,6 +150,7 @@ class Simulation {
   uint64_t tick_ = 0;
   int steps_per_tick_ = 1;
   double min_separation_m_;
+  std::set<std::pair<size_t, size_t>> overlapping_;  ///< robot pairs whose footprints overlap
   SimulationTiming timing_;
 };
 
