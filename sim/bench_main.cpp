@@ -87,6 +87,8 @@ int main(int argc, char** argv) {
   const int columns = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(robots))));
   fleetnav::sim::SimulationParams params;
   params.seed = seed;
+  params.exteroceptive.omni_laser.beams = 270;  // the benchmark's 270-beam lasers
+  params.exteroceptive.ackermann_laser.beams = 270;
   auto simulation = fleetnav::sim::Simulation::Create(BenchWorld(robots, columns), params);
   if (!simulation.ok()) {
     std::fprintf(stderr, "%s\n", simulation.status().ToString().c_str());

@@ -111,7 +111,7 @@ TEST(LaserTest, SeesTrolleyLegsWallsAndOtherRobots) {
   ASSERT_TRUE(frame.ok());
   ASSERT_EQ(frame->lasers.size(), 1u);
   const LaserScanSample& scan = frame->lasers[0];
-  ASSERT_EQ(scan.ranges_m.size(), 270u);
+  ASSERT_EQ(scan.ranges_m.size(), 541u);
   const double laser_x = 0.35;
   auto range_at = [&](double angle) {
     const int i =

@@ -28,10 +28,10 @@ struct UltrasonicParams {
   double dropout_probability = 0.01;  ///< per reading
 };
 
-/// 2D laser scanner.
+/// 2D laser scanner (defaults: the KUKA platform's SICK S300, 270° at 0.5°).
 struct LaserParams {
   double fov_rad = 270.0 * kDegToRad;
-  int beams = 270;
+  int beams = 541;
   double min_range_m = 0.05;
   double max_range_m = 20.0;
   double noise_stddev_m = 0.01;
@@ -46,8 +46,8 @@ struct GpsParams {
 /// Parameters of every exteroceptive sensor; the laser per robot kind.
 struct ExteroceptiveParams {
   UltrasonicParams ultrasonic;
-  LaserParams omni_laser;  ///< KUKA platform: 270°, 20 m
-  LaserParams ackermann_laser{180.0 * kDegToRad, 270, 0.05, 30.0, 0.01, 10.0};  ///< capstone
+  LaserParams omni_laser;  ///< KUKA platform: 270° at 0.5°, 20 m
+  LaserParams ackermann_laser{180.0 * kDegToRad, 361, 0.05, 30.0, 0.01, 10.0};  ///< capstone
   GpsParams gps;
   double charger_reach_m = 0.05;  ///< contact when the contact point is this close to the pole
   double bumper_margin_m = 0.02;  ///< the bumper fires this far out of the footprint
