@@ -14,69 +14,6 @@ using Clock = std::chrono::steady_clock;
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
-// The parts of segment a→b outside the rectangle, as parameter intervals.
-std::vector<std::pair<double, double>> OutsideParts(const Eigen::Vector2d& a,
-                                                    const Eigen::Vector2d& b,
-                                                    const FaultSpec& region) {
-  const auto inside = ClipSegment(a, b, region.region_min_m, region.region_max_m);
-  if (!inside) return {{0.0, 1.0}};
-  std::vector<std::pair<double, double>> out;
-  if (inside->first > 1e-9) out.push_back({0.0, inside->first});
-  if (inside->second < 1.0 - 1e-9) out.push_back({inside->second, 1.0});
-  return out;
-}
-
-// Fences inside the region lose that part: a fence box is cut along its length.
-void RemoveFence(const FaultSpec& region, WorldDescription* world) {
-  std::vector<BoxObstacle> boxes;
-  for (const BoxObstacle& box : world->boxes) {
-    if (box.kind != "fence") {
-      boxes.push_back(box);
-      continue;
-    }
-    const Eigen::Vector2d axis(std::cos(box.yaw_rad), std::sin(box.yaw_rad));
-    const Eigen::Vector2d a = box.center_m - 0.5 * box.size_m.x() * axis;
-    const Eigen::Vector2d b = box.center_m + 0.5 * box.size_m.x() * axis;
-    for (const auto& [t0, t1] : OutsideParts(a, b, region)) {
-      const double length = (t1 - t0) * box.size_m.x();
-      if (length < 1e-3) continue;
-      BoxObstacle part = box;
-      part.center_m = a + 0.5 * (t0 + t1) * (b - a);
-      part.size_m.x() = length;
-      boxes.push_back(part);
-    }
-  }
-  world->boxes = std::move(boxes);
-}
-
-// Stripes inside the region lose that part (a polyline may fall apart into several).
-void RemoveStripe(const FaultSpec& region, WorldDescription* world) {
-  std::vector<FloorStripe> stripes;
-  for (const FloorStripe& stripe : world->stripes) {
-    FloorStripe current = stripe;
-    current.points_m.clear();
-    auto flush = [&] {
-      if (current.points_m.size() >= 2) stripes.push_back(current);
-      current.points_m.clear();
-    };
-    for (size_t i = 0; i + 1 < stripe.points_m.size(); ++i) {
-      const Eigen::Vector2d& a = stripe.points_m[i];
-      const Eigen::Vector2d& b = stripe.points_m[i + 1];
-      for (const auto& [t0, t1] : OutsideParts(a, b, region)) {
-        const Eigen::Vector2d p0 = a + t0 * (b - a);
-        const Eigen::Vector2d p1 = a + t1 * (b - a);
-        if (current.points_m.empty() || (current.points_m.back() - p0).norm() > 1e-9) {
-          flush();
-          current.points_m.push_back(p0);
-        }
-        current.points_m.push_back(p1);
-      }
-    }
-    flush();
-  }
-  world->stripes = std::move(stripes);
-}
-
 }  // namespace
 
 absl::Status SimulationParams::Validate() const {
@@ -134,10 +71,7 @@ void Simulation::Build() {
 void Simulation::ApplyWorldFaults() {
   description_ = original_;
   for (const ActiveFault& fault : faults_) {
-    if (fault.spec.type == FaultType::kRemoveFenceSegment) RemoveFence(fault.spec, &description_);
-    if (fault.spec.type == FaultType::kRemoveStripeSegment) {
-      RemoveStripe(fault.spec, &description_);
-    }
+    ApplyGeometryFault(fault.spec, &description_);
   }
   world_->SetStatics(description_);
   scene_static_valid_ = false;

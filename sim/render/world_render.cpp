@@ -169,7 +169,10 @@ absl::Status RenderWorld(const WorldDescription& world,
         absl::StrCat("render path '", path, "': must end in .png or .svg"));
   }
   cairo_t* cr = cairo_create(surface);
+  // Draw the site as it is with its faults: a removed fence or stripe shows as a gap under its
+  // (red) fault region.
   WorldDescription drawn = world;
+  for (const FaultSpec& fault : world.faults) ApplyGeometryFault(fault, &drawn);
   drawn.min_corner_m = framed.min_corner_m;
   drawn.max_corner_m = framed.max_corner_m;
   Draw(cr, drawn, trajectories, params.pixels_per_m);

@@ -52,7 +52,7 @@ TEST(WorldDescriptionTest, LoadsTheShippedBarn) {
   for (size_t i = 0; i < 8; ++i) EXPECT_EQ(barn->stripes[i].id, static_cast<int>(i) + 1);
   EXPECT_EQ(barn->stripes[0].id, 1);
   EXPECT_NEAR(barn->stripes[0].width_m, 0.05, 1e-12);  // the default
-  ASSERT_EQ(barn->markers.size(), 6u);
+  ASSERT_EQ(barn->markers.size(), 3u);
   EXPECT_EQ(barn->markers[1].id, 2);
   EXPECT_EQ(barn->markers[1].position_m, Eigen::Vector2d(5.0, 4.7));
   ASSERT_EQ(barn->robots.size(), 1u);

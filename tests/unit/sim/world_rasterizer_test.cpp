@@ -124,7 +124,7 @@ TEST(WorldRasterizerTest, MarkerSetOfCarriesTheMarkers) {
   ASSERT_TRUE(barn.ok()) << barn.status();
   const MarkerSet set = MarkerSetOf(*barn, "barn-map");
   EXPECT_EQ(set.map_id, "barn-map");
-  ASSERT_EQ(set.markers.size(), 6u);
+  ASSERT_EQ(set.markers.size(), 3u);
   ASSERT_NE(set.Find(2), nullptr);
   EXPECT_EQ(set.Find(2)->position_m, Eigen::Vector2d(5.0, 4.7));
   EXPECT_TRUE(set.Validate().ok()) << set.Validate();

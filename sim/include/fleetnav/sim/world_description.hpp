@@ -105,6 +105,10 @@ struct WorldDescription {
   std::vector<FaultSpec> faults;  ///< in force from the start of every run
 };
 
+/// Takes away what a remove_fence or remove_stripe fault removes: the parts of fences (cut
+/// along their centre line) and of stripes inside the region. Other faults change nothing.
+void ApplyGeometryFault(const FaultSpec& fault, WorldDescription* world);
+
 /// World YAML (see docs/file-formats.md):
 ///   name: barn
 ///   extent: {min: [-13, -13], max: [13, 13]}
