@@ -1,17 +1,17 @@
 // fleetnav-sim: the ODE simulator. Wiring only: flags -> world -> SimServer (or map export).
 #include <pthread.h>
+#include <spdlog/spdlog.h>
 
+#include <CLI/CLI.hpp>
 #include <csignal>
 #include <filesystem>
 #include <thread>
-
-#include <CLI/CLI.hpp>
-#include <spdlog/spdlog.h>
 
 #include "fleetnav/core/map_io.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
 #include "fleetnav/sim/sim_server.hpp"
 #include "fleetnav/sim/world_rasterizer.hpp"
+#include "fleetnav/sim/world_render.hpp"
 
 namespace {
 
@@ -74,6 +74,14 @@ int main(int argc, char** argv) {
   app.add_option("--map-resolution-m", map_resolution_m, "resolution of --export-map")
       ->capture_default_str();
   app.add_option("--port-file", port_file, "write the bound port to this file once serving");
+  std::string render_path;
+  std::string trajectory_path;
+  double render_scale = 40.0;
+  app.add_option("--render", render_path,
+                 "draw the world (and --trajectories) to this .png or .svg file, then exit");
+  app.add_option("--trajectories", trajectory_path,
+                 "CSV of robot_id,truth|estimate,x,y to draw with --render");
+  app.add_option("--render-px-per-m", render_scale, "scale of --render")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
   absl::StatusOr<fleetnav::sim::WorldDescription> world = fleetnav::sim::LoadWorld(world_path);
@@ -82,6 +90,27 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (!export_dir.empty()) return ExportMap(*world, export_dir, map_resolution_m);
+  if (!render_path.empty()) {
+    std::vector<fleetnav::sim::TrajectoryTrace> traces;
+    if (!trajectory_path.empty()) {
+      absl::StatusOr<std::vector<fleetnav::sim::TrajectoryTrace>> loaded =
+          fleetnav::sim::LoadTrajectoriesCsv(trajectory_path);
+      if (!loaded.ok()) {
+        spdlog::error("{}", loaded.status().ToString());
+        return 1;
+      }
+      traces = std::move(*loaded);
+    }
+    fleetnav::sim::RenderParams render_params;
+    render_params.pixels_per_m = render_scale;
+    absl::Status rendered = fleetnav::sim::RenderWorld(*world, traces, render_path, render_params);
+    if (!rendered.ok()) {
+      spdlog::error("{}", rendered.ToString());
+      return 1;
+    }
+    spdlog::info("wrote {}", render_path);
+    return 0;
+  }
 
   fleetnav::sim::SimServer server(*world, params);
   absl::StatusOr<int> port = server.Start();

@@ -65,6 +65,11 @@ absl::Status Lockstep::Submit(const std::string& robot_id, const ActuatorCommand
   auto it = slots_.find(robot_id);
   if (it == slots_.end()) return absl::FailedPreconditionError("not attached");
   Slot& slot = it->second;
+  if (slot.stale_tick && command.tick == *slot.stale_tick &&
+      (!slot.frame || command.tick != slot.frame->tick)) {
+    slot.stale_tick.reset();
+    return absl::OkStatus();  // the answer to a frame from before a reset
+  }
   if (!slot.frame || command.tick != slot.frame->tick) {
     return absl::InvalidArgumentError(absl::StrCat(
         "command.tick: expected ", slot.frame ? slot.frame->tick : 0, ", got ", command.tick));
@@ -156,6 +161,24 @@ absl::Status Lockstep::Spawn(const std::string& robot_id, const std::string& kin
                              const Pose2& pose) {
   absl::MutexLock lock(&mutex_);
   return simulation_->AddRobot(robot_id, kind_name, pose);
+}
+
+absl::Status Lockstep::InjectFault(const FaultSpec& fault) {
+  absl::MutexLock lock(&mutex_);
+  return simulation_->InjectFault(fault);
+}
+
+void Lockstep::Reset(uint64_t seed) {
+  absl::MutexLock lock(&mutex_);
+  simulation_->Reset(seed);
+  for (auto& [id, slot] : slots_) {
+    if (slot.answered) continue;
+    if (slot.frame && slot.taken) slot.stale_tick = slot.frame->tick;
+    absl::StatusOr<SensorFrame> frame = simulation_->Sense(id);
+    slot.frame = frame.ok() ? std::optional<SensorFrame>(*frame) : std::nullopt;
+    slot.taken = false;
+    slot.answered = !frame.ok();
+  }
 }
 
 void Lockstep::Inspect(const std::function<void(const Simulation&)>& read) const {

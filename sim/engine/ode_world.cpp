@@ -36,18 +36,27 @@ OdeWorld::OdeWorld(const WorldDescription& description, uint64_t seed) : rng_sta
 
   dGeomID ground = dCreatePlane(space_, 0, 0, 1, 0);
   dGeomSetData(ground, MakeTag(GeomRole::kGround, -1));
+  static_tag_ = MakeTag(GeomRole::kStatic, -1);
+  SetStatics(description);
+}
+
+void OdeWorld::SetStatics(const WorldDescription& description) {
+  for (dGeomID geom : statics_) dGeomDestroy(geom);
+  statics_.clear();
   for (const BoxObstacle& box : description.boxes) {
     dGeomID geom = dCreateBox(space_, box.size_m.x(), box.size_m.y(), box.height_m);
     dGeomSetPosition(geom, box.center_m.x(), box.center_m.y(), 0.5 * box.height_m);
     dMatrix3 rotation;
     dRFromAxisAndAngle(rotation, 0, 0, 1, box.yaw_rad);
     dGeomSetRotation(geom, rotation);
-    dGeomSetData(geom, MakeTag(GeomRole::kStatic, -1));
+    dGeomSetData(geom, static_tag_);
+    statics_.push_back(geom);
   }
   for (const CylinderObstacle& cylinder : description.cylinders) {
     dGeomID geom = dCreateCylinder(space_, cylinder.radius_m, cylinder.height_m);
     dGeomSetPosition(geom, cylinder.center_m.x(), cylinder.center_m.y(), 0.5 * cylinder.height_m);
-    dGeomSetData(geom, MakeTag(GeomRole::kStatic, -1));
+    dGeomSetData(geom, static_tag_);
+    statics_.push_back(geom);
   }
 }
 
@@ -87,6 +96,15 @@ void OdeWorld::HandlePair(dGeomID a, dGeomID b) {
   // A robot's own parts never collide with each other.
   if (!a_static && !b_static && tag_a->robot_index == tag_b->robot_index) return;
 
+  // Kinematic bodies (omni, Ackermann) and static geoms are not moved by contacts: a pair
+  // without a dynamic body needs no contact joint, and the simulation reports the kinematic
+  // robots' contacts itself.
+  const dBodyID body_a = dGeomGetBody(a);
+  const dBodyID body_b = dGeomGetBody(b);
+  const bool dynamic_a = body_a != nullptr && !dBodyIsKinematic(body_a);
+  const bool dynamic_b = body_b != nullptr && !dBodyIsKinematic(body_b);
+  if (!dynamic_a && !dynamic_b) return;
+
   dContact contacts[kMaxContactsPerPair];
   const int count = dCollide(a, b, kMaxContactsPerPair, &contacts[0].geom, sizeof(dContact));
   if (count == 0) return;
@@ -107,7 +125,9 @@ void OdeWorld::HandlePair(dGeomID a, dGeomID b) {
     dJointAttach(joint, dGeomGetBody(a), dGeomGetBody(b));
   }
   if (tag_a->role == GeomRole::kChassis || tag_b->role == GeomRole::kChassis) {
-    const GeomTag* robot = tag_a->role == GeomRole::kChassis ? tag_a : tag_b;
+    const bool a_is_robot = tag_a->role == GeomRole::kChassis && dynamic_a;
+    if (!a_is_robot && !(tag_b->role == GeomRole::kChassis && dynamic_b)) return;
+    const GeomTag* robot = a_is_robot ? tag_a : tag_b;
     const GeomTag* other = robot == tag_a ? tag_b : tag_a;
     if (other->role != GeomRole::kGround) {
       contacts_.push_back({robot->robot_index, other->robot_index});

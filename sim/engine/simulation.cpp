@@ -1,5 +1,6 @@
 #include "fleetnav/sim/simulation.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -7,6 +8,13 @@
 #include "fleetnav/core/status_macros.hpp"
 
 namespace fleetnav::sim {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+}  // namespace
 
 absl::Status SimulationParams::Validate() const {
   if (!(physics_step_s > 0.0 && physics_step_s <= 0.005)) {
@@ -14,13 +22,12 @@ absl::Status SimulationParams::Validate() const {
         absl::StrCat("physics_step_s: must be in (0, 0.005], got ", physics_step_s));
   }
   if (!(control_period_s >= physics_step_s && control_period_s <= 1.0)) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "control_period_s: must be in [physics_step_s, 1], got ", control_period_s));
+    return absl::InvalidArgumentError(
+        absl::StrCat("control_period_s: must be in [physics_step_s, 1], got ", control_period_s));
   }
   const double ratio = control_period_s / physics_step_s;
   if (std::abs(ratio - std::round(ratio)) > 1e-6) {
-    return absl::InvalidArgumentError(
-        "control_period_s: must be a whole number of physics steps");
+    return absl::InvalidArgumentError("control_period_s: must be a whole number of physics steps");
   }
   return absl::OkStatus();
 }
@@ -28,15 +35,56 @@ absl::Status SimulationParams::Validate() const {
 absl::StatusOr<std::unique_ptr<Simulation>> Simulation::Create(const WorldDescription& world,
                                                                SimulationParams params) {
   RETURN_IF_ERROR(params.Validate());
+  for (size_t i = 0; i < world.faults.size(); ++i) {
+    const FaultSpec& fault = world.faults[i];
+    if (fault.type == FaultType::kSensorDropout || fault.type == FaultType::kSlowDown) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "faults[", i, "]: only region faults belong in a world file (inject robot faults)"));
+    }
+  }
   return std::unique_ptr<Simulation>(new Simulation(world, params));
 }
 
 Simulation::Simulation(const WorldDescription& world, SimulationParams params)
-    : description_(world),
+    : original_(world),
       params_(params),
-      world_(std::make_unique<OdeWorld>(world, params.seed)),
-      steps_per_tick_(static_cast<int>(std::lround(params.control_period_s / params.physics_step_s))),
-      min_separation_m_(std::numeric_limits<double>::infinity()) {}
+      steps_per_tick_(
+          static_cast<int>(std::lround(params.control_period_s / params.physics_step_s))),
+      min_separation_m_(std::numeric_limits<double>::infinity()) {
+  Build();
+}
+
+void Simulation::Build() {
+  robots_.clear();
+  index_.clear();
+  contacts_.clear();
+  faults_.clear();
+  for (const FaultSpec& fault : original_.faults) faults_.push_back({fault, 0});
+  tick_ = 0;
+  min_separation_m_ = std::numeric_limits<double>::infinity();
+  overlapping_.clear();
+  description_ = original_;
+  world_ = std::make_unique<OdeWorld>(original_, params_.seed);
+  ApplyWorldFaults();
+}
+
+void Simulation::ApplyWorldFaults() {
+  description_ = original_;
+  for (const ActiveFault& fault : faults_) {
+    ApplyGeometryFault(fault.spec, &description_);
+  }
+  world_->SetStatics(description_);
+  scene_static_valid_ = false;
+}
+
+void Simulation::Reset(uint64_t seed) {
+  std::vector<std::tuple<std::string, std::string, Pose2>> spawns;
+  for (const SimRobot& robot : robots_)
+    spawns.emplace_back(robot.robot_id, robot.kind_name, robot.start);
+  params_.seed = seed;
+  Build();
+  for (const auto& [id, kind, pose] : spawns) (void)CreateRobot(id, kind, pose);
+}
 
 absl::Status Simulation::AddRobot(const std::string& robot_id, const std::string& kind_name,
                                   const Pose2& pose) {
@@ -45,20 +93,34 @@ absl::Status Simulation::AddRobot(const std::string& robot_id, const std::string
     return absl::AlreadyExistsError(absl::StrCat("robot '", robot_id, "' already exists"));
   }
   if (!pose.IsFinite()) return absl::InvalidArgumentError("pose: must be finite");
+  return CreateRobot(robot_id, kind_name, pose);
+}
+
+absl::Status Simulation::CreateRobot(const std::string& robot_id, const std::string& kind_name,
+                                     const Pose2& pose) {
   ASSIGN_OR_RETURN(RobotModel model, RobotModelByKind(kind_name));
-  if (model.kinematics != Kinematics::kDifferential) {
-    return absl::UnimplementedError(absl::StrCat(
-        "kind '", kind_name, "': only differential-drive robots are simulated in this version"));
-  }
   SimRobot robot;
   robot.robot_id = robot_id;
-  robot.body = std::make_unique<DiffDriveRobot>(world_.get(), static_cast<int>(robots_.size()),
-                                                model, pose);
+  robot.kind_name = kind_name;
+  robot.start = pose;
+  const int index = static_cast<int>(robots_.size());
+  if (model.kinematics == Kinematics::kDifferential) {
+    robot.body = std::make_unique<DiffDriveRobot>(world_.get(), index, model, pose);
+  } else {
+    auto body = std::make_unique<KinematicRobot>(world_.get(), index, model, pose,
+                                                 NoiseSeed(params_.seed, robot_id, "caster_flip"),
+                                                 params_.caster_flip);
+    robot.kinematic = body.get();
+    robot.body = std::move(body);
+  }
   ProprioceptiveParams sensor_params = params_.sensors;
   sensor_params.encoder_ticks_per_rev = model.encoder_ticks_per_rev;
   robot.sensors = std::make_unique<ProprioceptiveSensors>(sensor_params, params_.seed, robot_id);
+  robot.exteroceptive =
+      std::make_unique<ExteroceptiveSensors>(model, params_.exteroceptive, params_.seed, robot_id);
   index_[robot_id] = robots_.size();
   robots_.push_back(std::move(robot));
+  scene_robots_tick_ = ~uint64_t{0};
   return absl::OkStatus();
 }
 
@@ -70,68 +132,258 @@ std::vector<std::string> Simulation::robot_ids() const {
 
 absl::StatusOr<RobotModel> Simulation::ModelOf(const std::string& robot_id) const {
   auto it = index_.find(robot_id);
-  if (it == index_.end()) return absl::NotFoundError(absl::StrCat("robot '", robot_id, "' not found"));
+  if (it == index_.end())
+    return absl::NotFoundError(absl::StrCat("robot '", robot_id, "' not found"));
   return robots_[it->second].body->model();
 }
 
 int64_t Simulation::now_ns() const {
-  return static_cast<int64_t>(std::llround(static_cast<double>(tick_) * params_.control_period_s * 1e9));
+  return static_cast<int64_t>(
+      std::llround(static_cast<double>(tick_) * params_.control_period_s * 1e9));
+}
+
+void Simulation::EnsureScene() {
+  if (!scene_static_valid_) {
+    SensingScene fresh = StaticScene(description_);
+    for (const ActiveFault& fault : faults_) {
+      if (fault.spec.type == FaultType::kHideUltrasonicRegion) {
+        fresh.ultrasonic_hidden.push_back(fault.spec);
+      }
+    }
+    fresh.robots = std::move(scene_.robots);
+    scene_ = std::move(fresh);
+    scene_static_valid_ = true;
+  }
+  if (scene_robots_tick_ != tick_ || scene_.robots.size() != robots_.size()) {
+    scene_.robots.clear();
+    for (size_t i = 0; i < robots_.size(); ++i) {
+      const RobotModel& model = robots_[i].body->model();
+      scene_.robots.push_back(FootprintShape(model.footprint_m, robots_[i].body->GroundTruthPose(),
+                                             model.height_m, static_cast<int>(i)));
+    }
+    scene_robots_tick_ = tick_;
+  }
+}
+
+std::set<std::string> Simulation::DroppedSensors(const std::string& robot_id) const {
+  std::set<std::string> dropped;
+  for (const ActiveFault& fault : faults_) {
+    if (fault.spec.type == FaultType::kSensorDropout && fault.spec.robot_id == robot_id) {
+      dropped.insert(fault.spec.sensor_name);
+    }
+  }
+  return dropped;
 }
 
 absl::StatusOr<SensorFrame> Simulation::Sense(const std::string& robot_id) {
   auto it = index_.find(robot_id);
-  if (it == index_.end()) return absl::NotFoundError(absl::StrCat("robot '", robot_id, "' not found"));
+  if (it == index_.end())
+    return absl::NotFoundError(absl::StrCat("robot '", robot_id, "' not found"));
+  const Clock::time_point start = Clock::now();
   SimRobot& robot = robots_[it->second];
   SensorFrame frame;
   frame.tick = tick_;
   frame.stamp_ns = now_ns();
   frame.control_period_s = params_.control_period_s;
-  robot.sensors->Sample(robot.body->left_wheel_angle_rad(), robot.body->right_wheel_angle_rad(),
-                        robot.body->yaw_rate_radps(), params_.control_period_s, &frame);
+  const std::set<std::string> dropped = DroppedSensors(robot_id);
+  robot.sensors->SampleEncoders(robot.body->WheelAngles(), &frame);
+  const bool imu_off = dropped.count("imu") != 0 || dropped.count("") != 0;
+  robot.sensors->SampleImu(imu_off ? 0.0 : robot.body->yaw_rate_radps(),
+                           imu_off ? 0.0 : robot.accel_body.x(),
+                           imu_off ? 0.0 : robot.accel_body.y(), params_.control_period_s, &frame);
+  EnsureScene();
+  robot.exteroceptive->Sample(scene_, static_cast<int>(it->second), robot.body->GroundTruthPose(),
+                              tick_, params_.control_period_s, dropped, &frame);
+  timing_.sensors_s += Seconds(Clock::now() - start);
   return frame;
 }
 
 absl::Status Simulation::Command(const std::string& robot_id, const ActuatorCommand& command) {
   auto it = index_.find(robot_id);
-  if (it == index_.end()) return absl::NotFoundError(absl::StrCat("robot '", robot_id, "' not found"));
-  DiffDriveRobot& body = *robots_[it->second].body;
-  if (const auto* twist = std::get_if<Twist2>(&command.drive)) {
-    body.SetTwist(*twist);
-  } else if (const auto* wheels = std::get_if<WheelSpeeds>(&command.drive)) {
-    body.SetWheelSpeeds(wheels->left_radps, wheels->right_radps);
+  if (it == index_.end())
+    return absl::NotFoundError(absl::StrCat("robot '", robot_id, "' not found"));
+  SimRobot& robot = robots_[it->second];
+  absl::Status status = robot.body->SetDrive(command.drive, SlowFactor(robot_id));
+  if (!status.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("robot '", robot_id, "': ", status.message()));
+  }
+  robot.drive = command.drive;
+  return absl::OkStatus();
+}
+
+double Simulation::SlowFactor(const std::string& robot_id) const {
+  double factor = 1.0;
+  for (const ActiveFault& fault : faults_) {
+    if (fault.spec.type == FaultType::kSlowDown && fault.spec.robot_id == robot_id) {
+      factor *= fault.spec.factor;
+    }
+  }
+  return factor;
+}
+
+double Simulation::TractionAt(const Pose2& pose) const {
+  double traction = 1.0;
+  for (const ActiveFault& fault : faults_) {
+    if (fault.spec.type == FaultType::kWheelSlipRegion && fault.spec.InRegion(pose.translation())) {
+      traction = std::min(traction, fault.spec.factor);
+    }
+  }
+  return traction;
+}
+
+void Simulation::RecordContact(const std::string& robot_id, const std::string& other) {
+  contacts_.push_back({robot_id, other, now_ns()});
+  if (contacts_.size() > 10000) contacts_.erase(contacts_.begin());
+}
+
+void Simulation::MoveKinematic(SimRobot& robot, int index, double traction) {
+  KinematicRobot& body = *robot.kinematic;
+  const Pose2 next = body.Propose(params_.control_period_s, traction);
+  const RobotModel& model = body.model();
+  const Shape2 now_shape =
+      FootprintShape(model.footprint_m, body.GroundTruthPose(), model.height_m, index);
+  const Shape2 next_shape = FootprintShape(model.footprint_m, next, model.height_m, index);
+  // Blocked by anything the robot would newly run into (it may always back out of an overlap).
+  std::string hit;
+  for (const Shape2& shape : scene_.statics) {
+    if (Overlap(next_shape, shape) && !Overlap(now_shape, shape)) {
+      hit = "static";
+      break;
+    }
+  }
+  for (size_t j = 0; j < robots_.size() && hit.empty(); ++j) {
+    if (static_cast<int>(j) == index) continue;
+    const RobotModel& other_model = robots_[j].body->model();
+    const Shape2 other = FootprintShape(other_model.footprint_m, robots_[j].body->GroundTruthPose(),
+                                        other_model.height_m, static_cast<int>(j));
+    if (Overlap(next_shape, other) && !Overlap(now_shape, other)) hit = robots_[j].robot_id;
+  }
+  body.Commit(!hit.empty());
+  if (!hit.empty()) RecordContact(robot.robot_id, hit);
+}
+
+void Simulation::Advance() {
+  const Clock::time_point start = Clock::now();
+  EnsureScene();
+
+  std::vector<double> traction(robots_.size(), 1.0);
+  for (size_t i = 0; i < robots_.size(); ++i) {
+    SimRobot& robot = robots_[i];
+    (void)robot.body->SetDrive(robot.drive, SlowFactor(robot.robot_id));
+    traction[i] = TractionAt(robot.body->GroundTruthPose());
+    if (robot.kinematic != nullptr) MoveKinematic(robot, static_cast<int>(i), traction[i]);
+  }
+  for (int s = 0; s < steps_per_tick_; ++s) {
+    world_->Step(params_.physics_step_s);
+    for (size_t i = 0; i < robots_.size(); ++i) {
+      if (robots_[i].body->physical())
+        robots_[i].body->AfterStep(params_.physics_step_s, traction[i]);
+    }
+    for (const ContactEvent& contact : world_->last_contacts()) {
+      RecordContact(robots_[contact.robot_index].robot_id,
+                    contact.other_robot_index < 0 ? std::string("static")
+                                                  : robots_[contact.other_robot_index].robot_id);
+    }
+  }
+  ++tick_;
+  // Faults that ran out leave before the next frames.
+  const int64_t now = now_ns();
+  bool world_changed = false;
+  for (size_t i = 0; i < faults_.size();) {
+    if (faults_[i].end_ns > 0 && faults_[i].end_ns <= now) {
+      world_changed |= faults_[i].spec.IsRegionFault();
+      faults_.erase(faults_.begin() + static_cast<std::ptrdiff_t>(i));
+    } else {
+      ++i;
+    }
+  }
+  if (world_changed) ApplyWorldFaults();
+  for (SimRobot& robot : robots_) {
+    const Pose2 pose = robot.body->GroundTruthPose();
+    const Twist2 v = robot.body->GroundTruthVelocity();
+    const double c = std::cos(pose.yaw_rad()), s = std::sin(pose.yaw_rad());
+    const Eigen::Vector2d world_velocity(c * v.vx_mps - s * v.vy_mps, s * v.vx_mps + c * v.vy_mps);
+    const Eigen::Vector2d accel =
+        (world_velocity - robot.world_velocity) / params_.control_period_s;
+    robot.accel_body =
+        Eigen::Vector2d(c * accel.x() + s * accel.y(), -s * accel.x() + c * accel.y());
+    robot.world_velocity = world_velocity;
+  }
+  UpdateSeparation();
+  timing_.physics_s += Seconds(Clock::now() - start);
+  ++timing_.ticks;
+}
+
+absl::Status Simulation::InjectFault(const FaultSpec& fault) {
+  if (!(fault.duration_s >= 0.0) || !std::isfinite(fault.duration_s)) {
+    return absl::InvalidArgumentError("duration_s: must be finite and >= 0");
+  }
+  if (fault.IsRegionFault()) {
+    if (!fault.region_min_m.allFinite() || !fault.region_max_m.allFinite() ||
+        (fault.region_max_m - fault.region_min_m).minCoeff() <= 0.0) {
+      return absl::InvalidArgumentError("region: max must exceed min in x and y");
+    }
   } else {
+    auto it = index_.find(fault.robot_id);
+    if (it == index_.end()) {
+      return absl::NotFoundError(absl::StrCat("robot_id: robot '", fault.robot_id, "' not found"));
+    }
+    if (fault.type == FaultType::kSensorDropout && !fault.sensor_name.empty() &&
+        robots_[it->second].body->model().FindSensor(fault.sensor_name) == nullptr &&
+        fault.sensor_name != "imu") {
+      return absl::NotFoundError(absl::StrCat("sensor_name: robot '", fault.robot_id,
+                                              "' has no sensor '", fault.sensor_name, "'"));
+    }
+  }
+  if (fault.type == FaultType::kWheelSlipRegion && !(fault.factor > 0.0 && fault.factor <= 1.0)) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "factor: wheel slip keeps this share of traction, in (0, 1]; got ", fault.factor));
+  }
+  if (fault.type == FaultType::kSlowDown && !(fault.factor >= 0.0 && fault.factor <= 1.0)) {
     return absl::InvalidArgumentError(
-        absl::StrCat("robot '", robot_id, "' is differential: Ackermann commands do not apply"));
+        absl::StrCat("factor: slow-down must be in [0, 1]; got ", fault.factor));
+  }
+  const int64_t end_ns = fault.duration_s > 0.0
+                             ? now_ns() + static_cast<int64_t>(std::llround(fault.duration_s * 1e9))
+                             : 0;
+  faults_.push_back({fault, end_ns});
+  if (fault.IsRegionFault()) {
+    if (fault.type == FaultType::kRemoveFenceSegment ||
+        fault.type == FaultType::kRemoveStripeSegment) {
+      ApplyWorldFaults();
+    }
+    scene_static_valid_ = false;
   }
   return absl::OkStatus();
 }
 
-void Simulation::Advance() {
-  for (int i = 0; i < steps_per_tick_; ++i) {
-    world_->Step(params_.physics_step_s);
-    for (SimRobot& robot : robots_) robot.body->AfterStep(params_.physics_step_s);
-    for (const ContactEvent& contact : world_->last_contacts()) {
-      contacts_.push_back({robots_[contact.robot_index].robot_id,
-                           contact.other_robot_index < 0
-                               ? std::string("static")
-                               : robots_[contact.other_robot_index].robot_id,
-                           now_ns()});
-      if (contacts_.size() > 10000) contacts_.erase(contacts_.begin());
-    }
-  }
-  ++tick_;
-  UpdateSeparation();
+std::vector<FaultSpec> Simulation::active_faults() const {
+  std::vector<FaultSpec> out;
+  for (const ActiveFault& fault : faults_) out.push_back(fault.spec);
+  return out;
 }
 
 void Simulation::UpdateSeparation() {
   for (size_t i = 0; i < robots_.size(); ++i) {
     for (size_t j = i + 1; j < robots_.size(); ++j) {
-      const DiffDriveRobot& a = *robots_[i].body;
-      const DiffDriveRobot& b = *robots_[j].body;
+      const RobotBody& a = *robots_[i].body;
+      const RobotBody& b = *robots_[j].body;
       const double distance =
           (a.GroundTruthPose().translation() - b.GroundTruthPose().translation()).norm() -
           a.model().CircumscribedRadius() - b.model().CircumscribedRadius();
       min_separation_m_ = std::min(min_separation_m_, distance);
+      // Footprints that start to overlap are a robot-robot contact, whatever their heights.
+      if (distance > 0.0) {
+        overlapping_.erase({i, j});
+        continue;
+      }
+      const Shape2 shape_a = FootprintShape(a.model().footprint_m, a.GroundTruthPose(), 1.0, 0);
+      const Shape2 shape_b = FootprintShape(b.model().footprint_m, b.GroundTruthPose(), 1.0, 1);
+      if (!Overlap(shape_a, shape_b)) {
+        overlapping_.erase({i, j});
+      } else if (overlapping_.insert({i, j}).second) {
+        RecordContact(robots_[i].robot_id, robots_[j].robot_id);
+      }
     }
   }
 }

@@ -57,6 +57,17 @@ DiffDriveRobot::DiffDriveRobot(OdeWorld* world, int robot_index, const RobotMode
                          params_.ground_clearance_m + 0.5 * model.height_m - chassis_z_m_);
   dGeomSetData(box, world->MakeTag(GeomRole::kChassis, robot_index));
 
+  // A bumper skirt across the front, down to skirt_bottom_m: the body sits high on its wheels,
+  // but its front bumper stops at low obstacles and platforms (it does not drive over them).
+  const double skirt_height = params_.ground_clearance_m - params_.skirt_bottom_m;
+  if (skirt_height > 0.0) {
+    dGeomID skirt = dCreateBox(world->space(), 0.1, width, skirt_height);
+    dGeomSetBody(skirt, chassis_);
+    dGeomSetOffsetPosition(skirt, extent.max_x - 0.05 - chassis_offset_x_m_, 0,
+                           params_.skirt_bottom_m + 0.5 * skirt_height - chassis_z_m_);
+    dGeomSetData(skirt, world->MakeTag(GeomRole::kChassis, robot_index));
+  }
+
   dGeomID caster = dCreateSphere(world->space(), params_.caster_radius_m);
   dGeomSetBody(caster, chassis_);
   dGeomSetOffsetPosition(caster, params_.caster_x_m - chassis_offset_x_m_, -center_y,
@@ -68,8 +79,9 @@ DiffDriveRobot::DiffDriveRobot(OdeWorld* world, int robot_index, const RobotMode
   right_wheel_ = CreateWheel(-0.5 * model.track_m, start, axle_z);
 
   const Eigen::Vector2d axis = start.TransformPoint({0, 1}) - start.translation();
-  for (auto [wheel, hinge_ptr, y] : {std::tuple{left_wheel_, &left_hinge_, 0.5 * model.track_m},
-                                     std::tuple{right_wheel_, &right_hinge_, -0.5 * model.track_m}}) {
+  for (auto [wheel, hinge_ptr, y] :
+       {std::tuple{left_wheel_, &left_hinge_, 0.5 * model.track_m},
+        std::tuple{right_wheel_, &right_hinge_, -0.5 * model.track_m}}) {
     dJointID hinge = dJointCreateHinge(world->world(), nullptr);
     dJointAttach(hinge, chassis_, wheel);
     const Eigen::Vector2d anchor = start.TransformPoint({0, y});
@@ -116,9 +128,21 @@ void DiffDriveRobot::SetTwist(const Twist2& twist) {
   SetWheelSpeeds(v_left / model_.wheel_radius_m, v_right / model_.wheel_radius_m);
 }
 
-void DiffDriveRobot::AfterStep(double step_s) {
-  left_angle_rad_ += -dJointGetHingeAngleRate(left_hinge_) * step_s;
-  right_angle_rad_ += -dJointGetHingeAngleRate(right_hinge_) * step_s;
+absl::Status DiffDriveRobot::SetDrive(const DriveCommand& drive, double scale) {
+  if (const auto* twist = std::get_if<Twist2>(&drive)) {
+    SetTwist(Twist2{scale * twist->vx_mps, 0.0, scale * twist->yaw_rate_radps});
+  } else if (const auto* wheels = std::get_if<WheelSpeeds>(&drive)) {
+    SetWheelSpeeds(scale * wheels->left_radps, scale * wheels->right_radps);
+  } else {
+    return absl::InvalidArgumentError("the robot is differential: Ackermann commands do not apply");
+  }
+  return absl::OkStatus();
+}
+
+void DiffDriveRobot::AfterStep(double step_s, double traction) {
+  const double spin = traction > 0.0 ? 1.0 / traction : 1.0;
+  left_angle_rad_ += -dJointGetHingeAngleRate(left_hinge_) * step_s * spin;
+  right_angle_rad_ += -dJointGetHingeAngleRate(right_hinge_) * step_s * spin;
 }
 
 Pose2 DiffDriveRobot::GroundTruthPose() const {

@@ -104,6 +104,55 @@ grpc::Status SimServiceImpl::GetGroundTruth(grpc::ServerContext*, const v1::GetG
   return grpc::Status::OK;
 }
 
+grpc::Status SimServiceImpl::Reset(grpc::ServerContext*, const v1::ResetRequest* request,
+                                   v1::ResetResponse*) {
+  lockstep_->Reset(request->seed());
+  return grpc::Status::OK;
+}
+
+grpc::Status SimServiceImpl::InjectFault(grpc::ServerContext*,
+                                         const v1::InjectFaultRequest* request,
+                                         v1::InjectFaultResponse*) {
+  FaultSpec fault;
+  switch (request->type()) {
+    case v1::FAULT_TYPE_HIDE_ULTRASONIC_REGION:
+      fault.type = FaultType::kHideUltrasonicRegion;
+      break;
+    case v1::FAULT_TYPE_REMOVE_FENCE_SEGMENT:
+      fault.type = FaultType::kRemoveFenceSegment;
+      break;
+    case v1::FAULT_TYPE_REMOVE_STRIPE_SEGMENT:
+      fault.type = FaultType::kRemoveStripeSegment;
+      break;
+    case v1::FAULT_TYPE_WHEEL_SLIP_REGION:
+      fault.type = FaultType::kWheelSlipRegion;
+      break;
+    case v1::FAULT_TYPE_SENSOR_DROPOUT:
+      fault.type = FaultType::kSensorDropout;
+      break;
+    case v1::FAULT_TYPE_SLOW_DOWN:
+      fault.type = FaultType::kSlowDown;
+      break;
+    default:
+      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                          absl::StrCat("type: unknown or unspecified fault type ",
+                                       static_cast<int>(request->type())));
+  }
+  fault.region_min_m = Eigen::Vector2d(request->region_min().x_m(), request->region_min().y_m());
+  fault.region_max_m = Eigen::Vector2d(request->region_max().x_m(), request->region_max().y_m());
+  fault.robot_id = request->robot_id();
+  fault.sensor_name = request->sensor_name();
+  fault.duration_s = request->duration_s();
+  // proto3 has no presence for doubles: an unset factor (0) means "no factor given".
+  fault.factor = request->factor();
+  if (fault.factor == 0.0 && fault.type != FaultType::kSlowDown) fault.factor = 1.0;
+  if (fault.type == FaultType::kWheelSlipRegion && request->factor() == 0.0) {
+    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                        "factor: wheel slip needs the share of traction kept, in (0, 1]");
+  }
+  return ToGrpcStatus(lockstep_->InjectFault(fault));
+}
+
 grpc::Status SimServiceImpl::Step(grpc::ServerContext* context, const v1::StepRequest* request,
                                   v1::StepResponse* response) {
   const uint64_t target = lockstep_->tick() + request->ticks();

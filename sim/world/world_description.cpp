@@ -9,6 +9,7 @@
 #include "absl/strings/str_cat.h"
 #include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/status_macros.hpp"
+#include "fleetnav/sim/geometry2d.hpp"
 
 namespace fleetnav::sim {
 namespace {
@@ -77,8 +78,8 @@ absl::StatusOr<WorldDescription> ParseRoot(const YAML::Node& root) {
     world.boxes.push_back(box);
   }
   for (size_t i = 0; i < ListSize(root, "fences"); ++i) {
-    ASSIGN_OR_RETURN(BoxObstacle box, SegmentBox(root["fences"][i],
-                                                 absl::StrCat("fences[", i, "]"), "fence", 0.1, 1.2));
+    ASSIGN_OR_RETURN(BoxObstacle box, SegmentBox(root["fences"][i], absl::StrCat("fences[", i, "]"),
+                                                 "fence", 0.1, 1.2));
     world.boxes.push_back(box);
   }
   for (size_t i = 0; i < ListSize(root, "boxes"); ++i) {
@@ -105,6 +106,55 @@ absl::StatusOr<WorldDescription> ParseRoot(const YAML::Node& root) {
     ASSIGN_OR_RETURN(cylinder.height_m, ReadPositive(node["height"], field + ".height", 1.5));
     world.cylinders.push_back(cylinder);
   }
+  for (size_t i = 0; i < ListSize(root, "trolleys"); ++i) {
+    const YAML::Node node = root["trolleys"][i];
+    const std::string field = absl::StrCat("trolleys[", i, "]");
+    Trolley trolley;
+    ASSIGN_OR_RETURN(trolley.center_m, ReadPoint(node["center"], field + ".center"));
+    if (node["size"]) {
+      ASSIGN_OR_RETURN(trolley.size_m, ReadPoint(node["size"], field + ".size"));
+    }
+    if (trolley.size_m.minCoeff() <= 0.0) {
+      return absl::InvalidArgumentError(absl::StrCat(field, ".size: must be > 0"));
+    }
+    trolley.yaw_rad = DegToRad(node["yaw_deg"] ? node["yaw_deg"].as<double>() : 0.0);
+    ASSIGN_OR_RETURN(trolley.leg_radius_m,
+                     ReadPositive(node["leg_radius"], field + ".leg_radius", 0.02));
+    world.trolleys.push_back(trolley);
+    const Pose2 pose(trolley.center_m.x(), trolley.center_m.y(), trolley.yaw_rad);
+    const double hx = 0.5 * trolley.size_m.x() - trolley.leg_radius_m;
+    const double hy = 0.5 * trolley.size_m.y() - trolley.leg_radius_m;
+    for (const Eigen::Vector2d& corner : {Eigen::Vector2d(-hx, -hy), Eigen::Vector2d(hx, -hy),
+                                          Eigen::Vector2d(hx, hy), Eigen::Vector2d(-hx, hy)}) {
+      world.cylinders.push_back(
+          CylinderObstacle{"trolley_leg", pose.TransformPoint(corner), trolley.leg_radius_m, 1.0});
+    }
+  }
+  for (size_t i = 0; i < ListSize(root, "faults"); ++i) {
+    const YAML::Node node = root["faults"][i];
+    const std::string field = absl::StrCat("faults[", i, "]");
+    FaultSpec fault;
+    if (!node["type"]) return absl::InvalidArgumentError(absl::StrCat(field, ".type: missing"));
+    absl::StatusOr<FaultType> type = FaultTypeByName(node["type"].as<std::string>());
+    if (!type.ok()) {
+      return absl::InvalidArgumentError(absl::StrCat(field, ".type: ", type.status().message()));
+    }
+    fault.type = *type;
+    fault.label = node["label"] ? node["label"].as<std::string>() : "";
+    if (node["region"]) {
+      ASSIGN_OR_RETURN(fault.region_min_m, ReadPoint(node["region"]["min"], field + ".region.min"));
+      ASSIGN_OR_RETURN(fault.region_max_m, ReadPoint(node["region"]["max"], field + ".region.max"));
+    }
+    if (fault.IsRegionFault() && (fault.region_max_m - fault.region_min_m).minCoeff() <= 0.0) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(field, ".region: max must exceed min in x and y"));
+    }
+    fault.robot_id = node["robot"] ? node["robot"].as<std::string>() : "";
+    fault.sensor_name = node["sensor"] ? node["sensor"].as<std::string>() : "";
+    fault.duration_s = node["duration_s"] ? node["duration_s"].as<double>() : 0.0;
+    fault.factor = node["factor"] ? node["factor"].as<double>() : 1.0;
+    world.faults.push_back(fault);
+  }
   for (size_t i = 0; i < ListSize(root, "stripes"); ++i) {
     const YAML::Node node = root["stripes"][i];
     const std::string field = absl::StrCat("stripes[", i, "]");
@@ -127,7 +177,8 @@ absl::StatusOr<WorldDescription> ParseRoot(const YAML::Node& root) {
     StripeMarker marker;
     marker.id = node["id"].as<int>();
     ASSIGN_OR_RETURN(marker.position_m, ReadPoint(node["at"], field + ".at"));
-    marker.yaw_rad = NormalizeMarkerYaw(DegToRad(node["yaw_deg"] ? node["yaw_deg"].as<double>() : 0));
+    marker.yaw_rad =
+        NormalizeMarkerYaw(DegToRad(node["yaw_deg"] ? node["yaw_deg"].as<double>() : 0));
     ASSIGN_OR_RETURN(marker.length_m, ReadPositive(node["length"], field + ".length", 0.6));
     world.markers.push_back(marker);
   }
@@ -147,7 +198,105 @@ absl::StatusOr<WorldDescription> ParseRoot(const YAML::Node& root) {
   return world;
 }
 
+// The parts of segment a→b outside the rectangle, as parameter intervals.
+std::vector<std::pair<double, double>> OutsideParts(const Eigen::Vector2d& a,
+                                                    const Eigen::Vector2d& b,
+                                                    const FaultSpec& region) {
+  const auto inside = ClipSegment(a, b, region.region_min_m, region.region_max_m);
+  if (!inside) return {{0.0, 1.0}};
+  std::vector<std::pair<double, double>> out;
+  if (inside->first > 1e-9) out.push_back({0.0, inside->first});
+  if (inside->second < 1.0 - 1e-9) out.push_back({inside->second, 1.0});
+  return out;
+}
+
+// Fences inside the region lose that part: a fence box is cut along its length.
+void RemoveFence(const FaultSpec& region, WorldDescription* world) {
+  std::vector<BoxObstacle> boxes;
+  for (const BoxObstacle& box : world->boxes) {
+    if (box.kind != "fence") {
+      boxes.push_back(box);
+      continue;
+    }
+    const Eigen::Vector2d axis(std::cos(box.yaw_rad), std::sin(box.yaw_rad));
+    const Eigen::Vector2d a = box.center_m - 0.5 * box.size_m.x() * axis;
+    const Eigen::Vector2d b = box.center_m + 0.5 * box.size_m.x() * axis;
+    for (const auto& [t0, t1] : OutsideParts(a, b, region)) {
+      const double length = (t1 - t0) * box.size_m.x();
+      if (length < 1e-3) continue;
+      BoxObstacle part = box;
+      part.center_m = a + 0.5 * (t0 + t1) * (b - a);
+      part.size_m.x() = length;
+      boxes.push_back(part);
+    }
+  }
+  world->boxes = std::move(boxes);
+}
+
+// Stripes inside the region lose that part (a polyline may fall apart into several).
+void RemoveStripe(const FaultSpec& region, WorldDescription* world) {
+  std::vector<FloorStripe> stripes;
+  for (const FloorStripe& stripe : world->stripes) {
+    FloorStripe current = stripe;
+    current.points_m.clear();
+    auto flush = [&] {
+      if (current.points_m.size() >= 2) stripes.push_back(current);
+      current.points_m.clear();
+    };
+    for (size_t i = 0; i + 1 < stripe.points_m.size(); ++i) {
+      const Eigen::Vector2d& a = stripe.points_m[i];
+      const Eigen::Vector2d& b = stripe.points_m[i + 1];
+      for (const auto& [t0, t1] : OutsideParts(a, b, region)) {
+        const Eigen::Vector2d p0 = a + t0 * (b - a);
+        const Eigen::Vector2d p1 = a + t1 * (b - a);
+        if (current.points_m.empty() || (current.points_m.back() - p0).norm() > 1e-9) {
+          flush();
+          current.points_m.push_back(p0);
+        }
+        current.points_m.push_back(p1);
+      }
+    }
+    flush();
+  }
+  world->stripes = std::move(stripes);
+}
+
 }  // namespace
+
+void ApplyGeometryFault(const FaultSpec& fault, WorldDescription* world) {
+  if (fault.type == FaultType::kRemoveFenceSegment) RemoveFence(fault, world);
+  if (fault.type == FaultType::kRemoveStripeSegment) RemoveStripe(fault, world);
+}
+
+std::string_view FaultTypeName(FaultType type) {
+  switch (type) {
+    case FaultType::kHideUltrasonicRegion:
+      return "hide_ultrasonic";
+    case FaultType::kRemoveFenceSegment:
+      return "remove_fence";
+    case FaultType::kRemoveStripeSegment:
+      return "remove_stripe";
+    case FaultType::kWheelSlipRegion:
+      return "wheel_slip";
+    case FaultType::kSensorDropout:
+      return "sensor_dropout";
+    case FaultType::kSlowDown:
+      return "slow_down";
+  }
+  return "hide_ultrasonic";
+}
+
+absl::StatusOr<FaultType> FaultTypeByName(std::string_view name) {
+  for (FaultType type : {FaultType::kHideUltrasonicRegion, FaultType::kRemoveFenceSegment,
+                         FaultType::kRemoveStripeSegment, FaultType::kWheelSlipRegion,
+                         FaultType::kSensorDropout, FaultType::kSlowDown}) {
+    if (FaultTypeName(type) == name) return type;
+  }
+  return absl::InvalidArgumentError(absl::StrCat(
+      "unknown fault type '", std::string(name),
+      "' (known: hide_ultrasonic, remove_fence, remove_stripe, wheel_slip, sensor_dropout, "
+      "slow_down)"));
+}
 
 absl::StatusOr<WorldDescription> ParseWorldYaml(std::string_view yaml_text) {
   try {

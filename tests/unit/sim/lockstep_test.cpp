@@ -253,5 +253,56 @@ TEST(LockstepParamsTest, Validate) {
             absl::StatusCode::kInvalidArgument);
 }
 
+// A reset while an agent holds a frame: the agent's late answer to the old frame is ignored,
+// it gets the frame of tick 0 next, and the run goes on from there.
+TEST_F(LockstepTest, ResetReissuesTickZeroAndIgnoresTheStaleAnswer) {
+  LockstepParams params;
+  params.min_attached = 1;
+  StartLoop(params);
+  absl::StatusOr<std::unique_ptr<Attachment>> a = lockstep_->Attach("a");
+  ASSERT_TRUE(a.ok());
+  RunLoop();
+  for (int i = 0; i < 10; ++i) {
+    std::optional<SensorFrame> frame = (*a)->WaitFrame();
+    ASSERT_TRUE(frame.has_value());
+    ASSERT_TRUE((*a)->Submit(Answer(*frame, 0.3)).ok());
+  }
+  std::optional<SensorFrame> held = (*a)->WaitFrame();
+  ASSERT_TRUE(held.has_value());
+  EXPECT_EQ(held->tick, 10u);
+  lockstep_->Reset(5);
+  EXPECT_TRUE((*a)->Submit(Answer(*held, 0.3)).ok());  // ignored
+  std::optional<SensorFrame> fresh = (*a)->WaitFrame();
+  ASSERT_TRUE(fresh.has_value());
+  EXPECT_EQ(fresh->tick, 0u);
+  ASSERT_TRUE((*a)->Submit(Answer(*fresh, 0.3)).ok());
+  std::optional<SensorFrame> next = (*a)->WaitFrame();
+  ASSERT_TRUE(next.has_value());
+  EXPECT_EQ(next->tick, 1u);
+  ASSERT_TRUE((*a)->Submit(Answer(*next, 0.0)).ok());
+  lockstep_->Inspect([](const Simulation& sim) {
+    EXPECT_LT(sim.GroundTruth().robots[0].pose.x_m(), 0.01);  // back at the start
+  });
+}
+
+TEST(PhysicalMeetsKinematicTest, LelyDrivingIntoAParkedPlatformIsStoppedAndReported) {
+  std::unique_ptr<Simulation> sim = MakeSimulation(6);
+  ASSERT_TRUE(sim->AddRobot("lely", "lely-vector", Pose2(0, 0, 0)).ok());
+  ASSERT_TRUE(sim->AddRobot("omni", "mecanum-platform", Pose2(3.0, 0, 0)).ok());
+  ASSERT_TRUE(sim->Command("lely", TwistCommand(0.3, 0.0)).ok());
+  for (int i = 0; i < 500; ++i) sim->Advance();
+  const GroundTruthSnapshot truth = sim->GroundTruth();
+  // The platform does not move; the Lely's front (x + 1.395) stops at its rear (3 - 0.394).
+  EXPECT_DOUBLE_EQ(truth.robots[1].pose.x_m(), 3.0);
+  EXPECT_LT(truth.robots[0].pose.x_m() + 1.395, 3.0 - 0.394 + 0.02);
+  EXPECT_GT(truth.robots[0].up_z, 0.95);
+  bool reported = false;
+  for (const SimContact& contact : truth.contacts) {
+    reported |= contact.robot_id == "lely" && contact.other == "omni";
+  }
+  EXPECT_TRUE(reported);
+  EXPECT_TRUE(sim->Sense("lely")->bumper);
+}
+
 }  // namespace
 }  // namespace fleetnav::sim

@@ -77,10 +77,6 @@ TEST(SimulationTest, AddRobotErrors) {
   EXPECT_EQ(sim->AddRobot("lely1", "lely-vector", Pose2(5, 5, 0)).code(),
             absl::StatusCode::kAlreadyExists);
   EXPECT_EQ(sim->AddRobot("x", "hovercraft", Pose2(5, 5, 0)).code(), absl::StatusCode::kNotFound);
-  EXPECT_EQ(sim->AddRobot("m", "mecanum-platform", Pose2(5, 5, 0)).code(),
-            absl::StatusCode::kUnimplemented);
-  EXPECT_EQ(sim->AddRobot("a", "ackermann-delivery", Pose2(5, 5, 0)).code(),
-            absl::StatusCode::kUnimplemented);
   EXPECT_EQ(sim->AddRobot("", "lely-vector", Pose2(5, 5, 0)).code(),
             absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(sim->AddRobot("n", "lely-vector", Pose2(std::nan(""), 5, 0)).code(),

@@ -29,26 +29,27 @@ TEST(WorldDescriptionTest, LoadsTheShippedBarn) {
   EXPECT_EQ(barn->name, "barn");
   EXPECT_EQ(barn->min_corner_m, Eigen::Vector2d(-13, -13));
   EXPECT_EQ(barn->max_corner_m, Eigen::Vector2d(13, 13));
-  // 4 walls + 2 fences + the feed kitchen.
-  ASSERT_EQ(barn->boxes.size(), 7u);
+  // 4 walls + 9 fence segments + the feed kitchen and two cubicle rows.
+  ASSERT_EQ(barn->boxes.size(), 16u);
   EXPECT_EQ(barn->boxes[0].kind, "wall");
   EXPECT_EQ(barn->boxes[4].kind, "fence");
-  EXPECT_EQ(barn->boxes[6].kind, "feed_kitchen");
-  // The north feed fence: a 20 m segment along x at y = 5.9, 0.1 m thick, 1.2 m high.
+  EXPECT_EQ(barn->boxes[13].kind, "feed_kitchen");
+  // The north feed fence: a 19 m segment along x at y = 5.9, 0.1 m thick, 1.2 m high.
   const BoxObstacle& fence = barn->boxes[4];
-  EXPECT_NEAR(fence.center_m.x(), 0.0, 1e-12);
+  EXPECT_NEAR(fence.center_m.x(), 0.5, 1e-12);
   EXPECT_NEAR(fence.center_m.y(), 5.9, 1e-12);
-  EXPECT_NEAR(fence.size_m.x(), 20.0, 1e-12);
+  EXPECT_NEAR(fence.size_m.x(), 19.0, 1e-12);
   EXPECT_NEAR(fence.size_m.y(), 0.1, 1e-12);
   EXPECT_NEAR(fence.yaw_rad, 0.0, 1e-12);
   EXPECT_NEAR(fence.height_m, 1.2, 1e-12);
   // A wall along y is yawed by 90°.
   EXPECT_NEAR(barn->boxes[2].yaw_rad, kPi / 2.0, 1e-12);
   EXPECT_NEAR(barn->boxes[2].size_m.x(), 26.0, 1e-12);
-  ASSERT_EQ(barn->cylinders.size(), 1u);
+  ASSERT_EQ(barn->cylinders.size(), 5u);
   EXPECT_EQ(barn->cylinders[0].kind, "charging_pole");
   EXPECT_NEAR(barn->cylinders[0].radius_m, 0.15, 1e-12);
-  ASSERT_EQ(barn->stripes.size(), 4u);
+  ASSERT_EQ(barn->stripes.size(), 8u);
+  for (size_t i = 0; i < 8; ++i) EXPECT_EQ(barn->stripes[i].id, static_cast<int>(i) + 1);
   EXPECT_EQ(barn->stripes[0].id, 1);
   EXPECT_NEAR(barn->stripes[0].width_m, 0.05, 1e-12);  // the default
   ASSERT_EQ(barn->markers.size(), 3u);

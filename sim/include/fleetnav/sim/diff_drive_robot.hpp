@@ -6,6 +6,7 @@
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/core/robot_state.hpp"
 #include "fleetnav/sim/ode_world.hpp"
+#include "fleetnav/sim/robot_body.hpp"
 
 namespace fleetnav::sim {
 
@@ -16,6 +17,7 @@ struct DiffDriveBodyParams {
   double wheel_width_m = 0.10;
   double wheel_mass_kg = 40.0;
   double ground_clearance_m = 0.20;
+  double skirt_bottom_m = 0.08;    ///< the front bumper skirt reaches down to here
   double mass_box_height_m = 0.6;  ///< the chassis mass is spread over this height (low CoM)
   double max_wheel_torque_nm = 800.0;
 };
@@ -27,7 +29,7 @@ struct DiffDriveBodyParams {
 /// 0.92 m track). base_link is the middle of the drive axle on the floor. Wheel angles are
 /// integrated every physics step so encoders never wrap. Not thread-safe; owned by the
 /// simulation thread.
-class DiffDriveRobot {
+class DiffDriveRobot final : public RobotBody {
  public:
   DiffDriveRobot(OdeWorld* world, int robot_index, const RobotModel& model, const Pose2& start,
                  DiffDriveBodyParams params = {});
@@ -36,16 +38,21 @@ class DiffDriveRobot {
   void SetWheelSpeeds(double left_radps, double right_radps);
   /// Converts a body twist to wheel speeds (inverse of thesis eq. 3.1–3.2) and sets them.
   void SetTwist(const Twist2& twist);
-  /// Call after every physics step of `step_s`.
-  void AfterStep(double step_s);
-
-  Pose2 GroundTruthPose() const;
-  Twist2 GroundTruthVelocity() const;  ///< in base_link
-  double UpVectorZ() const;
+  absl::Status SetDrive(const DriveCommand& drive, double scale) override;
+  /// Wheel slip (traction < 1) makes the wheels turn 1/traction times as far as the ground
+  /// moves under them: the encoders over-count.
+  void AfterStep(double step_s, double traction) override;
+  Pose2 GroundTruthPose() const override;
+  Twist2 GroundTruthVelocity() const override;  ///< in base_link
+  double UpVectorZ() const override;
   double left_wheel_angle_rad() const { return left_angle_rad_; }
   double right_wheel_angle_rad() const { return right_angle_rad_; }
-  double yaw_rate_radps() const;
-  const RobotModel& model() const { return model_; }
+  double yaw_rate_radps() const override;
+  const RobotModel& model() const override { return model_; }
+  std::vector<WheelAngle> WheelAngles() const override {
+    return {{"left", left_angle_rad_}, {"right", right_angle_rad_}};
+  }
+  bool physical() const override { return true; }
 
  private:
   dBodyID CreateWheel(double y_m, const Pose2& start, double axle_z_m);

@@ -39,7 +39,8 @@ class Attachment {
 
  private:
   friend class Lockstep;
-  Attachment(Lockstep* owner, std::string robot_id) : owner_(owner), robot_id_(std::move(robot_id)) {}
+  Attachment(Lockstep* owner, std::string robot_id)
+      : owner_(owner), robot_id_(std::move(robot_id)) {}
   Lockstep* owner_;
   std::string robot_id_;
 };
@@ -65,6 +66,12 @@ class Lockstep {
 
   /// Adds a robot between ticks (see Simulation::AddRobot).
   absl::Status Spawn(const std::string& robot_id, const std::string& kind_name, const Pose2& pose);
+  /// Puts a fault in force between ticks (see Simulation::InjectFault).
+  absl::Status InjectFault(const FaultSpec& fault);
+  /// Starts the simulation over with a new seed (see Simulation::Reset). Agents stay attached:
+  /// an agent still owing an answer gets the frame of tick 0, and its answer to the frame from
+  /// before the reset is ignored.
+  void Reset(uint64_t seed);
   /// Runs `read` on the simulation between ticks.
   void Inspect(const std::function<void(const Simulation&)>& read) const;
   GroundTruthSnapshot GroundTruth() const;
@@ -77,7 +84,8 @@ class Lockstep {
   struct Slot {
     std::optional<SensorFrame> frame;  ///< the frame to hand out for the current tick
     bool taken = false;
-    bool answered = true;  ///< a new agent joins the barrier at the next tick
+    bool answered = true;                ///< a new agent joins the barrier at the next tick
+    std::optional<uint64_t> stale_tick;  ///< the frame a reset replaced
   };
   void Detach(const std::string& robot_id);
   std::optional<SensorFrame> WaitFrame(const std::string& robot_id);

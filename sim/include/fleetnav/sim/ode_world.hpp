@@ -44,6 +44,9 @@ class OdeWorld {
   /// Tags are owned by the world and live as long as it does.
   GeomTag* MakeTag(GeomRole role, int robot_index);
 
+  /// Replaces the static obstacles with the world's (after a fault took a fence segment away).
+  void SetStatics(const WorldDescription& description);
+
   /// Collides, integrates one step of `step_s`, and records chassis contacts.
   void Step(double step_s);
   const std::vector<ContactEvent>& last_contacts() const { return contacts_; }
@@ -57,6 +60,8 @@ class OdeWorld {
   dJointGroupID contact_group_ = nullptr;
   std::deque<GeomTag> tags_;
   std::vector<ContactEvent> contacts_;
+  std::vector<dGeomID> statics_;
+  GeomTag* static_tag_ = nullptr;
   uint64_t rng_state_;
 };
 

@@ -5,6 +5,7 @@
 
 #include "fleetnav/core/sensor_frame.hpp"
 #include "fleetnav/sim/noise.hpp"
+#include "fleetnav/sim/robot_body.hpp"
 
 namespace fleetnav::sim {
 
@@ -17,6 +18,8 @@ struct ProprioceptiveParams {
   double gyro_noise_density_radps_per_sqrt_hz = 0.015 * 3.14159265358979 / 180.0;
   /// Gyro bias random walk (rad/s per √s).
   double gyro_bias_walk_radps_per_sqrt_s = 1e-5;
+  /// Accelerometer white noise per sample (m/s²).
+  double accel_noise_stddev_mps2 = 0.02;
 };
 
 /// Wheel encoders (cumulative ticks from the integrated wheel angle, thesis eq. 3.4's input)
@@ -30,12 +33,18 @@ class ProprioceptiveSensors {
   /// Fills frame->encoders ("left", "right") and frame->imu for one control period.
   void Sample(double left_wheel_angle_rad, double right_wheel_angle_rad, double yaw_rate_radps,
               double period_s, SensorFrame* frame);
+  /// Encoders of any drive: one reading per wheel, named as the body names them.
+  void SampleEncoders(const std::vector<WheelAngle>& wheels, SensorFrame* frame) const;
+  /// Gyro and accelerometer (body-frame acceleration, gravity removed), each with noise.
+  void SampleImu(double yaw_rate_radps, double accel_x_mps2, double accel_y_mps2, double period_s,
+                 SensorFrame* frame);
 
  private:
   int64_t Ticks(double angle_rad) const;
 
   ProprioceptiveParams params_;
   NoiseStream gyro_noise_;
+  NoiseStream accel_noise_;
   double gyro_bias_radps_ = 0.0;
 };
 

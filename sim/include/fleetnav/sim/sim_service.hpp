@@ -6,14 +6,15 @@
 namespace fleetnav::sim {
 
 /// gRPC edge of SimService over a Lockstep: Attach streams one robot's frames and commands,
-/// the rest describe, spawn, query ground truth and pace the run. Reset and InjectFault answer
-/// UNIMPLEMENTED until the simulator issue lands them. Thread-safe.
+/// the rest describe, spawn, reset, inject faults, query ground truth and pace the run.
+/// Thread-safe.
 class SimServiceImpl final : public v1::SimService::Service {
  public:
   explicit SimServiceImpl(Lockstep* lockstep) : lockstep_(lockstep) {}
 
-  grpc::Status Attach(grpc::ServerContext* context,
-                      grpc::ServerReaderWriter<v1::SensorFrame, v1::AttachMessage>* stream) override;
+  grpc::Status Attach(
+      grpc::ServerContext* context,
+      grpc::ServerReaderWriter<v1::SensorFrame, v1::AttachMessage>* stream) override;
   grpc::Status GetWorld(grpc::ServerContext* context, const v1::GetWorldRequest* request,
                         v1::GetWorldResponse* response) override;
   grpc::Status Spawn(grpc::ServerContext* context, const v1::SpawnRequest* request,
@@ -21,6 +22,10 @@ class SimServiceImpl final : public v1::SimService::Service {
   grpc::Status GetGroundTruth(grpc::ServerContext* context,
                               const v1::GetGroundTruthRequest* request,
                               v1::GroundTruth* response) override;
+  grpc::Status Reset(grpc::ServerContext* context, const v1::ResetRequest* request,
+                     v1::ResetResponse* response) override;
+  grpc::Status InjectFault(grpc::ServerContext* context, const v1::InjectFaultRequest* request,
+                           v1::InjectFaultResponse* response) override;
   grpc::Status Step(grpc::ServerContext* context, const v1::StepRequest* request,
                     v1::StepResponse* response) override;
   grpc::Status Run(grpc::ServerContext* context, const v1::RunRequest* request,

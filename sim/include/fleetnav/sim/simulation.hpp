@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -10,17 +11,22 @@
 #include "absl/status/statusor.h"
 #include "fleetnav/core/sensor_frame.hpp"
 #include "fleetnav/sim/diff_drive_robot.hpp"
+#include "fleetnav/sim/exteroceptive_sensors.hpp"
+#include "fleetnav/sim/kinematic_robot.hpp"
 #include "fleetnav/sim/ode_world.hpp"
 #include "fleetnav/sim/proprioceptive_sensors.hpp"
+#include "fleetnav/sim/robot_body.hpp"
 #include "fleetnav/sim/world_description.hpp"
 
 namespace fleetnav::sim {
 
 struct SimulationParams {
-  double physics_step_s = 0.002;    ///< ≤ 5 ms keeps the heavy robot's yaw tracking ≥ 95 %
-  double control_period_s = 0.02;   ///< one lockstep tick (50 Hz)
+  double physics_step_s = 0.002;   ///< ≤ 5 ms keeps the heavy robot's yaw tracking ≥ 95 %
+  double control_period_s = 0.02;  ///< one lockstep tick (50 Hz)
   uint64_t seed = 1;
   ProprioceptiveParams sensors;
+  ExteroceptiveParams exteroceptive;
+  CasterFlipParams caster_flip;
   /// Checks positive steps and that the control period is a whole number of physics steps.
   absl::Status Validate() const;
 };
@@ -48,17 +54,26 @@ struct GroundTruthSnapshot {
   double min_separation_m = 0.0;
 };
 
+/// Wall-clock cost of the simulation so far (for the benchmark; never used in behaviour).
+struct SimulationTiming {
+  double physics_s = 0.0;  ///< Advance: kinematic moves, ODE steps, contacts
+  double sensors_s = 0.0;  ///< Sense: every sensor of every robot
+  uint64_t ticks = 0;
+};
+
 /// One simulated site: the ODE world of a WorldDescription and its robots, advanced in fixed
 /// control ticks of whole physics steps. The tick counter is the only clock of a simulated run
-/// (sim time = tick × control period). Deterministic for a seed. Not thread-safe: the lockstep
-/// coordinator serialises access.
+/// (sim time = tick × control period). The Lely is physical in ODE; omni and Ackermann robots
+/// are kinematic (they stop rather than drive into something). Faults of the world file are in
+/// force from the start; InjectFault adds more at run time; Reset starts over. Deterministic
+/// for a seed. Not thread-safe: the lockstep coordinator serialises access.
 class Simulation {
  public:
   static absl::StatusOr<std::unique_ptr<Simulation>> Create(const WorldDescription& world,
-                                                             SimulationParams params);
+                                                            SimulationParams params);
 
   /// Adds a robot of a preset kind; AlreadyExists for a duplicate id, NotFound for an unknown
-  /// kind, Unimplemented for a kinematics this version cannot simulate yet.
+  /// kind, InvalidArgument for an empty id or a non-finite pose.
   absl::Status AddRobot(const std::string& robot_id, const std::string& kind_name,
                         const Pose2& pose);
   std::vector<std::string> robot_ids() const;
@@ -66,35 +81,77 @@ class Simulation {
 
   /// The sensor frame of a robot for the current tick.
   absl::StatusOr<SensorFrame> Sense(const std::string& robot_id);
-  /// The drive command a robot follows from now on (until the next command).
+  /// The drive command a robot follows from now on (until the next command); InvalidArgument
+  /// for a command its drive does not take (the robot keeps its last command).
   absl::Status Command(const std::string& robot_id, const ActuatorCommand& command);
   /// Advances one control tick.
   void Advance();
 
+  /// Puts a fault in force from now (for duration_s, 0: until Reset). InvalidArgument for an
+  /// empty region or a factor out of range, NotFound for an unknown robot or sensor.
+  absl::Status InjectFault(const FaultSpec& fault);
+  /// Starts over with a new seed: tick 0, every robot (also spawned ones) back at its start
+  /// pose, run-time faults cleared, the world file's faults in force.
+  void Reset(uint64_t seed);
+
   uint64_t tick() const { return tick_; }
   int64_t now_ns() const;
   const SimulationParams& params() const { return params_; }
-  const WorldDescription& world() const { return description_; }
+  /// The world as given (without faults).
+  const WorldDescription& world() const { return original_; }
+  /// The world as it is now (fence and stripe segments removed by faults).
+  const WorldDescription& current_world() const { return description_; }
+  /// Faults in force now.
+  std::vector<FaultSpec> active_faults() const;
   GroundTruthSnapshot GroundTruth() const;
+  const SimulationTiming& timing() const { return timing_; }
 
  private:
   struct SimRobot {
     std::string robot_id;
-    std::unique_ptr<DiffDriveRobot> body;
+    std::string kind_name;
+    Pose2 start;
+    std::unique_ptr<RobotBody> body;
+    KinematicRobot* kinematic = nullptr;  ///< body, when it is kinematic
     std::unique_ptr<ProprioceptiveSensors> sensors;
+    std::unique_ptr<ExteroceptiveSensors> exteroceptive;
+    DriveCommand drive = Twist2{};
+    Eigen::Vector2d world_velocity = Eigen::Vector2d::Zero();
+    Eigen::Vector2d accel_body = Eigen::Vector2d::Zero();
+  };
+  struct ActiveFault {
+    FaultSpec spec;
+    int64_t end_ns = 0;  ///< 0: until Reset
   };
   Simulation(const WorldDescription& world, SimulationParams params);
+  void Build();
+  absl::Status CreateRobot(const std::string& robot_id, const std::string& kind_name,
+                           const Pose2& pose);
+  void ApplyWorldFaults();
+  void EnsureScene();
+  void MoveKinematic(SimRobot& robot, int index, double traction);
+  double TractionAt(const Pose2& pose) const;
+  double SlowFactor(const std::string& robot_id) const;
+  std::set<std::string> DroppedSensors(const std::string& robot_id) const;
+  void RecordContact(const std::string& robot_id, const std::string& other);
   void UpdateSeparation();
 
+  WorldDescription original_;
   WorldDescription description_;
   SimulationParams params_;
   std::unique_ptr<OdeWorld> world_;
-  std::vector<SimRobot> robots_;
+  std::vector<SimRobot> robots_;  ///< destroyed before world_
   std::map<std::string, size_t> index_;
+  std::vector<ActiveFault> faults_;
   std::vector<SimContact> contacts_;
+  SensingScene scene_;
+  bool scene_static_valid_ = false;
+  uint64_t scene_robots_tick_ = ~uint64_t{0};
   uint64_t tick_ = 0;
   int steps_per_tick_ = 1;
   double min_separation_m_;
+  std::set<std::pair<size_t, size_t>> overlapping_;  ///< robot pairs whose footprints overlap
+  SimulationTiming timing_;
 };
 
 }  // namespace fleetnav::sim

@@ -35,6 +35,53 @@ struct FloorStripe {
   double width_m = 0.05;
 };
 
+/// A shopping trolley (KUKA thesis ch. 15): a basket above laser height on four legs; the
+/// sensors and the map see the four corner legs as cylinders (added to `cylinders` as
+/// kind "trolley_leg" when the world is parsed).
+struct Trolley {
+  Eigen::Vector2d center_m = Eigen::Vector2d::Zero();
+  Eigen::Vector2d size_m = Eigen::Vector2d(0.9, 0.55);
+  double yaw_rad = 0.0;
+  double leg_radius_m = 0.02;
+};
+
+/// What a fault does (SimService.InjectFault, or `faults:` in the world file).
+enum class FaultType : uint8_t {
+  kHideUltrasonicRegion,  ///< ultrasonic echoes from inside the region are lost
+  kRemoveFenceSegment,    ///< the parts of fences inside the region are taken away
+  kRemoveStripeSegment,   ///< the parts of floor stripes inside the region are taken away
+  kWheelSlipRegion,       ///< inside the region ground travel = factor × wheel travel
+  kSensorDropout,         ///< a robot's sensor (or all of them) reports nothing for a while
+  kSlowDown,              ///< a robot's drive does factor × what it is commanded
+};
+
+/// One fault: an axis-aligned region for the region faults, robot and sensor for the others.
+/// duration_s 0 means until the next Reset. Value type.
+struct FaultSpec {
+  FaultType type = FaultType::kHideUltrasonicRegion;
+  std::string label;  ///< e.g. the thesis's "A", "B", "C"
+  Eigen::Vector2d region_min_m = Eigen::Vector2d::Zero();
+  Eigen::Vector2d region_max_m = Eigen::Vector2d::Zero();
+  std::string robot_id;
+  std::string sensor_name;  ///< empty: every sensor of the robot
+  double duration_s = 0.0;
+  double factor = 1.0;
+  /// Whether a point lies in the fault's region.
+  bool InRegion(const Eigen::Vector2d& p) const {
+    return p.x() >= region_min_m.x() && p.y() >= region_min_m.y() && p.x() <= region_max_m.x() &&
+           p.y() <= region_max_m.y();
+  }
+  bool IsRegionFault() const {
+    return type == FaultType::kHideUltrasonicRegion || type == FaultType::kRemoveFenceSegment ||
+           type == FaultType::kRemoveStripeSegment || type == FaultType::kWheelSlipRegion;
+  }
+};
+
+/// "hide_ultrasonic", "remove_fence", "remove_stripe", "wheel_slip", "sensor_dropout",
+/// "slow_down".
+std::string_view FaultTypeName(FaultType type);
+absl::StatusOr<FaultType> FaultTypeByName(std::string_view name);
+
 /// A robot placed in the world at start.
 struct RobotSpawn {
   std::string robot_id;
@@ -54,7 +101,13 @@ struct WorldDescription {
   std::vector<FloorStripe> stripes;
   std::vector<StripeMarker> markers;
   std::vector<RobotSpawn> robots;
+  std::vector<Trolley> trolleys;
+  std::vector<FaultSpec> faults;  ///< in force from the start of every run
 };
+
+/// Takes away what a remove_fence or remove_stripe fault removes: the parts of fences (cut
+/// along their centre line) and of stripes inside the region. Other faults change nothing.
+void ApplyGeometryFault(const FaultSpec& fault, WorldDescription* world);
 
 /// World YAML (see docs/file-formats.md):
 ///   name: barn
@@ -66,6 +119,10 @@ struct WorldDescription {
 ///   stripes:   [{id: 1, points: [[x, y], [x, y]], width: 0.05}]
 ///   markers:   [{id: 1, at: [x, y], yaw_deg: 90, length: 0.6}]
 ///   robots:    [{id: lely1, kind: lely-vector, pose: [x, y, yaw_deg]}]
+///   trolleys:  [{center: [x, y], size: [0.9, 0.55], yaw_deg: 0, leg_radius: 0.02}]
+///   faults:    [{type: remove_fence, label: B, region: {min: [x, y], max: [x, y]},
+///                robot: id, sensor: name, duration_s: 0, factor: 1}]
+/// See docs/simulator.md.
 /// Errors are InvalidArgument naming the list and index, e.g. "walls[2].to: expected [x, y]".
 absl::StatusOr<WorldDescription> ParseWorldYaml(std::string_view yaml_text);
 absl::StatusOr<WorldDescription> LoadWorld(const std::string& path);

@@ -1,0 +1,201 @@
+#include "fleetnav/sim/kinematic_robot.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fleetnav::sim {
+namespace {
+
+constexpr double kStoppedSpeedMps = 0.01;
+constexpr double kGroundClearanceM = 0.02;
+
+struct Extent {
+  Eigen::Vector2d center;
+  Eigen::Vector2d size;
+};
+
+Extent FootprintBox(const RobotModel& model) {
+  Eigen::Vector2d lo(1e9, 1e9), hi(-1e9, -1e9);
+  for (const Eigen::Vector2d& p : model.footprint_m) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  return {0.5 * (lo + hi), hi - lo};
+}
+
+// Pose after moving with a body twist for dt (translation at the mid-interval heading).
+Pose2 Integrate(const Pose2& pose, double vx, double vy, double yaw_rate, double dt) {
+  const double dtheta = yaw_rate * dt;
+  const double mid = pose.yaw_rad() + 0.5 * dtheta;
+  const double c = std::cos(mid), s = std::sin(mid);
+  return Pose2(pose.x_m() + (c * vx - s * vy) * dt, pose.y_m() + (s * vx + c * vy) * dt,
+               pose.yaw_rad() + dtheta);
+}
+
+}  // namespace
+
+MecanumWheelRates MecanumInverse(const RobotModel& model, const Twist2& twist) {
+  const double k = 0.5 * (model.wheelbase_m + model.track_m);  // T_X + T_Y
+  const double r = model.wheel_radius_m;
+  const double w = twist.yaw_rate_radps;
+  return {(twist.vx_mps - twist.vy_mps - k * w) / r, (twist.vx_mps + twist.vy_mps + k * w) / r,
+          (twist.vx_mps + twist.vy_mps - k * w) / r, (twist.vx_mps - twist.vy_mps + k * w) / r};
+}
+
+Twist2 MecanumForward(const RobotModel& model, const MecanumWheelRates& q) {
+  const double k = 0.5 * (model.wheelbase_m + model.track_m);
+  const double r = model.wheel_radius_m;
+  return Twist2{0.25 * r * (q[0] + q[1] + q[2] + q[3]), 0.25 * r * (-q[0] + q[1] + q[2] - q[3]),
+                0.25 * r / k * (-q[0] + q[1] - q[2] + q[3])};
+}
+
+KinematicRobot::KinematicRobot(OdeWorld* world, int robot_index, const RobotModel& model,
+                               const Pose2& start, uint64_t caster_seed, CasterFlipParams caster)
+    : model_(model), caster_(caster), caster_noise_(caster_seed), pose_(start) {
+  const Extent box = FootprintBox(model);
+  body_ = dBodyCreate(world->world());
+  dBodySetKinematic(body_);
+  dGeomID geom = dCreateBox(world->space(), box.size.x(), box.size.y(), model.height_m);
+  dGeomSetBody(geom, body_);
+  dGeomSetOffsetPosition(geom, box.center.x(), box.center.y(), 0.0);
+  dGeomSetData(geom, world->MakeTag(GeomRole::kChassis, robot_index));
+  PlaceBody();
+}
+
+void KinematicRobot::PlaceBody() {
+  dBodySetPosition(body_, pose_.x_m(), pose_.y_m(), kGroundClearanceM + 0.5 * model_.height_m);
+  dMatrix3 rotation;
+  dRFromAxisAndAngle(rotation, 0, 0, 1, pose_.yaw_rad());
+  dBodySetRotation(body_, rotation);
+  dBodySetLinearVel(body_, 0, 0, 0);
+  dBodySetAngularVel(body_, 0, 0, 0);
+}
+
+absl::Status KinematicRobot::SetDrive(const DriveCommand& drive, double scale) {
+  const MotionLimits& limits = model_.limits;
+  if (model_.kinematics == Kinematics::kOmnidirectional) {
+    const auto* twist = std::get_if<Twist2>(&drive);
+    if (twist == nullptr) {
+      return absl::InvalidArgumentError("the robot is omnidirectional: send a twist");
+    }
+    target_.vx_mps =
+        std::clamp(scale * twist->vx_mps, -limits.max_reverse_speed_mps, limits.max_speed_mps);
+    target_.vy_mps = std::clamp(scale * twist->vy_mps, -limits.max_lateral_speed_mps,
+                                limits.max_lateral_speed_mps);
+    target_.yaw_rate_radps = std::clamp(scale * twist->yaw_rate_radps, -limits.max_yaw_rate_radps,
+                                        limits.max_yaw_rate_radps);
+    return absl::OkStatus();
+  }
+  double speed = 0.0;
+  double steering = target_steering_rad_;
+  if (const auto* twist = std::get_if<Twist2>(&drive)) {
+    speed = twist->vx_mps;
+    if (std::abs(speed) > 1e-3) {
+      steering = std::atan(twist->yaw_rate_radps * model_.wheelbase_m / speed);
+    }
+  } else if (const auto* ackermann = std::get_if<AckermannDrive>(&drive)) {
+    speed = ackermann->speed_mps;
+    steering = ackermann->steering_rad;
+  } else {
+    return absl::InvalidArgumentError(
+        "the robot is Ackermann: send a twist or an Ackermann command, not wheel speeds");
+  }
+  if (!std::isfinite(speed) || !std::isfinite(steering)) {
+    return absl::InvalidArgumentError("Ackermann command: not finite");
+  }
+  target_speed_mps_ =
+      std::clamp(scale * speed, -limits.max_reverse_speed_mps, limits.max_speed_mps);
+  target_steering_rad_ = std::clamp(steering, -limits.max_steering_rad, limits.max_steering_rad);
+  return absl::OkStatus();
+}
+
+double KinematicRobot::Approach(double current, double target, double max_step) const {
+  return current + std::clamp(target - current, -max_step, max_step);
+}
+
+Pose2 KinematicRobot::Propose(double dt, double traction) {
+  const MotionLimits& limits = model_.limits;
+  proposed_wheels_ = wheel_angles_;
+  proposed_pending_loss_m_ = pending_loss_m_;
+  if (model_.kinematics == Kinematics::kOmnidirectional) {
+    Twist2 v;
+    v.vx_mps = Approach(command_velocity_.vx_mps, target_.vx_mps, limits.max_accel_mps2 * dt);
+    v.vy_mps = Approach(command_velocity_.vy_mps, target_.vy_mps, limits.max_accel_mps2 * dt);
+    v.yaw_rate_radps = Approach(command_velocity_.yaw_rate_radps, target_.yaw_rate_radps,
+                                limits.max_yaw_accel_radps2 * dt);
+    proposed_command_velocity_ = v;
+    const MecanumWheelRates rates = MecanumInverse(model_, v);
+    for (size_t i = 0; i < 4; ++i) proposed_wheels_[i] += rates[i] * dt;
+
+    // Caster flip: a restart in (nearly) the opposite direction loses some travel.
+    const Eigen::Vector2d translation(v.vx_mps, v.vy_mps);
+    const double speed = translation.norm();
+    double scale = traction;
+    if (speed < kStoppedSpeedMps) {
+      stopped_ = true;
+    } else {
+      const Eigen::Vector2d direction = translation / speed;
+      if (stopped_ && last_direction_.squaredNorm() > 0.0 &&
+          direction.dot(last_direction_) < -std::cos(caster_.reversal_tolerance_rad)) {
+        proposed_pending_loss_m_ +=
+            std::max(0.0, caster_.mean_loss_m + caster_noise_.Gaussian(caster_.stddev_loss_m));
+        ++caster_flips_;
+      }
+      stopped_ = false;
+      last_direction_ = direction;
+      const double travel = speed * dt * traction;
+      const double absorbed = std::min(proposed_pending_loss_m_, travel);
+      proposed_pending_loss_m_ -= absorbed;
+      scale = travel > 0.0 ? traction * (travel - absorbed) / travel : traction;
+    }
+    proposed_velocity_ = Twist2{scale * v.vx_mps, scale * v.vy_mps, traction * v.yaw_rate_radps};
+    proposed_pose_ = Integrate(pose_, proposed_velocity_.vx_mps, proposed_velocity_.vy_mps,
+                               proposed_velocity_.yaw_rate_radps, dt);
+    return proposed_pose_;
+  }
+  // Ackermann bicycle model about the rear axle.
+  proposed_steering_rad_ =
+      std::clamp(Approach(steering_rad_, target_steering_rad_, limits.max_steering_rate_radps * dt),
+                 -limits.max_steering_rad, limits.max_steering_rad);
+  proposed_speed_mps_ = Approach(speed_mps_, target_speed_mps_, limits.max_accel_mps2 * dt);
+  const double yaw_rate =
+      proposed_speed_mps_ * std::tan(proposed_steering_rad_) / model_.wheelbase_m;
+  const double half_track = 0.5 * model_.track_m;
+  proposed_wheels_[0] += (proposed_speed_mps_ - yaw_rate * half_track) / model_.wheel_radius_m * dt;
+  proposed_wheels_[1] += (proposed_speed_mps_ + yaw_rate * half_track) / model_.wheel_radius_m * dt;
+  proposed_velocity_ = Twist2{traction * proposed_speed_mps_, 0.0, traction * yaw_rate};
+  proposed_pose_ =
+      Integrate(pose_, proposed_velocity_.vx_mps, 0.0, proposed_velocity_.yaw_rate_radps, dt);
+  return proposed_pose_;
+}
+
+void KinematicRobot::Commit(bool blocked) {
+  if (blocked) {
+    velocity_ = Twist2{};
+    command_velocity_ = Twist2{};
+    speed_mps_ = 0.0;
+    steering_rad_ = proposed_steering_rad_;
+    stopped_ = true;
+  } else {
+    pose_ = proposed_pose_;
+    velocity_ = proposed_velocity_;
+    command_velocity_ = proposed_command_velocity_;
+    wheel_angles_ = proposed_wheels_;
+    steering_rad_ = proposed_steering_rad_;
+    speed_mps_ = proposed_speed_mps_;
+    pending_loss_m_ = proposed_pending_loss_m_;
+  }
+  PlaceBody();
+}
+
+std::vector<WheelAngle> KinematicRobot::WheelAngles() const {
+  if (model_.kinematics == Kinematics::kOmnidirectional) {
+    return {{"front_left", wheel_angles_[0]},
+            {"front_right", wheel_angles_[1]},
+            {"rear_left", wheel_angles_[2]},
+            {"rear_right", wheel_angles_[3]}};
+  }
+  return {{"left", wheel_angles_[0]}, {"right", wheel_angles_[1]}};
+}
+
+}  // namespace fleetnav::sim

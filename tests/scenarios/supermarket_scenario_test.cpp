@@ -1,0 +1,68 @@
+// The KUKA platform in the supermarket (thesis ch. 15): its laser sees all four cylinder legs of
+// the trolley ahead, it drives sideways down the aisle, and it docks under the trolley without
+// touching a leg.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "fleetnav/sim/simulation.hpp"
+
+namespace fleetnav::sim {
+namespace {
+
+std::unique_ptr<Simulation> Supermarket(const Pose2& omni_pose) {
+  absl::StatusOr<WorldDescription> world =
+      LoadWorld(std::string(FLEETNAV_WORLDS_DIR) + "/supermarket.yaml");
+  EXPECT_TRUE(world.ok()) << world.status();
+  absl::StatusOr<std::unique_ptr<Simulation>> sim = Simulation::Create(*world, SimulationParams{});
+  EXPECT_TRUE(sim.ok());
+  EXPECT_TRUE((*sim)->AddRobot("omni1", "mecanum-platform", omni_pose).ok());
+  return std::move(*sim);
+}
+
+TEST(SupermarketScenarioTest, LaserSeesTheFourTrolleyLegs) {
+  // The trolley at (-2, -1.8), 1.0 x 0.7 m, legs of radius 2 cm at its corners.
+  const Pose2 omni(-5.0, -1.8, 0.0);
+  std::unique_ptr<Simulation> sim = Supermarket(omni);
+  absl::StatusOr<SensorFrame> frame = sim->Sense("omni1");
+  ASSERT_TRUE(frame.ok());
+  ASSERT_EQ(frame->lasers.size(), 1u);
+  const LaserScanSample& scan = frame->lasers[0];
+  const Pose2 laser = omni * Pose2(0.35, 0.0, 0.0);
+  const double hx = 0.5 - 0.02, hy = 0.35 - 0.02;
+  for (const Eigen::Vector2d& leg :
+       {Eigen::Vector2d(-2 - hx, -1.8 - hy), Eigen::Vector2d(-2 - hx, -1.8 + hy),
+        Eigen::Vector2d(-2 + hx, -1.8 - hy), Eigen::Vector2d(-2 + hx, -1.8 + hy)}) {
+    // Some beam ends on this leg's surface.
+    int hits = 0;
+    for (size_t i = 0; i < scan.ranges_m.size(); ++i) {
+      const double angle =
+          laser.yaw_rad() + scan.angle_min_rad + static_cast<double>(i) * scan.angle_increment_rad;
+      const Eigen::Vector2d end =
+          laser.translation() +
+          scan.ranges_m[i] * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+      if (std::abs((end - leg).norm() - 0.02) < 0.04) ++hits;
+    }
+    EXPECT_GE(hits, 1) << "leg at " << leg.transpose();
+  }
+}
+
+TEST(SupermarketScenarioTest, PlatformDocksUnderTheTrolleyWithoutTouchingALeg) {
+  std::unique_ptr<Simulation> sim = Supermarket(Pose2(-5.0, -1.8, 0.0));
+  ActuatorCommand forward;
+  forward.drive = Twist2{0.3, 0.0, 0.0};
+  ASSERT_TRUE(sim->Command("omni1", forward).ok());
+  // 3 m to the trolley's centre: 0.09 m of ramp up, 9.4 s at 0.3 m/s, 0.09 m of ramp down.
+  for (int i = 0; i < 500; ++i) sim->Advance();
+  ActuatorCommand stop;
+  ASSERT_TRUE(sim->Command("omni1", stop).ok());
+  for (int i = 0; i < 50; ++i) sim->Advance();
+  const GroundTruthSnapshot truth = sim->GroundTruth();
+  EXPECT_NEAR(truth.robots[0].pose.x_m(), -2.0, 0.05);
+  EXPECT_NEAR(truth.robots[0].pose.y_m(), -1.8, 1e-9);
+  EXPECT_TRUE(truth.contacts.empty());
+  EXPECT_FALSE(sim->Sense("omni1")->bumper);
+}
+
+}  // namespace
+}  // namespace fleetnav::sim
