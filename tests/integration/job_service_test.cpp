@@ -264,10 +264,75 @@ TEST_F(JobServiceTest, ListRobotsIsEmptyUntilARobotConnects) {
   v1::ListRobotsResponse response;
   ASSERT_TRUE(fleet_->ListRobots(&context, {}, &response).ok());
   EXPECT_EQ(response.robots_size(), 0);
-  grpc::ClientContext plan_context;
-  v1::PlanPathsResponse plan;
-  EXPECT_EQ(fleet_->PlanPaths(&plan_context, {}, &plan).error_code(),
-            grpc::StatusCode::UNIMPLEMENTED);
+}
+
+v1::PlanPathsRequest::Agent PlanAgent(const std::string& id, double sx, double sy, double gx,
+                                      double gy) {
+  v1::PlanPathsRequest::Agent agent;
+  agent.set_robot_id(id);
+  agent.set_kind_name("lely-vector");
+  agent.mutable_start()->set_x_m(sx);
+  agent.mutable_start()->set_y_m(sy);
+  agent.mutable_goal()->set_x_m(gx);
+  agent.mutable_goal()->set_y_m(gy);
+  return agent;
+}
+
+TEST_F(JobServiceTest, PlanPathsSwapsTwoRobotsInTheAlleyWithoutMeeting) {
+  grpc::ClientContext context;
+  v1::PlanPathsRequest request;
+  request.set_map_id("barn");
+  *request.add_agents() = PlanAgent("lely1", -6.0, 0.0, 6.0, 0.0);
+  *request.add_agents() = PlanAgent("lely2", 6.0, 0.0, -6.0, 0.0);
+  v1::PlanPathsResponse response;
+  const grpc::Status status = fleet_->PlanPaths(&context, request, &response);
+  ASSERT_TRUE(status.ok()) << status.error_message();
+  ASSERT_EQ(response.paths_size(), 2);
+  const auto& a = response.paths(0).poses();
+  const auto& b = response.paths(1).poses();
+  EXPECT_NEAR(a[a.size() - 1].pose().x_m(), 6.0, 1e-9);
+  EXPECT_NEAR(b[b.size() - 1].pose().x_m(), -6.0, 1e-9);
+  // At every planned time the robots are more than one planning cell apart or waiting apart.
+  for (int t = 1; t + 1 < std::min(a.size(), b.size()); ++t) {
+    const double dx = a[t].pose().x_m() - b[t].pose().x_m();
+    const double dy = a[t].pose().y_m() - b[t].pose().y_m();
+    EXPECT_GT(std::hypot(dx, dy), 1.0) << "at step " << t;
+  }
+  EXPECT_GT(response.dependencies_size(), 0);  // someone passes where the other has been
+  EXPECT_GT(response.makespan_s(), 12.0 / 0.5 - 1e-9);
+}
+
+TEST_F(JobServiceTest, PlanPathsRefusesBadAgentsNamingThem) {
+  struct Case {
+    v1::PlanPathsRequest request;
+    grpc::StatusCode code;
+    std::string text;
+  };
+  std::vector<Case> cases(4);
+  cases[0].request.set_map_id("barn");
+  *cases[0].request.add_agents() = PlanAgent("lely1", 11.0, 0.0, 0.0, 0.0);  // feed kitchen
+  cases[0].code = grpc::StatusCode::INVALID_ARGUMENT;
+  cases[0].text = "agents[0].start";
+  cases[1].request.set_map_id("barn");
+  *cases[1].request.add_agents() = PlanAgent("lely1", -6.0, 0.0, 0.0, 0.0);
+  cases[1].request.mutable_agents(0)->set_kind_name("hovercraft");
+  cases[1].code = grpc::StatusCode::INVALID_ARGUMENT;
+  cases[1].text = "kind_name";
+  cases[2].request.set_map_id("nowhere");
+  *cases[2].request.add_agents() = PlanAgent("lely1", -6.0, 0.0, 0.0, 0.0);
+  cases[2].code = grpc::StatusCode::NOT_FOUND;
+  cases[2].text = "nowhere";
+  cases[3].request.set_map_id("barn");
+  cases[3].code = grpc::StatusCode::INVALID_ARGUMENT;
+  cases[3].text = "agents";
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.text);
+    grpc::ClientContext context;
+    v1::PlanPathsResponse response;
+    const grpc::Status status = fleet_->PlanPaths(&context, c.request, &response);
+    EXPECT_EQ(status.error_code(), c.code);
+    EXPECT_THAT(status.error_message(), ::testing::HasSubstr(c.text));
+  }
 }
 
 }  // namespace

@@ -265,4 +265,42 @@ grpc::Status FleetServiceImpl::WatchJob(grpc::ServerContext* context,
   return grpc::Status::OK;
 }
 
+grpc::Status FleetServiceImpl::PlanPaths(grpc::ServerContext*, const v1::PlanPathsRequest* request,
+                                         v1::PlanPathsResponse* response) {
+  std::vector<TrafficAgent> agents;
+  for (int i = 0; i < request->agents_size(); ++i) {
+    const v1::PlanPathsRequest::Agent& wire = request->agents(i);
+    const std::string field = absl::StrCat("agents[", i, "]");
+    absl::StatusOr<Pose2> start = FromProto(wire.start(), field + ".start");
+    if (!start.ok()) return ToGrpcStatus(start.status());
+    absl::StatusOr<Pose2> goal = FromProto(wire.goal(), field + ".goal");
+    if (!goal.ok()) return ToGrpcStatus(goal.status());
+    agents.push_back({wire.robot_id(), wire.kind_name(), *start, *goal});
+  }
+  const double time_limit_s = request->time_limit_s() == 0.0 ? 1.0 : request->time_limit_s();
+  absl::StatusOr<TrafficPlan> plan =
+      traffic_->Plan(request->map_id(), request->map_version(), agents, time_limit_s);
+  if (!plan.ok()) return ToGrpcStatus(plan.status());
+  for (size_t i = 0; i < plan->paths.size(); ++i) {
+    v1::PlannedPath* path = response->add_paths();
+    path->set_robot_id(agents[i].robot_id);
+    for (const TimedPose& step : plan->paths[i]) {
+      v1::TimedPose* wire = path->add_poses();
+      wire->set_t_s(step.t_s);
+      *wire->mutable_pose() = fleetnav::ToProto(step.pose);
+    }
+  }
+  for (const TrafficDependency& d : plan->dependencies) {
+    v1::DependencyEdge* edge = response->add_dependencies();
+    edge->set_from_robot_id(d.from_robot_id);
+    edge->set_from_action(static_cast<uint32_t>(d.from_action));
+    edge->set_to_robot_id(d.to_robot_id);
+    edge->set_to_action(static_cast<uint32_t>(d.to_action));
+  }
+  response->set_sum_of_costs_s(plan->sum_of_costs_s);
+  response->set_makespan_s(plan->makespan_s);
+  response->set_planning_ms(plan->planning_ms);
+  return grpc::Status::OK;
+}
+
 }  // namespace fleetnav::server

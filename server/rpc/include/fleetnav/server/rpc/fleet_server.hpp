@@ -16,6 +16,7 @@
 #include "fleetnav/server/rpc/agent_service.hpp"
 #include "fleetnav/server/rpc/fleet_service.hpp"
 #include "fleetnav/server/site_catalog.hpp"
+#include "fleetnav/server/traffic_planner.hpp"
 #include "fleetnav/storage/sqlite/sqlite_database.hpp"
 #include "fleetnav/storage/sqlite/sqlite_fleet_repositories.hpp"
 #include "fleetnav/storage/sqlite/sqlite_map_repository.hpp"
@@ -63,6 +64,7 @@ class FleetServer {
   std::unique_ptr<SiteCatalog> site_;
   AgentMailbox mailbox_;
   std::unique_ptr<JobService> jobs_;
+  std::unique_ptr<TrafficPlanner> traffic_;
   std::thread dispatcher_;
   std::unique_ptr<FleetServiceImpl> fleet_service_;
   std::unique_ptr<AgentServiceImpl> agent_service_;

@@ -6,19 +6,25 @@
 #include "fleetnav/server/job_service.hpp"
 #include "fleetnav/server/map_catalog.hpp"
 #include "fleetnav/server/site_catalog.hpp"
+#include "fleetnav/server/traffic_planner.hpp"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
 
 namespace fleetnav::server {
 
 /// gRPC edge of FleetService: converts the request, calls a use case, converts the answer.
-/// PlanPaths answers UNIMPLEMENTED until the planner is wired in. Streams (WatchFleet,
+/// Streams (WatchFleet,
 /// WatchJob) poll their source at their own rate, so a slow client only slows itself.
 /// Thread-safe.
 class FleetServiceImpl final : public v1::FleetService::Service {
  public:
-  FleetServiceImpl(MapCatalog* maps, SiteCatalog* site, JobService* jobs, FleetRegistry* registry,
-                   const std::atomic<bool>* stopping)
-      : maps_(maps), site_(site), jobs_(jobs), registry_(registry), stopping_(stopping) {}
+  FleetServiceImpl(MapCatalog* maps, SiteCatalog* site, JobService* jobs, TrafficPlanner* traffic,
+                   FleetRegistry* registry, const std::atomic<bool>* stopping)
+      : maps_(maps),
+        site_(site),
+        jobs_(jobs),
+        traffic_(traffic),
+        registry_(registry),
+        stopping_(stopping) {}
 
   grpc::Status PutMap(grpc::ServerContext* context, const v1::PutMapRequest* request,
                       v1::PutMapResponse* response) override;
@@ -54,11 +60,14 @@ class FleetServiceImpl final : public v1::FleetService::Service {
                          v1::CancelJobResponse* response) override;
   grpc::Status WatchJob(grpc::ServerContext* context, const v1::WatchJobRequest* request,
                         grpc::ServerWriter<v1::JobEvent>* writer) override;
+  grpc::Status PlanPaths(grpc::ServerContext* context, const v1::PlanPathsRequest* request,
+                         v1::PlanPathsResponse* response) override;
 
  private:
   MapCatalog* maps_;
   SiteCatalog* site_;
   JobService* jobs_;
+  TrafficPlanner* traffic_;
   FleetRegistry* registry_;
   const std::atomic<bool>* stopping_;
 };

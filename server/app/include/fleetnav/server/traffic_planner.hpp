@@ -1,0 +1,63 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "fleetnav/core/pose2.hpp"
+#include "fleetnav/storage/map_repository.hpp"
+
+namespace fleetnav::server {
+
+struct TrafficAgent {
+  std::string robot_id;
+  std::string kind_name;  ///< a RobotModel preset (sets the cell size and speed)
+  Pose2 start;
+  Pose2 goal;
+};
+
+struct TimedPose {
+  double t_s = 0.0;
+  Pose2 pose;
+};
+
+/// "Action `to_action` of robot `to` may start only after action `from_action` of robot `from`
+/// has finished" (an edge of the action dependency graph).
+struct TrafficDependency {
+  std::string from_robot_id;
+  int from_action = 0;
+  std::string to_robot_id;
+  int to_action = 0;
+};
+
+struct TrafficPlan {
+  std::vector<std::vector<TimedPose>> paths;  ///< per agent, in request order
+  std::vector<TrafficDependency> dependencies;
+  double sum_of_costs_s = 0.0;
+  double makespan_s = 0.0;
+  double planning_ms = 0.0;
+  double cell_size_m = 0.0;
+  std::string solver;
+};
+
+/// Coordinated paths for several robots on one map (PlanPaths): the map is coarsened to a
+/// 4-connected grid whose cells are as wide as the largest robot (a coarse cell is free only if
+/// every map cell in it is free), starts and goals are snapped to their cells, the multi-robot
+/// planner (EECBS for tens, LaCAM* for hundreds; planner/) solves it within the time limit, and
+/// the plan is compiled into an action dependency graph (Hönig et al., RA-L 2019) so that it
+/// stays collision-free under any delay. Thread-safe as its repository is.
+class TrafficPlanner {
+ public:
+  explicit TrafficPlanner(storage::MapRepository* maps) : maps_(maps) {}
+
+  /// InvalidArgument names `agents[i]` for an unknown kind, a start or goal off the free grid,
+  /// or two robots on one cell; NotFound for the map; DeadlineExceeded when no plan is found
+  /// in time.
+  absl::StatusOr<TrafficPlan> Plan(const std::string& map_id, uint32_t map_version,
+                                   const std::vector<TrafficAgent>& agents, double time_limit_s);
+
+ private:
+  storage::MapRepository* maps_;
+};
+
+}  // namespace fleetnav::server
