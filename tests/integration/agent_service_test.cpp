@@ -261,3 +261,32 @@ TEST_F(AgentServiceTest, UnknownRobotIsNotFound) {
 
 }  // namespace
 }  // namespace fleetnav
+
+namespace fleetnav {
+namespace {
+
+TEST_F(AgentServiceTest, TelemetryIsDownSampledIntoThePoseHistory) {
+  grpc::ClientContext context;
+  std::unique_ptr<AgentStream> stream = agents_->Connect(&context);
+  ASSERT_TRUE(stream->Write(Hello("lely1")));
+  v1::ServerMessage welcome;
+  ASSERT_TRUE(stream->Read(&welcome));
+  // 2.5 s of telemetry at 20 Hz: the recorder keeps about one sample per second.
+  for (int i = 0; i < 50; ++i) {
+    ASSERT_TRUE(stream->Write(TelemetryAt(0.01 * i, int64_t{50'000'000} * i)));
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  absl::StatusOr<std::vector<storage::PoseSample>> history =
+      server_->pose_history().ListPoses("lely1", 0, 1000);
+  ASSERT_TRUE(history.ok()) << history.status();
+  EXPECT_GE(history->size(), 1u);
+  EXPECT_LE(history->size(), 4u);
+  for (const storage::PoseSample& sample : *history) {
+    EXPECT_NEAR(sample.pose_in_map.y_m(), 1.0, 1e-12);
+  }
+  stream->WritesDone();
+  (void)stream->Finish();
+}
+
+}  // namespace
+}  // namespace fleetnav

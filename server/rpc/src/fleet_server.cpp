@@ -7,6 +7,7 @@
 #include <chrono>
 
 #include "absl/strings/str_cat.h"
+#include "absl/time/clock.h"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/storage/sqlite/schema.hpp"
 
@@ -24,6 +25,7 @@ absl::Status FleetServerParams::Validate() const {
         absl::StrCat("dispatch_period_s: must be in (0, 10], got ", dispatch_period_s));
   }
   RETURN_IF_ERROR(jobs.Validate());
+  RETURN_IF_ERROR(pose_history.Validate());
   return registry.Validate();
 }
 
@@ -41,6 +43,9 @@ absl::StatusOr<int> FleetServer::Start() {
   route_repository_ = std::make_unique<storage::SqliteRouteRepository>(db_.get());
   robot_repository_ = std::make_unique<storage::SqliteRobotRepository>(db_.get());
   job_repository_ = std::make_unique<storage::SqliteJobRepository>(db_.get());
+  pose_history_repository_ = std::make_unique<storage::SqlitePoseHistoryRepository>(db_.get());
+  pose_recorder_ = std::make_unique<PoseHistoryRecorder>(&registry_, pose_history_repository_.get(),
+                                                         params_.pose_history);
   maps_ = std::make_unique<MapCatalog>(map_repository_.get());
   site_ = std::make_unique<SiteCatalog>(map_repository_.get(), marker_repository_.get(),
                                         route_repository_.get(), job_repository_.get());
@@ -68,8 +73,15 @@ absl::StatusOr<int> FleetServer::Start() {
   }
   dispatcher_ = std::thread([this] {
     const auto period = std::chrono::duration<double>(params_.dispatch_period_s);
+    const auto history_period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(params_.pose_history.period_s));
+    auto next_history = std::chrono::steady_clock::now() + history_period;
     while (!stopping_.load()) {
       jobs_->DispatchOnce();
+      if (std::chrono::steady_clock::now() >= next_history) {
+        (void)pose_recorder_->RecordOnce(absl::ToUnixMillis(absl::Now()));
+        next_history += history_period;
+      }
       std::this_thread::sleep_for(period);
     }
   });

@@ -58,8 +58,13 @@ absl::StatusOr<FleetServerConfig> ParseFleetServerConfig(std::string_view yaml_t
     RETURN_IF_ERROR(Read(limits, "max_page_size", "limits.", &p.jobs.max_page_size));
   }
   if (const YAML::Node timeouts = root["timeouts"]) {
-    RETURN_IF_ERROR(CheckKeys(
-        timeouts, {"stale_after_s", "lost_robot_timeout_s", "dispatch_period_s"}, "timeouts"));
+    RETURN_IF_ERROR(CheckKeys(timeouts,
+                              {"stale_after_s", "lost_robot_timeout_s", "dispatch_period_s",
+                               "pose_history_period_s", "pose_history_retention_s"},
+                              "timeouts"));
+    RETURN_IF_ERROR(Read(timeouts, "pose_history_period_s", "timeouts.", &p.pose_history.period_s));
+    RETURN_IF_ERROR(
+        Read(timeouts, "pose_history_retention_s", "timeouts.", &p.pose_history.retention_s));
     RETURN_IF_ERROR(Read(timeouts, "stale_after_s", "timeouts.", &p.registry.stale_after_s));
     RETURN_IF_ERROR(
         Read(timeouts, "lost_robot_timeout_s", "timeouts.", &p.jobs.lost_robot_timeout_s));

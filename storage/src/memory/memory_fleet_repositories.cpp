@@ -171,4 +171,30 @@ absl::StatusOr<std::vector<JobEvent>> MemoryJobRepository::ListEvents(const std:
   return out;
 }
 
+absl::Status MemoryPoseHistoryRepository::AppendPoses(const std::vector<PoseSample>& samples) {
+  absl::MutexLock lock(&mutex_);
+  samples_.insert(samples_.end(), samples.begin(), samples.end());
+  return absl::OkStatus();
+}
+
+absl::StatusOr<std::vector<PoseSample>> MemoryPoseHistoryRepository::ListPoses(
+    const std::string& robot_id, int64_t since_unix_ms, int limit) {
+  absl::MutexLock lock(&mutex_);
+  std::vector<PoseSample> out;
+  for (const PoseSample& sample : samples_) {
+    if (static_cast<int>(out.size()) >= limit) break;
+    if (sample.robot_id == robot_id && sample.unix_ms >= since_unix_ms) out.push_back(sample);
+  }
+  return out;
+}
+
+absl::StatusOr<int64_t> MemoryPoseHistoryRepository::PruneBefore(int64_t before_unix_ms) {
+  absl::MutexLock lock(&mutex_);
+  const size_t before = samples_.size();
+  samples_.erase(std::remove_if(samples_.begin(), samples_.end(),
+                                [&](const PoseSample& s) { return s.unix_ms < before_unix_ms; }),
+                 samples_.end());
+  return static_cast<int64_t>(before - samples_.size());
+}
+
 }  // namespace fleetnav::storage

@@ -83,6 +83,19 @@ const std::vector<std::string>& FleetSchemaMigrations() {
           PRIMARY KEY (job_id, sequence)
         );
       )sql",
+      // 3: down-sampled pose history.
+      R"sql(
+        CREATE TABLE pose_history (
+          robot_id TEXT NOT NULL,
+          unix_ms INTEGER NOT NULL,
+          stamp_ns INTEGER NOT NULL,
+          x_m REAL NOT NULL,
+          y_m REAL NOT NULL,
+          yaw_rad REAL NOT NULL
+        );
+        CREATE INDEX pose_history_by_robot ON pose_history (robot_id, unix_ms);
+        CREATE INDEX pose_history_by_time ON pose_history (unix_ms);
+      )sql",
   };
   return kMigrations;
 }

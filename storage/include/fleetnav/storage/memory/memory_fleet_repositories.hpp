@@ -6,6 +6,7 @@
 #include "absl/synchronization/mutex.h"
 #include "fleetnav/storage/job_repository.hpp"
 #include "fleetnav/storage/marker_set_repository.hpp"
+#include "fleetnav/storage/pose_history_repository.hpp"
 #include "fleetnav/storage/robot_repository.hpp"
 #include "fleetnav/storage/route_repository.hpp"
 
@@ -62,6 +63,19 @@ class MemoryJobRepository final : public JobRepository {
   absl::Mutex mutex_;
   std::vector<Job> jobs_ ABSL_GUARDED_BY(mutex_);  ///< index = seq - 1
   std::map<std::string, std::vector<JobEvent>> events_ ABSL_GUARDED_BY(mutex_);
+};
+
+/// PoseHistoryRepository in memory. Thread-safe.
+class MemoryPoseHistoryRepository final : public PoseHistoryRepository {
+ public:
+  absl::Status AppendPoses(const std::vector<PoseSample>& samples) override;
+  absl::StatusOr<std::vector<PoseSample>> ListPoses(const std::string& robot_id,
+                                                    int64_t since_unix_ms, int limit) override;
+  absl::StatusOr<int64_t> PruneBefore(int64_t before_unix_ms) override;
+
+ private:
+  absl::Mutex mutex_;
+  std::vector<PoseSample> samples_ ABSL_GUARDED_BY(mutex_);
 };
 
 }  // namespace fleetnav::storage

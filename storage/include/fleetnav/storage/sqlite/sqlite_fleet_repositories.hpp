@@ -2,6 +2,7 @@
 
 #include "fleetnav/storage/job_repository.hpp"
 #include "fleetnav/storage/marker_set_repository.hpp"
+#include "fleetnav/storage/pose_history_repository.hpp"
 #include "fleetnav/storage/robot_repository.hpp"
 #include "fleetnav/storage/route_repository.hpp"
 #include "fleetnav/storage/sqlite/sqlite_database.hpp"
@@ -55,6 +56,19 @@ class SqliteJobRepository final : public JobRepository {
   absl::StatusOr<int64_t> UpdateJob(const Job& job, JobEvent event) override;
   absl::StatusOr<std::vector<JobEvent>> ListEvents(const std::string& job_id,
                                                    int64_t after_sequence) override;
+
+ private:
+  SqliteDatabase* db_;
+};
+
+/// Pose history on SQLite: one transaction per batch. Thread-safe.
+class SqlitePoseHistoryRepository final : public PoseHistoryRepository {
+ public:
+  explicit SqlitePoseHistoryRepository(SqliteDatabase* db) : db_(db) {}
+  absl::Status AppendPoses(const std::vector<PoseSample>& samples) override;
+  absl::StatusOr<std::vector<PoseSample>> ListPoses(const std::string& robot_id,
+                                                    int64_t since_unix_ms, int limit) override;
+  absl::StatusOr<int64_t> PruneBefore(int64_t before_unix_ms) override;
 
  private:
   SqliteDatabase* db_;

@@ -12,6 +12,7 @@
 #include "fleetnav/server/fleet_registry.hpp"
 #include "fleetnav/server/job_service.hpp"
 #include "fleetnav/server/map_catalog.hpp"
+#include "fleetnav/server/pose_history_recorder.hpp"
 #include "fleetnav/server/rpc/agent_mailbox.hpp"
 #include "fleetnav/server/rpc/agent_service.hpp"
 #include "fleetnav/server/rpc/fleet_service.hpp"
@@ -28,6 +29,7 @@ struct FleetServerParams {
   std::string db_path = "fleetnav.db";             ///< SQLite file, created if missing
   FleetRegistryParams registry;
   JobServiceParams jobs;
+  PoseHistoryParams pose_history;
   double dispatch_period_s = 0.2;    ///< how often queued jobs are matched to idle robots
   int max_message_bytes = 64 << 20;  ///< largest request accepted (a 8k×8k map fits)
   absl::Status Validate() const;
@@ -35,8 +37,9 @@ struct FleetServerParams {
 
 /// fleetnavd as a library: opens the store, recovers robots and unfinished jobs, builds
 /// FleetService and AgentService with health checking and reflection, serves on a socket and
-/// runs the dispatcher on a thread of its own. Used by main() and by integration tests (real
-/// gRPC over loopback). Start once; Shutdown() ends open streams within a second.
+/// runs the dispatcher and the pose-history recorder on a housekeeping thread. Used by main() and
+/// by integration tests (real gRPC over loopback). Start once; Shutdown() ends open streams within
+/// a second.
 class FleetServer {
  public:
   explicit FleetServer(FleetServerParams params);
@@ -48,6 +51,7 @@ class FleetServer {
   void Wait();
   FleetRegistry& registry() { return registry_; }
   JobService& jobs() { return *jobs_; }
+  storage::PoseHistoryRepository& pose_history() { return *pose_history_repository_; }
 
  private:
   FleetServerParams params_;
@@ -60,6 +64,8 @@ class FleetServer {
   std::unique_ptr<storage::SqliteRouteRepository> route_repository_;
   std::unique_ptr<storage::SqliteRobotRepository> robot_repository_;
   std::unique_ptr<storage::SqliteJobRepository> job_repository_;
+  std::unique_ptr<storage::SqlitePoseHistoryRepository> pose_history_repository_;
+  std::unique_ptr<PoseHistoryRecorder> pose_recorder_;
   std::unique_ptr<MapCatalog> maps_;
   std::unique_ptr<SiteCatalog> site_;
   AgentMailbox mailbox_;
