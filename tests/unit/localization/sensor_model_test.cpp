@@ -173,3 +173,58 @@ TEST(SamclTest, RefusesAmbiguousAndFarMarkers) {
 
 }  // namespace
 }  // namespace fleetnav::localization
+
+namespace fleetnav::localization {
+namespace {
+
+TEST(SamclTest, SoftCalibrationReweightsTowardsTheLine) {
+  const OccupancyGrid map = Barn();
+  const RobotModel model = LelyVectorModel();
+  AmclParams params;
+  params.min_particles = params.max_particles = 2000;
+  Amcl amcl = *Amcl::Create(params, map);
+  const Pose2 sensor = model.FindSensor("inductive_left")->pose_in_base;
+  const Pose2 truth(-sensor.x_m(), 4.7, 0.0);
+  // A wide along-track cloud, its mean 0.15 m behind the truth.
+  ASSERT_TRUE(
+      amcl.InitializePose(Pose2(truth.x_m() - 0.15, 4.7, 0), {0.3, 0.02, 0.005}, Pose2(), 0).ok());
+  SamclParams soft;
+  soft.mode = SamclMode::kSoft;
+  Samcl samcl = *Samcl::Create(std::move(amcl), Experiment2Markers(), model, soft);
+  samcl.RecordOdometry(Pose2(), 0);
+  const CalibrationResult r = *samcl.OnInductiveEdge({"inductive_left", 0});
+  EXPECT_EQ(r.outcome, CalibrationOutcome::kApplied);
+  EXPECT_NEAR(samcl.amcl().estimate().pose_in_map.x_m(), truth.x_m(), 0.03);
+  EXPECT_TRUE(samcl.amcl().last_update().resampled);
+}
+
+TEST(AmclTest, HealthTurnsLostWhenScansStopFitting) {
+  const OccupancyGrid map = Barn();
+  AmclParams params;
+  params.min_particles = params.max_particles = 500;
+  params.alpha_fast = 0.0;  // no recovery: only the health is under test
+  params.alpha_slow = 0.0;
+  Amcl amcl = *Amcl::Create(params, map);
+  const Pose2 truth(-4.0, 2.5, 0.0);
+  ASSERT_TRUE(amcl.InitializePose(truth, {0.05, 0.05, 0.02}, Pose2(), 0).ok());
+  Rng rng(9);
+  int64_t stamp = 0;
+  for (int i = 0; i < 3; ++i) {
+    stamp += 2'000'000'000;
+    ASSERT_TRUE(amcl.Update(Pose2(), SimulateLaser(map, truth, 60, 12.0, 0.02, rng), stamp).ok());
+  }
+  EXPECT_FALSE(amcl.health().lost);
+  const double good_confidence = amcl.health().confidence;
+  // The scans now come from 5 m away.
+  for (int i = 0; i < 4; ++i) {
+    stamp += 2'000'000'000;
+    ASSERT_TRUE(
+        amcl.Update(Pose2(), SimulateLaser(map, Pose2(1.0, -1.0, 1.0), 60, 12.0, 0.02, rng), stamp)
+            .ok());
+  }
+  EXPECT_TRUE(amcl.health().lost);
+  EXPECT_LT(amcl.health().confidence, 0.5 * good_confidence);
+}
+
+}  // namespace
+}  // namespace fleetnav::localization
