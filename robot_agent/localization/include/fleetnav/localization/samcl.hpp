@@ -1,0 +1,94 @@
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <string>
+#include <utility>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "fleetnav/core/pose2.hpp"
+#include "fleetnav/core/robot_model.hpp"
+#include "fleetnav/core/stripe_marker.hpp"
+#include "fleetnav/localization/amcl.hpp"
+
+namespace fleetnav::localization {
+
+enum class SamclMode {
+  kHard,  ///< thesis Algorithm 4: move every particle onto the calibration line
+  kSoft,  ///< reweight particles by their sensor point's distance to the marker line
+};
+
+/// Parameters of SAMCL.
+struct SamclParams {
+  SamclMode mode = SamclMode::kHard;
+  /// h of Algorithm 4: a marker is associated when the estimated sensor point is within this
+  /// distance of the marker's position.
+  double association_radius_m = 1.0;
+  /// Soft mode: standard deviation of the sensor point's distance to the marker line.
+  double soft_sigma_m = 0.02;
+  /// Odometry history kept to interpolate the pose at a detection edge.
+  double odometry_history_s = 5.0;
+  /// Edges older than the history (or in the future) are refused as OutOfRange.
+  absl::Status Validate() const;
+};
+
+/// An inductive detection edge: the moment `sensor_name` first saw metal, stamped by the
+/// sensor driver (not by the time it reached the filter).
+struct InductiveEdge {
+  std::string sensor_name;
+  int64_t stamp_ns = 0;
+};
+
+enum class CalibrationOutcome { kApplied, kNoMarker, kAmbiguous };
+
+struct CalibrationResult {
+  CalibrationOutcome outcome = CalibrationOutcome::kNoMarker;
+  int marker_id = -1;
+  /// Mean shift applied to the particles (hard) or the estimate's move (soft), metres.
+  double correction_m = 0.0;
+};
+
+/// Stripe-marker AMCL (Lely thesis §5.4, Algorithm 4): AMCL plus, on an inductive detection,
+/// (1) the marker within h of the estimate is associated — none, or two or more, and nothing
+/// is done (an ambiguous association is refused rather than guessed); (2) odometry is
+/// interpolated to the stamped detection edge, so that filter latency does not put the line
+/// late; (3) hard mode: every particle is shifted so that its own detecting-sensor point lands
+/// on its foot point on the marker line — the calibration line of §5.4.2 step 2 for that
+/// particle — keeping its weight and yaw; soft mode: each particle's weight is multiplied by
+/// N(d; 0, soft_sigma) of that distance, then resampled if N_eff is low. Not thread-safe.
+class Samcl {
+ public:
+  static absl::StatusOr<Samcl> Create(Amcl amcl, MarkerSet markers, RobotModel model,
+                                      const SamclParams& params);
+
+  /// AMCL update; also records the odometry for edge interpolation.
+  absl::StatusOr<bool> Update(const Pose2& pose_in_odom, const RangeObservation& observation,
+                              int64_t stamp_ns);
+  /// Records odometry without a filter update (call every tick).
+  void RecordOdometry(const Pose2& pose_in_odom, int64_t stamp_ns);
+  /// Applies a detection edge. The newest recorded odometry is the "now" of the correction.
+  absl::StatusOr<CalibrationResult> OnInductiveEdge(const InductiveEdge& edge);
+
+  /// Odometry interpolated at stamp_ns from the history, or OutOfRange.
+  absl::StatusOr<Pose2> OdometryAt(int64_t stamp_ns) const;
+
+  Amcl& amcl() { return amcl_; }
+  const Amcl& amcl() const { return amcl_; }
+  const SamclParams& params() const { return params_; }
+
+ private:
+  Samcl(Amcl amcl, MarkerSet markers, RobotModel model, const SamclParams& params)
+      : amcl_(std::move(amcl)),
+        markers_(std::move(markers)),
+        model_(std::move(model)),
+        params_(params) {}
+
+  Amcl amcl_;
+  MarkerSet markers_;
+  RobotModel model_;
+  SamclParams params_;
+  std::deque<std::pair<int64_t, Pose2>> odometry_;
+};
+
+}  // namespace fleetnav::localization

@@ -1,0 +1,143 @@
+#include "fleetnav/localization/samcl.hpp"
+
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
+
+namespace fleetnav::localization {
+
+absl::Status SamclParams::Validate() const {
+  if (!(std::isfinite(association_radius_m) && association_radius_m > 0.0)) {
+    return absl::InvalidArgumentError("association_radius_m must be finite and > 0");
+  }
+  if (!(std::isfinite(soft_sigma_m) && soft_sigma_m > 0.0)) {
+    return absl::InvalidArgumentError("soft_sigma_m must be finite and > 0");
+  }
+  if (!(std::isfinite(odometry_history_s) && odometry_history_s > 0.0)) {
+    return absl::InvalidArgumentError("odometry_history_s must be finite and > 0");
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<Samcl> Samcl::Create(Amcl amcl, MarkerSet markers, RobotModel model,
+                                    const SamclParams& params) {
+  if (absl::Status s = params.Validate(); !s.ok()) return s;
+  if (absl::Status s = markers.Validate(); !s.ok()) return s;
+  return Samcl(std::move(amcl), std::move(markers), std::move(model), params);
+}
+
+void Samcl::RecordOdometry(const Pose2& pose_in_odom, int64_t stamp_ns) {
+  if (!odometry_.empty() && stamp_ns <= odometry_.back().first) return;
+  odometry_.emplace_back(stamp_ns, pose_in_odom);
+  const int64_t horizon = static_cast<int64_t>(params_.odometry_history_s * 1e9);
+  while (odometry_.size() > 2 && odometry_.front().first < stamp_ns - horizon) {
+    odometry_.pop_front();
+  }
+}
+
+absl::StatusOr<bool> Samcl::Update(const Pose2& pose_in_odom, const RangeObservation& observation,
+                                   int64_t stamp_ns) {
+  RecordOdometry(pose_in_odom, stamp_ns);
+  return amcl_.Update(pose_in_odom, observation, stamp_ns);
+}
+
+absl::StatusOr<Pose2> Samcl::OdometryAt(int64_t stamp_ns) const {
+  if (odometry_.empty() || stamp_ns < odometry_.front().first ||
+      stamp_ns > odometry_.back().first) {
+    return absl::OutOfRangeError(absl::StrCat("no odometry around stamp ", stamp_ns));
+  }
+  for (size_t i = 1; i < odometry_.size(); ++i) {
+    const auto& [t1, p1] = odometry_[i];
+    if (stamp_ns > t1) continue;
+    const auto& [t0, p0] = odometry_[i - 1];
+    const double a = static_cast<double>(stamp_ns - t0) / static_cast<double>(t1 - t0);
+    return Pose2(p0.x_m() + a * (p1.x_m() - p0.x_m()), p0.y_m() + a * (p1.y_m() - p0.y_m()),
+                 p0.yaw_rad() + a * AngleDifference(p1.yaw_rad(), p0.yaw_rad()));
+  }
+  return odometry_.back().second;
+}
+
+absl::StatusOr<CalibrationResult> Samcl::OnInductiveEdge(const InductiveEdge& edge) {
+  if (!amcl_.initialized()) return absl::FailedPreconditionError("AMCL is not initialized");
+  const SensorMount* mount = model_.FindSensor(edge.sensor_name);
+  if (mount == nullptr || mount->type != SensorType::kInductive) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("'", edge.sensor_name, "' is not an inductive sensor of ", model_.kind_name));
+  }
+  absl::StatusOr<Pose2> odom_at_edge = OdometryAt(edge.stamp_ns);
+  if (!odom_at_edge.ok()) return odom_at_edge.status();
+  const Pose2 odom_now = odometry_.back().second;
+  // Bring the particles to "now", then look at them at the edge through the odometry delta.
+  if (absl::Status s = amcl_.Predict(odom_now); !s.ok()) return s;
+  const Pose2 back = Between(odom_now, *odom_at_edge);  // edge pose seen from now
+
+  // 1. Determine the marker (Algorithm 4, lines 21–24), refusing ambiguity.
+  const Pose2 estimate_at_edge = amcl_.PoseInMap(*odom_at_edge);
+  const Eigen::Vector2d sensor_estimate =
+      estimate_at_edge.TransformPoint(mount->pose_in_base.translation());
+  CalibrationResult result;
+  const StripeMarker* marker = nullptr;
+  int candidates = 0;
+  for (const StripeMarker& m : markers_.markers) {
+    if (m.kind != MarkerKind::kCalibration) continue;
+    if ((m.position_m - sensor_estimate).norm() < params_.association_radius_m) {
+      marker = &m;
+      ++candidates;
+    }
+  }
+  if (candidates == 0) return result;
+  if (candidates > 1) {
+    result.outcome = CalibrationOutcome::kAmbiguous;
+    return result;
+  }
+  result.marker_id = marker->id;
+  result.outcome = CalibrationOutcome::kApplied;
+  const Line2 line = marker->AsLine();
+  const Eigen::Vector2d normal(-line.direction.y(), line.direction.x());
+
+  // 2–3. Per particle: its sensor point at the edge, its foot point, and the shift between.
+  ParticleSet& p = amcl_.mutable_particles();
+  const double bx = back.x_m(), by = back.y_m(), byaw = back.yaw_rad();
+  const Eigen::Vector2d s_in_base = mount->pose_in_base.translation();
+  double shift_sum = 0.0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    const double yaw = p.yaw_rad[i];
+    const double c = std::cos(yaw), s = std::sin(yaw);
+    const double ex = p.x_m[i] + c * bx - s * by;
+    const double ey = p.y_m[i] + s * bx + c * by;
+    const double eyaw = yaw + byaw;
+    const double ec = std::cos(eyaw), es = std::sin(eyaw);
+    const Eigen::Vector2d sensor(ex + ec * s_in_base.x() - es * s_in_base.y(),
+                                 ey + es * s_in_base.x() + ec * s_in_base.y());
+    const double signed_distance = (sensor - line.point).dot(normal);
+    if (params_.mode == SamclMode::kHard) {
+      // The foot point is sensor − d·n: shift the particle by the same vector.
+      p.x_m[i] -= static_cast<float>(signed_distance * normal.x());
+      p.y_m[i] -= static_cast<float>(signed_distance * normal.y());
+      shift_sum += std::abs(signed_distance) * p.weight[i];
+    } else {
+      const double z = signed_distance / params_.soft_sigma_m;
+      p.weight[i] *= std::exp(-0.5 * z * z);
+    }
+  }
+  const Pose2 before = amcl_.estimate().pose_in_map;
+  if (params_.mode == SamclMode::kSoft) {
+    double total = 0.0;
+    for (double w : p.weight) total += w;
+    if (total > 0.0 && std::isfinite(total)) {
+      for (double& w : p.weight) w /= total;
+    } else {
+      p.SetUniformWeights();
+    }
+    amcl_.Resample();
+  }
+  amcl_.RecomputeEstimate(odometry_.back().first);
+  result.correction_m =
+      params_.mode == SamclMode::kHard
+          ? shift_sum
+          : (amcl_.estimate().pose_in_map.translation() - before.translation()).norm();
+  return result;
+}
+
+}  // namespace fleetnav::localization
