@@ -5,49 +5,12 @@
 #include <limits>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/distance_transform.hpp"
 
 namespace fleetnav::planner {
 namespace {
 
 constexpr double kInf = 1e20;
-
-// 1D squared distance transform of f (Felzenszwalb–Huttenlocher, algorithm DT(f)).
-void Transform1d(const double* f, int n, double* d, int* v, double* z) {
-  int k = 0;
-  v[0] = 0;
-  z[0] = -kInf;
-  z[1] = kInf;
-  for (int q = 1; q < n; ++q) {
-    double s;
-    while (true) {
-      const int p = v[k];
-      s = ((f[q] + static_cast<double>(q) * q) - (f[p] + static_cast<double>(p) * p)) /
-          (2.0 * (q - p));
-      if (s <= z[k] && k > 0) {
-        --k;
-      } else {
-        break;
-      }
-    }
-    if (s <= z[k]) {
-      // k == 0 and the new parabola dominates from the start.
-      v[0] = q;
-      z[0] = -kInf;
-      z[1] = kInf;
-      continue;
-    }
-    ++k;
-    v[k] = q;
-    z[k] = s;
-    z[k + 1] = kInf;
-  }
-  k = 0;
-  for (int q = 0; q < n; ++q) {
-    while (z[k + 1] < q) ++k;
-    const double dq = q - v[k];
-    d[q] = dq * dq + f[v[k]];
-  }
-}
 
 double PointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
                             const Eigen::Vector2d& b) {
@@ -90,13 +53,13 @@ std::vector<double> SquaredDistanceTransform(const std::vector<uint8_t>& obstacl
   std::vector<int> v(n);
   for (int x = 0; x < width; ++x) {
     for (int y = 0; y < height; ++y) f[y] = grid[static_cast<size_t>(y) * width + x];
-    Transform1d(f.data(), height, d.data(), v.data(), z.data());
+    SquaredDistanceTransform1d(f.data(), height, d.data(), v.data(), z.data());
     for (int y = 0; y < height; ++y) grid[static_cast<size_t>(y) * width + x] = d[y];
   }
   for (int y = 0; y < height; ++y) {
     double* row = &grid[static_cast<size_t>(y) * width];
     std::copy(row, row + width, f.begin());
-    Transform1d(f.data(), width, d.data(), v.data(), z.data());
+    SquaredDistanceTransform1d(f.data(), width, d.data(), v.data(), z.data());
     std::copy(d.begin(), d.begin() + width, row);
   }
   return grid;

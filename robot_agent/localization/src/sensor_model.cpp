@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/distance_transform.hpp"
 
 namespace fleetnav::localization {
 namespace {
@@ -15,43 +16,9 @@ absl::Status CheckRange(double value, double lo, double hi, const char* field) {
       absl::StrCat(field, " must be in [", lo, ", ", hi, "], got ", value));
 }
 
-// One-dimensional squared Euclidean distance transform (Felzenszwalb and Huttenlocher 2012):
-// the lower envelope of parabolas rooted at f's samples. "No obstacle" is a large finite value
-// so that the parabola intersections stay finite.
+// "No obstacle" for the distance transform: a large finite value keeps the parabola
+// intersections finite.
 constexpr double kFar = 1e12;
-
-void DistanceTransform1d(const std::vector<double>& f, std::vector<double>& d, std::vector<int>& v,
-                         std::vector<double>& z) {
-  const int n = static_cast<int>(f.size());
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  int k = 0;
-  v[0] = 0;
-  z[0] = -kInf;
-  z[1] = kInf;
-  for (int q = 1; q < n; ++q) {
-    double s = 0.0;
-    while (true) {
-      const int p = v[k];
-      s = ((f[q] + static_cast<double>(q) * q) - (f[p] + static_cast<double>(p) * p)) /
-          (2.0 * q - 2.0 * p);
-      if (s <= z[k] && k > 0) {
-        --k;
-        continue;
-      }
-      break;
-    }
-    ++k;
-    v[k] = q;
-    z[k] = s;
-    z[k + 1] = kInf;
-  }
-  k = 0;
-  for (int q = 0; q < n; ++q) {
-    while (z[k + 1] < q) ++k;
-    const double dq = q - v[k];
-    d[q] = dq * dq + f[v[k]];
-  }
-}
 
 }  // namespace
 
@@ -153,14 +120,16 @@ absl::StatusOr<LikelihoodField> LikelihoodField::Create(const OccupancyGrid& gri
     d.resize(h);
     for (int x = 0; x < w; ++x) {
       for (int y = 0; y < h; ++y) f[y] = squared[static_cast<size_t>(y) * w + x];
-      DistanceTransform1d(f, d, v, z);
+      SquaredDistanceTransform1d(f.data(), static_cast<int>(f.size()), d.data(), v.data(),
+                                 z.data());
       for (int y = 0; y < h; ++y) squared[static_cast<size_t>(y) * w + x] = d[y];
     }
     f.resize(w);
     d.resize(w);
     for (int y = 0; y < h; ++y) {
       for (int x = 0; x < w; ++x) f[x] = squared[static_cast<size_t>(y) * w + x];
-      DistanceTransform1d(f, d, v, z);
+      SquaredDistanceTransform1d(f.data(), static_cast<int>(f.size()), d.data(), v.data(),
+                                 z.data());
       for (int x = 0; x < w; ++x) squared[static_cast<size_t>(y) * w + x] = d[x];
     }
   }

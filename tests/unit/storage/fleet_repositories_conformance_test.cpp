@@ -1,0 +1,199 @@
+// One conformance suite for the marker-set, route, robot and job repositories, run over the
+// SQLite implementation (a real file) and the in-memory one, so the fakes used by the layers
+// above behave like the real store.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "fleetnav/storage/memory/memory_fleet_repositories.hpp"
+#include "fleetnav/storage/sqlite/schema.hpp"
+#include "fleetnav/storage/sqlite/sqlite_fleet_repositories.hpp"
+#include "temp_db_path.hpp"
+
+namespace fleetnav::storage {
+namespace {
+
+using ::testing::HasSubstr;
+
+class FleetRepositoriesTest : public ::testing::TestWithParam<bool> {
+ protected:
+  void SetUp() override {
+    if (GetParam()) {
+      path_ = std::make_unique<testing::TempDbPath>();
+      auto db = SqliteDatabase::Open(path_->path(), FleetSchemaMigrations());
+      ASSERT_TRUE(db.ok()) << db.status();
+      db_ = std::move(*db);
+      markers_ = std::make_unique<SqliteMarkerSetRepository>(db_.get());
+      routes_ = std::make_unique<SqliteRouteRepository>(db_.get());
+      robots_ = std::make_unique<SqliteRobotRepository>(db_.get());
+      jobs_ = std::make_unique<SqliteJobRepository>(db_.get());
+    } else {
+      markers_ = std::make_unique<MemoryMarkerSetRepository>();
+      routes_ = std::make_unique<MemoryRouteRepository>();
+      robots_ = std::make_unique<MemoryRobotRepository>();
+      jobs_ = std::make_unique<MemoryJobRepository>();
+    }
+  }
+
+  static Route StraightRoute(const std::string& name, const std::string& map, double distance) {
+    Route route;
+    route.name = name;
+    route.map_id = map;
+    RouteAction action;
+    action.params = StraightAction{distance, 0.25};
+    route.actions.push_back(action);
+    return route;
+  }
+
+  static Job QueuedJob(const std::string& key, const std::string& map = "barn") {
+    Job job;
+    job.route_name = "alley";
+    job.route_version = 1;
+    job.map_id = map;
+    job.idempotency_key = key;
+    job.created_unix_ms = job.updated_unix_ms = 1000;
+    return job;
+  }
+
+  std::unique_ptr<testing::TempDbPath> path_;
+  std::unique_ptr<SqliteDatabase> db_;
+  std::unique_ptr<MarkerSetRepository> markers_;
+  std::unique_ptr<RouteRepository> routes_;
+  std::unique_ptr<RobotRepository> robots_;
+  std::unique_ptr<JobRepository> jobs_;
+};
+
+TEST_P(FleetRepositoriesTest, MarkerSetsAreVersionedPerMap) {
+  MarkerSet set;
+  set.map_id = "barn";
+  StripeMarker marker;
+  marker.id = 4;
+  marker.position_m = {1.0, 4.7};
+  marker.yaw_rad = -1.2;
+  marker.length_m = 0.6;
+  set.markers.push_back(marker);
+  EXPECT_EQ(*markers_->PutMarkerSet(set, 10), 1u);
+  set.markers[0].length_m = 0.8;
+  EXPECT_EQ(*markers_->PutMarkerSet(set, 20), 2u);
+  absl::StatusOr<StoredMarkerSet> latest = markers_->GetMarkerSet("barn", 0);
+  ASSERT_TRUE(latest.ok());
+  EXPECT_EQ(latest->version, 2u);
+  EXPECT_NEAR(latest->markers.markers[0].length_m, 0.8, 1e-9);
+  EXPECT_NEAR(markers_->GetMarkerSet("barn", 1)->markers.markers[0].yaw_rad, -1.2, 1e-9);
+  EXPECT_EQ(markers_->GetMarkerSet("barn", 3).status().code(), absl::StatusCode::kNotFound);
+  absl::Status unknown = markers_->GetMarkerSet("shop", 0).status();
+  EXPECT_EQ(unknown.code(), absl::StatusCode::kNotFound);
+  EXPECT_THAT(unknown.message(), HasSubstr("shop"));
+}
+
+TEST_P(FleetRepositoriesTest, RoutesAreVersionedListedAndCountedPerMap) {
+  ASSERT_TRUE(routes_->PutRoute(StraightRoute("b-route", "barn", 1.0), 1).ok());
+  ASSERT_TRUE(routes_->PutRoute(StraightRoute("a-route", "barn", 2.0), 2).ok());
+  EXPECT_EQ(*routes_->PutRoute(StraightRoute("a-route", "barn", 3.0), 3), 2u);
+  ASSERT_TRUE(routes_->PutRoute(StraightRoute("shop-route", "shop", 1.0), 4).ok());
+  absl::StatusOr<std::vector<StoredRoute>> barn = routes_->ListRoutes("barn");
+  ASSERT_TRUE(barn.ok());
+  ASSERT_EQ(barn->size(), 2u);
+  EXPECT_EQ((*barn)[0].route.name, "a-route");
+  EXPECT_EQ((*barn)[0].version, 2u);
+  EXPECT_EQ(routes_->ListRoutes("")->size(), 3u);
+  EXPECT_EQ(*routes_->CountRoutesOnMap("barn"), 2);
+  EXPECT_EQ(*routes_->CountRoutesOnMap("nowhere"), 0);
+  absl::StatusOr<StoredRoute> first = routes_->GetRoute("a-route", 1);
+  ASSERT_TRUE(first.ok());
+  EXPECT_DOUBLE_EQ(std::get<StraightAction>(first->route.actions[0].params).distance_m, 2.0);
+  EXPECT_EQ(routes_->GetRoute("c-route", 0).status().code(), absl::StatusCode::kNotFound);
+}
+
+TEST_P(FleetRepositoriesTest, RobotsAreUpsertedAndListedById) {
+  ASSERT_TRUE(robots_->UpsertRobot({"lely2", "lely-vector", {"straight", "turn"}, "1", 5}).ok());
+  ASSERT_TRUE(robots_->UpsertRobot({"lely1", "lely-vector", {}, "1", 6}).ok());
+  ASSERT_TRUE(robots_->UpsertRobot({"lely2", "lely-vector", {"straight"}, "2", 7}).ok());
+  absl::StatusOr<std::vector<StoredRobot>> robots = robots_->ListRobots();
+  ASSERT_TRUE(robots.ok());
+  ASSERT_EQ(robots->size(), 2u);
+  EXPECT_EQ((*robots)[0].robot_id, "lely1");
+  EXPECT_TRUE((*robots)[0].capabilities.empty());
+  EXPECT_THAT((*robots)[1].capabilities, ::testing::ElementsAre("straight"));
+  EXPECT_EQ((*robots)[1].software_version, "2");
+}
+
+TEST_P(FleetRepositoriesTest, JobsGetIdsAreIdempotentOnTheirKeyAndKeepTheirEvents) {
+  JobEvent queued;
+  queued.type = JobEventType::kQueued;
+  absl::StatusOr<CreatedJob> first = jobs_->CreateJob(QueuedJob("k1"), queued);
+  ASSERT_TRUE(first.ok());
+  EXPECT_EQ(first->job.job_id, "job-000001");
+  EXPECT_FALSE(first->deduplicated);
+  absl::StatusOr<CreatedJob> again = jobs_->CreateJob(QueuedJob("k1"), queued);
+  ASSERT_TRUE(again.ok());
+  EXPECT_TRUE(again->deduplicated);
+  EXPECT_EQ(again->job.job_id, "job-000001");
+  EXPECT_EQ(jobs_->CreateJob(QueuedJob(""), queued)->job.job_id, "job-000002");
+  EXPECT_EQ(jobs_->CreateJob(QueuedJob(""), queued)->job.job_id, "job-000003");
+
+  Job job = first->job;
+  job.state = JobState::kAssigned;
+  job.assigned_robot_id = "lely1";
+  JobEvent assigned;
+  assigned.type = JobEventType::kAssigned;
+  assigned.state = JobState::kAssigned;
+  assigned.robot_id = "lely1";
+  EXPECT_EQ(*jobs_->UpdateJob(job, assigned), 2);
+  EXPECT_EQ(jobs_->GetJob("job-000001")->state, JobState::kAssigned);
+  absl::StatusOr<std::vector<JobEvent>> events = jobs_->ListEvents("job-000001", 0);
+  ASSERT_TRUE(events.ok());
+  ASSERT_EQ(events->size(), 2u);
+  EXPECT_EQ((*events)[1].type, JobEventType::kAssigned);
+  EXPECT_EQ((*events)[1].robot_id, "lely1");
+  EXPECT_EQ(jobs_->ListEvents("job-000001", 1)->size(), 1u);
+
+  Job ghost = job;
+  ghost.job_id = "job-999999";
+  EXPECT_EQ(jobs_->UpdateJob(ghost, assigned).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(jobs_->GetJob("job-999999").status().code(), absl::StatusCode::kNotFound);
+}
+
+TEST_P(FleetRepositoriesTest, ListJobsFiltersAndPagesInCreationOrder) {
+  JobEvent queued;
+  for (int i = 0; i < 7; ++i) {
+    ASSERT_TRUE(jobs_->CreateJob(QueuedJob("", i % 2 ? "shop" : "barn"), queued).ok());
+  }
+  Job running = *jobs_->GetJob("job-000003");
+  running.state = JobState::kRunning;
+  running.assigned_robot_id = "lely1";
+  ASSERT_TRUE(jobs_->UpdateJob(running, queued).ok());
+
+  JobFilter filter;
+  filter.page_size = 3;
+  std::vector<std::string> ids;
+  do {
+    absl::StatusOr<JobPage> page = jobs_->ListJobs(filter);
+    ASSERT_TRUE(page.ok());
+    EXPECT_LE(page->jobs.size(), 3u);
+    for (const Job& j : page->jobs) ids.push_back(j.job_id);
+    filter.page_token = page->next_page_token;
+  } while (!filter.page_token.empty());
+  EXPECT_THAT(ids, ::testing::ElementsAre("job-000001", "job-000002", "job-000003", "job-000004",
+                                          "job-000005", "job-000006", "job-000007"));
+
+  JobFilter by_state;
+  by_state.states = {JobState::kRunning};
+  EXPECT_EQ(jobs_->ListJobs(by_state)->jobs.size(), 1u);
+  JobFilter by_robot;
+  by_robot.robot_id = "lely1";
+  EXPECT_EQ(jobs_->ListJobs(by_robot)->jobs[0].job_id, "job-000003");
+  JobFilter by_map;
+  by_map.map_id = "shop";
+  EXPECT_EQ(jobs_->ListJobs(by_map)->jobs.size(), 3u);
+  JobFilter bad;
+  bad.page_token = "not-a-token";
+  EXPECT_EQ(jobs_->ListJobs(bad).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+INSTANTIATE_TEST_SUITE_P(Repositories, FleetRepositoriesTest, ::testing::Values(true, false),
+                         [](const auto& info) { return info.param ? "Sqlite" : "Memory"; });
+
+}  // namespace
+}  // namespace fleetnav::storage
