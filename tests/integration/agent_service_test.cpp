@@ -290,3 +290,48 @@ TEST_F(AgentServiceTest, TelemetryIsDownSampledIntoThePoseHistory) {
 
 }  // namespace
 }  // namespace fleetnav
+
+namespace fleetnav {
+namespace {
+
+TEST_F(AgentServiceTest, ConnectedRobotsAreToldOfNewMapAndMarkerVersions) {
+  grpc::ClientContext context;
+  std::unique_ptr<AgentStream> stream = agents_->Connect(&context);
+  ASSERT_TRUE(stream->Write(Hello("lely1")));
+  v1::ServerMessage message;
+  ASSERT_TRUE(stream->Read(&message));
+  ASSERT_TRUE(message.has_welcome());
+
+  grpc::ClientContext put_context;
+  v1::PutMapRequest put;
+  put.set_map_id("barn");
+  put.mutable_grid()->set_width(4);
+  put.mutable_grid()->set_height(4);
+  put.mutable_grid()->set_resolution_m(0.5);
+  put.mutable_grid()->set_cells(std::string(16, '\0'));
+  v1::PutMapResponse response;
+  ASSERT_TRUE(fleet_->PutMap(&put_context, put, &response).ok());
+  ASSERT_TRUE(stream->Read(&message));
+  ASSERT_TRUE(message.has_map_update());
+  EXPECT_EQ(message.map_update().map_id(), "barn");
+  EXPECT_EQ(message.map_update().map_version(), 1u);
+  EXPECT_EQ(message.map_update().marker_set_version(), 0u);
+
+  grpc::ClientContext markers_context;
+  v1::PutMarkerSetRequest markers;
+  markers.mutable_marker_set()->set_map_id("barn");
+  v1::StripeMarker* marker = markers.mutable_marker_set()->add_markers();
+  marker->set_id(1);
+  marker->mutable_pose()->set_x_m(1.0);
+  marker->set_length_m(0.5);
+  v1::PutMarkerSetResponse markers_response;
+  ASSERT_TRUE(fleet_->PutMarkerSet(&markers_context, markers, &markers_response).ok());
+  ASSERT_TRUE(stream->Read(&message));
+  ASSERT_TRUE(message.has_map_update());
+  EXPECT_EQ(message.map_update().marker_set_version(), 1u);
+  stream->WritesDone();
+  (void)stream->Finish();
+}
+
+}  // namespace
+}  // namespace fleetnav

@@ -6,6 +6,7 @@
 
 #include "fleet_fixture.hpp"
 #include "fleetnav/core/angles.hpp"
+#include "fleetnav/proto/telemetry_convert.hpp"
 #include "fleetnav/robot_agent/agent.hpp"
 #include "fleetnav/robot_agent/server_link.hpp"
 #include "fleetnav/robot_agent/sim_hal.hpp"
@@ -189,6 +190,83 @@ TEST_F(JobFlowTest, ARobotThatDropsMidJobPausesItAndTheJobFailsAfterTheTimeout) 
   EXPECT_EQ(types.back(), v1::JOB_EVENT_TYPE_FAILED);
   EXPECT_THAT(events.back().reason(), ::testing::HasSubstr("lost"));
   simulator_->Shutdown();
+}
+
+}  // namespace
+}  // namespace fleetnav
+
+namespace fleetnav {
+namespace {
+
+using AgentStream = grpc::ClientReaderWriter<v1::AgentMessage, v1::ServerMessage>;
+
+v1::AgentMessage HelloFor(const std::string& robot_id, const std::string& resume_job_id) {
+  v1::AgentMessage hello;
+  *hello.mutable_hello() =
+      ToProto(RobotIdentity{robot_id, LelyVectorModel(), {"straight"}, "test"});
+  hello.mutable_hello()->set_resume_job_id(resume_job_id);
+  return hello;
+}
+
+v1::AgentMessage EventFor(const std::string& job_id, v1::AgentEvent::Type type) {
+  v1::AgentMessage message;
+  message.mutable_event()->set_type(type);
+  message.mutable_event()->set_job_id(job_id);
+  return message;
+}
+
+TEST_F(JobFlowTest, ARobotThatReconnectsWithItsJobResumesIt) {
+  PutBarn();
+  ASSERT_TRUE(PutRoute(StraightRoute("long", 8.0)).ok());
+  v1::SubmitJobResponse submitted;
+  ASSERT_TRUE(Submit("long", "", &submitted).ok());
+  const std::string job_id = submitted.job().job_id();
+  auto agents = v1::AgentService::NewStub(channel_);
+  auto job_state = [&] {
+    grpc::ClientContext context;
+    v1::GetJobRequest get;
+    get.set_job_id(job_id);
+    v1::GetJobResponse job;
+    EXPECT_TRUE(fleet_->GetJob(&context, get, &job).ok());
+    return job.job().state();
+  };
+  auto wait_for = [&](v1::JobState state) {
+    for (int i = 0; i < 200 && job_state() != state; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return job_state();
+  };
+  {
+    grpc::ClientContext context;
+    std::unique_ptr<AgentStream> stream = agents->Connect(&context);
+    ASSERT_TRUE(stream->Write(HelloFor("lely1", "")));
+    v1::ServerMessage message;
+    ASSERT_TRUE(stream->Read(&message));  // welcome
+    ASSERT_TRUE(stream->Read(&message));  // the assignment
+    ASSERT_TRUE(message.has_assignment());
+    EXPECT_EQ(message.assignment().job().job_id(), job_id);
+    ASSERT_TRUE(stream->Write(EventFor(job_id, v1::AgentEvent::TYPE_ACTION_STARTED)));
+    EXPECT_EQ(wait_for(v1::JOB_STATE_RUNNING), v1::JOB_STATE_RUNNING);
+    stream->WritesDone();
+    (void)stream->Finish();
+  }
+  EXPECT_EQ(wait_for(v1::JOB_STATE_PAUSED), v1::JOB_STATE_PAUSED);
+
+  grpc::ClientContext context;
+  std::unique_ptr<AgentStream> stream = agents->Connect(&context);
+  ASSERT_TRUE(stream->Write(HelloFor("lely1", job_id)));
+  v1::ServerMessage welcome;
+  ASSERT_TRUE(stream->Read(&welcome));
+  EXPECT_EQ(job_state(), v1::JOB_STATE_RUNNING);  // resumed before the welcome was sent
+  ASSERT_TRUE(stream->Write(EventFor(job_id, v1::AgentEvent::TYPE_JOB_SUCCEEDED)));
+  EXPECT_EQ(wait_for(v1::JOB_STATE_SUCCEEDED), v1::JOB_STATE_SUCCEEDED);
+  const std::vector<v1::JobEvent> events = WatchToTheEnd(job_id);
+  std::vector<v1::JobEventType> types;
+  for (const auto& e : events) types.push_back(e.type());
+  EXPECT_THAT(types, ::testing::IsSupersetOf({v1::JOB_EVENT_TYPE_PAUSED, v1::JOB_EVENT_TYPE_RESUMED,
+                                              v1::JOB_EVENT_TYPE_SUCCEEDED}));
+  stream->WritesDone();
+  (void)stream->Finish();
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "fleetnav/server/rpc/agent_mailbox.hpp"
 
+#include <vector>
+
 #include "fleetnav/proto/job_convert.hpp"
 #include "fleetnav/proto/route_convert.hpp"
 
@@ -84,6 +86,20 @@ bool AgentMailbox::SendCommand(const std::string& robot_id, RobotCommandType typ
   command->set_job_id(job_id);
   command->set_reason(reason);
   return Send(robot_id, std::move(message));
+}
+
+void AgentMailbox::BroadcastMapUpdate(const std::string& map_id, uint32_t map_version,
+                                      uint32_t marker_set_version) {
+  std::vector<std::shared_ptr<AgentOutbox>> outboxes;
+  {
+    absl::MutexLock lock(&mutex_);
+    for (const auto& [robot, outbox] : outboxes_) outboxes.push_back(outbox);
+  }
+  v1::ServerMessage message;
+  message.mutable_map_update()->set_map_id(map_id);
+  message.mutable_map_update()->set_map_version(map_version);
+  message.mutable_map_update()->set_marker_set_version(marker_set_version);
+  for (const auto& outbox : outboxes) outbox->Push(message);
 }
 
 }  // namespace fleetnav::server

@@ -54,8 +54,8 @@ absl::StatusOr<int> FleetServer::Start() {
                                        &registry_, &mailbox_, &clock_, params_.jobs);
   RETURN_IF_ERROR(jobs_->Recover());
   traffic_ = std::make_unique<TrafficPlanner>(map_repository_.get());
-  fleet_service_ = std::make_unique<FleetServiceImpl>(maps_.get(), site_.get(), jobs_.get(),
-                                                      traffic_.get(), &registry_, &stopping_);
+  fleet_service_ = std::make_unique<FleetServiceImpl>(
+      maps_.get(), site_.get(), jobs_.get(), traffic_.get(), &registry_, &mailbox_, &stopping_);
   agent_service_ = std::make_unique<AgentServiceImpl>(&registry_, jobs_.get(), &mailbox_);
 
   grpc::EnableDefaultHealthCheckService(true);

@@ -54,6 +54,8 @@ grpc::Status FleetServiceImpl::PutMap(grpc::ServerContext*, const v1::PutMapRequ
   if (!info.ok()) return ToGrpcStatus(info.status());
   response->set_map_id(info->map_id);
   response->set_version(info->version);
+  absl::StatusOr<storage::StoredMarkerSet> markers = site_->GetMarkerSet(info->map_id, 0);
+  robots_->BroadcastMapUpdate(info->map_id, info->version, markers.ok() ? markers->version : 0);
   return grpc::Status::OK;
 }
 
@@ -138,6 +140,8 @@ grpc::Status FleetServiceImpl::PutMarkerSet(grpc::ServerContext*,
   if (!version.ok()) return ToGrpcStatus(version.status());
   response->set_map_id(markers->map_id);
   response->set_version(*version);
+  absl::StatusOr<storage::StoredMap> map = maps_->Get(markers->map_id, 0);
+  robots_->BroadcastMapUpdate(markers->map_id, map.ok() ? map->info.version : 0, *version);
   return grpc::Status::OK;
 }
 

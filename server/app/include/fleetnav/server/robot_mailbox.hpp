@@ -27,6 +27,9 @@ class RobotMailbox {
   virtual bool SendAssignment(const std::string& robot_id, const Assignment& assignment) = 0;
   virtual bool SendCommand(const std::string& robot_id, RobotCommandType type,
                            const std::string& job_id, const std::string& reason) = 0;
+  /// Tells every connected robot that a map or its marker set has a new version.
+  virtual void BroadcastMapUpdate(const std::string& map_id, uint32_t map_version,
+                                  uint32_t marker_set_version) = 0;
 };
 
 }  // namespace fleetnav::server

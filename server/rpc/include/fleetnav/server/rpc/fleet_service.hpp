@@ -5,6 +5,7 @@
 #include "fleetnav/server/fleet_registry.hpp"
 #include "fleetnav/server/job_service.hpp"
 #include "fleetnav/server/map_catalog.hpp"
+#include "fleetnav/server/robot_mailbox.hpp"
 #include "fleetnav/server/site_catalog.hpp"
 #include "fleetnav/server/traffic_planner.hpp"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
@@ -18,12 +19,13 @@ namespace fleetnav::server {
 class FleetServiceImpl final : public v1::FleetService::Service {
  public:
   FleetServiceImpl(MapCatalog* maps, SiteCatalog* site, JobService* jobs, TrafficPlanner* traffic,
-                   FleetRegistry* registry, const std::atomic<bool>* stopping)
+                   FleetRegistry* registry, RobotMailbox* robots, const std::atomic<bool>* stopping)
       : maps_(maps),
         site_(site),
         jobs_(jobs),
         traffic_(traffic),
         registry_(registry),
+        robots_(robots),
         stopping_(stopping) {}
 
   grpc::Status PutMap(grpc::ServerContext* context, const v1::PutMapRequest* request,
@@ -69,6 +71,7 @@ class FleetServiceImpl final : public v1::FleetService::Service {
   JobService* jobs_;
   TrafficPlanner* traffic_;
   FleetRegistry* registry_;
+  RobotMailbox* robots_;  ///< told about new map and marker-set versions
   const std::atomic<bool>* stopping_;
 };
 
