@@ -9,6 +9,7 @@
 #include "absl/strings/str_format.h"
 #include "absl/time/clock.h"
 #include "absl/time/time.h"
+#include "deadline_internal.hpp"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
 #include "fleetnav/ctl/commands.hpp"
@@ -20,11 +21,6 @@
 
 namespace fleetnav::ctl {
 namespace {
-
-void SetDeadline(const CommandContext& context, grpc::ClientContext* rpc) {
-  rpc->set_deadline(std::chrono::system_clock::now() +
-                    std::chrono::milliseconds(static_cast<int64_t>(context.timeout_s * 1000)));
-}
 
 std::string Lower(std::string name, const std::string& prefix) {
   if (name.rfind(prefix, 0) == 0) name = name.substr(prefix.size());

@@ -8,6 +8,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "deadline_internal.hpp"
 #include "fleetnav/core/map_io.hpp"
 #include "fleetnav/ctl/commands.hpp"
 #include "fleetnav/ctl/table.hpp"
@@ -25,11 +26,6 @@ absl::Status ReadFile(const std::string& path, std::string* contents) {
   buffer << in.rdbuf();
   *contents = buffer.str();
   return absl::OkStatus();
-}
-
-void SetDeadline(const CommandContext& context, grpc::ClientContext* rpc) {
-  rpc->set_deadline(std::chrono::system_clock::now() +
-                    std::chrono::milliseconds(static_cast<int64_t>(context.timeout_s * 1000)));
 }
 
 }  // namespace
