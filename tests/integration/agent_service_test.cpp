@@ -62,6 +62,16 @@ class AgentServiceTest : public ::testing::Test {
     return message;
   }
 
+  /// Opens an agent stream, says hello as `robot_id` and reads the welcome.
+  std::unique_ptr<AgentStream> ConnectAs(const std::string& robot_id,
+                                         grpc::ClientContext* context) {
+    std::unique_ptr<AgentStream> stream = agents_->Connect(context);
+    v1::ServerMessage welcome;
+    EXPECT_TRUE(stream->Write(Hello(robot_id)));
+    EXPECT_TRUE(stream->Read(&welcome) && welcome.has_welcome());
+    return stream;
+  }
+
   /// Waits (bounded) until the server's registry satisfies `done`.
   template <typename Predicate>
   bool Eventually(Predicate done) {
@@ -80,11 +90,7 @@ class AgentServiceTest : public ::testing::Test {
 
 TEST_F(AgentServiceTest, HelloThenTelemetryIsVisibleThroughFleetService) {
   grpc::ClientContext context;
-  std::unique_ptr<AgentStream> stream = agents_->Connect(&context);
-  ASSERT_TRUE(stream->Write(Hello("lely1")));
-  v1::ServerMessage welcome;
-  ASSERT_TRUE(stream->Read(&welcome));
-  EXPECT_TRUE(welcome.has_welcome());
+  std::unique_ptr<AgentStream> stream = ConnectAs("lely1", &context);
   for (int i = 0; i < 5; ++i) ASSERT_TRUE(stream->Write(TelemetryAt(i * 0.1, i * 100'000'000)));
 
   ASSERT_TRUE(Eventually([&] {
@@ -145,15 +151,10 @@ TEST_F(AgentServiceTest, NonFiniteTelemetryEndsTheStreamAndIsNotStored) {
 
 TEST_F(AgentServiceTest, SecondConnectionWithSameIdReplacesTheFirst) {
   grpc::ClientContext first_context;
-  std::unique_ptr<AgentStream> first = agents_->Connect(&first_context);
-  ASSERT_TRUE(first->Write(Hello("lely1")));
-  v1::ServerMessage welcome;
-  ASSERT_TRUE(first->Read(&welcome));
+  std::unique_ptr<AgentStream> first = ConnectAs("lely1", &first_context);
 
   grpc::ClientContext second_context;
-  std::unique_ptr<AgentStream> second = agents_->Connect(&second_context);
-  ASSERT_TRUE(second->Write(Hello("lely1")));
-  ASSERT_TRUE(second->Read(&welcome));
+  std::unique_ptr<AgentStream> second = ConnectAs("lely1", &second_context);
 
   // The replaced stream's next telemetry ends it with FailedPrecondition.
   first->Write(TelemetryAt(1.0, 1));
@@ -176,10 +177,7 @@ TEST_F(AgentServiceTest, SecondConnectionWithSameIdReplacesTheFirst) {
 
 TEST_F(AgentServiceTest, WatchFleetStartsWithSnapshotThenSendsUpdates) {
   grpc::ClientContext agent_context;
-  std::unique_ptr<AgentStream> agent = agents_->Connect(&agent_context);
-  ASSERT_TRUE(agent->Write(Hello("lely1")));
-  v1::ServerMessage welcome;
-  ASSERT_TRUE(agent->Read(&welcome));
+  std::unique_ptr<AgentStream> agent = ConnectAs("lely1", &agent_context);
 
   grpc::ClientContext watch_context;
   v1::WatchFleetRequest request;
@@ -210,10 +208,7 @@ TEST_F(AgentServiceTest, WatchFleetStartsWithSnapshotThenSendsUpdates) {
 TEST_F(AgentServiceTest, WatchFleetReportsARobotThatFallsSilentAsStale) {
   StartServer(/*stale_after_s=*/0.2);
   grpc::ClientContext agent_context;
-  std::unique_ptr<AgentStream> agent = agents_->Connect(&agent_context);
-  ASSERT_TRUE(agent->Write(Hello("lely1")));
-  v1::ServerMessage welcome;
-  ASSERT_TRUE(agent->Read(&welcome));
+  std::unique_ptr<AgentStream> agent = ConnectAs("lely1", &agent_context);
 
   grpc::ClientContext watch_context;
   v1::WatchFleetRequest request;
@@ -267,10 +262,7 @@ namespace {
 
 TEST_F(AgentServiceTest, TelemetryIsDownSampledIntoThePoseHistory) {
   grpc::ClientContext context;
-  std::unique_ptr<AgentStream> stream = agents_->Connect(&context);
-  ASSERT_TRUE(stream->Write(Hello("lely1")));
-  v1::ServerMessage welcome;
-  ASSERT_TRUE(stream->Read(&welcome));
+  std::unique_ptr<AgentStream> stream = ConnectAs("lely1", &context);
   // 2.5 s of telemetry at 20 Hz: the recorder keeps about one sample per second.
   for (int i = 0; i < 50; ++i) {
     ASSERT_TRUE(stream->Write(TelemetryAt(0.01 * i, int64_t{50'000'000} * i)));
@@ -296,11 +288,8 @@ namespace {
 
 TEST_F(AgentServiceTest, ConnectedRobotsAreToldOfNewMapAndMarkerVersions) {
   grpc::ClientContext context;
-  std::unique_ptr<AgentStream> stream = agents_->Connect(&context);
-  ASSERT_TRUE(stream->Write(Hello("lely1")));
+  std::unique_ptr<AgentStream> stream = ConnectAs("lely1", &context);
   v1::ServerMessage message;
-  ASSERT_TRUE(stream->Read(&message));
-  ASSERT_TRUE(message.has_welcome());
 
   grpc::ClientContext put_context;
   v1::PutMapRequest put;

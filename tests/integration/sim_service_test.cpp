@@ -6,6 +6,7 @@
 
 #include "fleetnav/sim/sim_server.hpp"
 #include "fleetnav/v1/sim_service.grpc.pb.h"
+#include "testing/sim_server_fixture.hpp"
 
 namespace fleetnav {
 namespace {
@@ -13,22 +14,9 @@ namespace {
 using ::testing::HasSubstr;
 using AttachStream = grpc::ClientReaderWriter<v1::AttachMessage, v1::SensorFrame>;
 
-class SimServiceTest : public ::testing::Test {
+class SimServiceTest : public testing::SimServerFixture {
  protected:
-  void SetUp() override {
-    absl::StatusOr<sim::WorldDescription> world =
-        sim::LoadWorld(std::string(FLEETNAV_WORLDS_DIR) + "/barn.yaml");
-    ASSERT_TRUE(world.ok()) << world.status();
-    sim::SimServerParams params;
-    params.listen_address = "127.0.0.1:0";
-    params.lockstep.min_attached = 1;
-    server_ = std::make_unique<sim::SimServer>(*world, params);
-    absl::StatusOr<int> port = server_->Start();
-    ASSERT_TRUE(port.ok()) << port.status();
-    stub_ = v1::SimService::NewStub(grpc::CreateChannel("127.0.0.1:" + std::to_string(*port),
-                                                        grpc::InsecureChannelCredentials()));
-  }
-  void TearDown() override { server_->Shutdown(); }
+  SimServiceTest() : SimServerFixture("barn.yaml") {}
 
   static v1::AttachMessage AttachTo(const std::string& robot_id) {
     v1::AttachMessage message;
@@ -42,9 +30,6 @@ class SimServiceTest : public ::testing::Test {
     message.mutable_command()->mutable_twist()->set_vx_mps(speed_mps);
     return message;
   }
-
-  std::unique_ptr<sim::SimServer> server_;
-  std::unique_ptr<v1::SimService::Stub> stub_;
 };
 
 TEST_F(SimServiceTest, GetWorldDescribesTheBarnAndItsRobot) {

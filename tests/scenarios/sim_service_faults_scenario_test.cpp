@@ -5,26 +5,14 @@
 
 #include "fleetnav/sim/sim_server.hpp"
 #include "fleetnav/v1/sim_service.grpc.pb.h"
+#include "testing/sim_server_fixture.hpp"
 
 namespace fleetnav {
 namespace {
 
-class SimServiceFaultsTest : public ::testing::Test {
+class SimServiceFaultsTest : public testing::SimServerFixture {
  protected:
-  void SetUp() override {
-    absl::StatusOr<sim::WorldDescription> world =
-        sim::LoadWorld(std::string(FLEETNAV_WORLDS_DIR) + "/supermarket.yaml");
-    ASSERT_TRUE(world.ok()) << world.status();
-    sim::SimServerParams params;
-    params.listen_address = "127.0.0.1:0";
-    params.lockstep.min_attached = 1;
-    server_ = std::make_unique<sim::SimServer>(*world, params);
-    absl::StatusOr<int> port = server_->Start();
-    ASSERT_TRUE(port.ok()) << port.status();
-    stub_ = v1::SimService::NewStub(grpc::CreateChannel("127.0.0.1:" + std::to_string(*port),
-                                                        grpc::InsecureChannelCredentials()));
-  }
-  void TearDown() override { server_->Shutdown(); }
+  SimServiceFaultsTest() : SimServerFixture("supermarket.yaml") {}
 
   grpc::Status Inject(const v1::InjectFaultRequest& request) {
     grpc::ClientContext context;
@@ -44,9 +32,6 @@ class SimServiceFaultsTest : public ::testing::Test {
     v1::StepResponse response;
     ASSERT_TRUE(stub_->Step(&context, request, &response).ok());
   }
-
-  std::unique_ptr<sim::SimServer> server_;
-  std::unique_ptr<v1::SimService::Stub> stub_;
 };
 
 TEST_F(SimServiceFaultsTest, InjectFaultAnswersClearErrors) {

@@ -69,8 +69,8 @@ absl::StatusOr<MarkerKind> MarkerKindFromProto(int kind, const std::string& fiel
 v1::StripeMarker ToProto(const StripeMarker& marker) {
   v1::StripeMarker out;
   out.set_id(marker.id);
-  *out.mutable_pose() = ToProto(Pose2(marker.position_m.x(), marker.position_m.y(), 0.0));
-  out.mutable_pose()->set_yaw_rad(marker.yaw_rad);
+  *out.mutable_pose() =
+      ToProto(Pose2(marker.position_m.x(), marker.position_m.y(), marker.yaw_rad));
   out.set_length_m(marker.length_m);
   out.set_kind(ToProto(marker.kind));
   out.set_z_m(marker.z_m);
