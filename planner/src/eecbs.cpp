@@ -8,9 +8,9 @@
 #include <set>
 #include <tuple>
 
-#include "absl/container/flat_hash_map.h"
-#include "absl/container/flat_hash_set.h"
 #include "absl/strings/str_cat.h"
+#include "fleetnav/planner/constraint_table.hpp"
+#include "fleetnav/planner/sipp.hpp"
 
 namespace fleetnav::planner {
 namespace {
@@ -51,11 +51,6 @@ struct CtNode {
   Conflict first;
 };
 
-int64_t Key(int v, int t) { return (static_cast<int64_t>(t) << 32) | static_cast<uint32_t>(v); }
-int64_t EdgeKey(int u, int v, int t) {
-  return (static_cast<int64_t>(t) << 40) ^ (static_cast<int64_t>(u) << 20) ^ v;
-}
-
 // Counts the conflicting pairs of a set of paths and returns the earliest conflict.
 int CountConflicts(const std::vector<std::shared_ptr<const Path>>& paths, int num_vertices,
                    std::vector<int>& owner, std::vector<int>& stamp, Conflict* first) {
@@ -95,151 +90,6 @@ int CountConflicts(const std::vector<std::shared_ptr<const Path>>& paths, int nu
   return count;
 }
 
-// Focal space-time search for one agent under constraints (the low level of ECBS/EECBS):
-// OPEN holds every generated node by f = t + h; FOCAL holds those with f ≤ w · f_min, ordered
-// by the number of conflicts with the other agents' paths (`cat`: occupancy count per (t, v),
-// flat), then f. The path's length is at most w times the optimal one under the constraints,
-// and `lower_bound` (the lowest f in OPEN when the goal is taken) bounds the optimum below.
-class LowLevel {
- public:
-  explicit LowLevel(const GridGraph& g) : g_(g) {}
-
-  struct Result {
-    Path path;  // empty when no path exists within the horizon
-    int lower_bound = 0;
-  };
-
-  Result Plan(int start, int goal, double w, DistanceTable& dist,
-              const absl::flat_hash_set<int64_t>& vertex_forbidden,
-              const absl::flat_hash_set<int64_t>& edge_forbidden, int last_goal_constraint,
-              const std::vector<uint16_t>& cat, int cat_horizon) {
-    nodes_.clear();
-    closed_.clear();
-    ++generation_;
-    std::priority_queue<OpenEntry, std::vector<OpenEntry>, std::greater<OpenEntry>> open;
-    std::priority_queue<OpenEntry, std::vector<OpenEntry>, std::greater<OpenEntry>> pending;
-    std::priority_queue<FocalEntry, std::vector<FocalEntry>, std::greater<FocalEntry>> focal;
-    const int horizon = std::max(last_goal_constraint + 1, 0) + g_.size() + 1;
-    auto conflicts_at = [&](int v, int t) -> int {
-      const int tt = std::min(t, cat_horizon - 1);
-      return tt < 0 ? 0 : cat[static_cast<size_t>(tt) * g_.size() + v];
-    };
-    // Closed table: dense (t, v) slots with generation stamps when small enough, else hashed.
-    const size_t dense_size = static_cast<size_t>(horizon + 2) * g_.size();
-    const bool dense = dense_size <= kMaxDenseSlots;
-    if (dense && slot_.size() < dense_size) {
-      slot_.resize(dense_size);
-      stamp_.resize(dense_size, 0);
-    }
-    auto find_closed = [&](int v, int t) -> int {
-      if (dense) {
-        const size_t k = static_cast<size_t>(t) * g_.size() + v;
-        return stamp_[k] == generation_ ? slot_[k] : kNone;
-      }
-      auto it = closed_.find(Key(v, t));
-      return it == closed_.end() ? kNone : it->second;
-    };
-    auto set_closed = [&](int v, int t, int id) {
-      if (dense) {
-        const size_t k = static_cast<size_t>(t) * g_.size() + v;
-        stamp_[k] = generation_;
-        slot_[k] = id;
-      } else {
-        closed_[Key(v, t)] = id;
-      }
-    };
-    const int f0 = std::max(dist.Get(start), last_goal_constraint + 1);
-    double bound = w * f0;
-    auto push = [&](int id) {
-      const Node& n = nodes_[id];
-      open.push({n.f, id});
-      if (n.f <= bound) {
-        focal.push({n.conflicts, n.f, -n.t, id});
-      } else {
-        pending.push({n.f, id});
-      }
-    };
-    nodes_.push_back({start, 0, kNone, 0, dist.Get(start), false});
-    set_closed(start, 0, 0);
-    push(0);
-    while (true) {
-      while (!open.empty() && nodes_[open.top().id].expanded) open.pop();
-      if (open.empty()) return {};
-      const int f_min = open.top().f;
-      if (w * f_min > bound) bound = w * f_min;
-      while (!pending.empty() && pending.top().f <= bound) {
-        const int id = pending.top().id;
-        pending.pop();
-        if (!nodes_[id].expanded)
-          focal.push({nodes_[id].conflicts, nodes_[id].f, -nodes_[id].t, id});
-      }
-      while (!focal.empty() && nodes_[focal.top().id].expanded) focal.pop();
-      if (focal.empty()) return {};
-      const int id = focal.top().id;
-      focal.pop();
-      nodes_[id].expanded = true;
-      const Node cur = nodes_[id];
-      if (cur.v == goal && cur.t > last_goal_constraint) {
-        Result r;
-        r.path.resize(cur.t + 1);
-        for (int k = id; k != kNone; k = nodes_[k].parent) r.path[nodes_[k].t] = nodes_[k].v;
-        r.lower_bound = std::max(f_min, f0);
-        return r;
-      }
-      if (cur.t >= horizon || nodes_.size() > kMaxNodes) continue;
-      const int t = cur.t + 1;
-      for (int k = 0; k <= g_.Degree(cur.v); ++k) {
-        const int v = k < g_.Degree(cur.v) ? g_.Neighbor(cur.v, k) : cur.v;
-        if (vertex_forbidden.contains(Key(v, t))) continue;
-        if (v != cur.v && edge_forbidden.contains(EdgeKey(cur.v, v, t))) continue;
-        const int h = dist.Get(v);
-        if (h >= DistanceTable::kUnreachable) continue;
-        const int c = cur.conflicts + conflicts_at(v, t);
-        const int known = find_closed(v, t);
-        if (known != kNone && nodes_[known].conflicts <= c) continue;
-        const int child = static_cast<int>(nodes_.size());
-        nodes_.push_back({v, t, id, c, t + h, false});
-        // A less conflicting copy supersedes the known one.
-        if (known != kNone) nodes_[known].expanded = true;
-        set_closed(v, t, child);
-        push(child);
-      }
-    }
-  }
-
- private:
-  struct Node {
-    int v;
-    int t;
-    int parent;
-    int conflicts;
-    int f;
-    bool expanded;
-  };
-  struct OpenEntry {
-    int f;
-    int id;
-    bool operator>(const OpenEntry& o) const { return std::tie(f, id) > std::tie(o.f, o.id); }
-  };
-  struct FocalEntry {
-    int conflicts;
-    int f;
-    int neg_g;
-    int id;
-    bool operator>(const FocalEntry& o) const {
-      return std::tie(conflicts, f, neg_g, id) > std::tie(o.conflicts, o.f, o.neg_g, o.id);
-    }
-  };
-  static constexpr size_t kMaxNodes = 4'000'000;
-  static constexpr size_t kMaxDenseSlots = 16'000'000;
-  const GridGraph& g_;
-  std::vector<Node> nodes_;
-  absl::flat_hash_map<int64_t, int> closed_;
-  std::vector<int> slot_;
-  std::vector<uint32_t> stamp_;
-  uint32_t generation_ = 0;
-};
-
 }  // namespace
 
 absl::Status EecbsParams::Validate() const {
@@ -272,25 +122,31 @@ absl::StatusOr<MapfResult> EecbsSolver::Solve(std::stop_token stop) {
   std::vector<DistanceTable> dist;
   dist.reserve(n);
   for (int i = 0; i < n; ++i) dist.emplace_back(g, instance_.goals[i]);
-  LowLevel low(g);
+  SippPlanner sipp(g);
+  ConstraintTable table(nv);
   std::vector<int> owner, stamp;
-  std::vector<uint16_t> cat;
-  int cat_horizon = 0;
-
-  auto build_cat = [&](const std::vector<std::shared_ptr<const Path>>& paths, int skip) {
-    cat_horizon = 1;
-    for (const auto& p : paths) {
-      if (p) cat_horizon = std::max(cat_horizon, static_cast<int>(p->size()) + 1);
-    }
-    cat.assign(static_cast<size_t>(cat_horizon) * nv, 0);
-    for (int i = 0; i < static_cast<int>(paths.size()); ++i) {
-      if (i == skip || !paths[i]) continue;
-      for (int t = 0; t < cat_horizon; ++t) {
-        uint16_t& c = cat[static_cast<size_t>(t) * nv + At(*paths[i], t)];
-        if (c < 65535) ++c;
+  // The low level: SIPP under the agent's constraints (hard) and the other agents' paths
+  // (soft, to be avoided), focal with the same w as the high level.
+  auto plan_agent = [&](int agent, const std::vector<std::shared_ptr<const Path>>& paths,
+                        const std::vector<Constraint>& constraints) -> absl::StatusOr<SippResult> {
+    table.Clear();
+    for (const Constraint& k : constraints) {
+      if (k.from == kNone) {
+        table.AddHardVertex(k.to, k.t);
+      } else {
+        table.AddHardEdge(k.from, k.to, k.t);
       }
     }
+    for (int i = 0; i < static_cast<int>(paths.size()); ++i) {
+      if (i != agent && paths[i]) table.AddSoftPath(*paths[i]);
+    }
+    SippRequest request;
+    request.start = instance_.starts[agent];
+    request.goal = instance_.goals[agent];
+    request.suboptimality = params_.suboptimality;
+    return sipp.Plan(request, table, dist[agent]);
   };
+
   auto path_cost = [&](const Path& p, int i) { return PathCost(p, instance_.goals[i]); };
 
   const double w = params_.suboptimality;
@@ -305,18 +161,15 @@ absl::StatusOr<MapfResult> EecbsSolver::Solve(std::stop_token stop) {
                 0,
                 0,
                 {}};
-    const absl::flat_hash_set<int64_t> none;
     for (int i = 0; i < n; ++i) {
-      build_cat(root.paths, i);
-      LowLevel::Result r = low.Plan(instance_.starts[i], instance_.goals[i], w, dist[i], none, none,
-                                    -1, cat, cat_horizon);
-      if (r.path.empty()) {
+      absl::StatusOr<SippResult> r = plan_agent(i, root.paths, {});
+      if (!r.ok()) {
         return absl::NotFoundError(absl::StrCat("eecbs: agent ", i, " has no path"));
       }
-      root.cost += path_cost(r.path, i);
-      root.lb[i] = r.lower_bound;
-      root.lb_sum += r.lower_bound;
-      root.paths[i] = std::make_shared<const Path>(std::move(r.path));
+      root.cost += path_cost(r->path, i);
+      root.lb[i] = r->lower_bound_step;
+      root.lb_sum += r->lower_bound_step;
+      root.paths[i] = std::make_shared<const Path>(std::move(r->path));
     }
     root.conflicts = CountConflicts(root.paths, nv, owner, stamp, &root.first);
     tree.push_back(std::move(root));
@@ -384,35 +237,20 @@ absl::StatusOr<MapfResult> EecbsSolver::Solve(std::stop_token stop) {
         con = side == 0 ? Constraint{c.a, c.u, c.v, c.t} : Constraint{c.b, c.v, c.u, c.t};
       }
       const int agent = con.agent;
-      absl::flat_hash_set<int64_t> vertex_forbidden, edge_forbidden;
-      int last_goal_constraint = -1;
-      auto add = [&](const Constraint& k) {
-        if (k.agent != agent) return;
-        if (k.from == kNone) {
-          vertex_forbidden.insert(Key(k.to, k.t));
-          if (k.to == instance_.goals[agent]) {
-            last_goal_constraint = std::max(last_goal_constraint, k.t);
-          }
-        } else {
-          edge_forbidden.insert(EdgeKey(k.from, k.to, k.t));
-        }
-      };
-      add(con);
+      std::vector<Constraint> constraints = {con};
       for (int a = id; a != kNone && tree[a].parent != kNone; a = tree[a].parent) {
-        add(tree[a].constraint);
+        if (tree[a].constraint.agent == agent) constraints.push_back(tree[a].constraint);
       }
-      build_cat(tree[id].paths, agent);
-      LowLevel::Result r =
-          low.Plan(instance_.starts[agent], instance_.goals[agent], w, dist[agent],
-                   vertex_forbidden, edge_forbidden, last_goal_constraint, cat, cat_horizon);
-      if (r.path.empty()) continue;
+      absl::StatusOr<SippResult> r = plan_agent(agent, tree[id].paths, constraints);
+      if (!r.ok()) continue;
+      const int lower_bound = r->lower_bound_step;
       CtNode child{id, con, tree[id].paths, tree[id].cost, tree[id].lb, tree[id].lb_sum, 0, {}};
-      child.cost += path_cost(r.path, agent) - path_cost(*child.paths[agent], agent);
+      child.cost += path_cost(r->path, agent) - path_cost(*child.paths[agent], agent);
       // A child's bound never drops below its parent's for that agent.
-      const int agent_lb = std::max(r.lower_bound, child.lb[agent]);
+      const int agent_lb = std::max(lower_bound, child.lb[agent]);
       child.lb_sum += agent_lb - child.lb[agent];
       child.lb[agent] = agent_lb;
-      child.paths[agent] = std::make_shared<const Path>(std::move(r.path));
+      child.paths[agent] = std::make_shared<const Path>(std::move(r->path));
       child.conflicts = CountConflicts(child.paths, nv, owner, stamp, &child.first);
       // Bypass (Boyarski et al., IJCAI 2015, as used by EECBS): a replanned path that costs no
       // more and leaves fewer conflicts also satisfies the parent's constraints, so the parent

@@ -5,6 +5,7 @@
 
 #include "fleetnav/planner/eecbs.hpp"
 #include "fleetnav/planner/lacam.hpp"
+#include "fleetnav/planner/lns.hpp"
 
 namespace fleetnav::planner {
 
@@ -19,6 +20,9 @@ absl::Status MapfPlannerParams::Validate() const {
   if (!(eecbs_suboptimality >= 1.0) || !std::isfinite(eecbs_suboptimality)) {
     return absl::InvalidArgumentError("eecbs_suboptimality: must be finite and >= 1");
   }
+  if (lns_neighborhood_size < 2) {
+    return absl::InvalidArgumentError("lns_neighborhood_size: must be >= 2");
+  }
   return absl::OkStatus();
 }
 
@@ -30,48 +34,72 @@ absl::StatusOr<MapfResult> MapfPlanner::Solve(const MapfInstance& instance, std:
   auto spent_s = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   auto remaining_s = [&] { return std::max(params_.time_limit_s - spent_s(), 1e-3); };
   using Selection = MapfPlannerParams::Selection;
+
   auto run_eecbs = [&](double budget_s) {
     EecbsParams eecbs;
     eecbs.suboptimality = params_.eecbs_suboptimality;
     eecbs.time_limit_s = budget_s;
     return EecbsSolver(instance, eecbs).Solve(stop);
   };
-  auto run_lacam = [&](bool anytime) {
+  auto run_lacam = [&] {
     LacamParams lacam;
     lacam.time_limit_s = remaining_s();
     lacam.seed = params_.seed;
-    lacam.anytime = anytime;
-    const double offset_ms = spent_s() * 1000.0;
-    absl::StatusOr<MapfResult> r = LacamSolver(instance, lacam).Solve(stop);
-    if (r.ok()) {
-      r->first_solution_ms += offset_ms;
-      r->final_ms += offset_ms;
-    }
-    return r;
+    lacam.anytime = false;
+    return LacamSolver(instance, lacam).Solve(stop);
   };
-  if (params_.selection == Selection::kEecbs) return run_eecbs(params_.time_limit_s);
-  if (params_.selection == Selection::kLacam || instance.num_agents() > params_.eecbs_max_agents) {
-    return run_lacam(params_.anytime);
+
+  // 1. A first plan: EECBS alone, LaCAM alone, or (kAuto with few agents) a quick LaCAM plan
+  //    as the fallback and then EECBS within its share of the budget; the cheaper one wins.
+  absl::StatusOr<MapfResult> best;
+  const bool few = instance.num_agents() <= params_.eecbs_max_agents;
+  if (params_.selection == Selection::kEecbs) {
+    best = run_eecbs(params_.time_limit_s);
+  } else {
+    best = run_lacam();
+    if (best.ok() && params_.selection == Selection::kAuto && few) {
+      const double first_ms = best->first_solution_ms;
+      const double eecbs_budget_s =
+          std::max(params_.time_limit_s * params_.eecbs_budget_fraction - spent_s(), 1e-3);
+      absl::StatusOr<MapfResult> e = run_eecbs(eecbs_budget_s);
+      if (e.ok() && SumOfCosts(instance, e->solution) <= SumOfCosts(instance, best->solution)) {
+        e->first_solution_ms = first_ms;
+        e->final_ms = spent_s() * 1000.0;
+        best = std::move(e);
+      }
+    }
   }
-  // Few agents: a quick LaCAM plan first (the fallback), then EECBS for a bounded-suboptimal
-  // one within its share of the budget, then LaCAM* refinement with what is left.
-  absl::StatusOr<MapfResult> best = run_lacam(/*anytime=*/false);
   if (!best.ok()) return best;
-  const double first_ms = best->first_solution_ms;
-  const double eecbs_budget_s =
-      std::max(params_.time_limit_s * params_.eecbs_budget_fraction - spent_s(), 1e-3);
-  absl::StatusOr<MapfResult> e = run_eecbs(eecbs_budget_s);
-  if (e.ok() && SumOfCosts(instance, e->solution) <= SumOfCosts(instance, best->solution)) {
-    e->first_solution_ms = first_ms;
-    e->final_ms = spent_s() * 1000.0;
-    return e;
+
+  // 2. Rotations out, when the plan is to be executed through an action dependency graph.
+  LnsParams lns;
+  lns.seed = params_.seed;
+  lns.neighborhood_size = params_.lns_neighborhood_size;
+  lns.forbid_following = params_.forbid_rotations;
+  if (params_.forbid_rotations) {
+    int step = 0;
+    if (!FindRotation(best->solution, &step).empty()) {
+      lns.time_limit_s = std::max(remaining_s(), 0.1);
+      LnsRefiner refiner(instance, lns);
+      absl::StatusOr<MapfSolution> fixed = refiner.RemoveRotations(best->solution, stop);
+      if (!fixed.ok()) return fixed.status();
+      best->solution = *std::move(fixed);
+      best->final_ms = spent_s() * 1000.0;
+      best->solver += "+rotation-repair";
+    }
   }
+
+  // 3. Refinement by large neighbourhood search while the budget lasts.
   if (params_.anytime && spent_s() < params_.time_limit_s && !stop.stop_requested()) {
-    absl::StatusOr<MapfResult> refined = run_lacam(/*anytime=*/true);
-    if (refined.ok() &&
-        SumOfCosts(instance, refined->solution) < SumOfCosts(instance, best->solution)) {
-      refined->first_solution_ms = first_ms;
-      return refined;
+    lns.time_limit_s = remaining_s();
+    const double offset_ms = spent_s() * 1000.0;
+    LnsRefiner lns_refiner(instance, lns);
+    LnsStats stats;
+    absl::StatusOr<MapfSolution> refined = lns_refiner.Refine(best->solution, stop, {}, &stats);
+    if (refined.ok() && stats.accepted > 0) {
+      best->solution = *std::move(refined);
+      best->final_ms = offset_ms + stats.last_improvement_ms;
+      best->solver += "+lns";
     }
   }
   return best;

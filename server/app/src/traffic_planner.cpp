@@ -101,18 +101,12 @@ absl::StatusOr<TrafficPlan> TrafficPlanner::Plan(const std::string& map_id, uint
 
   planner::MapfPlannerParams params;
   params.time_limit_s = time_limit_s;
+  // Robots execute through an action dependency graph, which needs a plan without rotations.
+  params.forbid_rotations = true;
   absl::StatusOr<planner::MapfResult> result = planner::MapfPlanner(params).Solve(instance);
   if (!result.ok()) return result.status();
   absl::StatusOr<planner::ActionDependencyGraph> adg =
       planner::ActionDependencyGraph::Compile(instance, result->solution);
-  if (!adg.ok() && instance.num_agents() <= params.eecbs_max_agents) {
-    // LaCAM may rotate robots round a cycle in one step, which no delay-robust schedule allows;
-    // conflict-based search does not.
-    params.selection = planner::MapfPlannerParams::Selection::kEecbs;
-    result = planner::MapfPlanner(params).Solve(instance);
-    if (!result.ok()) return result.status();
-    adg = planner::ActionDependencyGraph::Compile(instance, result->solution);
-  }
   if (!adg.ok()) return adg.status();
 
   TrafficPlan plan;

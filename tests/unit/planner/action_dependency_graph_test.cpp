@@ -7,6 +7,7 @@
 
 #include "fleetnav/planner/eecbs.hpp"
 #include "fleetnav/planner/lacam.hpp"
+#include "fleetnav/planner/mapf_planner.hpp"
 #include "test_maps.hpp"
 
 namespace fleetnav::planner {
@@ -132,10 +133,11 @@ TEST_P(AdgDelayTest, FiftyRobotsWithRandomDelaysNeverCollideAndAllArrive) {
   const GridGraph g(*map);
   absl::StatusOr<MapfInstance> inst = RandomInstance(g, 50, GetParam());
   ASSERT_TRUE(inst.ok());
-  EecbsParams params;
-  params.suboptimality = 1.2;
-  params.time_limit_s = 10.0;
-  absl::StatusOr<MapfResult> plan = EecbsSolver(*inst, params).Solve();
+  MapfPlannerParams params;
+  params.time_limit_s = 0.5;
+  params.seed = GetParam();
+  params.forbid_rotations = true;
+  absl::StatusOr<MapfResult> plan = MapfPlanner(params).Solve(*inst);
   ASSERT_TRUE(plan.ok()) << plan.status();
   absl::StatusOr<ActionDependencyGraph> adg = ActionDependencyGraph::Compile(*inst, plan->solution);
   ASSERT_TRUE(adg.ok()) << adg.status();

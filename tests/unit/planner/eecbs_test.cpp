@@ -80,17 +80,17 @@ TEST(MapfPlannerTest, AutoUsesEecbsForFewAgentsAndLacamForMany) {
   ASSERT_TRUE(map.ok()) << map.status();
   const GridGraph g(*map);
   MapfPlannerParams params;
-  params.time_limit_s = 2.0;
+  params.time_limit_s = 0.5;
   params.eecbs_max_agents = 20;
   absl::StatusOr<MapfInstance> few = RandomInstance(g, 10, 3);
   absl::StatusOr<MapfResult> a = MapfPlanner(params).Solve(*few);
   ASSERT_TRUE(a.ok()) << a.status();
-  EXPECT_EQ(a->solver, "eecbs");
+  EXPECT_TRUE(a->solver.starts_with("eecbs")) << a->solver;
   params.time_limit_s = 0.2;
   absl::StatusOr<MapfInstance> many = RandomInstance(g, 60, 3);
   absl::StatusOr<MapfResult> b = MapfPlanner(params).Solve(*many);
   ASSERT_TRUE(b.ok()) << b.status();
-  EXPECT_EQ(b->solver, "lacam");
+  EXPECT_TRUE(b->solver.starts_with("lacam")) << b->solver;
   EXPECT_TRUE(ValidateSolution(*many, b->solution).ok());
 }
 

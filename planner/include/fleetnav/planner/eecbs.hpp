@@ -23,12 +23,12 @@ struct EecbsParams {
 /// (Sharon et al., AIJ 2015), in its ECBS form (Barer et al., SoCS 2014). The high level is a
 /// focal search over constraint-tree nodes: among the open nodes whose sum of costs is within
 /// w of the lowest open lower bound, it expands the node with the fewest pairwise conflicts.
-/// The low level is a focal space-time search with the node's vertex and edge constraints as
-/// reservations: among the nodes with f ≤ w · f_min it expands the one with the fewest
-/// conflicts with the other agents' current paths (a conflict-avoidance table), and it reports
-/// f_min as the agent's lower bound. The returned plan's sum of costs is at most w times the
-/// optimum. Not done from EECBS: explicit estimation (its third list and online cost
-/// learning), bypassing, conflict prioritisation and SIPP intervals. One Solve at a time.
+/// The low level is SIPP with the soft-conflict intervals of SIPPS (SippPlanner): the node's
+/// vertex and edge constraints are hard reservations, the other agents' current paths soft
+/// ones; it is focal with the same w (fewest conflicts first among arrivals within w of the
+/// best) and reports its lowest open f as the agent's lower bound. The returned plan's sum of
+/// costs is at most w times the optimum. Not done from EECBS: explicit estimation (its third
+/// list and online cost learning) and conflict prioritisation. One Solve at a time.
 class EecbsSolver {
  public:
   EecbsSolver(const MapfInstance& instance, const EecbsParams& params);
