@@ -64,6 +64,10 @@ absl::Status LnsRefiner::Load(const MapfSolution& initial, std::vector<int> fixe
   mark_.assign(n, 0);
   tabu_.clear();
   for (int i = 0; i < n; ++i) {
+    if (fixed_steps_[i] > 1) {
+      const std::vector<int> prefix(paths_[i].begin(), paths_[i].begin() + (fixed_steps_[i] - 1));
+      table_.AddHardPath(prefix, 0, /*park=*/false);
+    }
     AddToTable(i);
     IndexVisitors(i, /*add=*/true);
   }
@@ -81,12 +85,19 @@ int64_t LnsRefiner::Cost(int agent) const {
   return PathCost(paths_[agent], instance_.goals[agent]);
 }
 
+// The table holds every committed prefix but its last entry for good (see Load); these two add
+// and remove the replannable rest of a path, from its last committed entry on.
+std::vector<int> LnsRefiner::Tail(int agent) const {
+  return std::vector<int>(paths_[agent].begin() + (fixed_steps_[agent] - 1), paths_[agent].end());
+}
+
 void LnsRefiner::AddToTable(int agent) {
-  table_.AddHardPath(paths_[agent], 0, /*park=*/true, params_.forbid_following);
+  table_.AddHardPath(Tail(agent), fixed_steps_[agent] - 1, /*park=*/true, params_.forbid_following);
 }
 
 void LnsRefiner::RemoveFromTable(int agent) {
-  table_.RemoveHardPath(paths_[agent], 0, /*park=*/true, params_.forbid_following);
+  table_.RemoveHardPath(Tail(agent), fixed_steps_[agent] - 1, /*park=*/true,
+                        params_.forbid_following);
 }
 
 void LnsRefiner::IndexVisitors(int agent, bool add) {

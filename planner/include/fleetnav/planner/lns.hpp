@@ -70,6 +70,7 @@ class LnsRefiner {
   // and returns false. On success the new paths are in paths_ and the table.
   bool Replan(const std::vector<int>& agents, std::vector<std::vector<int>>* old_paths);
   void Restore(const std::vector<int>& agents, std::vector<std::vector<int>>& old_paths);
+  std::vector<int> Tail(int agent) const;
   void AddToTable(int agent);
   void RemoveFromTable(int agent);
   DistanceTable& Distances(int agent);

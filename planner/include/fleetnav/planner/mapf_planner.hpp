@@ -44,6 +44,20 @@ class MapfPlanner {
   explicit MapfPlanner(const MapfPlannerParams& params) : params_(params) {}
   absl::StatusOr<MapfResult> Solve(const MapfInstance& instance, std::stop_token stop = {});
 
+  /// Replans from the robots' current positions (instance.starts) while each robot keeps its
+  /// committed prefix: committed[i][0] is robot i's current vertex and the following entries
+  /// are the moves it has already started or promised, which the returned paths begin with.
+  /// Prioritized planning with SIPP in the revised form of Čáp et al. ("Prioritized Planning
+  /// Algorithms for Trajectory Coordination of Multiple Mobile Robots", IEEE T-ASE 2015: robots
+  /// not yet planned are obstacles where their prefixes end), restarted with random orders until
+  /// one succeeds; then rotation repair and LNS refinement as in Solve, never touching a
+  /// prefix. Errors: InvalidArgument (bad instance or prefixes: wrong count, not starting at
+  /// the start, not a move, two prefixes meeting — named), DeadlineExceeded (no order found
+  /// within the budget), Cancelled.
+  absl::StatusOr<MapfResult> Replan(const MapfInstance& instance,
+                                    const std::vector<std::vector<int>>& committed,
+                                    std::stop_token stop = {});
+
  private:
   MapfPlannerParams params_;
 };

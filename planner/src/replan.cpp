@@ -1,0 +1,163 @@
+// MapfPlanner::Replan: a new plan from the robots' current positions that keeps what each
+// robot has already committed to.
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <random>
+
+#include "absl/container/flat_hash_map.h"
+#include "absl/strings/str_cat.h"
+#include "fleetnav/planner/constraint_table.hpp"
+#include "fleetnav/planner/lns.hpp"
+#include "fleetnav/planner/mapf_planner.hpp"
+#include "fleetnav/planner/sipp.hpp"
+
+namespace fleetnav::planner {
+namespace {
+
+// InvalidArgument naming the prefix that does not start at its robot's position, is not a
+// sequence of moves, or meets another prefix (same vertex at one step, or a swap).
+absl::Status ValidatePrefixes(const MapfInstance& instance,
+                              const std::vector<std::vector<int>>& committed) {
+  const GridGraph& g = *instance.graph;
+  const int n = instance.num_agents();
+  if (static_cast<int>(committed.size()) != n) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("committed: ", committed.size(), " prefixes for ", n, " robots"));
+  }
+  absl::flat_hash_map<std::pair<int, int>, int> at;  // (vertex, step) → robot
+  for (int i = 0; i < n; ++i) {
+    const std::vector<int>& p = committed[i];
+    const std::string field = absl::StrCat("committed[", i, "]");
+    if (p.empty() || p[0] != instance.starts[i]) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(field, ": must start at the robot's vertex ", instance.starts[i]));
+    }
+    for (size_t k = 0; k < p.size(); ++k) {
+      if (p[k] < 0 || p[k] >= g.size()) {
+        return absl::InvalidArgumentError(absl::StrCat(field, "[", k, "]: no such vertex"));
+      }
+      if (k > 0 && p[k] != p[k - 1] && !g.Adjacent(p[k - 1], p[k])) {
+        return absl::InvalidArgumentError(absl::StrCat(field, "[", k, "]: not a move"));
+      }
+      auto [it, fresh] = at.emplace(std::make_pair(p[k], static_cast<int>(k)), i);
+      if (!fresh) {
+        return absl::InvalidArgumentError(absl::StrCat(field, " and committed[", it->second,
+                                                       "] meet at vertex ", p[k], " step ", k));
+      }
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    const std::vector<int>& p = committed[i];
+    for (size_t k = 1; k < p.size(); ++k) {
+      auto it = at.find({p[k - 1], static_cast<int>(k)});
+      if (p[k] == p[k - 1] || it == at.end()) continue;
+      const std::vector<int>& q = committed[it->second];
+      if (q[k - 1] == p[k]) {
+        return absl::InvalidArgumentError(
+            absl::StrCat("committed[", i, "] and committed[", it->second, "] swap at step ", k));
+      }
+    }
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+absl::StatusOr<MapfResult> MapfPlanner::Replan(const MapfInstance& instance,
+                                               const std::vector<std::vector<int>>& committed,
+                                               std::stop_token stop) {
+  if (absl::Status s = params_.Validate(); !s.ok()) return s;
+  if (absl::Status s = instance.Validate(); !s.ok()) return s;
+  if (absl::Status s = ValidatePrefixes(instance, committed); !s.ok()) return s;
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point t0 = Clock::now();
+  auto spent_s = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+  const int n = instance.num_agents();
+  const GridGraph& g = *instance.graph;
+  std::vector<std::unique_ptr<DistanceTable>> dist(n);
+  for (int i = 0; i < n; ++i) dist[i] = std::make_unique<DistanceTable>(g, instance.goals[i]);
+  std::vector<int> order(n);
+  for (int i = 0; i < n; ++i) order[i] = i;
+  // First order: the robots farthest from their goals first; later ones random.
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return dist[a]->Get(committed[a].back()) > dist[b]->Get(committed[b].back());
+  });
+  std::mt19937_64 rng(params_.seed);
+  ConstraintTable table(g.size());
+  SippPlanner sipp(g);
+  const bool no_following = params_.forbid_rotations;
+  MapfResult result;
+  result.solver = "prioritized";
+  for (int attempt = 0;; ++attempt) {
+    if (stop.stop_requested()) return absl::CancelledError("replan: stopped before a plan");
+    if (spent_s() > params_.time_limit_s) {
+      return absl::DeadlineExceededError(
+          absl::StrCat("replan: no plan keeping the committed "
+                       "prefixes within ",
+                       params_.time_limit_s, " s (", attempt, " priority orders tried)"));
+    }
+    // Orders alternate between two forms of prioritized planning: revised (robots not yet
+    // planned hold the end of their prefix for ever, so nobody is planned through them) and
+    // plain (they are invisible after their prefix). Neither is complete alone.
+    const bool revised = attempt % 2 == 0;
+    if (attempt > 1) std::shuffle(order.begin(), order.end(), rng);
+    table.Clear();
+    for (int i = 0; i < n; ++i) table.AddHardPath(committed[i], 0, /*park=*/revised);
+    std::vector<std::vector<int>> paths(n);
+    bool ok = true;
+    for (int i : order) {
+      table.RemoveHardPath(committed[i], 0, /*park=*/revised);
+      const int prefix_end = static_cast<int>(committed[i].size()) - 1;
+      SippRequest request;
+      request.start = committed[i].back();
+      request.goal = instance.goals[i];
+      request.start_step = prefix_end;
+      absl::StatusOr<SippResult> r = sipp.Plan(request, table, *dist[i]);
+      if (!r.ok()) {
+        ok = false;
+        break;
+      }
+      // The prefix is reserved as given; only the new part keeps others from following.
+      table.AddHardPath(committed[i], 0, /*park=*/false);
+      table.AddHardPath(r->path, prefix_end, /*park=*/true, no_following);
+      paths[i].assign(committed[i].begin(), committed[i].end() - 1);
+      paths[i].insert(paths[i].end(), r->path.begin(), r->path.end());
+    }
+    if (!ok) continue;
+    result.solution.paths = std::move(paths);
+    result.first_solution_ms = result.final_ms = spent_s() * 1000.0;
+    break;
+  }
+
+  std::vector<int> fixed(n);
+  for (int i = 0; i < n; ++i) fixed[i] = static_cast<int>(committed[i].size());
+  LnsParams lns;
+  lns.seed = params_.seed;
+  lns.neighborhood_size = params_.lns_neighborhood_size;
+  lns.forbid_following = no_following;
+  int step = 0;
+  if (no_following && !FindRotation(result.solution, &step).empty()) {
+    lns.time_limit_s = std::max(params_.time_limit_s - spent_s(), 0.1);
+    absl::StatusOr<MapfSolution> repaired =
+        LnsRefiner(instance, lns).RemoveRotations(result.solution, stop, fixed);
+    if (!repaired.ok()) return repaired.status();
+    result.solution = *std::move(repaired);
+    result.solver += "+rotation-repair";
+  }
+  if (params_.anytime && spent_s() < params_.time_limit_s && !stop.stop_requested()) {
+    lns.time_limit_s = params_.time_limit_s - spent_s();
+    const double offset_ms = spent_s() * 1000.0;
+    LnsStats stats;
+    absl::StatusOr<MapfSolution> refined =
+        LnsRefiner(instance, lns).Refine(result.solution, stop, fixed, &stats);
+    if (refined.ok() && stats.accepted > 0) {
+      result.solution = *std::move(refined);
+      result.final_ms = offset_ms + stats.last_improvement_ms;
+      result.solver += "+lns";
+    }
+  }
+  return result;
+}
+
+}  // namespace fleetnav::planner
