@@ -6,7 +6,8 @@ namespace fleetnav::planner {
 namespace {
 
 // Removes one occurrence of `value` from `values` (no-op when absent).
-void EraseOne(std::vector<int>& values, int value) {
+template <typename T>
+void EraseOne(std::vector<T>& values, const T& value) {
   auto it = std::find(values.begin(), values.end(), value);
   if (it != values.end()) {
     *it = values.back();
@@ -35,18 +36,19 @@ void ConstraintTable::Clear() {
     r.hard_park_steps.clear();
     r.soft_steps.clear();
     r.soft_park_steps.clear();
+    r.hard_in_moves.clear();
+    r.soft_in_moves.clear();
     r.touched = false;
     r.intervals_valid = false;
   }
   touched_.clear();
-  hard_edges_.clear();
-  soft_edges_.clear();
 }
 
 void ConstraintTable::AddHardVertex(int v, int step) { Touch(v).hard_steps.push_back(step); }
 
 void ConstraintTable::AddHardEdge(int from, int to, int step) {
-  ++hard_edges_[EdgeKey{from, to, step}];
+  vertices_[to].hard_in_moves.emplace_back(from, step);
+  Touch(to);
 }
 
 void ConstraintTable::AddHardPath(const std::vector<int>& path, int start_step, bool park,
@@ -66,7 +68,6 @@ void ConstraintTable::AddSoftPath(const std::vector<int>& path, int start_step, 
 void ConstraintTable::ChangePath(const std::vector<int>& path, int start_step, bool park, bool hard,
                                  bool block_following, int delta) {
   if (path.empty()) return;
-  auto& edges = hard ? hard_edges_ : soft_edges_;
   const int last = static_cast<int>(path.size()) - 1;
   for (int k = 0; k <= last; ++k) {
     const int step = start_step + k;
@@ -83,23 +84,28 @@ void ConstraintTable::ChangePath(const std::vector<int>& path, int start_step, b
     }
     if (k == 0 || path[k - 1] == path[k]) continue;
     // Moving path[k-1] → path[k] blocks the opposite move arriving at the same step.
-    const EdgeKey swap{path[k], path[k - 1], step};
+    VertexRecord& back = Touch(path[k - 1]);
+    auto& moves = hard ? back.hard_in_moves : back.soft_in_moves;
+    const std::pair<int, int> swap{path[k], step};
     if (delta > 0) {
-      ++edges[swap];
-    } else if (auto it = edges.find(swap); it != edges.end() && --it->second <= 0) {
-      edges.erase(it);
+      moves.push_back(swap);
+    } else {
+      EraseOne(moves, swap);
     }
   }
 }
 
 bool ConstraintTable::HardEdgeBlocked(int from, int to, int step) const {
-  return !hard_edges_.empty() && hard_edges_.contains(EdgeKey{from, to, step});
+  for (const auto& [f, s] : vertices_[to].hard_in_moves) {
+    if (f == from && s == step) return true;
+  }
+  return false;
 }
 
 int ConstraintTable::SoftEdgeConflicts(int from, int to, int step) const {
-  if (soft_edges_.empty()) return 0;
-  auto it = soft_edges_.find(EdgeKey{from, to, step});
-  return it == soft_edges_.end() ? 0 : it->second;
+  int count = 0;
+  for (const auto& [f, s] : vertices_[to].soft_in_moves) count += f == from && s == step;
+  return count;
 }
 
 const std::vector<SafeInterval>& ConstraintTable::Intervals(int v) {

@@ -35,15 +35,35 @@ struct FocalEntry {
 template <typename T>
 using MinQueue = std::priority_queue<T, std::vector<T>, std::greater<T>>;
 
-int64_t StateKey(int v, int interval) {
-  return (static_cast<int64_t>(v) << 32) | static_cast<uint32_t>(interval);
-}
-
 }  // namespace
+
+int& SippPlanner::BestSlot(int v, int interval, bool terminal) {
+  if (interval >= kDenseIntervals) {
+    const int64_t key = ((static_cast<int64_t>(v) << 32) | static_cast<uint32_t>(interval)) * 2 +
+                        (terminal ? 1 : 0);
+    return overflow_.try_emplace(key, -1).first->second;
+  }
+  const size_t k = (static_cast<size_t>(v) * kDenseIntervals + interval) * 2 + (terminal ? 1 : 0);
+  if (slot_stamp_[k] != generation_) {
+    slot_stamp_[k] = generation_;
+    slot_[k] = -1;
+  }
+  return slot_[k];
+}
 
 absl::StatusOr<SippResult> SippPlanner::Plan(const SippRequest& request, ConstraintTable& table,
                                              DistanceTable& distance_to_goal) {
   nodes_.clear();
+  overflow_.clear();
+  const size_t slots = static_cast<size_t>(graph_.size()) * kDenseIntervals * 2;
+  if (slot_.size() != slots) {
+    slot_.assign(slots, -1);
+    slot_stamp_.assign(slots, 0);
+  }
+  if (++generation_ == 0) {  // wrapped: forget every stamp
+    std::fill(slot_stamp_.begin(), slot_stamp_.end(), 0);
+    generation_ = 1;
+  }
   const int h0 = distance_to_goal.Get(request.start);
   if (h0 >= DistanceTable::kUnreachable) {
     return absl::NotFoundError(
@@ -66,7 +86,6 @@ absl::StatusOr<SippResult> SippPlanner::Plan(const SippRequest& request, Constra
   MinQueue<OpenEntry> open;
   MinQueue<OpenEntry> pending;  // open nodes above the focal bound, by f
   MinQueue<FocalEntry> focal;
-  absl::flat_hash_map<int64_t, int> best;  // (vertex, interval) → node id of the best copy
   const int f0 = request.start_step + h0;
   const double w = request.suboptimality;
   double bound = w * f0;
@@ -74,15 +93,15 @@ absl::StatusOr<SippResult> SippPlanner::Plan(const SippRequest& request, Constra
   auto push = [&](const Node& n) {
     // A copy that is neither later nor more conflicting than a known one is dropped; one that
     // is both no later and no more conflicting supersedes it.
-    const int64_t key = StateKey(n.v, n.interval) ^ (n.terminal ? (int64_t{1} << 62) : 0);
-    if (auto it = best.find(key); it != best.end()) {
-      Node& known = nodes_[it->second];
+    int& best = BestSlot(n.v, n.interval, n.terminal);
+    if (best >= 0) {
+      Node& known = nodes_[best];
       if (known.step <= n.step && known.conflicts <= n.conflicts) return;
       if (n.step <= known.step && n.conflicts <= known.conflicts) known.closed = true;
     }
     const int id = static_cast<int>(nodes_.size());
+    best = id;
     nodes_.push_back(n);
-    best[key] = id;
     open.push({n.f, -n.step, id});
     if (n.f <= bound) {
       focal.push({n.conflicts, n.f, -n.step, id});

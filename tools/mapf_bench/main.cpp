@@ -29,6 +29,12 @@ int main(int argc, char** argv) {
   app.add_option("--solver", solver, "auto, lacam or eecbs")->capture_default_str();
   double w = 1.2;
   app.add_option("--w", w, "EECBS suboptimality bound")->capture_default_str();
+  int neighborhood = 8;
+  app.add_option("--lns-neighborhood", neighborhood, "agents replanned per LNS iteration")
+      ->capture_default_str()
+      ->check(CLI::Range(2, 1000));
+  bool no_refine = false;
+  app.add_flag("--no-refine", no_refine, "return the first plan, no LNS refinement");
   app.add_flag("--json", json, "print one JSON object (the only output format)");
   CLI11_PARSE(app, argc, argv);
   if (scen_path.empty() && !seed) {
@@ -60,6 +66,8 @@ int main(int argc, char** argv) {
   params.time_limit_s = time_limit_s;
   params.seed = seed.value_or(0);
   params.eecbs_suboptimality = w;
+  params.lns_neighborhood_size = neighborhood;
+  params.anytime = !no_refine;
   if (solver == "lacam") {
     params.selection = fp::MapfPlannerParams::Selection::kLacam;
   } else if (solver == "eecbs") {

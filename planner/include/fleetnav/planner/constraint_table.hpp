@@ -2,10 +2,8 @@
 
 #include <cstdint>
 #include <limits>
-#include <tuple>
+#include <utility>
 #include <vector>
-
-#include "absl/container/flat_hash_map.h"
 
 namespace fleetnav::planner {
 
@@ -67,12 +65,12 @@ class ConstraintTable {
     std::vector<int> hard_park_steps;
     std::vector<int> soft_steps;
     std::vector<int> soft_park_steps;
+    std::vector<std::pair<int, int>> hard_in_moves;  // (from, step) of blocked moves into here
+    std::vector<std::pair<int, int>> soft_in_moves;
     std::vector<SafeInterval> intervals;
     bool touched = false;
     bool intervals_valid = false;
   };
-  using EdgeKey = std::tuple<int, int, int>;
-
   VertexRecord& Touch(int v);
   void ChangePath(const std::vector<int>& path, int start_step, bool park, bool hard,
                   bool block_following, int delta);
@@ -80,8 +78,6 @@ class ConstraintTable {
 
   std::vector<VertexRecord> vertices_;
   std::vector<int> touched_;
-  absl::flat_hash_map<EdgeKey, int> hard_edges_;
-  absl::flat_hash_map<EdgeKey, int> soft_edges_;
 };
 
 }  // namespace fleetnav::planner

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "absl/container/flat_hash_map.h"
 #include "absl/status/statusor.h"
 #include "fleetnav/planner/constraint_table.hpp"
 #include "fleetnav/planner/grid_graph.hpp"
@@ -58,8 +59,17 @@ class SippPlanner {
     bool closed;
   };
 
+  static constexpr int kDenseIntervals = 8;  // per vertex; later intervals go to overflow_
+
+  // The best known node of (vertex, interval, terminal), or -1.
+  int& BestSlot(int v, int interval, bool terminal);
+
   const GridGraph& graph_;
   std::vector<Node> nodes_;
+  std::vector<int> slot_;
+  std::vector<uint32_t> slot_stamp_;
+  uint32_t generation_ = 0;
+  absl::flat_hash_map<int64_t, int> overflow_;
 };
 
 }  // namespace fleetnav::planner
