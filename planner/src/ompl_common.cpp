@@ -186,6 +186,9 @@ int64_t SeededRrtConnect::TreeSize() const {
 
 namespace {
 
+// Spacing (in the space's distance, about metres) of the states tried as shortcut ends.
+constexpr double kShortcutSpacing = 1.0;
+
 // From each kept vertex, jump to the farthest later vertex reachable by one valid motion.
 void GreedyShortcut(const ob::SpaceInformationPtr& si, og::PathGeometric& path,
                     const std::stop_token& stop) {
@@ -292,7 +295,13 @@ absl::StatusOr<PathResult> PlanWithOmpl(const OmplProblem& problem, Costmap* cos
     if (params.simplify && path.getStateCount() > 2) {
       og::PathSimplifier simplifier(si);
       simplifier.collapseCloseVertices(path);
-      GreedyShortcut(si, path, stop);
+      // Shortcuts may start and end between RRTConnect's far-apart vertices: subdivide first
+      // (about every metre), then jump greedily; twice, so the second pass cuts the corners
+      // the first one left at its new vertices.
+      for (int pass = 0; pass < 2; ++pass) {
+        path.interpolate(static_cast<unsigned>(std::ceil(path.length() / kShortcutSpacing)) + 1);
+        GreedyShortcut(si, path, stop);
+      }
     }
     result.poses = problem.to_poses(path);
     for (size_t i = 1; i < result.poses.size(); ++i) {
