@@ -159,18 +159,21 @@ int main(int argc, char** argv) {
   setup.setup();
 
   ompl::tools::Benchmark bench(setup, "fleetnav single-robot planners");
+  std::map<std::string, std::shared_ptr<fp::SingleRobotPlannerAdapter>> adapters;
   for (const Entry& e : entries) {
     fp::Costmap* costmap = costmaps[e.model.kind_name].get();
     fp::SingleRobotPlannerParams params;
     params.kind = e.kind;
-    bench.addPlanner(std::make_shared<fp::SingleRobotPlannerAdapter>(
+    auto adapter = std::make_shared<fp::SingleRobotPlannerAdapter>(
         setup.getSpaceInformation(), e.name,
         [costmap, model = e.model, params, seed](int run) {
           fp::SingleRobotPlannerParams p = params;
           p.ompl.seed = seed + static_cast<uint32_t>(run);
           return fp::MakeSingleRobotPlanner(costmap, model, p);
         },
-        request));
+        request);
+    adapters["geometric_" + e.name] = adapter;
+    bench.addPlanner(adapter);
   }
   bench.setPostRunEvent(
       [](const ob::PlannerPtr& planner, ompl::tools::Benchmark::RunProperties& run) {
@@ -222,6 +225,11 @@ int main(int argc, char** argv) {
                                {"approximate_rate", approximate / n},
                                {"median_time_ms", Median(times_ms)},
                                {"median_length_m", Median(lengths_m)}});
+    const auto adapter = adapters.find(p.name);
+    if (adapter != adapters.end() && !adapter->second->last_result().ok()) {
+      out["planners"].back()["last_error"] =
+          std::string(adapter->second->last_result().status().ToString());
+    }
   }
   if (json) {
     std::cout << out.dump() << "\n";
