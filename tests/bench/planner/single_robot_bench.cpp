@@ -1,10 +1,12 @@
-// Single-robot planner figures: a 75 m path on a 200k-cell map (500 × 400 cells at 0.2 m,
-// seeded random boxes), per kinematics kind. Counters: path length and expansions.
+// Single-robot planner figures: a long path on a 200k-cell map (500 × 400 cells at 0.2 m,
+// seeded random boxes, 98.5 m straight), per planner. Counters: path length and expansions.
 #include <benchmark/benchmark.h>
+#include <ompl/util/Console.h>
 
 #include <random>
 
 #include "fleetnav/core/robot_model.hpp"
+#include "fleetnav/planner/planner_factory.hpp"
 #include "fleetnav/planner/single_robot_planner.hpp"
 
 namespace fp = fleetnav::planner;
@@ -34,7 +36,9 @@ fleetnav::OccupancyGrid BigGrid() {
   return grid;
 }
 
-void Run(benchmark::State& state, fleetnav::RobotModel model) {
+void Run(benchmark::State& state, fleetnav::RobotModel model,
+         fp::PlannerKind kind = fp::PlannerKind::kLattice) {
+  ompl::msg::setLogLevel(ompl::msg::LOG_WARN);  // OMPL informs on every solve
   fp::CostmapParams cp;
   cp.padding_m = 0.15;
   absl::StatusOr<fp::Costmap> costmap = fp::Costmap::Build(BigGrid(), model.footprint_m, cp);
@@ -51,8 +55,15 @@ void Run(benchmark::State& state, fleetnav::RobotModel model) {
   for (auto _ : state) {
     // A fresh costmap cache each time would be unfair to a long-running planner; the costmap
     // is built once per site map, so only planning is timed.
-    fp::LatticePlanner planner(&*costmap, model, fp::LatticeParams{});
-    absl::StatusOr<fp::PathResult> r = planner.Plan(req);
+    fp::SingleRobotPlannerParams params;
+    params.kind = kind;
+    absl::StatusOr<std::unique_ptr<fp::SingleRobotPlanner>> planner =
+        fp::MakeSingleRobotPlanner(&*costmap, model, params);
+    if (!planner.ok()) {
+      state.SkipWithError(std::string(planner.status().message()).c_str());
+      return;
+    }
+    absl::StatusOr<fp::PathResult> r = (*planner)->Plan(req);
     if (!r.ok()) {
       state.SkipWithError(std::string(r.status().message()).c_str());
       return;
@@ -69,9 +80,18 @@ void Run(benchmark::State& state, fleetnav::RobotModel model) {
 void BM_LatticeLely(benchmark::State& s) { Run(s, fleetnav::LelyVectorModel()); }
 void BM_LatticeMecanum(benchmark::State& s) { Run(s, fleetnav::MecanumPlatformModel()); }
 void BM_LatticeAckermann(benchmark::State& s) { Run(s, fleetnav::AckermannDeliveryModel()); }
+// The OMPL planners plan with the same seed every iteration, so every iteration finds one path.
+void BM_OmplOmni(benchmark::State& s) {
+  Run(s, fleetnav::MecanumPlatformModel(), fp::PlannerKind::kOmplOmni);
+}
+void BM_OmplReedsShepp(benchmark::State& s) {
+  Run(s, fleetnav::AckermannDeliveryModel(), fp::PlannerKind::kOmplReedsShepp);
+}
 
 }  // namespace
 
 BENCHMARK(BM_LatticeLely)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LatticeMecanum)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LatticeAckermann)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_OmplOmni)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_OmplReedsShepp)->Unit(benchmark::kMillisecond);

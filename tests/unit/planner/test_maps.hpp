@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "fleetnav/core/occupancy_grid.hpp"
 #include "fleetnav/planner/movingai.hpp"
 
 namespace fleetnav::planner::testing {
@@ -16,6 +17,23 @@ inline MovingAiMap InlineMap(const std::string& rows_joined_by_newline, int widt
 /// Path of a file in the shared MovingAI data folder.
 inline std::string MapfDataPath(const std::string& name) {
   return std::string(FLEETNAV_MAPF_DATA_DIR) + "/" + name;
+}
+
+/// 24 m × 16 m at 0.1 m: a border, a wall at x = 12 m with a 4 m door (y 6–10 m), and two
+/// boxes (5–7 × 10–12 m and 17–18.5 × 3–5 m).
+inline OccupancyGrid DoorGrid() {
+  OccupancyGrid grid =
+      OccupancyGrid::Filled(240, 160, 0.1, Pose2(), OccupancyGrid::kFreeValue).value();
+  for (int y = 0; y < 160; ++y) {
+    for (int x = 0; x < 240; ++x) {
+      const bool border = x < 2 || y < 2 || x >= 238 || y >= 158;
+      const bool wall = x >= 118 && x < 122 && !(y >= 60 && y < 100);
+      const bool box =
+          (x >= 50 && x < 70 && y >= 100 && y < 120) || (x >= 170 && x < 185 && y >= 30 && y < 50);
+      if (border || wall || box) grid.SetValue({x, y}, OccupancyGrid::kOccupiedValue);
+    }
+  }
+  return grid;
 }
 
 }  // namespace fleetnav::planner::testing

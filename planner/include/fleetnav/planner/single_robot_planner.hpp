@@ -25,9 +25,11 @@ struct PathRequest {
 };
 
 /// A planned path: poses from the start to the goal. Consecutive poses are joined by the
-/// planner's motion primitive (a straight line at constant yaw, a turn in place, or a
-/// constant-curvature arc). `exact` is false for an approximate result: the path ends at the
-/// reachable pose closest to the goal.
+/// planner's motion primitive (a straight line at constant yaw, a turn in place, a
+/// constant-curvature arc forward or in reverse, or — omnidirectional OMPL — a straight line with
+/// the yaw interpolated along it). `exact` is false for an approximate result: the path ends at
+/// the reachable pose closest to the goal. `expanded` counts search nodes (lattice) or tree
+/// states (OMPL).
 struct PathResult {
   std::vector<Pose2> poses;
   bool exact = true;
@@ -91,7 +93,7 @@ class LatticePlanner : public SingleRobotPlanner {
 };
 
 /// The lattice planner for a robot model (every kinematics kind); InvalidArgument for bad
-/// params or model.
+/// params or model. planner_factory.hpp chooses between the lattice and the OMPL planners.
 absl::StatusOr<std::unique_ptr<SingleRobotPlanner>> MakeSingleRobotPlanner(
     Costmap* costmap, const RobotModel& model, const LatticeParams& params);
 
