@@ -9,6 +9,61 @@
 
 namespace fleetnav::planner {
 
+MapfInstance ResolveDuplicateGoals(const MapfInstance& instance) {
+  MapfInstance out = instance;
+  const GridGraph& g = *instance.graph;
+  const int n = instance.num_agents();
+  if (g.size() == 0) return out;
+  std::vector<int> owner(g.size(), -1);  // the agent keeping each goal vertex
+  for (int i = 0; i < n; ++i) {
+    const int goal = instance.goals[i];
+    if (goal < 0 || goal >= g.size() || instance.starts[i] < 0 || instance.starts[i] >= g.size())
+      continue;  // Validate names it
+    const int keeper = owner[goal];
+    if (keeper < 0) {
+      owner[goal] = i;
+      continue;
+    }
+    DistanceTable dist(g, goal);
+    if (dist.Get(instance.starts[i]) < dist.Get(instance.starts[keeper])) owner[goal] = i;
+  }
+  for (int i = 0; i < n; ++i) {
+    const int goal = instance.goals[i];
+    if (goal < 0 || goal >= g.size() || owner[goal] == i) continue;
+    // Breadth-first from the goal: among the nearest vertices nobody ends on, the one nearest
+    // to the robot (so it need not pass the robot that keeps the goal).
+    std::vector<int> depth(g.size(), -1);
+    std::vector<int> queue = {goal};
+    depth[goal] = 0;
+    int found_depth = -1, best = -1, best_from_start = 0;
+    DistanceTable from_start(g, instance.starts[i]);
+    for (size_t head = 0; head < queue.size(); ++head) {
+      const int v = queue[head];
+      if (found_depth >= 0 && depth[v] > found_depth) break;
+      if (owner[v] < 0) {
+        found_depth = depth[v];
+        const int d = from_start.Get(v);
+        if (best < 0 || d < best_from_start) {
+          best = v;
+          best_from_start = d;
+        }
+      }
+      for (int k = 0; k < g.Degree(v); ++k) {
+        const int u = g.Neighbor(v, k);
+        if (depth[u] < 0) {
+          depth[u] = depth[v] + 1;
+          queue.push_back(u);
+        }
+      }
+    }
+    if (best >= 0) {
+      owner[best] = i;
+      out.goals[i] = best;
+    }
+  }
+  return out;
+}
+
 absl::Status MapfPlannerParams::Validate() const {
   if (!(time_limit_s > 0.0) || !std::isfinite(time_limit_s)) {
     return absl::InvalidArgumentError("time_limit_s: must be finite and > 0");
@@ -26,8 +81,12 @@ absl::Status MapfPlannerParams::Validate() const {
   return absl::OkStatus();
 }
 
-absl::StatusOr<MapfResult> MapfPlanner::Solve(const MapfInstance& instance, std::stop_token stop) {
+absl::StatusOr<MapfResult> MapfPlanner::Solve(const MapfInstance& requested, std::stop_token stop) {
   if (absl::Status s = params_.Validate(); !s.ok()) return s;
+  const MapfInstance instance =
+      params_.duplicate_goals == MapfPlannerParams::DuplicateGoals::kWaitNearby
+          ? ResolveDuplicateGoals(requested)
+          : requested;
   if (absl::Status s = instance.Validate(); !s.ok()) return s;
   using Clock = std::chrono::steady_clock;
   const Clock::time_point t0 = Clock::now();
@@ -70,6 +129,7 @@ absl::StatusOr<MapfResult> MapfPlanner::Solve(const MapfInstance& instance, std:
     }
   }
   if (!best.ok()) return best;
+  best->planned_goals = instance.goals;
 
   // 2. Rotations out, when the plan is to be executed through an action dependency graph.
   LnsParams lns;

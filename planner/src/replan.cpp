@@ -64,10 +64,14 @@ absl::Status ValidatePrefixes(const MapfInstance& instance,
 
 }  // namespace
 
-absl::StatusOr<MapfResult> MapfPlanner::Replan(const MapfInstance& instance,
+absl::StatusOr<MapfResult> MapfPlanner::Replan(const MapfInstance& requested,
                                                const std::vector<std::vector<int>>& committed,
                                                std::stop_token stop) {
   if (absl::Status s = params_.Validate(); !s.ok()) return s;
+  const MapfInstance instance =
+      params_.duplicate_goals == MapfPlannerParams::DuplicateGoals::kWaitNearby
+          ? ResolveDuplicateGoals(requested)
+          : requested;
   if (absl::Status s = instance.Validate(); !s.ok()) return s;
   if (absl::Status s = ValidatePrefixes(instance, committed); !s.ok()) return s;
   using Clock = std::chrono::steady_clock;
@@ -89,6 +93,7 @@ absl::StatusOr<MapfResult> MapfPlanner::Replan(const MapfInstance& instance,
   const bool no_following = params_.forbid_rotations;
   MapfResult result;
   result.solver = "prioritized";
+  result.planned_goals = instance.goals;
   for (int attempt = 0;; ++attempt) {
     if (stop.stop_requested()) return absl::CancelledError("replan: stopped before a plan");
     if (spent_s() > params_.time_limit_s) {

@@ -302,6 +302,30 @@ TEST_F(JobServiceTest, PlanPathsSwapsTwoRobotsInTheAlleyWithoutMeeting) {
   EXPECT_GT(response.makespan_s(), 12.0 / 0.5 - 1e-9);
 }
 
+TEST_F(JobServiceTest, PlanPathsSendsTheSecondRobotForOneGoalBesideIt) {
+  grpc::ClientContext context;
+  v1::PlanPathsRequest request;
+  request.set_map_id("barn");
+  *request.add_agents() = PlanAgent("lely1", -2.0, 0.0, 2.0, 0.0);
+  *request.add_agents() = PlanAgent("lely2", 6.0, 0.0, 2.0, 0.0);
+  v1::PlanPathsResponse response;
+  const grpc::Status status = fleet_->PlanPaths(&context, request, &response);
+  ASSERT_TRUE(status.ok()) << status.error_message();
+  ASSERT_EQ(response.paths_size(), 2);
+  const auto& near = response.paths(1).poses();  // lely2 is 4 m away, lely1 4 m too: index wins
+  const auto& first = response.paths(0).poses();
+  EXPECT_NEAR(first[first.size() - 1].pose().x_m(), 2.0, 1e-9);
+  const double dx = near[near.size() - 1].pose().x_m() - 2.0;
+  const double dy = near[near.size() - 1].pose().y_m();
+  // On the planning cell next to the goal's (cells are twice the Lely's circumscribed radius),
+  // on its own side of the alley.
+  EXPECT_GT(std::hypot(dx, dy), 0.5);
+  EXPECT_LE(std::hypot(dx, dy), 2.0 * response.cell_size_m() + 1e-9);
+  EXPECT_GT(dx, 0.0);
+  EXPECT_FALSE(response.paths(0).waits_beside_goal());
+  EXPECT_TRUE(response.paths(1).waits_beside_goal());
+}
+
 TEST_F(JobServiceTest, PlanPathsRefusesBadAgentsNamingThem) {
   struct Case {
     v1::PlanPathsRequest request;

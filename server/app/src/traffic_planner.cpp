@@ -97,7 +97,6 @@ absl::StatusOr<TrafficPlan> TrafficPlanner::Plan(const std::string& map_id, uint
     instance.starts.push_back(start);
     instance.goals.push_back(goal);
   }
-  RETURN_IF_ERROR(instance.Validate());
 
   planner::MapfPlannerParams params;
   params.time_limit_s = time_limit_s;
@@ -105,12 +104,19 @@ absl::StatusOr<TrafficPlan> TrafficPlanner::Plan(const std::string& map_id, uint
   params.forbid_rotations = true;
   absl::StatusOr<planner::MapfResult> result = planner::MapfPlanner(params).Solve(instance);
   if (!result.ok()) return result.status();
+  // A robot whose goal another robot keeps was planned to the coarse cell beside it.
+  std::vector<bool> at_requested_goal(instance.num_agents());
+  for (int i = 0; i < instance.num_agents(); ++i) {
+    at_requested_goal[i] = result->planned_goals[i] == instance.goals[i];
+  }
+  instance.goals = result->planned_goals;
   absl::StatusOr<planner::ActionDependencyGraph> adg =
       planner::ActionDependencyGraph::Compile(instance, result->solution);
   if (!adg.ok()) return adg.status();
 
   TrafficPlan plan;
   plan.cell_size_m = coarse.cell_m;
+  for (bool kept : at_requested_goal) plan.waits_beside_goal.push_back(!kept);
   plan.solver = result->solver;
   const double step_s = coarse.cell_m / speed_mps;
   for (int i = 0; i < instance.num_agents(); ++i) {
@@ -129,7 +135,7 @@ absl::StatusOr<TrafficPlan> TrafficPlanner::Plan(const std::string& map_id, uint
       path.push_back({t * step_s, Pose2(in_map.x(), in_map.y(), yaw)});
     }
     path.front().pose = agents[i].start;
-    path.back().pose = agents[i].goal;
+    if (at_requested_goal[i]) path.back().pose = agents[i].goal;
     plan.sum_of_costs_s += planner::PathCost(cells, instance.goals[i]) * step_s;
     plan.makespan_s = std::max(plan.makespan_s, path.back().t_s);
     plan.paths.push_back(std::move(path));

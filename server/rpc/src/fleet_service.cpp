@@ -288,6 +288,7 @@ grpc::Status FleetServiceImpl::PlanPaths(grpc::ServerContext*, const v1::PlanPat
   for (size_t i = 0; i < plan->paths.size(); ++i) {
     v1::PlannedPath* path = response->add_paths();
     path->set_robot_id(agents[i].robot_id);
+    path->set_waits_beside_goal(plan->waits_beside_goal[i]);
     for (const TimedPose& step : plan->paths[i]) {
       v1::TimedPose* wire = path->add_poses();
       wire->set_t_s(step.t_s);
@@ -304,6 +305,7 @@ grpc::Status FleetServiceImpl::PlanPaths(grpc::ServerContext*, const v1::PlanPat
   response->set_sum_of_costs_s(plan->sum_of_costs_s);
   response->set_makespan_s(plan->makespan_s);
   response->set_planning_ms(plan->planning_ms);
+  response->set_cell_size_m(plan->cell_size_m);
   return grpc::Status::OK;
 }
 

@@ -94,12 +94,51 @@ TEST(MapfPlannerTest, AutoUsesEecbsForFewAgentsAndLacamForMany) {
   EXPECT_TRUE(ValidateSolution(*many, b->solution).ok());
 }
 
-TEST(MapfPlannerTest, RefusesTwoRobotsSentToOneGoal) {
+TEST(MapfPlannerTest, RefusesTwoRobotsSentToOneGoalWhenAskedTo) {
   const GridGraph g(InlineMap("....\n", 4, 1));
   MapfInstance inst{&g, {0, 3}, {1, 1}};
-  EXPECT_EQ(MapfPlanner(MapfPlannerParams{}).Solve(inst).status().code(),
-            absl::StatusCode::kInvalidArgument);
+  MapfPlannerParams params;
+  params.duplicate_goals = MapfPlannerParams::DuplicateGoals::kRefuse;
+  EXPECT_EQ(MapfPlanner(params).Solve(inst).status().code(), absl::StatusCode::kInvalidArgument);
 }
+
+TEST(MapfPlannerTest, TwoRobotsSentToOneGoalOneWaitsBesideIt) {
+  // In a corridor the robot nearer the goal takes it and the other stops on its own side.
+  const GridGraph g(InlineMap(".....\n", 5, 1));
+  MapfInstance inst{&g, {0, 4}, {1, 1}};
+  absl::StatusOr<MapfResult> r = MapfPlanner(MapfPlannerParams{}).Solve(inst);
+  ASSERT_TRUE(r.ok()) << r.status();
+  ASSERT_EQ(r->planned_goals, (std::vector<int>{1, 2}));
+  MapfInstance planned = inst;
+  planned.goals = r->planned_goals;
+  EXPECT_TRUE(ValidateSolution(planned, r->solution).ok());
+}
+
+class DuplicateGoalsTest : public ::testing::TestWithParam<uint64_t> {};
+
+TEST_P(DuplicateGoalsTest, EveryRobotArrivesAtItsGoalOrBesideIt) {
+  const GridGraph g(LoadMovingAiMap(MapfDataPath("random-32-32-20.map")).value());
+  MapfInstance inst = RandomInstance(g, 40, GetParam()).value();
+  for (int i = 30; i < 40; ++i) inst.goals[i] = inst.goals[i - 30];  // ten goals twice
+  MapfPlannerParams params;
+  params.time_limit_s = 0.3;
+  params.seed = GetParam();
+  absl::StatusOr<MapfResult> r = MapfPlanner(params).Solve(inst);
+  ASSERT_TRUE(r.ok()) << r.status();
+  MapfInstance planned = inst;
+  planned.goals = r->planned_goals;
+  EXPECT_TRUE(ValidateSolution(planned, r->solution).ok());
+  int substituted = 0;
+  for (int i = 0; i < 40; ++i) {
+    if (planned.goals[i] == inst.goals[i]) continue;
+    ++substituted;
+    DistanceTable from_goal(g, inst.goals[i]);
+    EXPECT_LE(from_goal.Get(planned.goals[i]), 2) << "robot " << i;
+  }
+  EXPECT_EQ(substituted, 10);
+}
+
+INSTANTIATE_TEST_SUITE_P(Seeds, DuplicateGoalsTest, ::testing::Values(1, 2, 3));
 
 }  // namespace
 }  // namespace fleetnav::planner

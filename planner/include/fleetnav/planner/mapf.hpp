@@ -75,6 +75,9 @@ struct MapfResult {
   bool proven_optimal = false;
   int64_t expanded_nodes = 0;
   std::string solver;  ///< "lacam", "eecbs", ...
+  /// The goal each agent was planned to: the requested one, or a waiting spot next to it when
+  /// another agent was given that goal (MapfPlannerParams::duplicate_goals).
+  std::vector<int> planned_goals;
 };
 
 }  // namespace fleetnav::planner

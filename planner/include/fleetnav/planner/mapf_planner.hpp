@@ -25,9 +25,19 @@ struct MapfPlannerParams {
   /// step), which an ActionDependencyGraph needs; refinement then never lets a replanned
   /// robot follow another.
   bool forbid_rotations = false;
+  /// Two robots sent to one goal: kRefuse gives InvalidArgument; kWaitNearby lets the robot
+  /// nearer the goal (by path length; the lower index on ties) have it and plans each other one
+  /// to the nearest free vertex (breadth-first from the goal) that is nobody's goal — a
+  /// waiting spot from which a later plan can bring it in once the goal is free.
+  enum class DuplicateGoals { kRefuse, kWaitNearby };
+  DuplicateGoals duplicate_goals = DuplicateGoals::kWaitNearby;
 
   absl::Status Validate() const;
 };
+
+/// `instance` with every goal that another agent also has replaced by a waiting spot, as
+/// MapfPlannerParams::DuplicateGoals::kWaitNearby describes. Other instances come back as given.
+MapfInstance ResolveDuplicateGoals(const MapfInstance& instance);
 
 /// The multi-robot planner entry point: picks a solver for the instance and the budget and
 /// returns the best plan found. First plan — kAuto with at most `eecbs_max_agents` agents: a
@@ -36,9 +46,10 @@ struct MapfPlannerParams {
 /// wins; kAuto with more agents or kLacam: LaCAM (LacamSolver) alone; kEecbs: EECBS alone. With
 /// `forbid_rotations` any rotation is then replanned away (LnsRefiner::RemoveRotations). With
 /// `anytime` the rest of the budget refines the plan by large neighbourhood search (LnsRefiner),
-/// which only ever lowers the sum of costs. Duplicate goals are refused as InvalidArgument (two
-/// robots cannot both rest on one vertex). Stateless between calls; one Solve at a time per
-/// object.
+/// which only ever lowers the sum of costs. Robots sent to one goal are handled by
+/// `duplicate_goals` (under the MAPF model two robots cannot both rest on one vertex); the
+/// result's `planned_goals` says where each robot was sent. Stateless between calls; one Solve
+/// at a time per object.
 class MapfPlanner {
  public:
   explicit MapfPlanner(const MapfPlannerParams& params) : params_(params) {}

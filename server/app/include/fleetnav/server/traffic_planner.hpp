@@ -33,6 +33,8 @@ struct TrafficDependency {
 struct TrafficPlan {
   std::vector<std::vector<TimedPose>> paths;  ///< per agent, in request order
   std::vector<TrafficDependency> dependencies;
+  /// Per agent: another robot kept this agent's goal, so it was planned to the cell beside it.
+  std::vector<bool> waits_beside_goal;
   double sum_of_costs_s = 0.0;
   double makespan_s = 0.0;
   double planning_ms = 0.0;
@@ -43,9 +45,10 @@ struct TrafficPlan {
 /// Coordinated paths for several robots on one map (PlanPaths): the map is coarsened to a
 /// 4-connected grid whose cells are as wide as the largest robot (a coarse cell is free only if
 /// every map cell in it is free), starts and goals are snapped to their cells, the multi-robot
-/// planner (EECBS for tens, LaCAM* for hundreds; planner/) solves it within the time limit, and
-/// the plan is compiled into an action dependency graph (Hönig et al., RA-L 2019) so that it
-/// stays collision-free under any delay. Thread-safe as its repository is.
+/// planner (EECBS for tens, LaCAM for hundreds, refined by LNS; rotations removed; planner/) solves
+/// it within the time limit, and the plan is compiled into an action dependency graph (Hönig et
+/// al., RA-L 2019) so that it stays collision-free under any delay. Thread-safe as its repository
+/// is.
 class TrafficPlanner {
  public:
   explicit TrafficPlanner(storage::MapRepository* maps) : maps_(maps) {}
