@@ -156,6 +156,8 @@ absl::StatusOr<MapfResult> MapfPlanner::Solve(const MapfInstance& requested, std
     LnsRefiner lns_refiner(instance, lns);
     LnsStats stats;
     absl::StatusOr<MapfSolution> refined = lns_refiner.Refine(best->solution, stop, {}, &stats);
+    best->refine_iterations = stats.iterations;
+    best->refine_accepted = stats.accepted;
     if (refined.ok() && stats.accepted > 0) {
       best->solution = *std::move(refined);
       best->final_ms = offset_ms + stats.last_improvement_ms;

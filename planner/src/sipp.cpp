@@ -32,6 +32,17 @@ struct FocalEntry {
   }
 };
 
+// With w = 1 one queue suffices: the lowest f, then the fewest conflicts.
+struct ExactEntry {
+  int f;
+  int conflicts;
+  int neg_step;
+  int id;
+  bool operator>(const ExactEntry& o) const {
+    return std::tie(f, conflicts, neg_step, id) > std::tie(o.f, o.conflicts, o.neg_step, o.id);
+  }
+};
+
 template <typename T>
 using MinQueue = std::priority_queue<T, std::vector<T>, std::greater<T>>;
 
@@ -86,6 +97,8 @@ absl::StatusOr<SippResult> SippPlanner::Plan(const SippRequest& request, Constra
   MinQueue<OpenEntry> open;
   MinQueue<OpenEntry> pending;  // open nodes above the focal bound, by f
   MinQueue<FocalEntry> focal;
+  MinQueue<ExactEntry> exact;  // used instead of the three above when w = 1
+  const bool is_exact = request.suboptimality <= 1.0;
   const int f0 = request.start_step + h0;
   const double w = request.suboptimality;
   double bound = w * f0;
@@ -102,6 +115,10 @@ absl::StatusOr<SippResult> SippPlanner::Plan(const SippRequest& request, Constra
     const int id = static_cast<int>(nodes_.size());
     best = id;
     nodes_.push_back(n);
+    if (is_exact) {
+      exact.push({n.f, n.conflicts, -n.step, id});
+      return;
+    }
     open.push({n.f, -n.step, id});
     if (n.f <= bound) {
       focal.push({n.conflicts, n.f, -n.step, id});
@@ -113,14 +130,20 @@ absl::StatusOr<SippResult> SippPlanner::Plan(const SippRequest& request, Constra
         start_intervals[start_interval].conflicts, f0, kNone, false, false});
 
   SippResult result;
-  while (true) {
-    while (!open.empty() && nodes_[open.top().id].closed) open.pop();
-    if (open.empty()) {
-      return absl::NotFoundError(absl::StrCat("sipp: no path from ", request.start, " to ",
-                                              request.goal, " under the reservations"));
+  // The next node to expand and the lowest f in OPEN, or -1 when OPEN is empty.
+  auto select = [&](int* f_min) -> int {
+    if (is_exact) {
+      while (!exact.empty() && nodes_[exact.top().id].closed) exact.pop();
+      if (exact.empty()) return kNone;
+      *f_min = exact.top().f;
+      const int id = exact.top().id;
+      exact.pop();
+      return id;
     }
-    const int f_min = open.top().f;
-    if (w * f_min > bound) bound = w * f_min;
+    while (!open.empty() && nodes_[open.top().id].closed) open.pop();
+    if (open.empty()) return kNone;
+    *f_min = open.top().f;
+    if (w * *f_min > bound) bound = w * *f_min;
     while (!pending.empty() && pending.top().f <= bound) {
       const int id = pending.top().id;
       pending.pop();
@@ -135,6 +158,16 @@ absl::StatusOr<SippResult> SippPlanner::Plan(const SippRequest& request, Constra
     }
     const int id = focal.top().id;
     focal.pop();
+    return id;
+  };
+
+  while (true) {
+    int f_min = 0;
+    const int id = select(&f_min);
+    if (id == kNone) {
+      return absl::NotFoundError(absl::StrCat("sipp: no path from ", request.start, " to ",
+                                              request.goal, " under the reservations"));
+    }
     nodes_[id].closed = true;
     if (++result.expanded > request.max_expansions) {
       return absl::ResourceExhaustedError(

@@ -93,6 +93,8 @@ int main(int argc, char** argv) {
   out["soc_over_lb"] = lower_bound > 0 ? static_cast<double>(soc) / lower_bound : 1.0;
   out["makespan"] = fp::Makespan(*instance, result->solution);
   out["proven_optimal"] = result->proven_optimal;
+  out["refine_iterations"] = result->refine_iterations;
+  out["refine_accepted"] = result->refine_accepted;
   if (!paths_out.empty()) {
     std::ofstream file(paths_out);
     file << fp::FormatPaths(graph, result->solution);

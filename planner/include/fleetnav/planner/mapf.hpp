@@ -74,7 +74,9 @@ struct MapfResult {
   double final_ms = 0.0;
   bool proven_optimal = false;
   int64_t expanded_nodes = 0;
-  std::string solver;  ///< "lacam", "eecbs", ...
+  int64_t refine_iterations = 0;  ///< LNS iterations run (accepted or not)
+  int64_t refine_accepted = 0;    ///< of which improved the plan
+  std::string solver;             ///< "lacam", "eecbs", ...
   /// The goal each agent was planned to: the requested one, or a waiting spot next to it when
   /// another agent was given that goal (MapfPlannerParams::duplicate_goals).
   std::vector<int> planned_goals;
