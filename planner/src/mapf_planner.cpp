@@ -131,40 +131,48 @@ absl::StatusOr<MapfResult> MapfPlanner::Solve(const MapfInstance& requested, std
   if (!best.ok()) return best;
   best->planned_goals = instance.goals;
 
-  // 2. Rotations out, when the plan is to be executed through an action dependency graph.
+  // 2. and 3. Rotations out, then refinement while the budget lasts.
+  if (absl::Status st = RepairAndRefine(instance, {}, t0, stop, &*best); !st.ok()) return st;
+  return best;
+}
+
+absl::Status MapfPlanner::RepairAndRefine(const MapfInstance& instance,
+                                          const std::vector<int>& fixed_steps,
+                                          std::chrono::steady_clock::time_point started,
+                                          std::stop_token stop, MapfResult* result) {
+  using Clock = std::chrono::steady_clock;
+  auto spent_s = [&] { return std::chrono::duration<double>(Clock::now() - started).count(); };
   LnsParams lns;
   lns.seed = params_.seed;
   lns.neighborhood_size = params_.lns_neighborhood_size;
   lns.forbid_following = params_.forbid_rotations;
-  if (params_.forbid_rotations) {
-    int step = 0;
-    if (!FindRotation(best->solution, &step).empty()) {
-      lns.time_limit_s = std::max(remaining_s(), 0.1);
-      LnsRefiner refiner(instance, lns);
-      absl::StatusOr<MapfSolution> fixed = refiner.RemoveRotations(best->solution, stop);
-      if (!fixed.ok()) return fixed.status();
-      best->solution = *std::move(fixed);
-      best->final_ms = spent_s() * 1000.0;
-      best->solver += "+rotation-repair";
-    }
+  int step = 0;
+  if (params_.forbid_rotations && !FindRotation(result->solution, &step).empty()) {
+    // Rotation removal may overrun a spent budget a little: a plan the robots cannot execute
+    // is worth nothing.
+    lns.time_limit_s = std::max(params_.time_limit_s - spent_s(), 0.1);
+    absl::StatusOr<MapfSolution> repaired =
+        LnsRefiner(instance, lns).RemoveRotations(result->solution, stop, fixed_steps);
+    if (!repaired.ok()) return repaired.status();
+    result->solution = *std::move(repaired);
+    result->final_ms = spent_s() * 1000.0;
+    result->solver += "+rotation-repair";
   }
-
-  // 3. Refinement by large neighbourhood search while the budget lasts.
   if (params_.anytime && spent_s() < params_.time_limit_s && !stop.stop_requested()) {
-    lns.time_limit_s = remaining_s();
+    lns.time_limit_s = params_.time_limit_s - spent_s();
     const double offset_ms = spent_s() * 1000.0;
-    LnsRefiner lns_refiner(instance, lns);
     LnsStats stats;
-    absl::StatusOr<MapfSolution> refined = lns_refiner.Refine(best->solution, stop, {}, &stats);
-    best->refine_iterations = stats.iterations;
-    best->refine_accepted = stats.accepted;
+    absl::StatusOr<MapfSolution> refined =
+        LnsRefiner(instance, lns).Refine(result->solution, stop, fixed_steps, &stats);
+    result->refine_iterations = stats.iterations;
+    result->refine_accepted = stats.accepted;
     if (refined.ok() && stats.accepted > 0) {
-      best->solution = *std::move(refined);
-      best->final_ms = offset_ms + stats.last_improvement_ms;
-      best->solver += "+lns";
+      result->solution = *std::move(refined);
+      result->final_ms = offset_ms + stats.last_improvement_ms;
+      result->solver += "+lns";
     }
   }
-  return best;
+  return absl::OkStatus();
 }
 
 }  // namespace fleetnav::planner

@@ -8,7 +8,6 @@
 #include "absl/container/flat_hash_map.h"
 #include "absl/strings/str_cat.h"
 #include "fleetnav/planner/constraint_table.hpp"
-#include "fleetnav/planner/lns.hpp"
 #include "fleetnav/planner/mapf_planner.hpp"
 #include "fleetnav/planner/sipp.hpp"
 
@@ -137,31 +136,7 @@ absl::StatusOr<MapfResult> MapfPlanner::Replan(const MapfInstance& requested,
 
   std::vector<int> fixed(n);
   for (int i = 0; i < n; ++i) fixed[i] = static_cast<int>(committed[i].size());
-  LnsParams lns;
-  lns.seed = params_.seed;
-  lns.neighborhood_size = params_.lns_neighborhood_size;
-  lns.forbid_following = no_following;
-  int step = 0;
-  if (no_following && !FindRotation(result.solution, &step).empty()) {
-    lns.time_limit_s = std::max(params_.time_limit_s - spent_s(), 0.1);
-    absl::StatusOr<MapfSolution> repaired =
-        LnsRefiner(instance, lns).RemoveRotations(result.solution, stop, fixed);
-    if (!repaired.ok()) return repaired.status();
-    result.solution = *std::move(repaired);
-    result.solver += "+rotation-repair";
-  }
-  if (params_.anytime && spent_s() < params_.time_limit_s && !stop.stop_requested()) {
-    lns.time_limit_s = params_.time_limit_s - spent_s();
-    const double offset_ms = spent_s() * 1000.0;
-    LnsStats stats;
-    absl::StatusOr<MapfSolution> refined =
-        LnsRefiner(instance, lns).Refine(result.solution, stop, fixed, &stats);
-    if (refined.ok() && stats.accepted > 0) {
-      result.solution = *std::move(refined);
-      result.final_ms = offset_ms + stats.last_improvement_ms;
-      result.solver += "+lns";
-    }
-  }
+  if (absl::Status st = RepairAndRefine(instance, fixed, t0, stop, &result); !st.ok()) return st;
   return result;
 }
 

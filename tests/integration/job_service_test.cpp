@@ -278,15 +278,24 @@ v1::PlanPathsRequest::Agent PlanAgent(const std::string& id, double sx, double s
   return agent;
 }
 
-TEST_F(JobServiceTest, PlanPathsSwapsTwoRobotsInTheAlleyWithoutMeeting) {
+// PlanPaths on the barn for two Lely robots; fails the test unless the call succeeds.
+v1::PlanPathsResponse PlanTwoOnTheBarn(v1::FleetService::Stub& fleet,
+                                       const v1::PlanPathsRequest::Agent& first,
+                                       const v1::PlanPathsRequest::Agent& second) {
   grpc::ClientContext context;
   v1::PlanPathsRequest request;
   request.set_map_id("barn");
-  *request.add_agents() = PlanAgent("lely1", -6.0, 0.0, 6.0, 0.0);
-  *request.add_agents() = PlanAgent("lely2", 6.0, 0.0, -6.0, 0.0);
+  *request.add_agents() = first;
+  *request.add_agents() = second;
   v1::PlanPathsResponse response;
-  const grpc::Status status = fleet_->PlanPaths(&context, request, &response);
-  ASSERT_TRUE(status.ok()) << status.error_message();
+  const grpc::Status status = fleet.PlanPaths(&context, request, &response);
+  EXPECT_TRUE(status.ok()) << status.error_message();
+  return response;
+}
+
+TEST_F(JobServiceTest, PlanPathsSwapsTwoRobotsInTheAlleyWithoutMeeting) {
+  const v1::PlanPathsResponse response = PlanTwoOnTheBarn(
+      *fleet_, PlanAgent("lely1", -6.0, 0.0, 6.0, 0.0), PlanAgent("lely2", 6.0, 0.0, -6.0, 0.0));
   ASSERT_EQ(response.paths_size(), 2);
   const auto& a = response.paths(0).poses();
   const auto& b = response.paths(1).poses();
@@ -303,14 +312,8 @@ TEST_F(JobServiceTest, PlanPathsSwapsTwoRobotsInTheAlleyWithoutMeeting) {
 }
 
 TEST_F(JobServiceTest, PlanPathsSendsTheSecondRobotForOneGoalBesideIt) {
-  grpc::ClientContext context;
-  v1::PlanPathsRequest request;
-  request.set_map_id("barn");
-  *request.add_agents() = PlanAgent("lely1", -2.0, 0.0, 2.0, 0.0);
-  *request.add_agents() = PlanAgent("lely2", 6.0, 0.0, 2.0, 0.0);
-  v1::PlanPathsResponse response;
-  const grpc::Status status = fleet_->PlanPaths(&context, request, &response);
-  ASSERT_TRUE(status.ok()) << status.error_message();
+  const v1::PlanPathsResponse response = PlanTwoOnTheBarn(
+      *fleet_, PlanAgent("lely1", -2.0, 0.0, 2.0, 0.0), PlanAgent("lely2", 6.0, 0.0, 2.0, 0.0));
   ASSERT_EQ(response.paths_size(), 2);
   const auto& near = response.paths(1).poses();  // lely2 is 4 m away, lely1 4 m too: index wins
   const auto& first = response.paths(0).poses();

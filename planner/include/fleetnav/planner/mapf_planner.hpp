@@ -1,5 +1,6 @@
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <stop_token>
 
@@ -70,6 +71,12 @@ class MapfPlanner {
                                     std::stop_token stop = {});
 
  private:
+  // The steps Solve and Replan share: rotations out (with forbid_rotations), then LNS
+  // refinement with the budget left since `started`; fixed_steps as LnsRefiner takes them.
+  absl::Status RepairAndRefine(const MapfInstance& instance, const std::vector<int>& fixed_steps,
+                               std::chrono::steady_clock::time_point started, std::stop_token stop,
+                               MapfResult* result);
+
   MapfPlannerParams params_;
 };
 
