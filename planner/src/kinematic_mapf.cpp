@@ -38,16 +38,7 @@ class RobotSpace {
 
   // Cells (row-major indices) covered in state `id`, or false when off the map or blocked.
   bool Cells(int id, std::vector<int>* out) const {
-    out->clear();
-    const GridState s = StateAt(id);
-    for (const auto& [fx, fy] : robot_.motion.footprint_cells) {
-      int dx = fx, dy = fy;
-      for (int k = 0; k < s.heading; ++k) std::tie(dx, dy) = std::make_tuple(-dy, dx);
-      const int x = s.x + dx, y = s.y + dy;
-      if (!map_.Passable(x, y)) return false;
-      out->push_back(y * map_.width + x);
-    }
-    return true;
+    return CoveredCells(map_, robot_.motion, StateAt(id), out);
   }
   bool Fits(int id) const {
     std::vector<int> cells;
@@ -305,6 +296,19 @@ std::vector<std::vector<int>> ConflictBasedSearch(const std::vector<RobotSpace>&
 }
 
 }  // namespace
+
+bool CoveredCells(const MovingAiMap& map, const GridMotionModel& motion, const GridState& s,
+                  std::vector<int>* cells) {
+  cells->clear();
+  for (const auto& [fx, fy] : motion.footprint_cells) {
+    int dx = fx, dy = fy;
+    for (int k = 0; k < s.heading; ++k) std::tie(dx, dy) = std::make_tuple(-dy, dx);
+    const int x = s.x + dx, y = s.y + dy;
+    if (!map.Passable(x, y)) return false;
+    cells->push_back(y * map.width + x);
+  }
+  return true;
+}
 
 absl::Status KinematicMapfProblem::Validate() const {
   if (map == nullptr) return absl::InvalidArgumentError("map: missing");

@@ -2,55 +2,26 @@
 
 #include <gtest/gtest.h>
 
-#include <random>
 
+#include "kinematic_fleet.hpp"
 #include "test_maps.hpp"
 
 namespace fleetnav::planner {
 namespace {
 
+using testing::ForwardOnly;
 using testing::InlineMap;
-using testing::MapfDataPath;
-
-GridMotionModel ForwardOnly() {
-  GridMotionModel m;
-  m.has_heading = true;
-  m.may_reverse = false;
-  return m;
-}
-
-GridMotionModel Square2x2() {
-  GridMotionModel m;
-  m.footprint_cells = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};
-  return m;
-}
-
-// Every move of a forward-only robot goes along its heading.
-void ExpectNeverReverses(const std::vector<GridState>& states) {
-  const int dx[4] = {1, 0, -1, 0}, dy[4] = {0, 1, 0, -1};
-  for (size_t t = 1; t < states.size(); ++t) {
-    const GridState& a = states[t - 1];
-    const GridState& b = states[t];
-    if (a.x == b.x && a.y == b.y) continue;
-    EXPECT_EQ(b.x - a.x, dx[a.heading]) << "step " << t;
-    EXPECT_EQ(b.y - a.y, dy[a.heading]) << "step " << t;
-  }
-}
+using testing::Square2x2;
 
 TEST(KinematicMapfTest, TwoForwardOnlyRobotsSwapThroughTheBay) {
   // A barn alley with one bay; the robots face each other and may not reverse, so one drives
   // into the bay, turns round in it and comes out after the other has passed.
-  const MovingAiMap map = InlineMap(
-      "@@@@@.@@@@@@\n"
-      "............\n",
-      12, 2);
-  KinematicMapfProblem problem{&map, {}};
-  problem.robots.push_back({0, 1, kPlusX, 11, 1, -1, ForwardOnly()});
-  problem.robots.push_back({11, 1, kMinusX, 0, 1, -1, ForwardOnly()});
+  const MovingAiMap map = testing::BayAlley();
+  const KinematicMapfProblem problem = testing::BaySwap(map);
   absl::StatusOr<KinematicMapfPlan> plan = PlanKinematicMapf(problem, {});
   ASSERT_TRUE(plan.ok()) << plan.status();
   EXPECT_TRUE(ValidateKinematicPlan(problem, *plan).ok()) << ValidateKinematicPlan(problem, *plan);
-  for (const auto& states : plan->states) ExpectNeverReverses(states);
+  for (const auto& states : plan->states) EXPECT_TRUE(testing::NeverReverses(states));
   bool used_bay = false;
   for (const auto& states : plan->states) {
     for (const GridState& s : states) used_bay |= s.y == 0;
@@ -148,51 +119,6 @@ TEST(KinematicMapfTest, RejectsBadProblemsNamingTheRobot) {
   EXPECT_EQ(unreachable.code(), absl::StatusCode::kInvalidArgument);
   EXPECT_NE(unreachable.message().find("robots[0].goal"), std::string::npos) << unreachable;
 }
-
-class MixedFleetTest : public ::testing::TestWithParam<uint64_t> {};
-
-// Three forward-only robots, three one-cell omni platforms and two 2 x 2 platforms with random
-// starts and goals on a 32 x 32 map with 10 % obstacles.
-TEST_P(MixedFleetTest, PlansValidatedForEveryKindTogether) {
-  const MovingAiMap map = LoadMovingAiMap(MapfDataPath("random-32-32-10.map")).value();
-  std::mt19937_64 rng(GetParam());
-  std::uniform_int_distribution<int> coord(0, 31);
-  KinematicMapfProblem problem{&map, {}};
-  const std::vector<GridMotionModel> kinds = {
-      ForwardOnly(),     ForwardOnly(),     ForwardOnly(), GridMotionModel{},
-      GridMotionModel{}, GridMotionModel{}, Square2x2(),   Square2x2()};
-  for (const GridMotionModel& kind : kinds) {
-    for (int tries = 0; tries < 1000; ++tries) {
-      GridRobot r{coord(rng), coord(rng), kPlusX, coord(rng), coord(rng), -1, kind};
-      if (kind.has_heading) r.start_heading = static_cast<int>(rng() % 4);
-      problem.robots.push_back(r);
-      const bool footprint_goal_free = [&] {
-        for (const auto& [dx, dy] : kind.footprint_cells) {
-          if (!map.Passable(r.goal_x + dx, r.goal_y + dy)) return false;
-        }
-        return true;
-      }();
-      // Keep goals apart so that parked robots never block each other's goal.
-      bool goals_apart = true;
-      for (size_t j = 0; j + 1 < problem.robots.size(); ++j) {
-        goals_apart &= std::abs(problem.robots[j].goal_x - r.goal_x) > 2 ||
-                       std::abs(problem.robots[j].goal_y - r.goal_y) > 2;
-      }
-      if (footprint_goal_free && goals_apart && problem.Validate().ok()) break;
-      problem.robots.pop_back();
-    }
-  }
-  ASSERT_EQ(problem.robots.size(), kinds.size());
-  KinematicMapfParams params;
-  params.seed = GetParam();
-  params.time_limit_s = 5.0;
-  absl::StatusOr<KinematicMapfPlan> plan = PlanKinematicMapf(problem, params);
-  ASSERT_TRUE(plan.ok()) << plan.status();
-  EXPECT_TRUE(ValidateKinematicPlan(problem, *plan).ok()) << ValidateKinematicPlan(problem, *plan);
-  for (int i = 0; i < 3; ++i) ExpectNeverReverses(plan->states[i]);
-}
-
-INSTANTIATE_TEST_SUITE_P(Seeds, MixedFleetTest, ::testing::Values(1, 2, 3, 4, 5));
 
 }  // namespace
 }  // namespace fleetnav::planner

@@ -68,6 +68,11 @@ struct KinematicMapfPlan {
   std::vector<std::vector<GridState>> states;
 };
 
+/// Row-major indices of the map cells a robot with `motion` covers in state `s`; false when a
+/// cell is off the map or blocked (the cells found so far are still returned).
+bool CoveredCells(const MovingAiMap& map, const GridMotionModel& motion, const GridState& s,
+                  std::vector<int>* cells);
+
 /// Checks a plan against the problem: starts and goals, every transition a move the robot's
 /// model allows (lanes included), footprints on free cells, and no two robots overlapping at a
 /// step or during a move. InvalidArgument naming the robots and step.
