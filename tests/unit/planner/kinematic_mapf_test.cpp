@@ -2,7 +2,6 @@
 
 #include <gtest/gtest.h>
 
-
 #include "kinematic_fleet.hpp"
 #include "test_maps.hpp"
 
