@@ -19,7 +19,7 @@ struct MapfPlannerParams {
   /// kAuto tries EECBS first when there are at most this many agents.
   int eecbs_max_agents = 100;
   /// Share of the budget EECBS gets under kAuto before LaCAM takes the rest, in (0, 1].
-  double eecbs_budget_fraction = 0.95;
+  double eecbs_budget_fraction = 0.8;
   double eecbs_suboptimality = 1.2;  ///< w of EECBS, ≥ 1
   int lns_neighborhood_size = 8;     ///< agents replanned per refinement iteration, ≥ 2
   /// Return only plans without rotations (robots following each other around a cycle in one
