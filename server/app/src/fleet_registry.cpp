@@ -99,6 +99,20 @@ std::vector<RobotRecord> FleetRegistry::Snapshot() const {
   return out;
 }
 
+std::vector<RobotRecord> FleetRegistry::IdleOnline(
+    const std::function<bool(const RobotRecord&)>& wanted) const {
+  absl::ReaderMutexLock lock(&mutex_);
+  const int64_t now_ns = clock_->NowNs();
+  std::vector<RobotRecord> out;
+  for (const auto& [id, entry] : robots_) {
+    const RobotRecord& record = entry.record;
+    if (record.connection != ConnectionState::kOnline || !record.current_job_id.empty()) continue;
+    if (static_cast<double>(now_ns - record.last_seen_ns) * 1e-9 > params_.stale_after_s) continue;
+    if (wanted(record)) out.push_back(record);
+  }
+  return out;
+}
+
 std::vector<RobotRecord> FleetRegistry::ChangedSince(uint64_t after_revision,
                                                      uint64_t* latest_revision) const {
   absl::ReaderMutexLock lock(&mutex_);

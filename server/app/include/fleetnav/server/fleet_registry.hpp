@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -56,6 +57,10 @@ class FleetRegistry {
   absl::StatusOr<RobotRecord> Get(const std::string& robot_id) const;
   /// Every robot, ordered by id, with stale state computed at the current time.
   std::vector<RobotRecord> Snapshot() const;
+  /// Robots that are online (not stale), hold no job and satisfy `wanted`, ordered by id. Only
+  /// those are copied, so a caller that wants few robots of a large fleet pays little; `wanted`
+  /// runs under the registry's reader lock and must not call back into the registry.
+  std::vector<RobotRecord> IdleOnline(const std::function<bool(const RobotRecord&)>& wanted) const;
   /// Robots whose revision is greater than `after_revision`; sets *latest_revision.
   std::vector<RobotRecord> ChangedSince(uint64_t after_revision, uint64_t* latest_revision) const;
 
