@@ -312,6 +312,8 @@ int main(int argc, char** argv) {
       {"telemetry_msgs_per_s", delivered / elapsed_s},
       {"telemetry_target_msgs_per_s", agents * rate_hz},
       {"telemetry_skipped_fraction", scheduled ? static_cast<double>(skipped) / scheduled : 0.0},
+      {"telemetry_delivered_fraction",
+       scheduled ? static_cast<double>(delivered) / scheduled : 0.0},
       {"telemetry_lag_ms_p50", fleetnav::loadgen::Percentile(latencies, 50)},
       {"telemetry_lag_ms_p99", fleetnav::loadgen::Percentile(latencies, 99)},
       {"submitters", submitters},
