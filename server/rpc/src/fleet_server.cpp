@@ -9,6 +9,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/time/clock.h"
 #include "fleetnav/core/status_macros.hpp"
+#include "fleetnav/server/rpc/health_service.hpp"
 #include "fleetnav/storage/sqlite/schema.hpp"
 
 namespace fleetnav::server {
@@ -63,13 +64,20 @@ absl::StatusOr<int> FleetServer::Start() {
   agent_service_ = std::make_unique<AgentServiceImpl>(&registry_, jobs_.get(), &mailbox_,
                                                       params_.agent_stream_threads);
 
-  grpc::EnableDefaultHealthCheckService(true);
+  // Our own synchronous health service instead of gRPC's default (see health_service.hpp); the
+  // default is switched on process-wide, so switch it off for this server explicitly.
+  grpc::EnableDefaultHealthCheckService(false);
+  health_service_ = std::make_unique<HealthServiceImpl>(
+      std::vector<std::string>{v1::FleetService::service_full_name(),
+                               v1::AgentService::service_full_name()},
+      &stopping_);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   int port = 0;
   builder.AddListeningPort(params_.listen_address, grpc::InsecureServerCredentials(), &port);
   builder.SetMaxReceiveMessageSize(params_.max_message_bytes);
   builder.SetMaxSendMessageSize(params_.max_message_bytes);
+  builder.RegisterService(health_service_.get());
   builder.RegisterService(fleet_service_.get());
   agent_service_->Register(&builder);
   server_ = builder.BuildAndStart();

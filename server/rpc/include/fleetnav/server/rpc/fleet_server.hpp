@@ -74,6 +74,7 @@ class FleetServer {
   std::unique_ptr<JobService> jobs_;
   std::unique_ptr<TrafficPlanner> traffic_;
   std::thread dispatcher_;
+  std::unique_ptr<grpc::Service> health_service_;
   std::unique_ptr<FleetServiceImpl> fleet_service_;
   std::unique_ptr<AgentServiceImpl> agent_service_;
   std::unique_ptr<grpc::Server> server_;
