@@ -13,7 +13,10 @@ function(fleetnav_test)
   add_executable(${ARG_NAME} ${ARG_SOURCES})
   target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS} GTest::gtest_main GTest::gmock fleetnav_warnings)
   include(GoogleTest)
-  gtest_discover_tests(${ARG_NAME} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${ARG_LABELS}")
+  # Test names start with their program ("server_app_test.FleetRegistryTest.X"), so that
+  # `ctest -R` can pick the tests of one program or module.
+  gtest_discover_tests(${ARG_NAME} DISCOVERY_TIMEOUT 60 TEST_PREFIX "${ARG_NAME}."
+    PROPERTIES LABELS "${ARG_LABELS}")
 endfunction()
 
 # fleetnav_benchmark(NAME <name> SOURCES ... DEPS ...): one Google Benchmark program.

@@ -7,10 +7,15 @@
 #include <csignal>
 #include <cstdio>
 
+#include "absl/synchronization/mutex.h"
 #include "fleetnav/server/rpc/fleet_server.hpp"
 #include "fleetnav/server/rpc/fleet_server_config.hpp"
 
 int main(int argc, char** argv) {
+  // Debian's abseil is built with assertions on, so every absl::Mutex acquisition would also
+  // update a process-wide lock-order graph (itself behind one global lock): a few percent of the
+  // server's time under load, on every telemetry message. Tests keep the detection on.
+  absl::SetMutexDeadlockDetectionMode(absl::OnDeadlockCycle::kIgnore);
   // SIGINT/SIGTERM are blocked in every thread and taken synchronously below.
   sigset_t stop_signals;
   sigemptyset(&stop_signals);
@@ -23,7 +28,7 @@ int main(int argc, char** argv) {
   CLI::App app{"fleetnavd: fleet navigation server (FleetService + AgentService)"};
   std::string config_path, listen, db, log_level, port_file;
   double stale_after_s = 0, lost_robot_timeout_s = 0;
-  int max_message_bytes = 0;
+  int max_message_bytes = 0, agent_threads = 0;
   app.add_option("--config", config_path, "YAML configuration file (see docs/server.md)");
   app.add_option("--listen", listen,
                  "address to serve on (host:port; port 0 = any) [127.0.0.1:50051]");
@@ -33,6 +38,8 @@ int main(int argc, char** argv) {
   app.add_option("--lost-robot-timeout-s", lost_robot_timeout_s,
                  "seconds a paused job waits for its robot before failing or re-queueing [30]");
   app.add_option("--max-message-bytes", max_message_bytes, "largest request accepted [67108864]");
+  app.add_option("--agent-threads", agent_threads,
+                 "threads serving robot streams, each with its own completion queue [2]");
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error [info]");
   app.add_option("--port-file", port_file, "write the bound port to this file once serving");
   CLI11_PARSE(app, argc, argv);
@@ -50,6 +57,7 @@ int main(int argc, char** argv) {
   if (stale_after_s > 0) params.registry.stale_after_s = stale_after_s;
   if (lost_robot_timeout_s > 0) params.jobs.lost_robot_timeout_s = lost_robot_timeout_s;
   if (max_message_bytes > 0) params.max_message_bytes = max_message_bytes;
+  if (agent_threads > 0) params.agent_stream_threads = agent_threads;
   if (!log_level.empty()) config->log_level = log_level;
   spdlog::set_level(spdlog::level::from_str(config->log_level));
 

@@ -4,6 +4,8 @@
 
 #include "fleet_fixture.hpp"
 #include "fleetnav/proto/job_convert.hpp"
+#include "fleetnav/proto/telemetry_convert.hpp"
+#include "fleetnav/v1/agent_service.grpc.pb.h"
 
 namespace fleetnav {
 namespace {
@@ -264,6 +266,35 @@ TEST_F(JobServiceTest, ListRobotsIsEmptyUntilARobotConnects) {
   v1::ListRobotsResponse response;
   ASSERT_TRUE(fleet_->ListRobots(&context, {}, &response).ok());
   EXPECT_EQ(response.robots_size(), 0);
+}
+
+TEST_F(JobServiceTest, JobsNoRobotCanDriveDoNotHoldBackOneARobotCan) {
+  ASSERT_TRUE(PutRoute(StraightRoute("short", 0.3)).ok());
+  Route fence = StraightRoute("fence", 1.0);
+  fence.actions[0] = RouteAction{FenceNavigationAction{Side::kLeft, 0.5, 5.0, 0.25}, {}};
+  ASSERT_TRUE(PutRoute(fence).ok());
+  v1::SubmitJobResponse response;
+  for (int i = 0; i < 20; ++i) {  // ahead of the drivable job by priority and by age
+    ASSERT_TRUE(Submit("fence", "fence-" + std::to_string(i), &response, /*priority=*/9).ok());
+  }
+  v1::SubmitJobResponse drivable;
+  ASSERT_TRUE(Submit("short", "short", &drivable, /*priority=*/0).ok());
+
+  auto agents = v1::AgentService::NewStub(channel_);
+  grpc::ClientContext context;
+  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(20));
+  auto stream = agents->Connect(&context);
+  v1::AgentMessage hello;
+  *hello.mutable_hello() = ToProto(RobotIdentity{"lely1", LelyVectorModel(), {"straight"}, "t"});
+  ASSERT_TRUE(stream->Write(hello));
+  v1::ServerMessage message;
+  ASSERT_TRUE(stream->Read(&message) && message.has_welcome());
+  while (stream->Read(&message) && !message.has_assignment()) {
+  }
+  ASSERT_TRUE(message.has_assignment());
+  EXPECT_EQ(message.assignment().job().job_id(), drivable.job().job_id());
+  context.TryCancel();
+  (void)stream->Finish();
 }
 
 v1::PlanPathsRequest::Agent PlanAgent(const std::string& id, double sx, double sy, double gx,

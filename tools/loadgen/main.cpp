@@ -1,8 +1,11 @@
 // fleetnav-loadgen: N agents streaming telemetry at R Hz plus M operators submitting and
 // watching jobs against a running fleetnavd on loopback; prints one JSON object.
 #include <grpcpp/create_channel.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -11,13 +14,13 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "absl/synchronization/mutex.h"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
 #include "load_agents.hpp"
 #include "load_report.hpp"
 
 namespace {
 
-using fleetnav::loadgen::LoadAgent;
 using fleetnav::loadgen::SteadyNowNs;
 namespace v1 = fleetnav::v1;
 
@@ -51,65 +54,24 @@ bool PrepareRoute(v1::FleetService::Stub* fleet) {
   return fleet->PutRoute(&route_context, route, &route_response).ok();
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  std::string server = "127.0.0.1:50051";
-  int agents = 100, submitters = 2;
-  double rate_hz = 10.0, duration_s = 10.0, submit_rate_hz = 20.0;
-  pid_t server_pid = 0;
-  bool json = false;
-  CLI::App app{"fleetnav-loadgen: load fleetnavd with agents and operators"};
-  app.add_option("--server", server, "fleetnavd address")->capture_default_str();
-  app.add_option("--agents", agents, "agent streams")->capture_default_str();
-  app.add_option("--rate-hz", rate_hz, "telemetry per agent per second")->capture_default_str();
-  app.add_option("--duration-s", duration_s, "measured time")->capture_default_str();
-  app.add_option("--submitters", submitters, "operators submitting jobs")->capture_default_str();
-  app.add_option("--submit-rate-hz", submit_rate_hz, "jobs per submitter per second")
-      ->capture_default_str();
-  app.add_option("--server-pid", server_pid, "fleetnavd's pid, for its CPU and memory");
-  app.add_flag("--json", json, "print one JSON object (the only output mode)");
-  CLI11_PARSE(app, argc, argv);
-  if (agents < 0 || submitters < 0 || !(rate_hz > 0) || !(duration_s > 0)) {
-    std::cerr << "fleetnav-loadgen: --agents/--submitters must be >= 0, rates and duration > 0\n";
-    return 2;
-  }
-
-  auto control = v1::FleetService::NewStub(NewChannel(server, -1));
-  if (submitters > 0 && !PrepareRoute(control.get())) {
-    std::cerr << "fleetnav-loadgen: cannot reach fleetnavd at " << server << '\n';
-    return 1;
-  }
-
-  // Agents: about 200 streams per connection.
-  const int channel_count = std::max(1, (agents + 199) / 200);
-  std::vector<std::unique_ptr<v1::AgentService::Stub>> stubs;
-  for (int c = 0; c < channel_count; ++c) {
-    stubs.push_back(v1::AgentService::NewStub(NewChannel(server, c)));
-  }
-  std::vector<std::unique_ptr<LoadAgent>> fleet;
-  for (int i = 0; i < agents; ++i) {
-    fleet.push_back(
-        std::make_unique<LoadAgent>(stubs[i % channel_count].get(), "load-" + std::to_string(i)));
-  }
-  const auto connect_deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  int ready = 0;
-  while (std::chrono::steady_clock::now() < connect_deadline) {
-    ready = 0;
-    for (const auto& a : fleet) ready += a->ready();
-    if (ready == agents) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-
-  std::atomic<bool> stop{false};
-  std::mutex submit_mutex;
+/// What the operators measured.
+struct OperatorReport {
   std::vector<double> submit_ms;
-  uint64_t submit_errors = 0, watches = 0;
+  uint64_t submit_errors = 0;
+  uint64_t watches = 0;
+};
+
+/// M operators each submitting jobs at `rate_hz` (and watching every tenth job until its first
+/// event) until `stop` is set.
+OperatorReport RunOperators(const std::string& server, int submitters, double rate_hz,
+                            const std::atomic<bool>& stop) {
+  std::mutex mutex;
+  OperatorReport report;
   std::vector<std::thread> operators;
   for (int s = 0; s < submitters; ++s) {
     operators.emplace_back([&, s] {
       auto stub = v1::FleetService::NewStub(NewChannel(server, 1000 + s));
-      const auto period = std::chrono::duration<double>(1.0 / submit_rate_hz);
+      const auto period = std::chrono::duration<double>(1.0 / rate_hz);
       auto next = std::chrono::steady_clock::now();
       for (int i = 0; !stop.load(); ++i) {
         grpc::ClientContext context;
@@ -133,15 +95,15 @@ int main(int argc, char** argv) {
           const bool got = reader->Read(&event);
           watch_context.TryCancel();
           (void)reader->Finish();
-          std::lock_guard<std::mutex> lock(submit_mutex);
-          watches += got;
+          std::lock_guard<std::mutex> lock(mutex);
+          report.watches += got;
         }
         {
-          std::lock_guard<std::mutex> lock(submit_mutex);
+          std::lock_guard<std::mutex> lock(mutex);
           if (ok) {
-            submit_ms.push_back(ms);
+            report.submit_ms.push_back(ms);
           } else {
-            ++submit_errors;
+            ++report.submit_errors;
           }
         }
         next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);
@@ -149,61 +111,217 @@ int main(int argc, char** argv) {
       }
     });
   }
+  for (std::thread& t : operators) t.join();
+  return report;
+}
 
-  // Pacing: every agent gets one message per period, spread evenly across the period.
-  const double cpu_start = server_pid > 0 ? fleetnav::loadgen::ProcessCpuSeconds(server_pid) : -1;
-  const int64_t start_ns = SteadyNowNs();
-  const int64_t end_ns = start_ns + static_cast<int64_t>(duration_s * 1e9);
-  const int64_t period_ns = static_cast<int64_t>(1e9 / rate_hz);
-  uint64_t skipped = 0, scheduled = 0;
-  std::vector<double> latencies;
-  for (int64_t tick_ns = start_ns; tick_ns < end_ns; tick_ns += period_ns) {
-    const uint64_t sequence = static_cast<uint64_t>((tick_ns - start_ns) / period_ns);
-    for (int i = 0; i < agents; ++i) {
-      const int64_t due = tick_ns + period_ns * i / std::max(agents, 1);
-      const int64_t now = SteadyNowNs();
-      if (due > now) std::this_thread::sleep_for(std::chrono::nanoseconds(due - now));
-      ++scheduled;
-      if (!fleet[i]->Send(due, sequence)) ++skipped;
-    }
-    for (auto& a : fleet) {
-      std::vector<double> l = a->TakeLatencies();
-      latencies.insert(latencies.end(), l.begin(), l.end());
-    }
+bool WriteAll(int fd, const std::string& data) {
+  for (size_t done = 0; done < data.size();) {
+    const ssize_t n = write(fd, data.data() + done, data.size() - done);
+    if (n <= 0) return false;
+    done += static_cast<size_t>(n);
   }
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // let the last writes finish
-  const double elapsed_s = (SteadyNowNs() - start_ns) * 1e-9;
+  return true;
+}
+
+std::string ReadAll(int fd) {
+  std::string out;
+  char buffer[4096];
+  for (ssize_t n; (n = read(fd, buffer, sizeof buffer)) > 0;) out.append(buffer, n);
+  return out;
+}
+
+/// The operators run in a child process, as real operators do: blocking calls of a few threads
+/// starve when they share gRPC's pollers with thousands of busy agent streams in one process,
+/// and then the loadgen, not the server, would be measured. Protocol: the child prepares the
+/// route and writes 'R' (or 'E'); the parent writes 'G' to start, then closes its end to stop;
+/// the child answers with its report as JSON and exits. Forked before any gRPC or thread exists.
+class OperatorProcess {
+ public:
+  bool Start(const std::string& server, int submitters, double rate_hz) {
+    int to_child[2], from_child[2];
+    if (pipe(to_child) != 0 || pipe(from_child) != 0) return false;
+    pid_ = fork();
+    if (pid_ < 0) return false;
+    if (pid_ == 0) {
+      close(to_child[1]);
+      close(from_child[0]);
+      _exit(Child(server, submitters, rate_hz, to_child[0], from_child[1]));
+    }
+    close(to_child[0]);
+    close(from_child[1]);
+    to_child_ = to_child[1];
+    from_child_ = from_child[0];
+    char status = 'E';
+    return read(from_child_, &status, 1) == 1 && status == 'R';
+  }
+  void Go() { (void)WriteAll(to_child_, "G"); }
+  OperatorReport Stop() {
+    close(to_child_);
+    const std::string text = ReadAll(from_child_);
+    close(from_child_);
+    int status = 0;
+    waitpid(pid_, &status, 0);
+    OperatorReport report;
+    nlohmann::json json = nlohmann::json::parse(text, nullptr, false);
+    if (json.is_discarded() || !json.is_object()) return report;
+    report.submit_ms = json.value("submit_ms", std::vector<double>{});
+    report.submit_errors = json.value("submit_errors", uint64_t{0});
+    report.watches = json.value("watches", uint64_t{0});
+    return report;
+  }
+
+ private:
+  static int Child(const std::string& server, int submitters, double rate_hz, int in, int out) {
+    auto control = v1::FleetService::NewStub(NewChannel(server, -1));
+    if (!PrepareRoute(control.get())) {
+      (void)WriteAll(out, "E");
+      return 1;
+    }
+    (void)WriteAll(out, "R");
+    char go = 0;
+    if (read(in, &go, 1) != 1) return 0;
+    std::atomic<bool> stop{false};
+    std::thread stopper([&] {
+      (void)ReadAll(in);  // end of file: the parent closed its end
+      stop.store(true);
+    });
+    OperatorReport report = RunOperators(server, submitters, rate_hz, stop);
+    stopper.join();
+    const nlohmann::json json = {{"submit_ms", report.submit_ms},
+                                 {"submit_errors", report.submit_errors},
+                                 {"watches", report.watches}};
+    return WriteAll(out, json.dump()) ? 0 : 1;
+  }
+
+  pid_t pid_ = -1;
+  int to_child_ = -1;
+  int from_child_ = -1;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string server = "127.0.0.1:50051";
+  int agents = 100, submitters = 2, threads = 2, streams_per_connection = 250;
+  double rate_hz = 10.0, duration_s = 10.0, submit_rate_hz = 20.0;
+  pid_t server_pid = 0;
+  bool json = false;
+  CLI::App app{"fleetnav-loadgen: load fleetnavd with agents and operators"};
+  app.add_option("--server", server, "fleetnavd address")->capture_default_str();
+  app.add_option("--agents", agents, "agent streams")->capture_default_str();
+  app.add_option("--rate-hz", rate_hz, "telemetry per agent per second")->capture_default_str();
+  app.add_option("--duration-s", duration_s, "measured time")->capture_default_str();
+  app.add_option("--submitters", submitters, "operators submitting jobs")->capture_default_str();
+  app.add_option("--submit-rate-hz", submit_rate_hz, "jobs per submitter per second")
+      ->capture_default_str();
+  app.add_option("--threads", threads, "loadgen threads pacing the agents")->capture_default_str();
+  app.add_option("--streams-per-connection", streams_per_connection,
+                 "agent streams multiplexed on one connection")
+      ->capture_default_str();
+  app.add_option("--server-pid", server_pid, "fleetnavd's pid, for its CPU and memory");
+  app.add_flag("--json", json, "print one JSON object (the only output mode)");
+  CLI11_PARSE(app, argc, argv);
+  // Debian's abseil checks lock order on every absl::Mutex use (gRPC's too): measure without.
+  absl::SetMutexDeadlockDetectionMode(absl::OnDeadlockCycle::kIgnore);
+  if (agents < 0 || submitters < 0 || !(rate_hz > 0) || !(duration_s > 0) || threads < 1 ||
+      streams_per_connection < 1) {
+    std::cerr << "fleetnav-loadgen: --agents/--submitters must be >= 0, rates and duration > 0, "
+                 "--threads and --streams-per-connection >= 1\n";
+    return 2;
+  }
+
+  OperatorProcess operators;
+  if (submitters > 0 && !operators.Start(server, submitters, submit_rate_hz)) {
+    std::cerr << "fleetnav-loadgen: cannot reach fleetnavd at " << server << '\n';
+    return 1;
+  }
+
+  // Agents: each worker thread paces, writes and reaps its own share on its own completion
+  // queue; the agents of one worker are interleaved with the others' in send order.
+  const int worker_count = std::clamp(threads, 1, std::max(agents, 1));
+  std::vector<std::unique_ptr<fleetnav::loadgen::LoadWorker>> workers;
+  for (int w = 0; w < worker_count; ++w) {
+    fleetnav::loadgen::WorkerParams params;
+    params.server = server;
+    params.agents = agents;
+    for (int i = w; i < agents; i += worker_count) params.indices.push_back(i);
+    params.streams_per_connection = streams_per_connection;
+    params.first_channel_index = w * 10000;
+    workers.push_back(std::make_unique<fleetnav::loadgen::LoadWorker>(std::move(params)));
+  }
+  const int64_t period_ns = static_cast<int64_t>(1e9 / rate_hz);
+  std::atomic<int> ready{0}, connected_workers{0}, reported_workers{0};
+  std::atomic<int64_t> start_ns{0};
+  std::atomic<bool> release{false};
+  std::vector<fleetnav::loadgen::WorkerReport> reports(worker_count);
+  std::vector<std::thread> worker_threads;
+  const int64_t connect_start_ns = SteadyNowNs();
+  for (int w = 0; w < worker_count; ++w) {
+    worker_threads.emplace_back([&, w] {
+      fleetnav::loadgen::LoadWorker& worker = *workers[w];
+      ready += worker.Connect(SteadyNowNs() + 60'000'000'000);
+      ++connected_workers;
+      while (start_ns.load() == 0) worker.Idle(SteadyNowNs() + 5'000'000);
+      const int64_t end_ns = start_ns.load() + static_cast<int64_t>(duration_s * 1e9);
+      worker.Run(start_ns.load(), end_ns, period_ns, end_ns + 200'000'000);
+      reports[w] = worker.TakeReport();
+      ++reported_workers;
+      while (!release.load()) worker.Idle(SteadyNowNs() + 5'000'000);
+      worker.Stop();
+    });
+  }
+  while (connected_workers.load() < worker_count) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  const double connect_s = (SteadyNowNs() - connect_start_ns) * 1e-9;
+
+  // Pacing: every agent gets one message per period, spread evenly across the period; the
+  // workers start together and keep reaping completions for 200 ms after the last message.
+  const double cpu_start = server_pid > 0 ? fleetnav::loadgen::ProcessCpuSeconds(server_pid) : -1;
+  const int64_t run_start_ns = SteadyNowNs() + 20'000'000;
+  start_ns.store(run_start_ns);
+  if (submitters > 0) operators.Go();
+  while (reported_workers.load() < worker_count) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  const double elapsed_s = (SteadyNowNs() - run_start_ns) * 1e-9;
   const double cpu_end = server_pid > 0 ? fleetnav::loadgen::ProcessCpuSeconds(server_pid) : -1;
   const double rss_mb = server_pid > 0 ? fleetnav::loadgen::ProcessRssMb(server_pid) : -1;
-  stop.store(true);
-  for (std::thread& t : operators) t.join();
-  uint64_t delivered = 0;
-  for (auto& a : fleet) {
-    std::vector<double> l = a->TakeLatencies();
-    latencies.insert(latencies.end(), l.begin(), l.end());
-    delivered += a->completed();
-    a->Cancel();
-  }
-  for (auto& a : fleet) {
-    while (!a->done()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  const OperatorReport submit = submitters > 0 ? operators.Stop() : OperatorReport{};
+  release.store(true);
+  for (std::thread& t : worker_threads) t.join();
+  workers.clear();
+  uint64_t delivered = 0, skipped = 0, scheduled = 0;
+  std::vector<double> latencies;
+  for (fleetnav::loadgen::WorkerReport& report : reports) {
+    delivered += report.delivered;
+    skipped += report.skipped;
+    scheduled += report.scheduled;
+    latencies.insert(latencies.end(), report.lag_ms.begin(), report.lag_ms.end());
   }
 
   nlohmann::json out = {
       {"agents", agents},
-      {"agents_connected", ready},
+      {"agents_connected", ready.load()},
+      {"connect_s", connect_s},
+      {"loadgen_threads", worker_count},
+      {"streams_per_connection", streams_per_connection},
       {"rate_hz", rate_hz},
       {"duration_s", elapsed_s},
       {"telemetry_msgs_per_s", delivered / elapsed_s},
       {"telemetry_target_msgs_per_s", agents * rate_hz},
       {"telemetry_skipped_fraction", scheduled ? static_cast<double>(skipped) / scheduled : 0.0},
+      {"telemetry_delivered_fraction",
+       scheduled ? static_cast<double>(delivered) / scheduled : 0.0},
       {"telemetry_lag_ms_p50", fleetnav::loadgen::Percentile(latencies, 50)},
       {"telemetry_lag_ms_p99", fleetnav::loadgen::Percentile(latencies, 99)},
       {"submitters", submitters},
-      {"jobs_submitted", submit_ms.size()},
-      {"submit_errors", submit_errors},
-      {"watches", watches},
-      {"submit_ms_p50", fleetnav::loadgen::Percentile(submit_ms, 50)},
-      {"submit_ms_p99", fleetnav::loadgen::Percentile(submit_ms, 99)},
+      {"jobs_submitted", submit.submit_ms.size()},
+      {"submit_errors", submit.submit_errors},
+      {"watches", submit.watches},
+      {"submit_ms_p50", fleetnav::loadgen::Percentile(submit.submit_ms, 50)},
+      {"submit_ms_p99", fleetnav::loadgen::Percentile(submit.submit_ms, 99)},
       {"server_cpu_percent", cpu_start >= 0 ? 100.0 * (cpu_end - cpu_start) / elapsed_s : -1.0},
       {"server_rss_mb", rss_mb}};
   std::cout << out.dump() << std::endl;

@@ -17,9 +17,25 @@ absl::Status FleetRegistryParams::Validate() const {
 FleetRegistry::FleetRegistry(const Clock* clock, FleetRegistryParams params)
     : clock_(clock), params_(params) {}
 
+FleetRegistry::Entry* FleetRegistry::Find(const std::string& robot_id) {
+  auto it = index_.find(robot_id);
+  return it == index_.end() ? nullptr : it->second;
+}
+
+const FleetRegistry::Entry* FleetRegistry::Find(const std::string& robot_id) const {
+  auto it = index_.find(robot_id);
+  return it == index_.end() ? nullptr : it->second;
+}
+
+FleetRegistry::Entry& FleetRegistry::Insert(const std::string& robot_id) {
+  Entry*& slot = index_[robot_id];
+  if (slot == nullptr) slot = &robots_[robot_id];
+  return *slot;
+}
+
 uint64_t FleetRegistry::Connect(const RobotIdentity& identity) {
   absl::MutexLock lock(&mutex_);
-  Entry& entry = robots_[identity.robot_id];
+  Entry& entry = Insert(identity.robot_id);
   entry.session = next_session_++;
   entry.record.identity = identity;
   entry.record.connection = ConnectionState::kOnline;
@@ -31,11 +47,11 @@ uint64_t FleetRegistry::Connect(const RobotIdentity& identity) {
 absl::Status FleetRegistry::RecordTelemetry(const std::string& robot_id, uint64_t session,
                                             const Telemetry& telemetry) {
   absl::MutexLock lock(&mutex_);
-  auto it = robots_.find(robot_id);
-  if (it == robots_.end()) {
+  Entry* found = Find(robot_id);
+  if (found == nullptr) {
     return absl::NotFoundError(absl::StrCat("robot '", robot_id, "' is not registered"));
   }
-  Entry& entry = it->second;
+  Entry& entry = *found;
   if (entry.session != session) {
     return absl::FailedPreconditionError(
         absl::StrCat("robot '", robot_id, "' connected again; this stream was replaced"));
@@ -50,10 +66,10 @@ absl::Status FleetRegistry::RecordTelemetry(const std::string& robot_id, uint64_
 
 bool FleetRegistry::Disconnect(const std::string& robot_id, uint64_t session) {
   absl::MutexLock lock(&mutex_);
-  auto it = robots_.find(robot_id);
-  if (it == robots_.end() || it->second.session != session) return false;
-  it->second.record.connection = ConnectionState::kOffline;
-  it->second.record.revision = ++revision_;
+  Entry* entry = Find(robot_id);
+  if (entry == nullptr || entry->session != session) return false;
+  entry->record.connection = ConnectionState::kOffline;
+  entry->record.revision = ++revision_;
   return true;
 }
 
@@ -68,8 +84,8 @@ RobotRecord FleetRegistry::WithConnectionState(const Entry& entry) const {
 
 void FleetRegistry::RestoreOffline(const RobotIdentity& identity) {
   absl::MutexLock lock(&mutex_);
-  if (robots_.count(identity.robot_id) != 0) return;
-  Entry& entry = robots_[identity.robot_id];
+  if (Find(identity.robot_id) != nullptr) return;
+  Entry& entry = Insert(identity.robot_id);
   entry.record.identity = identity;
   entry.record.connection = ConnectionState::kOffline;
   entry.record.revision = ++revision_;
@@ -77,18 +93,18 @@ void FleetRegistry::RestoreOffline(const RobotIdentity& identity) {
 
 void FleetRegistry::SetCurrentJob(const std::string& robot_id, const std::string& job_id) {
   absl::MutexLock lock(&mutex_);
-  auto it = robots_.find(robot_id);
-  if (it == robots_.end()) return;
-  it->second.record.current_job_id = job_id;
-  it->second.record.revision = ++revision_;
+  Entry* entry = Find(robot_id);
+  if (entry == nullptr) return;
+  entry->record.current_job_id = job_id;
+  entry->record.revision = ++revision_;
 }
 
 absl::StatusOr<RobotRecord> FleetRegistry::Get(const std::string& robot_id) const {
   absl::ReaderMutexLock lock(&mutex_);
-  auto it = robots_.find(robot_id);
-  if (it == robots_.end())
+  const Entry* entry = Find(robot_id);
+  if (entry == nullptr)
     return absl::NotFoundError(absl::StrCat("robot '", robot_id, "' not found"));
-  return WithConnectionState(it->second);
+  return WithConnectionState(*entry);
 }
 
 std::vector<RobotRecord> FleetRegistry::Snapshot() const {
@@ -96,6 +112,20 @@ std::vector<RobotRecord> FleetRegistry::Snapshot() const {
   std::vector<RobotRecord> out;
   out.reserve(robots_.size());
   for (const auto& [id, entry] : robots_) out.push_back(WithConnectionState(entry));
+  return out;
+}
+
+std::vector<RobotRecord> FleetRegistry::IdleOnline(
+    const std::function<bool(const RobotRecord&)>& wanted) const {
+  absl::ReaderMutexLock lock(&mutex_);
+  const int64_t now_ns = clock_->NowNs();
+  std::vector<RobotRecord> out;
+  for (const auto& [id, entry] : robots_) {
+    const RobotRecord& record = entry.record;
+    if (record.connection != ConnectionState::kOnline || !record.current_job_id.empty()) continue;
+    if (static_cast<double>(now_ns - record.last_seen_ns) * 1e-9 > params_.stale_after_s) continue;
+    if (wanted(record)) out.push_back(record);
+  }
   return out;
 }
 

@@ -329,40 +329,71 @@ int JobService::DispatchOnce() {
     return a.priority != b.priority ? a.priority > b.priority
                                     : a.created_unix_ms < b.created_unix_ms;
   });
-  std::vector<RobotRecord> idle;
-  for (RobotRecord& record : registry_->Snapshot()) {
-    if (record.connection == ConnectionState::kOnline && record.current_job_id.empty()) {
-      idle.push_back(std::move(record));
-    }
-  }
   // Routes are read once per pass, however many jobs share them.
   struct RouteFacts {
     std::vector<std::string> needed;
     std::optional<Eigen::Vector2d> start;
   };
   std::map<std::pair<std::string, uint32_t>, RouteFacts> facts;
-  int assigned = 0;
-  for (Job& job : queued) {
-    if (idle.empty()) break;
+  std::vector<RouteFacts> goal_facts;
+  goal_facts.reserve(queued.size());  // job_facts points into it
+  std::vector<const RouteFacts*> job_facts;
+  job_facts.reserve(queued.size());
+  for (const Job& job : queued) {
+    if (job.goal) {
+      goal_facts.push_back(RouteFacts{RequiredCapabilities(job), StartPoint(job)});
+      job_facts.push_back(&goal_facts.back());
+      continue;
+    }
     auto key = std::make_pair(job.route_name, job.route_version);
     auto known = facts.find(key);
-    if (job.goal || known == facts.end()) {
-      known =
-          facts.insert_or_assign(key, RouteFacts{RequiredCapabilities(job), StartPoint(job)}).first;
+    if (known == facts.end()) {
+      known = facts.emplace(key, RouteFacts{RequiredCapabilities(job), StartPoint(job)}).first;
     }
-    const std::vector<std::string>& needed = known->second.needed;
-    const std::optional<Eigen::Vector2d> start = known->second.start;
+    job_facts.push_back(&known->second);
+  }
+  // What the queued jobs ask for: a robot (or any) with capabilities. Only robots that can serve
+  // one of these demands are copied out of the registry, so jobs no robot can drive cost nothing
+  // per robot, however large the fleet.
+  using Demand = std::pair<std::string, const std::vector<std::string>*>;
+  auto fits = [](const std::vector<std::string>& have, const std::vector<std::string>& needed) {
+    return std::all_of(needed.begin(), needed.end(), [&](const std::string& c) {
+      return std::find(have.begin(), have.end(), c) != have.end();
+    });
+  };
+  std::vector<Demand> demands;
+  for (size_t j = 0; j < queued.size(); ++j) {
+    Demand demand{queued[j].requested_robot_id, &job_facts[j]->needed};
+    const bool seen = std::any_of(demands.begin(), demands.end(), [&](const Demand& d) {
+      return d.first == demand.first && *d.second == *demand.second;
+    });
+    if (!seen) demands.push_back(demand);
+  }
+  std::vector<RobotRecord> idle = registry_->IdleOnline([&](const RobotRecord& record) {
+    return std::any_of(demands.begin(), demands.end(), [&](const Demand& d) {
+      return (d.first.empty() || d.first == record.identity.robot_id) &&
+             fits(record.identity.capabilities, *d.second);
+    });
+  });
+  // A demand that found no robot finds none later in this pass either: idle robots only leave.
+  std::vector<Demand> unmet;
+  int assigned = 0;
+  for (size_t j = 0; j < queued.size(); ++j) {
+    Job& job = queued[j];
+    if (idle.empty()) break;
+    const std::vector<std::string>& needed = job_facts[j]->needed;
+    const std::optional<Eigen::Vector2d> start = job_facts[j]->start;
+    const bool known_unmet = std::any_of(unmet.begin(), unmet.end(), [&](const Demand& d) {
+      return d.first == job.requested_robot_id && *d.second == needed;
+    });
+    if (known_unmet) continue;
     auto best = idle.end();
     double best_distance_m = std::numeric_limits<double>::infinity();
     for (auto it = idle.begin(); it != idle.end(); ++it) {
       if (!job.requested_robot_id.empty() && it->identity.robot_id != job.requested_robot_id) {
         continue;
       }
-      const auto& have = it->identity.capabilities;
-      const bool fits = std::all_of(needed.begin(), needed.end(), [&](const std::string& c) {
-        return std::find(have.begin(), have.end(), c) != have.end();
-      });
-      if (!fits) continue;
+      if (!fits(it->identity.capabilities, needed)) continue;
       double distance_m = 0.0;
       if (start && it->last_telemetry) {
         distance_m = (it->last_telemetry->pose_in_map.translation() - *start).norm();
@@ -372,7 +403,10 @@ int JobService::DispatchOnce() {
         best = it;
       }
     }
-    if (best == idle.end()) continue;
+    if (best == idle.end()) {
+      unmet.emplace_back(job.requested_robot_id, &needed);
+      continue;
+    }
     const std::string robot = best->identity.robot_id;
     job.assigned_robot_id = robot;
     if (!Transition(job, JobState::kAssigned, JobEventType::kAssigned, "", robot).ok()) continue;

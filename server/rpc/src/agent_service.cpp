@@ -9,19 +9,72 @@
 #include "fleetnav/proto/telemetry_convert.hpp"
 
 namespace fleetnav::server {
-namespace {
 
-/// One robot's stream. Reads run one after another (each OnReadDone starts the next); writes
-/// come from the outbox, one at a time; Finish() is called once, after the last write.
-class AgentConnection final : public grpc::ServerBidiReactor<v1::AgentMessage, v1::ServerMessage> {
+/// One robot's stream, or the wait for the next one on a completion queue. Completions of its
+/// queue arrive on one thread: reads run one after another (each completed read starts the
+/// next); writes come from the outbox, one at a time, started from any thread; Finish() is
+/// called once, after the last write, and its completion deletes the connection.
+class AgentConnection final {
  public:
-  AgentConnection(FleetRegistry* registry, JobService* jobs, AgentMailbox* mailbox)
-      : registry_(registry), jobs_(jobs), mailbox_(mailbox) {
-    StartSendInitialMetadata();
-    StartRead(&in_);
+  enum class Op : uintptr_t { kAccepted = 0, kRead = 1, kWrite = 2, kFinished = 3 };
+
+  AgentConnection(AgentServiceImpl* service, grpc::ServerCompletionQueue* cq)
+      : service_(service),
+        registry_(service->registry_),
+        jobs_(service->jobs_),
+        mailbox_(service->mailbox_),
+        cq_(cq),
+        stream_(&context_) {
+    service_->service_.RequestConnect(&context_, &stream_, cq_, cq_, Tag(Op::kAccepted));
   }
 
-  void OnReadDone(bool ok) override {
+  static void Proceed(void* tag, bool ok) {
+    const auto bits = reinterpret_cast<uintptr_t>(tag);
+    auto* connection = reinterpret_cast<AgentConnection*>(bits & ~uintptr_t{3});
+    switch (static_cast<Op>(bits & 3)) {
+      case Op::kAccepted:
+        connection->OnAccepted(ok);
+        break;
+      case Op::kRead:
+        connection->OnReadDone(ok);
+        break;
+      case Op::kWrite:
+        connection->OnWriteDone(ok);
+        break;
+      case Op::kFinished:
+        connection->OnFinished();
+        break;
+    }
+  }
+
+ private:
+  void* Tag(Op op) {
+    return reinterpret_cast<void*>(reinterpret_cast<uintptr_t>(this) | static_cast<uintptr_t>(op));
+  }
+
+  void OnAccepted(bool ok) {
+    if (!ok) {  // the server is shutting down: no call came
+      AgentServiceImpl* service = service_;
+      delete this;
+      service->ConnectionGone();
+      return;
+    }
+    service_->Accept(cq_);  // the next robot's call
+    {
+      absl::MutexLock lock(&mutex_);
+      writing_ = true;
+      stream_.SendInitialMetadata(Tag(Op::kWrite));
+    }
+    StartRead();
+  }
+
+  void StartRead() {
+    read_pending_ = true;
+    stream_.Read(&in_, Tag(Op::kRead));
+  }
+
+  void OnReadDone(bool ok) {
+    read_pending_ = false;
     if (!ok) {  // the agent hung up (or the call was cancelled)
       End(absl::OkStatus());
       return;
@@ -31,10 +84,10 @@ class AgentConnection final : public grpc::ServerBidiReactor<v1::AgentMessage, v
       End(status);
       return;
     }
-    StartRead(&in_);
+    StartRead();
   }
 
-  void OnWriteDone(bool ok) override {
+  void OnWriteDone(bool ok) {
     {
       absl::MutexLock lock(&mutex_);
       writing_ = false;
@@ -43,15 +96,16 @@ class AgentConnection final : public grpc::ServerBidiReactor<v1::AgentMessage, v
     PumpWrites();
   }
 
-  void OnDone() override {
+  void OnFinished() {
     if (outbox_ != nullptr) mailbox_->Close(robot_id_, outbox_);
     if (hello_seen_ && registry_->Disconnect(robot_id_, session_)) {
       jobs_->OnRobotDisconnected(robot_id_);
     }
+    AgentServiceImpl* service = service_;
     delete this;
+    service->ConnectionGone();
   }
 
- private:
   absl::Status Hello(const v1::AgentMessage& message) {
     if (message.payload_case() != v1::AgentMessage::kHello) {
       return absl::InvalidArgumentError("the first message on an agent stream must be `hello`");
@@ -116,13 +170,13 @@ class AgentConnection final : public grpc::ServerBidiReactor<v1::AgentMessage, v
       if (std::optional<v1::ServerMessage> next = outbox_->TryPop()) {
         out_ = std::move(*next);
         writing_ = true;
-        StartWrite(&out_);
+        stream_.Write(out_, Tag(Op::kWrite));
         return;
       }
     }
     if (ending_) {
       finished_ = true;
-      Finish(ToGrpcStatus(end_status_));
+      stream_.Finish(ToGrpcStatus(end_status_), Tag(Op::kFinished));
     }
   }
 
@@ -138,13 +192,18 @@ class AgentConnection final : public grpc::ServerBidiReactor<v1::AgentMessage, v
     PumpWrites();
   }
 
+  AgentServiceImpl* service_;
   FleetRegistry* registry_;
   JobService* jobs_;
   AgentMailbox* mailbox_;
-  v1::AgentMessage in_;
+  grpc::ServerCompletionQueue* cq_;
+  grpc::ServerContext context_;
+  grpc::ServerAsyncReaderWriter<v1::ServerMessage, v1::AgentMessage> stream_;
+  v1::AgentMessage in_;  ///< touched only by the read chain, as are the next four
+  bool read_pending_ = false;
   std::string robot_id_;
   uint64_t session_ = 0;
-  bool hello_seen_ = false;  ///< touched only by the read chain
+  bool hello_seen_ = false;
   std::shared_ptr<AgentOutbox> outbox_;
   absl::Mutex mutex_;
   v1::ServerMessage out_ ABSL_GUARDED_BY(mutex_);
@@ -156,11 +215,65 @@ class AgentConnection final : public grpc::ServerBidiReactor<v1::AgentMessage, v
   absl::Status end_status_ ABSL_GUARDED_BY(mutex_);
 };
 
-}  // namespace
+AgentServiceImpl::AgentServiceImpl(FleetRegistry* registry, JobService* jobs, AgentMailbox* mailbox,
+                                   int threads)
+    : registry_(registry), jobs_(jobs), mailbox_(mailbox), thread_count_(std::max(1, threads)) {}
 
-grpc::ServerBidiReactor<v1::AgentMessage, v1::ServerMessage>* AgentServiceImpl::Connect(
-    grpc::CallbackServerContext*) {
-  return new AgentConnection(registry_, jobs_, mailbox_);
+AgentServiceImpl::~AgentServiceImpl() { Shutdown(); }
+
+void AgentServiceImpl::Register(grpc::ServerBuilder* builder) {
+  builder->RegisterService(&service_);
+  for (int i = 0; i < thread_count_; ++i) cqs_.push_back(builder->AddCompletionQueue());
+}
+
+void AgentServiceImpl::Start() {
+  // A few calls awaited per queue, so that a burst of robots connecting is taken at once.
+  constexpr int kAwaitedPerQueue = 4;
+  for (auto& cq : cqs_) {
+    for (int i = 0; i < kAwaitedPerQueue; ++i) Accept(cq.get());
+    threads_.emplace_back([this, cq = cq.get()] { Serve(cq); });
+  }
+}
+
+void AgentServiceImpl::Accept(grpc::ServerCompletionQueue* cq) {
+  if (stopping_.load()) return;
+  {
+    absl::MutexLock lock(&live_mutex_);
+    ++live_connections_;
+  }
+  new AgentConnection(this, cq);
+}
+
+void AgentServiceImpl::ConnectionGone() {
+  absl::MutexLock lock(&live_mutex_);
+  --live_connections_;
+}
+
+void AgentServiceImpl::Serve(grpc::ServerCompletionQueue* cq) {
+  void* tag = nullptr;
+  bool ok = false;
+  while (cq->Next(&tag, &ok)) AgentConnection::Proceed(tag, ok);
+}
+
+void AgentServiceImpl::Shutdown() {
+  if (shut_down_) return;
+  shut_down_ = true;
+  stopping_.store(true);
+  if (!threads_.empty()) {
+    // The server's Shutdown() ended every call and returned every awaited one; once their
+    // completions are handled no operation is pending, and the queues may shut down.
+    absl::MutexLock lock(&live_mutex_);
+    auto none = [this]()
+                    ABSL_EXCLUSIVE_LOCKS_REQUIRED(live_mutex_) { return live_connections_ == 0; };
+    live_mutex_.Await(absl::Condition(&none));
+  }
+  for (auto& cq : cqs_) cq->Shutdown();
+  for (std::thread& thread : threads_) thread.join();
+  for (auto& cq : cqs_) {  // queues never served (the server did not start) still drain
+    void* tag = nullptr;
+    bool ok = false;
+    while (cq->Next(&tag, &ok)) AgentConnection::Proceed(tag, ok);
+  }
 }
 
 }  // namespace fleetnav::server

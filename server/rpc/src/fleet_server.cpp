@@ -9,6 +9,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/time/clock.h"
 #include "fleetnav/core/status_macros.hpp"
+#include "fleetnav/server/rpc/health_service.hpp"
 #include "fleetnav/storage/sqlite/schema.hpp"
 
 namespace fleetnav::server {
@@ -23,6 +24,10 @@ absl::Status FleetServerParams::Validate() const {
   if (!(dispatch_period_s > 0.0 && dispatch_period_s <= 10.0)) {
     return absl::InvalidArgumentError(
         absl::StrCat("dispatch_period_s: must be in (0, 10], got ", dispatch_period_s));
+  }
+  if (agent_stream_threads < 1 || agent_stream_threads > 64) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("agent_stream_threads: must be in [1, 64], got ", agent_stream_threads));
   }
   RETURN_IF_ERROR(jobs.Validate());
   RETURN_IF_ERROR(pose_history.Validate());
@@ -56,21 +61,30 @@ absl::StatusOr<int> FleetServer::Start() {
   traffic_ = std::make_unique<TrafficPlanner>(map_repository_.get());
   fleet_service_ = std::make_unique<FleetServiceImpl>(
       maps_.get(), site_.get(), jobs_.get(), traffic_.get(), &registry_, &mailbox_, &stopping_);
-  agent_service_ = std::make_unique<AgentServiceImpl>(&registry_, jobs_.get(), &mailbox_);
+  agent_service_ = std::make_unique<AgentServiceImpl>(&registry_, jobs_.get(), &mailbox_,
+                                                      params_.agent_stream_threads);
 
-  grpc::EnableDefaultHealthCheckService(true);
+  // Our own synchronous health service instead of gRPC's default (see health_service.hpp); the
+  // default is switched on process-wide, so switch it off for this server explicitly.
+  grpc::EnableDefaultHealthCheckService(false);
+  health_service_ = std::make_unique<HealthServiceImpl>(
+      std::vector<std::string>{v1::FleetService::service_full_name(),
+                               v1::AgentService::service_full_name()},
+      &stopping_);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   int port = 0;
   builder.AddListeningPort(params_.listen_address, grpc::InsecureServerCredentials(), &port);
   builder.SetMaxReceiveMessageSize(params_.max_message_bytes);
   builder.SetMaxSendMessageSize(params_.max_message_bytes);
+  builder.RegisterService(health_service_.get());
   builder.RegisterService(fleet_service_.get());
-  builder.RegisterService(agent_service_.get());
+  agent_service_->Register(&builder);
   server_ = builder.BuildAndStart();
   if (server_ == nullptr || port == 0) {
     return absl::UnavailableError(absl::StrCat("cannot listen on '", params_.listen_address, "'"));
   }
+  agent_service_->Start();
   dispatcher_ = std::thread([this] {
     const auto period = std::chrono::duration<double>(params_.dispatch_period_s);
     const auto history_period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
@@ -91,6 +105,7 @@ absl::StatusOr<int> FleetServer::Start() {
 void FleetServer::Shutdown() {
   if (server_ == nullptr || stopping_.exchange(true)) return;
   server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
+  agent_service_->Shutdown();
   if (dispatcher_.joinable()) dispatcher_.join();
 }
 

@@ -197,6 +197,31 @@ TEST_F(FleetRegistryTest, SnapshotIsOrderedById) {
   EXPECT_THAT(ids, ::testing::ElementsAre("ackermann-2", "mecanum-1", "vector-10", "vector-3"));
 }
 
+TEST_F(FleetRegistryTest, IdleOnlineSkipsOfflineStaleAndBusyRobotsAndAsksOnlyAboutTheRest) {
+  registry_.RestoreOffline(Identity("a-offline"));
+  registry_.Connect(Identity("b-stale"));
+  clock_.AdvanceNs(3 * kSecondNs);
+  for (const std::string id : {"c-busy", "d-idle", "e-idle", "f-unwanted"}) {
+    registry_.Connect(Identity(id));
+  }
+  registry_.SetCurrentJob("c-busy", "job-1");
+
+  std::vector<std::string> asked;
+  const std::vector<RobotRecord> idle = registry_.IdleOnline([&](const RobotRecord& record) {
+    asked.push_back(record.identity.robot_id);
+    return record.identity.robot_id != "f-unwanted";
+  });
+  EXPECT_THAT(asked, ::testing::ElementsAre("d-idle", "e-idle", "f-unwanted"));
+  ASSERT_EQ(idle.size(), 2u);
+  EXPECT_EQ(idle[0].identity.robot_id, "d-idle");
+  EXPECT_EQ(idle[1].identity.robot_id, "e-idle");
+  EXPECT_EQ(idle[0].connection, ConnectionState::kOnline);
+  EXPECT_EQ(idle[0].identity.capabilities, std::vector<std::string>{"feed"});
+
+  registry_.SetCurrentJob("c-busy", "");  // done with its job: idle again
+  EXPECT_EQ(registry_.IdleOnline([](const RobotRecord&) { return true; }).size(), 4u);
+}
+
 TEST_F(FleetRegistryTest, ChangedSinceReturnsOnlyRobotsChangedAfterARevision) {
   const uint64_t a = registry_.Connect(Identity("a"));
   const uint64_t b = registry_.Connect(Identity("b"));

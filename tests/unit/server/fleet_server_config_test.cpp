@@ -52,6 +52,19 @@ TEST(FleetServerConfigTest, BadConfigsNameTheKey) {
   }
 }
 
+TEST(FleetServerConfigTest, AgentStreamThreadsMustBeBetweenOneAndSixtyFour) {
+  FleetServerParams params;
+  EXPECT_TRUE(params.Validate().ok());
+  for (int threads : {0, -1, 65}) {
+    params.agent_stream_threads = threads;
+    const absl::Status status = params.Validate();
+    EXPECT_EQ(status.code(), absl::StatusCode::kInvalidArgument) << threads;
+    EXPECT_THAT(status.message(), HasSubstr("agent_stream_threads"));
+  }
+  params.agent_stream_threads = 64;
+  EXPECT_TRUE(params.Validate().ok());
+}
+
 TEST(FleetServerConfigTest, MissingFileIsNotFound) {
   EXPECT_EQ(LoadFleetServerConfig("/nonexistent/fleetnavd.yaml").status().code(),
             absl::StatusCode::kNotFound);

@@ -32,6 +32,8 @@ struct FleetServerParams {
   PoseHistoryParams pose_history;
   double dispatch_period_s = 0.2;    ///< how often queued jobs are matched to idle robots
   int max_message_bytes = 64 << 20;  ///< largest request accepted (a 8k×8k map fits)
+  /// Threads (each with its own completion queue) serving the robots' streams.
+  int agent_stream_threads = 2;
   absl::Status Validate() const;
 };
 
@@ -72,6 +74,7 @@ class FleetServer {
   std::unique_ptr<JobService> jobs_;
   std::unique_ptr<TrafficPlanner> traffic_;
   std::thread dispatcher_;
+  std::unique_ptr<grpc::Service> health_service_;
   std::unique_ptr<FleetServiceImpl> fleet_service_;
   std::unique_ptr<AgentServiceImpl> agent_service_;
   std::unique_ptr<grpc::Server> server_;
