@@ -47,11 +47,17 @@ absl::StatusOr<FleetServerConfig> ParseFleetServerConfig(std::string_view yaml_t
     return absl::InvalidArgumentError(absl::StrCat("config: ", e.what()));
   }
   if (root.IsNull()) return config;
-  RETURN_IF_ERROR(CheckKeys(root, {"listen", "db", "log_level", "limits", "timeouts"}, "config"));
+  RETURN_IF_ERROR(CheckKeys(
+      root, {"listen", "db", "log_level", "agent_threads", "limits", "timeouts"}, "config"));
   FleetServerParams& p = config.params;
   RETURN_IF_ERROR(Read(root, "listen", "", &p.listen_address));
   RETURN_IF_ERROR(Read(root, "db", "", &p.db_path));
   RETURN_IF_ERROR(Read(root, "log_level", "", &config.log_level));
+  RETURN_IF_ERROR(Read(root, "agent_threads", "", &p.agent_stream_threads));
+  if (p.agent_stream_threads < 1 || p.agent_stream_threads > 64) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("agent_threads: must be in [1, 64], got ", p.agent_stream_threads));
+  }
   if (const YAML::Node limits = root["limits"]) {
     RETURN_IF_ERROR(CheckKeys(limits, {"max_message_bytes", "max_page_size"}, "limits"));
     RETURN_IF_ERROR(Read(limits, "max_message_bytes", "limits.", &p.max_message_bytes));

@@ -21,6 +21,7 @@ TEST(FleetServerConfigTest, EveryKeyIsRead) {
 listen: 0.0.0.0:6000
 db: /tmp/x.db
 log_level: debug
+agent_threads: 4
 limits: {max_message_bytes: 2048, max_page_size: 50}
 timeouts: {stale_after_s: 1.5, lost_robot_timeout_s: 9, dispatch_period_s: 0.1}
 )");
@@ -28,6 +29,7 @@ timeouts: {stale_after_s: 1.5, lost_robot_timeout_s: 9, dispatch_period_s: 0.1}
   EXPECT_EQ(config->params.listen_address, "0.0.0.0:6000");
   EXPECT_EQ(config->params.db_path, "/tmp/x.db");
   EXPECT_EQ(config->log_level, "debug");
+  EXPECT_EQ(config->params.agent_stream_threads, 4);
   EXPECT_EQ(config->params.max_message_bytes, 2048);
   EXPECT_EQ(config->params.jobs.max_page_size, 50);
   EXPECT_DOUBLE_EQ(config->params.registry.stale_after_s, 1.5);
@@ -42,6 +44,7 @@ TEST(FleetServerConfigTest, BadConfigsNameTheKey) {
            {"timeouts: {stale_after_s: abc}", "stale_after_s"},
            {"limits: {max_message_bytes: 10}", "max_message_bytes"},
            {"log_level: loud", "log_level"},
+           {"agent_threads: 0", "agent_threads"},
            {"timeouts: {nap_s: 3}", "nap_s"},
            {"listen: [1, 2", "config"}}) {
     SCOPED_TRACE(yaml);
