@@ -128,7 +128,11 @@ bool LnsRefiner::Replan(const std::vector<int>& agents, std::vector<std::vector<
     request.goal = instance_.goals[a];
     request.start_step = fixed - 1;
     request.max_expansions = kSippExpansionCap;
-    absl::StatusOr<SippResult> r = sipp_.Plan(request, table_, Distances(a));
+    // Past the deadline the iteration is abandoned between two robots, so a run overshoots its
+    // budget by at most one search.
+    const bool late = std::chrono::steady_clock::now() > deadline_;
+    absl::StatusOr<SippResult> r = late ? absl::DeadlineExceededError("lns: budget spent")
+                                        : sipp_.Plan(request, table_, Distances(a));
     if (!r.ok()) {
       for (size_t j = 0; j < k; ++j) RemoveFromTable(agents[j]);
       for (size_t j = 0; j < agents.size(); ++j) {
@@ -269,6 +273,8 @@ absl::StatusOr<MapfSolution> LnsRefiner::Refine(const MapfSolution& initial, std
   if (absl::Status s = Load(initial, std::move(fixed_steps)); !s.ok()) return s;
   using Clock = std::chrono::steady_clock;
   const Clock::time_point t0 = Clock::now();
+  deadline_ = t0 + std::chrono::duration_cast<Clock::duration>(
+                       std::chrono::duration<double>(params_.time_limit_s));
   auto spent_s = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   LnsStats local;
   LnsStats& st = stats ? *stats : local;
@@ -330,6 +336,7 @@ absl::StatusOr<MapfSolution> LnsRefiner::RemoveRotations(const MapfSolution& ini
   }
   using Clock = std::chrono::steady_clock;
   const Clock::time_point t0 = Clock::now();
+  deadline_ = Clock::time_point::max();
   std::vector<std::vector<int>> old_paths;
   int failures = 0;
   absl::StatusOr<MapfSolution> result;

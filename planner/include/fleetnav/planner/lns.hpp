@@ -1,5 +1,6 @@
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <random>
@@ -92,6 +93,9 @@ class LnsRefiner {
   std::vector<int> mark_;                   // per agent: stamp for de-duplication
   int mark_stamp_ = 0;
   std::vector<int> tabu_;
+  // Replan gives up on an iteration once this passes (Refine sets it; RemoveRotations keeps it
+  // at the far future, since a plan with a rotation is no use).
+  std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
 };
 
 /// Agents of the first rotation in `solution` (robots that each move, in the same step, into
