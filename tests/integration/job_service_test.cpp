@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 
 #include "fleet_fixture.hpp"
+#include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/proto/job_convert.hpp"
 #include "fleetnav/proto/telemetry_convert.hpp"
 #include "fleetnav/v1/agent_service.grpc.pb.h"
@@ -298,10 +299,10 @@ TEST_F(JobServiceTest, JobsNoRobotCanDriveDoNotHoldBackOneARobotCan) {
 }
 
 v1::PlanPathsRequest::Agent PlanAgent(const std::string& id, double sx, double sy, double gx,
-                                      double gy) {
+                                      double gy, const std::string& kind = "lely-vector") {
   v1::PlanPathsRequest::Agent agent;
   agent.set_robot_id(id);
-  agent.set_kind_name("lely-vector");
+  agent.set_kind_name(kind);
   agent.mutable_start()->set_x_m(sx);
   agent.mutable_start()->set_y_m(sy);
   agent.mutable_goal()->set_x_m(gx);
@@ -340,6 +341,37 @@ TEST_F(JobServiceTest, PlanPathsSwapsTwoRobotsInTheAlleyWithoutMeeting) {
   }
   EXPECT_GT(response.dependencies_size(), 0);  // someone passes where the other has been
   EXPECT_GT(response.makespan_s(), 12.0 / 0.5 - 1e-9);
+}
+
+TEST_F(JobServiceTest, PlanPathsKeepsTheLelyFacingForwardAndApartFromTheStorePlatform) {
+  // A Lely and a mecanum platform swap ends of the barn alley. The Lely has a heading and must
+  // never reverse; the plan comes from the kinematic planner.
+  const v1::PlanPathsResponse response =
+      PlanTwoOnTheBarn(*fleet_, PlanAgent("lely1", -6.0, 0.0, 6.0, 0.0),
+                       PlanAgent("cart1", 6.0, 0.0, -6.0, 0.0, "mecanum-platform"));
+  ASSERT_EQ(response.paths_size(), 2);
+  EXPECT_EQ(response.solver(), "kinematic");
+  const auto& lely = response.paths(0).poses();
+  const auto& cart = response.paths(1).poses();
+  EXPECT_NEAR(lely[lely.size() - 1].pose().x_m(), 6.0, 1e-9);
+  EXPECT_NEAR(cart[cart.size() - 1].pose().x_m(), -6.0, 1e-9);
+  // Between planned poses the Lely moves along the yaw it had (forward), or turns in place.
+  for (int t = 1; t + 1 < lely.size(); ++t) {
+    const double dx = lely[t].pose().x_m() - lely[t - 1].pose().x_m();
+    const double dy = lely[t].pose().y_m() - lely[t - 1].pose().y_m();
+    if (std::hypot(dx, dy) < 1e-9) continue;
+    const double yaw = lely[t - 1].pose().yaw_rad();
+    EXPECT_GT(dx * std::cos(yaw) + dy * std::sin(yaw), 0.0) << "step " << t;
+  }
+  // Footprints (circumscribed discs) never overlap at a planned time.
+  const double clearance_m = RobotModelByKind("lely-vector")->CircumscribedRadius() +
+                             RobotModelByKind("mecanum-platform")->CircumscribedRadius();
+  for (int t = 1; t + 1 < std::min(lely.size(), cart.size()); ++t) {
+    const double d = std::hypot(lely[t].pose().x_m() - cart[t].pose().x_m(),
+                                lely[t].pose().y_m() - cart[t].pose().y_m());
+    EXPECT_GE(d, clearance_m - 1e-9) << "step " << t;
+  }
+  EXPECT_GT(response.dependencies_size(), 0);
 }
 
 TEST_F(JobServiceTest, PlanPathsSendsTheSecondRobotForOneGoalBesideIt) {

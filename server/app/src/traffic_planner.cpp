@@ -6,44 +6,15 @@
 #include <set>
 
 #include "absl/strings/str_cat.h"
+#include "coarse_grid.hpp"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/planner/action_dependency_graph.hpp"
 #include "fleetnav/planner/mapf_planner.hpp"
+#include "kinematic_traffic.hpp"
+#include "traffic_dependencies.hpp"
 
 namespace fleetnav::server {
-namespace {
-
-struct CoarseGrid {
-  planner::MovingAiMap map;
-  double cell_m = 1.0;
-  Pose2 origin;  ///< of the source grid
-};
-
-CoarseGrid Coarsen(const OccupancyGrid& grid, double cell_m) {
-  CoarseGrid out;
-  out.cell_m = cell_m;
-  out.origin = grid.origin();
-  const int factor = std::max(1, static_cast<int>(std::ceil(cell_m / grid.resolution_m() - 1e-9)));
-  out.cell_m = factor * grid.resolution_m();
-  out.map.width = grid.width() / factor;
-  out.map.height = grid.height() / factor;
-  out.map.passable.assign(static_cast<size_t>(out.map.width) * out.map.height, true);
-  for (int cy = 0; cy < out.map.height; ++cy) {
-    for (int cx = 0; cx < out.map.width; ++cx) {
-      bool free = true;
-      for (int y = cy * factor; free && y < (cy + 1) * factor; ++y) {
-        for (int x = cx * factor; free && x < (cx + 1) * factor; ++x) {
-          free = grid.State({x, y}) == CellState::kFree;
-        }
-      }
-      out.map.passable[static_cast<size_t>(cy) * out.map.width + cx] = free;
-    }
-  }
-  return out;
-}
-
-}  // namespace
 
 absl::StatusOr<TrafficPlan> TrafficPlanner::Plan(const std::string& map_id, uint32_t map_version,
                                                  const std::vector<TrafficAgent>& agents,
@@ -56,6 +27,7 @@ absl::StatusOr<TrafficPlan> TrafficPlanner::Plan(const std::string& map_id, uint
   }
   double cell_m = 0.0, speed_mps = 1e9;
   std::set<std::string> ids;
+  std::vector<RobotModel> models;
   for (size_t i = 0; i < agents.size(); ++i) {
     const std::string field = absl::StrCat("agents[", i, "]");
     absl::StatusOr<RobotModel> model = RobotModelByKind(agents[i].kind_name);
@@ -71,16 +43,33 @@ absl::StatusOr<TrafficPlan> TrafficPlanner::Plan(const std::string& map_id, uint
     }
     cell_m = std::max(cell_m, 2.0 * model->CircumscribedRadius());
     speed_mps = std::min(speed_mps, model->limits.max_speed_mps);
+    models.push_back(*std::move(model));
   }
   ASSIGN_OR_RETURN(storage::StoredMap stored, maps_->GetMap(map_id, map_version));
+  auto elapsed_ms = [&] {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started)
+        .count();
+  };
+  // Robots whose heading matters (the Lely must not reverse) are planned with headings and
+  // footprints first; when that does not fit or finish, as points on one coarse grid.
+  std::string kinematic_failure;
+  if (UseKinematicTraffic(models)) {
+    absl::StatusOr<TrafficPlan> plan =
+        PlanKinematicTraffic(stored.grid, agents, models, 0.5 * time_limit_s);
+    if (plan.ok()) {
+      plan->planning_ms = elapsed_ms();
+      return plan;
+    }
+    kinematic_failure = std::string(plan.status().message());
+    time_limit_s = std::max(time_limit_s - elapsed_ms() / 1000.0, 0.1 * time_limit_s);
+  }
   const CoarseGrid coarse = Coarsen(stored.grid, cell_m);
   const planner::GridGraph graph(coarse.map);
 
   // Snap each start and goal to its coarse cell (in the map's own frame).
   auto vertex_of = [&](const Pose2& pose, const std::string& field) -> absl::StatusOr<int> {
-    const Eigen::Vector2d local = coarse.origin.Inverse().TransformPoint(pose.translation());
-    const int x = static_cast<int>(std::floor(local.x() / coarse.cell_m));
-    const int y = static_cast<int>(std::floor(local.y() / coarse.cell_m));
+    int x = 0, y = 0;
+    coarse.CellOf(pose, &x, &y);
     const int v = graph.VertexAt(x, y);
     if (v == planner::GridGraph::kNone) {
       return absl::InvalidArgumentError(absl::StrCat(field, ": not on a free planning cell (",
@@ -118,20 +107,19 @@ absl::StatusOr<TrafficPlan> TrafficPlanner::Plan(const std::string& map_id, uint
   plan.cell_size_m = coarse.cell_m;
   for (bool kept : at_requested_goal) plan.waits_beside_goal.push_back(!kept);
   plan.solver = result->solver;
+  if (!kinematic_failure.empty()) plan.solver += " (kinematic: " + kinematic_failure + ")";
   const double step_s = coarse.cell_m / speed_mps;
   for (int i = 0; i < instance.num_agents(); ++i) {
     const std::vector<int>& cells = result->solution.paths[i];
     std::vector<TimedPose> path;
     double yaw = agents[i].start.yaw_rad();
     for (size_t t = 0; t < cells.size(); ++t) {
-      const Eigen::Vector2d center((graph.X(cells[t]) + 0.5) * coarse.cell_m,
-                                   (graph.Y(cells[t]) + 0.5) * coarse.cell_m);
       if (t + 1 < cells.size() && cells[t + 1] != cells[t]) {
         yaw = std::atan2(graph.Y(cells[t + 1]) - graph.Y(cells[t]),
                          graph.X(cells[t + 1]) - graph.X(cells[t])) +
               coarse.origin.yaw_rad();
       }
-      const Eigen::Vector2d in_map = coarse.origin.TransformPoint(center);
+      const Eigen::Vector2d in_map = coarse.CenterOf(graph.X(cells[t]), graph.Y(cells[t]));
       path.push_back({t * step_s, Pose2(in_map.x(), in_map.y(), yaw)});
     }
     path.front().pose = agents[i].start;
@@ -140,22 +128,9 @@ absl::StatusOr<TrafficPlan> TrafficPlanner::Plan(const std::string& map_id, uint
     plan.makespan_s = std::max(plan.makespan_s, path.back().t_s);
     plan.paths.push_back(std::move(path));
   }
-  // Dependencies between robots, with actions numbered per robot.
-  std::vector<int> index_in_robot(adg->num_actions(), 0);
-  for (int agent = 0; agent < adg->num_agents(); ++agent) {
-    const std::vector<int>& mine = adg->ActionsOf(agent);
-    for (size_t k = 0; k < mine.size(); ++k) index_in_robot[mine[k]] = static_cast<int>(k);
-  }
-  for (int id = 0; id < adg->num_actions(); ++id) {
-    for (int before : adg->DependenciesOf(id)) {
-      const int from = adg->action(before).agent, to = adg->action(id).agent;
-      if (from == to) continue;
-      plan.dependencies.push_back(
-          {agents[from].robot_id, index_in_robot[before], agents[to].robot_id, index_in_robot[id]});
-    }
-  }
-  plan.planning_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+  AppendDependencies(
+      *adg, adg->num_agents(), [&](int id) { return adg->action(id).agent; }, agents, &plan);
+  plan.planning_ms = elapsed_ms();
   return plan;
 }
 

@@ -306,6 +306,7 @@ grpc::Status FleetServiceImpl::PlanPaths(grpc::ServerContext*, const v1::PlanPat
   response->set_makespan_s(plan->makespan_s);
   response->set_planning_ms(plan->planning_ms);
   response->set_cell_size_m(plan->cell_size_m);
+  response->set_solver(plan->solver);
   return grpc::Status::OK;
 }
 

@@ -11,7 +11,7 @@ namespace fleetnav::server {
 
 struct TrafficAgent {
   std::string robot_id;
-  std::string kind_name;  ///< a RobotModel preset (sets the cell size and speed)
+  std::string kind_name;  ///< a RobotModel preset (sets the cell size, speed and motion)
   Pose2 start;
   Pose2 goal;
 };
@@ -42,13 +42,17 @@ struct TrafficPlan {
   std::string solver;
 };
 
-/// Coordinated paths for several robots on one map (PlanPaths): the map is coarsened to a
+/// Coordinated paths for several robots on one map (PlanPaths). Up to 12 robots of which some
+/// have a heading that matters (differential drive, Ackermann) are first planned with headings
+/// and footprints (PlanKinematicTraffic in app/src: cells as wide as the smallest robot, each
+/// robot covering the cells its circumscribed disc touches, the Lely never reversing) with half
+/// the budget. Otherwise, or when that does not fit or finish, the map is coarsened to a
 /// 4-connected grid whose cells are as wide as the largest robot (a coarse cell is free only if
-/// every map cell in it is free), starts and goals are snapped to their cells, the multi-robot
-/// planner (EECBS for tens, LaCAM for hundreds, refined by LNS; rotations removed; planner/) solves
-/// it within the time limit, and the plan is compiled into an action dependency graph (Hönig et
-/// al., RA-L 2019) so that it stays collision-free under any delay. Thread-safe as its repository
-/// is.
+/// every map cell in it is free), starts and goals are snapped to their cells, and the
+/// multi-robot planner (EECBS for tens, LaCAM for hundreds, refined by LNS; rotations removed;
+/// planner/) solves it as point robots within the rest of the time. Either plan is compiled into
+/// an action dependency graph (Hönig et al., RA-L 2019) so that it stays collision-free under
+/// any delay. Thread-safe as its repository is.
 class TrafficPlanner {
  public:
   explicit TrafficPlanner(storage::MapRepository* maps) : maps_(maps) {}

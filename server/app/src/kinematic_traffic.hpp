@@ -1,0 +1,31 @@
+#pragma once
+
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "fleetnav/core/occupancy_grid.hpp"
+#include "fleetnav/core/robot_model.hpp"
+#include "fleetnav/server/traffic_planner.hpp"
+
+namespace fleetnav::server {
+
+/// Whether PlanPaths should plan these robots with headings and footprints
+/// (PlanKinematicTraffic) rather than as points on one coarse grid: at least one robot has a
+/// heading that matters (differential drive or Ackermann) and the fleet is small enough for
+/// conflict-based search.
+bool UseKinematicTraffic(const std::vector<RobotModel>& models);
+
+/// PlanPaths for heading-constrained and mixed fleets (planner::PlanKinematicMapf): the map is
+/// coarsened to cells as wide as the smallest robot; each robot covers the cells its
+/// circumscribed disc touches (so turning in place never sweeps more), robots with a
+/// differential or Ackermann drive carry a heading and reverse only if their model may, and the
+/// plan is compiled into a KinematicDependencyGraph. Timed poses face the robot's heading.
+/// InvalidArgument when a start or goal does not fit the robot on this grid or two goals
+/// overlap, DeadlineExceeded when no plan is found in time: the caller then plans on the
+/// coarse point-robot grid instead.
+absl::StatusOr<TrafficPlan> PlanKinematicTraffic(const OccupancyGrid& grid,
+                                                 const std::vector<TrafficAgent>& agents,
+                                                 const std::vector<RobotModel>& models,
+                                                 double time_limit_s);
+
+}  // namespace fleetnav::server
