@@ -39,13 +39,16 @@ int NearestHeading(double yaw_rad) {
   return static_cast<int>(((h % 4) + 4) % 4);
 }
 
+// Differential-drive robots keep a heading on the grid (they turn in place, and the Lely must not
+// reverse). Ackermann robots cannot turn in place, which is the grid's only way to turn, so they
+// move like omni robots there; their local planner drives the arcs.
+bool HasGridHeading(const RobotModel& m) { return m.kinematics == Kinematics::kDifferential; }
+
 }  // namespace
 
 bool UseKinematicTraffic(const std::vector<RobotModel>& models) {
   if (models.size() > kMaxKinematicRobots) return false;
-  return std::any_of(models.begin(), models.end(), [](const RobotModel& m) {
-    return m.kinematics != Kinematics::kOmnidirectional;
-  });
+  return std::any_of(models.begin(), models.end(), HasGridHeading);
 }
 
 absl::StatusOr<TrafficPlan> PlanKinematicTraffic(const OccupancyGrid& grid,
@@ -65,7 +68,7 @@ absl::StatusOr<TrafficPlan> PlanKinematicTraffic(const OccupancyGrid& grid,
     coarse.CellOf(agents[i].start, &r.start_x, &r.start_y);
     coarse.CellOf(agents[i].goal, &r.goal_x, &r.goal_y);
     r.motion.footprint_cells = DiscCells(models[i].CircumscribedRadius(), coarse.cell_m);
-    r.motion.has_heading = models[i].kinematics != Kinematics::kOmnidirectional;
+    r.motion.has_heading = HasGridHeading(models[i]);
     r.motion.may_reverse = models[i].limits.max_reverse_speed_mps > 0.0;
     r.start_heading = r.motion.has_heading
                           ? NearestHeading(agents[i].start.yaw_rad() - coarse.origin.yaw_rad())

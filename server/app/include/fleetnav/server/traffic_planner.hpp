@@ -43,7 +43,7 @@ struct TrafficPlan {
 };
 
 /// Coordinated paths for several robots on one map (PlanPaths). Up to 12 robots of which some
-/// have a heading that matters (differential drive, Ackermann) are first planned with headings
+/// drive differentially (the Lely must not reverse) are first planned with headings
 /// and footprints (PlanKinematicTraffic in app/src: cells as wide as the smallest robot, each
 /// robot covering the cells its circumscribed disc touches, the Lely never reversing) with half
 /// the budget. Otherwise, or when that does not fit or finish, the map is coarsened to a
