@@ -166,28 +166,66 @@ std::vector<int> Union(std::vector<int> a, const std::vector<int>& b) {
   return a;
 }
 
-// Space-time A* for one robot against the reservations; the state sequence or empty.
+// How many other robots' current paths cover a cell at a half step (a conflict-avoidance
+// table): the low level of conflict-based search prefers, among equally short paths, the one
+// that meets the others least.
+class SoftOccupancy {
+ public:
+  void AddPath(const RobotSpace& space, const std::vector<int>& states) {
+    std::vector<int> here, there;
+    for (size_t t = 0; t < states.size(); ++t) {
+      space.Cells(states[t], &here);
+      for (int c : here) ++count_[Key(c, 2 * static_cast<int>(t))];
+      if (t + 1 < states.size()) {
+        space.Cells(states[t + 1], &there);
+        for (int c : Union(here, there)) ++count_[Key(c, 2 * static_cast<int>(t) + 1)];
+      } else {
+        for (int c : here) parked_[c] = 2 * static_cast<int>(t);
+      }
+    }
+  }
+  int Conflicts(const std::vector<int>& cells, int half_step) const {
+    int n = 0;
+    for (int c : cells) {
+      if (auto it = count_.find(Key(c, half_step)); it != count_.end()) n += it->second;
+      if (auto it = parked_.find(c); it != parked_.end() && it->second <= half_step) ++n;
+    }
+    return n;
+  }
+
+ private:
+  static int64_t Key(int cell, int half_step) {
+    return (static_cast<int64_t>(half_step) << 32) | static_cast<uint32_t>(cell);
+  }
+  absl::flat_hash_map<int64_t, int> count_;
+  absl::flat_hash_map<int, int> parked_;
+};
+
+// Space-time A* for one robot against the reservations; the state sequence or empty. With
+// `soft`, ties on f go to the path with fewer soft conflicts.
 std::vector<int> SearchRobot(const RobotSpace& space, int start, const HalfStepReservations& res,
-                             int max_steps) {
+                             int max_steps, const SoftOccupancy* soft = nullptr) {
   struct Node {
     int state;
     int t;
     int parent;
+    int conflicts;
   };
   std::vector<Node> nodes;
-  using Entry = std::tuple<int, int, int>;  // f, −t, node
+  using Entry = std::tuple<int, int, int, int>;  // f, conflicts, −t, node
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
-  absl::flat_hash_set<int64_t> seen;
+  absl::flat_hash_map<int64_t, int> best;  // (state, t) → fewest conflicts generated
   auto key = [](int state, int t) { return (static_cast<int64_t>(t) << 32) | state; };
-  std::vector<int> here, there, next;
+  std::vector<int> here, there, next, moving;
   if (space.Distance(start) >= kUnreachable) return {};
-  nodes.push_back({start, 0, -1});
-  open.push({space.Distance(start), 0, 0});
-  seen.insert(key(start, 0));
+  nodes.push_back({start, 0, -1, 0});
+  open.push({space.Distance(start), 0, 0, 0});
+  best[key(start, 0)] = 0;
   while (!open.empty()) {
-    const int id = std::get<2>(open.top());
+    const int id = std::get<3>(open.top());
     open.pop();
     const Node cur = nodes[id];
+    if (best[key(cur.state, cur.t)] < cur.conflicts) continue;  // superseded
     space.Cells(cur.state, &here);
     if (space.IsGoal(cur.state) && res.FreeFrom(here, 2 * cur.t)) {
       std::vector<int> states(cur.t + 1);
@@ -199,12 +237,21 @@ std::vector<int> SearchRobot(const RobotSpace& space, int start, const HalfStepR
     next.push_back(cur.state);  // wait
     for (int to : next) {
       const int h = space.Distance(to);
-      if (h >= kUnreachable || !seen.insert(key(to, cur.t + 1)).second) continue;
+      if (h >= kUnreachable) continue;
       space.Cells(to, &there);
       if (!res.Free(there, 2 * cur.t + 2)) continue;
-      if (!res.Free(to == cur.state ? here : Union(here, there), 2 * cur.t + 1)) continue;
-      nodes.push_back({to, cur.t + 1, id});
-      open.push({cur.t + 1 + h, -(cur.t + 1), static_cast<int>(nodes.size()) - 1});
+      moving = to == cur.state ? here : Union(here, there);
+      if (!res.Free(moving, 2 * cur.t + 1)) continue;
+      const int conflicts = cur.conflicts + (soft ? soft->Conflicts(moving, 2 * cur.t + 1) +
+                                                        soft->Conflicts(there, 2 * cur.t + 2)
+                                                  : 0);
+      auto [it, fresh] = best.try_emplace(key(to, cur.t + 1), conflicts);
+      if (!fresh) {
+        if (it->second <= conflicts) continue;
+        it->second = conflicts;
+      }
+      nodes.push_back({to, cur.t + 1, id, conflicts});
+      open.push({cur.t + 1 + h, conflicts, -(cur.t + 1), static_cast<int>(nodes.size()) - 1});
     }
   }
   return {};
@@ -259,15 +306,21 @@ std::vector<std::vector<int>> ConflictBasedSearch(const std::vector<RobotSpace>&
   };
   constexpr size_t kMaxNodes = 20000;
   const int n = static_cast<int>(spaces.size());
-  auto plan_robot = [&](int i, const std::vector<std::pair<int, int>>& constraints) {
+  // The low level avoids the other robots' current paths where that costs nothing.
+  auto plan_robot = [&](int i, const std::vector<std::pair<int, int>>& constraints,
+                        const std::vector<std::vector<int>>& paths) {
     HalfStepReservations res;
     for (const auto& [cell, half] : constraints) res.Reserve(cell, half);
-    return SearchRobot(spaces[i], starts[i], res, max_steps);
+    SoftOccupancy soft;
+    for (size_t j = 0; j < paths.size(); ++j) {
+      if (static_cast<int>(j) != i && !paths[j].empty()) soft.AddPath(spaces[j], paths[j]);
+    }
+    return SearchRobot(spaces[i], starts[i], res, max_steps, &soft);
   };
   std::vector<Node> nodes(1);
   nodes[0].constraints.resize(n);
   for (int i = 0; i < n; ++i) {
-    nodes[0].paths.push_back(plan_robot(i, {}));
+    nodes[0].paths.push_back(plan_robot(i, {}, nodes[0].paths));
     if (nodes[0].paths.back().empty()) return {};
     nodes[0].cost += static_cast<int64_t>(nodes[0].paths.back().size()) - 1;
   }
@@ -283,7 +336,7 @@ std::vector<std::vector<int>> ConflictBasedSearch(const std::vector<RobotSpace>&
     for (int robot : {o.a, o.b}) {
       Node child = nodes[id];
       child.constraints[robot].push_back({o.cell, o.half_step});
-      std::vector<int> path = plan_robot(robot, child.constraints[robot]);
+      std::vector<int> path = plan_robot(robot, child.constraints[robot], child.paths);
       if (path.empty()) continue;
       child.cost +=
           static_cast<int64_t>(path.size()) - static_cast<int64_t>(child.paths[robot].size());
