@@ -55,6 +55,21 @@ TEST(ConstraintTableTest, SoftStepsBecomeOneStepConflictIntervals) {
   EXPECT_EQ(table.SoftEdgeConflicts(1, 0, 1), 0);
 }
 
+TEST(ConstraintTableTest, BlockFollowingHoldsEachVertexOneStepLonger) {
+  ConstraintTable table(4);
+  // A path 0 → 1 → 2 parked at 2; with block_following vertex 1 stays taken at step 2 as well.
+  table.AddHardPath({0, 1, 2}, 0, /*park=*/true, /*block_following=*/true);
+  const std::vector<SafeInterval>& at1 = table.Intervals(1);
+  ASSERT_EQ(at1.size(), 2u);
+  EXPECT_EQ(at1[0].end_step, 1);
+  EXPECT_EQ(at1[1].begin_step, 3);
+  // Vertex 0 is taken at steps 0 and 1.
+  EXPECT_EQ(table.Intervals(0)[0].begin_step, 2);
+  table.RemoveHardPath({0, 1, 2}, 0, /*park=*/true, /*block_following=*/true);
+  EXPECT_EQ(table.Intervals(1).size(), 1u);
+  EXPECT_EQ(table.Intervals(0)[0].begin_step, 0);
+}
+
 TEST(SippTest, ShortestPathWithoutReservations) {
   const GridGraph g(InlineMap(".....\n", 5, 1));
   ConstraintTable table(g.size());
