@@ -62,7 +62,7 @@ absl::Status LnsRefiner::Load(const MapfSolution& initial, std::vector<int> fixe
   distances_.resize(n);
   visitors_.assign(instance_.graph->size(), {});
   mark_.assign(n, 0);
-  tabu_.clear();
+  tabu_.assign(n, false);
   for (int i = 0; i < n; ++i) {
     if (fixed_steps_[i] > 1) {
       const std::vector<int> prefix(paths_[i].begin(), paths_[i].begin() + (fixed_steps_[i] - 1));
@@ -183,17 +183,17 @@ std::vector<int> LnsRefiner::AgentBasedNeighborhood() {
   int64_t worst = 0;
   for (int pass = 0; pass < 2 && chosen < 0; ++pass) {
     for (int a = 0; a < n; ++a) {
-      if (std::find(tabu_.begin(), tabu_.end(), a) != tabu_.end()) continue;
+      if (tabu_[a]) continue;
       const int64_t d = delay(a);
       if (d > worst) {
         worst = d;
         chosen = a;
       }
     }
-    if (chosen < 0) tabu_.clear();
+    if (chosen < 0) tabu_.assign(n, false);  // everyone had a turn: start over
   }
   if (chosen < 0) return RandomNeighborhood();
-  tabu_.push_back(chosen);
+  tabu_[chosen] = true;
   ++mark_stamp_;
   std::vector<int> out = {chosen};
   mark_[chosen] = mark_stamp_;

@@ -92,7 +92,7 @@ class LnsRefiner {
   std::vector<std::vector<int>> visitors_;  // per vertex: agents whose path visits it
   std::vector<int> mark_;                   // per agent: stamp for de-duplication
   int mark_stamp_ = 0;
-  std::vector<int> tabu_;
+  std::vector<bool> tabu_;  // per agent: chosen by the agent-based heuristic this round
   // Replan gives up on an iteration once this passes (Refine sets it; RemoveRotations keeps it
   // at the far future, since a plan with a rotation is no use).
   std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
