@@ -92,12 +92,11 @@ std::vector<int> LnsRefiner::Tail(int agent) const {
 }
 
 void LnsRefiner::AddToTable(int agent) {
-  table_.AddHardPath(Tail(agent), fixed_steps_[agent] - 1, /*park=*/true, params_.forbid_following);
+  table_.AddHardPath(Tail(agent), fixed_steps_[agent] - 1, /*park=*/true);
 }
 
 void LnsRefiner::RemoveFromTable(int agent) {
-  table_.RemoveHardPath(Tail(agent), fixed_steps_[agent] - 1, /*park=*/true,
-                        params_.forbid_following);
+  table_.RemoveHardPath(Tail(agent), fixed_steps_[agent] - 1, /*park=*/true);
 }
 
 void LnsRefiner::IndexVisitors(int agent, bool add) {
@@ -114,7 +113,8 @@ void LnsRefiner::IndexVisitors(int agent, bool add) {
   }
 }
 
-bool LnsRefiner::Replan(const std::vector<int>& agents, std::vector<std::vector<int>>* old_paths) {
+bool LnsRefiner::Replan(const std::vector<int>& agents, bool no_following,
+                        std::vector<std::vector<int>>* old_paths) {
   old_paths->clear();
   for (int a : agents) {
     old_paths->push_back(paths_[a]);
@@ -128,6 +128,7 @@ bool LnsRefiner::Replan(const std::vector<int>& agents, std::vector<std::vector<
     request.goal = instance_.goals[a];
     request.start_step = fixed - 1;
     request.max_expansions = kSippExpansionCap;
+    request.no_following = no_following;
     // Past the deadline the iteration is abandoned between two robots, so a run overshoots its
     // budget by at most one search.
     const bool late = std::chrono::steady_clock::now() > deadline_;
@@ -304,7 +305,7 @@ absl::StatusOr<MapfSolution> LnsRefiner::Refine(const MapfSolution& initial, std
       IndexVisitors(a, /*add=*/false);
     }
     double gain = 0.0;
-    if (Replan(agents, &old_paths)) {
+    if (Replan(agents, params_.forbid_following, &old_paths)) {
       int64_t new_cost = 0;
       for (int a : agents) new_cost += Cost(a);
       if (new_cost < old_cost) {
@@ -327,60 +328,81 @@ absl::StatusOr<MapfSolution> LnsRefiner::Refine(const MapfSolution& initial, std
 absl::StatusOr<MapfSolution> LnsRefiner::RemoveRotations(const MapfSolution& initial,
                                                          std::stop_token stop,
                                                          std::vector<int> fixed_steps) {
-  // Every replanned robot (and the table) forbids following, so no rotation can include it.
-  const bool saved = params_.forbid_following;
-  params_.forbid_following = true;
-  if (absl::Status s = Load(initial, std::move(fixed_steps)); !s.ok()) {
-    params_.forbid_following = saved;
-    return s;
-  }
+  if (absl::Status s = Load(initial, std::move(fixed_steps)); !s.ok()) return s;
   using Clock = std::chrono::steady_clock;
   const Clock::time_point t0 = Clock::now();
   deadline_ = Clock::time_point::max();
   std::vector<std::vector<int>> old_paths;
   int failures = 0;
-  absl::StatusOr<MapfSolution> result;
-  while (true) {
-    MapfSolution current{paths_};
+  int rotations = CountRotations(MapfSolution{paths_});
+  for (int attempt = 0;; ++attempt) {
     int step = 0;
-    std::vector<int> agents = FindRotation(current, &step);
-    if (agents.empty()) {
-      result = std::move(current);
-      break;
-    }
+    std::vector<int> agents = FindRotation(MapfSolution{paths_}, &step);
+    if (agents.empty()) return MapfSolution{paths_};
     if (std::all_of(agents.begin(), agents.end(), [&](int a) { return fixed_steps_[a] > step; })) {
-      result = absl::FailedPreconditionError(
+      return absl::FailedPreconditionError(
           absl::StrCat("rotation at step ", step, " lies inside the committed prefixes"));
-      break;
     }
-    if (stop.stop_requested()) {
-      result = absl::CancelledError("rotation removal stopped");
-      break;
-    }
+    if (stop.stop_requested()) return absl::CancelledError("rotation removal stopped");
     if (std::chrono::duration<double>(Clock::now() - t0).count() > params_.time_limit_s) {
-      result = absl::DeadlineExceededError(absl::StrCat(
+      return absl::DeadlineExceededError(absl::StrCat(
           "rotation of ", agents.size(), " robots at step ", step, " left after the budget"));
-      break;
     }
-    // After failures widen the neighbourhood with random agents and try another order.
+    // After failures widen the neighbourhood, two robots per failure: first robots whose paths
+    // cross the rotating ones' paths (a robot parked on the only way to a goal, one hemming a
+    // start in), then random ones.
     if (failures > 0) {
+      const size_t target = agents.size() + 2 * static_cast<size_t>(failures);
       ++mark_stamp_;
       for (int a : agents) mark_[a] = mark_stamp_;
+      std::vector<int> nearby;
+      for (int a : agents) {
+        for (int v : paths_[a]) {
+          for (int other : visitors_[v]) {
+            if (mark_[other] != mark_stamp_) {
+              mark_[other] = mark_stamp_;
+              nearby.push_back(other);
+            }
+          }
+        }
+      }
+      std::shuffle(nearby.begin(), nearby.end(), rng_);
+      for (int a : nearby) {
+        if (agents.size() >= target) break;
+        agents.push_back(a);
+      }
       for (int a : RandomNeighborhood()) {
-        if (static_cast<int>(agents.size()) >= 2 + 2 * failures) break;
+        if (agents.size() >= target) break;
         if (std::find(agents.begin(), agents.end(), a) == agents.end()) agents.push_back(a);
       }
     }
+    // Two ways, alternated: replan with following forbidden (then no rotation can contain the
+    // replanned robots), or replan freely and keep the result only if rotations became fewer;
+    // the first fails where robots are packed tight, the second where the cheapest paths
+    // rotate again.
+    const bool no_following = attempt % 2 == 0;
     std::shuffle(agents.begin(), agents.end(), rng_);
     for (int a : agents) IndexVisitors(a, /*add=*/false);
-    failures = Replan(agents, &old_paths) ? 0 : failures + 1;
+    bool kept = Replan(agents, no_following, &old_paths);
+    if (kept) {
+      const int now = CountRotations(MapfSolution{paths_});
+      kept = no_following || now < rotations;
+      if (kept) {
+        rotations = now;
+      } else {
+        Restore(agents, old_paths);
+      }
+    }
+    failures = kept ? 0 : failures + 1;
     for (int a : agents) IndexVisitors(a, /*add=*/true);
   }
-  params_.forbid_following = saved;
-  return result;
 }
 
-std::vector<int> FindRotation(const MapfSolution& solution, int* step) {
+namespace {
+
+// Calls visit(step, cycle) for every rotation in the plan, step by step, until it returns false.
+template <typename Visit>
+void ForEachRotation(const MapfSolution& solution, Visit visit) {
   const int n = static_cast<int>(solution.paths.size());
   size_t horizon = 0;
   for (const auto& p : solution.paths) horizon = std::max(horizon, p.size());
@@ -410,14 +432,33 @@ std::vector<int> FindRotation(const MapfSolution& solution, int* step) {
       if (a != -1 && colour[a] == i + 1) {
         std::vector<int> cycle = {a};
         for (int b = follows[a]; b != a; b = follows[b]) cycle.push_back(b);
-        *step = t;
-        return cycle;
+        if (!visit(t, cycle)) return;
       }
       // Mark the walk as finished so later walks stop on it.
       for (int b = i; b != -1 && colour[b] == i + 1; b = follows[b]) colour[b] = -1;
     }
   }
-  return {};
+}
+
+}  // namespace
+
+std::vector<int> FindRotation(const MapfSolution& solution, int* step) {
+  std::vector<int> found;
+  ForEachRotation(solution, [&](int t, const std::vector<int>& cycle) {
+    *step = t;
+    found = cycle;
+    return false;
+  });
+  return found;
+}
+
+int CountRotations(const MapfSolution& solution) {
+  int count = 0;
+  ForEachRotation(solution, [&](int, const std::vector<int>&) {
+    ++count;
+    return true;
+  });
+  return count;
 }
 
 }  // namespace fleetnav::planner

@@ -89,18 +89,14 @@ absl::StatusOr<MapfResult> MapfPlanner::Replan(const MapfInstance& requested,
   std::mt19937_64 rng(params_.seed);
   ConstraintTable table(g.size());
   SippPlanner sipp(g);
-  const bool no_following = params_.forbid_rotations;
   MapfResult result;
   result.solver = "prioritized";
   result.planned_goals = instance.goals;
-  for (int attempt = 0;; ++attempt) {
+  // 1. Prioritized planning over random orders, for half the budget.
+  bool found = false;
+  int attempt = 0;
+  for (; !found && spent_s() < 0.5 * params_.time_limit_s; ++attempt) {
     if (stop.stop_requested()) return absl::CancelledError("replan: stopped before a plan");
-    if (spent_s() > params_.time_limit_s) {
-      return absl::DeadlineExceededError(
-          absl::StrCat("replan: no plan keeping the committed "
-                       "prefixes within ",
-                       params_.time_limit_s, " s (", attempt, " priority orders tried)"));
-    }
     // Orders alternate between two forms of prioritized planning: revised (robots not yet
     // planned hold the end of their prefix for ever, so nobody is planned through them) and
     // plain (they are invisible after their prefix). Neither is complete alone.
@@ -117,22 +113,58 @@ absl::StatusOr<MapfResult> MapfPlanner::Replan(const MapfInstance& requested,
       request.start = committed[i].back();
       request.goal = instance.goals[i];
       request.start_step = prefix_end;
+      request.no_following = params_.forbid_rotations;
       absl::StatusOr<SippResult> r = sipp.Plan(request, table, *dist[i]);
       if (!r.ok()) {
         ok = false;
         break;
       }
-      // The prefix is reserved as given; only the new part keeps others from following.
       table.AddHardPath(committed[i], 0, /*park=*/false);
-      table.AddHardPath(r->path, prefix_end, /*park=*/true, no_following);
+      table.AddHardPath(r->path, prefix_end, /*park=*/true);
       paths[i].assign(committed[i].begin(), committed[i].end() - 1);
       paths[i].insert(paths[i].end(), r->path.begin(), r->path.end());
     }
     if (!ok) continue;
     result.solution.paths = std::move(paths);
-    result.first_solution_ms = result.final_ms = spent_s() * 1000.0;
-    break;
+    found = true;
   }
+
+  // 2. Otherwise, if the prefixes padded with waits to one length still fit together, a whole
+  //    multi-robot plan (Solve, complete) from where they end, behind them.
+  std::string fallback = "prefixes of different lengths do not fit together padded";
+  if (!found) {
+    size_t length = 0;
+    for (const auto& p : committed) length = std::max(length, p.size());
+    std::vector<std::vector<int>> padded = committed;
+    for (auto& p : padded) p.resize(length, p.back());
+    if (ValidatePrefixes(instance, padded).ok()) {
+      MapfInstance from_ends = instance;
+      for (int i = 0; i < n; ++i) from_ends.starts[i] = padded[i].back();
+      MapfPlannerParams rest = params_;
+      rest.time_limit_s = std::max(params_.time_limit_s - spent_s(), 1e-3);
+      rest.anytime = false;
+      absl::StatusOr<MapfResult> plan = MapfPlanner(rest).Solve(from_ends, stop);
+      if (plan.ok()) {
+        result.solution.paths.resize(n);
+        for (int i = 0; i < n; ++i) {
+          result.solution.paths[i].assign(padded[i].begin(), padded[i].end() - 1);
+          const std::vector<int>& tail = plan->solution.paths[i];
+          result.solution.paths[i].insert(result.solution.paths[i].end(), tail.begin(), tail.end());
+        }
+        result.solver = "prioritized-failed+" + plan->solver;
+        found = true;
+      } else {
+        fallback = std::string(plan.status().message());
+      }
+    }
+  }
+  if (!found) {
+    if (stop.stop_requested()) return absl::CancelledError("replan: stopped before a plan");
+    return absl::DeadlineExceededError(
+        absl::StrCat("replan: no plan keeping the committed prefixes within ", params_.time_limit_s,
+                     " s (", attempt, " priority orders tried; then ", fallback, ")"));
+  }
+  result.first_solution_ms = result.final_ms = spent_s() * 1000.0;
 
   std::vector<int> fixed(n);
   for (int i = 0; i < n; ++i) fixed[i] = static_cast<int>(committed[i].size());

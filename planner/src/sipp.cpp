@@ -224,7 +224,14 @@ absl::StatusOr<SippResult> SippPlanner::Plan(const SippRequest& request, Constra
         if (it->begin_step > latest_arrival) break;
         int arrive = std::max(cur.step + 1, it->begin_step);
         const int last = std::min(it->end_step - 1, latest_arrival);
-        while (arrive <= last && table.HardEdgeBlocked(cur.v, v, arrive)) ++arrive;
+        // With no_following the vertex must also be free the step before the arrival.
+        auto following = [&](int step) {
+          return request.no_following && step - 1 < it->begin_step &&
+                 !(it != there.begin() && (it - 1)->end_step == it->begin_step);
+        };
+        while (arrive <= last && (table.HardEdgeBlocked(cur.v, v, arrive) || following(arrive))) {
+          ++arrive;
+        }
         if (arrive > last) continue;
         const int conflicts =
             cur.conflicts + it->conflicts + table.SoftEdgeConflicts(cur.v, v, arrive);

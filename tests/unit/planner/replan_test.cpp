@@ -77,6 +77,22 @@ TEST(ReplanTest, ABlockedRobotInACorridorIsPassedThroughTheBay) {
   EXPECT_EQ(r->solution.paths[1].back(), g.VertexAt(0, 1));
 }
 
+TEST(ReplanTest, WhenNoPriorityOrderWorksTheWholeFleetIsPlannedFromThePrefixEnds) {
+  // Robot 0 parks under the bay, robot 1 must pass it to the corridor's left end. Planned first,
+  // robot 0 blocks robot 1 for ever; planned second, it is caught in the corridor by robot 1
+  // (and held as an obstacle at its start, robot 1 cannot reach its goal). A joint plan exists:
+  // robot 0 waits in the bay.
+  const GridGraph g(InlineMap("@@.@@\n.....\n", 5, 2));
+  MapfInstance inst{&g, {g.VertexAt(0, 1), g.VertexAt(4, 1)}, {g.VertexAt(2, 1), g.VertexAt(0, 1)}};
+  MapfPlannerParams params;
+  params.time_limit_s = 0.5;
+  absl::StatusOr<MapfResult> r =
+      MapfPlanner(params).Replan(inst, {{g.VertexAt(0, 1)}, {g.VertexAt(4, 1)}});
+  ASSERT_TRUE(r.ok()) << r.status();
+  EXPECT_TRUE(ValidateSolution(inst, r->solution).ok()) << ValidateSolution(inst, r->solution);
+  EXPECT_TRUE(r->solver.starts_with("prioritized-failed+")) << r->solver;
+}
+
 TEST(ReplanTest, RejectsPrefixesThatDoNotFit) {
   const GridGraph g(InlineMap(".....\n", 5, 1));
   MapfInstance inst{&g, {0, 4}, {4, 0}};

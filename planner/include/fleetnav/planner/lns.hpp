@@ -44,8 +44,9 @@ struct LnsStats {
 /// of its shortest path), intersection-based (agents passing one junction) and random. Each
 /// agent may keep a committed prefix of its path (its first `fixed_steps[i]` entries), which
 /// replanning never changes — the way a plan is repaired from the robots' current positions.
-/// The same machinery removes rotations: RemoveRotations replans the robots of each rotation
-/// with following forbidden until none is left. Holds a reference to the instance's graph.
+/// The same machinery removes rotations: RemoveRotations replans the robots of each rotation,
+/// alternately with following forbidden and freely (kept only if rotations became fewer),
+/// until none is left. Holds a reference to the instance's graph.
 /// One call at a time per object.
 class LnsRefiner {
  public:
@@ -69,7 +70,8 @@ class LnsRefiner {
   absl::Status Load(const MapfSolution& initial, std::vector<int> fixed_steps);
   // Replans `agents` in the given order against the table; on failure restores the old paths
   // and returns false. On success the new paths are in paths_ and the table.
-  bool Replan(const std::vector<int>& agents, std::vector<std::vector<int>>* old_paths);
+  bool Replan(const std::vector<int>& agents, bool no_following,
+              std::vector<std::vector<int>>* old_paths);
   void Restore(const std::vector<int>& agents, std::vector<std::vector<int>>& old_paths);
   std::vector<int> Tail(int agent) const;
   void AddToTable(int agent);
@@ -97,6 +99,9 @@ class LnsRefiner {
   // at the far future, since a plan with a rotation is no use).
   std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
 };
+
+/// Number of rotations in `solution` (each cycle at each step counted once).
+int CountRotations(const MapfSolution& solution);
 
 /// Agents of the first rotation in `solution` (robots that each move, in the same step, into
 /// the vertex the next one leaves, closing a cycle), with the step in *step; empty if none.

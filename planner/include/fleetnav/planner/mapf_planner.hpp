@@ -61,11 +61,14 @@ class MapfPlanner {
   /// are the moves it has already started or promised, which the returned paths begin with.
   /// Prioritized planning with SIPP in the revised form of Čáp et al. ("Prioritized Planning
   /// Algorithms for Trajectory Coordination of Multiple Mobile Robots", IEEE T-ASE 2015: robots
-  /// not yet planned are obstacles where their prefixes end), restarted with random orders until
-  /// one succeeds; then rotation repair and LNS refinement as in Solve, never touching a
-  /// prefix. Errors: InvalidArgument (bad instance or prefixes: wrong count, not starting at
-  /// the start, not a move, two prefixes meeting — named), DeadlineExceeded (no order found
-  /// within the budget), Cancelled.
+  /// not yet planned are obstacles where their prefixes end) alternated with the plain form,
+  /// restarted with random orders for half the budget. If no order works and the prefixes,
+  /// padded with waits to one length, still fit together, Solve plans all robots from where
+  /// they end (complete, unlike prioritized planning) and the prefixes are put in front. Then
+  /// rotation repair and LNS refinement as in Solve, never touching a prefix. Errors:
+  /// InvalidArgument (bad instance or prefixes: wrong count, not starting at the start, not a
+  /// move, two prefixes meeting — named), DeadlineExceeded (no plan within the budget),
+  /// Cancelled.
   absl::StatusOr<MapfResult> Replan(const MapfInstance& instance,
                                     const std::vector<std::vector<int>>& committed,
                                     std::stop_token stop = {});

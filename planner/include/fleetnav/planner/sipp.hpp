@@ -17,6 +17,9 @@ struct SippRequest {
   int start_step = 0;          ///< the step at which the agent is at `start`
   double suboptimality = 1.0;  ///< focal bound w ≥ 1 on the arrival step
   int64_t max_expansions = 2'000'000;
+  /// Never enter a vertex that was reserved the step before (never follow another robot), so
+  /// no rotation can include the path.
+  bool no_following = false;
 };
 
 /// A path found by SippPlanner: path[k] is the vertex at step start_step + k, ending with the
