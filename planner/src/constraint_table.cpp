@@ -51,22 +51,20 @@ void ConstraintTable::AddHardEdge(int from, int to, int step) {
   Touch(to);
 }
 
-void ConstraintTable::AddHardPath(const std::vector<int>& path, int start_step, bool park,
-                                  bool block_following) {
-  ChangePath(path, start_step, park, /*hard=*/true, block_following, +1);
+void ConstraintTable::AddHardPath(const std::vector<int>& path, int start_step, bool park) {
+  ChangePath(path, start_step, park, /*hard=*/true, +1);
 }
 
-void ConstraintTable::RemoveHardPath(const std::vector<int>& path, int start_step, bool park,
-                                     bool block_following) {
-  ChangePath(path, start_step, park, /*hard=*/true, block_following, -1);
+void ConstraintTable::RemoveHardPath(const std::vector<int>& path, int start_step, bool park) {
+  ChangePath(path, start_step, park, /*hard=*/true, -1);
 }
 
 void ConstraintTable::AddSoftPath(const std::vector<int>& path, int start_step, bool park) {
-  ChangePath(path, start_step, park, /*hard=*/false, /*block_following=*/false, +1);
+  ChangePath(path, start_step, park, /*hard=*/false, +1);
 }
 
 void ConstraintTable::ChangePath(const std::vector<int>& path, int start_step, bool park, bool hard,
-                                 bool block_following, int delta) {
+                                 int delta) {
   if (path.empty()) return;
   const int last = static_cast<int>(path.size()) - 1;
   for (int k = 0; k <= last; ++k) {
@@ -77,10 +75,8 @@ void ConstraintTable::ChangePath(const std::vector<int>& path, int start_step, b
                                           : (hard ? r.hard_steps : r.soft_steps);
     if (delta > 0) {
       steps.push_back(step);
-      if (block_following && !parked_here) steps.push_back(step + 1);
     } else {
       EraseOne(steps, step);
-      if (block_following && !parked_here) EraseOne(steps, step + 1);
     }
     if (k == 0 || path[k - 1] == path[k]) continue;
     // Moving path[k-1] → path[k] blocks the opposite move arriving at the same step.

@@ -55,21 +55,6 @@ TEST(ConstraintTableTest, SoftStepsBecomeOneStepConflictIntervals) {
   EXPECT_EQ(table.SoftEdgeConflicts(1, 0, 1), 0);
 }
 
-TEST(ConstraintTableTest, BlockFollowingHoldsEachVertexOneStepLonger) {
-  ConstraintTable table(4);
-  // A path 0 → 1 → 2 parked at 2; with block_following vertex 1 stays taken at step 2 as well.
-  table.AddHardPath({0, 1, 2}, 0, /*park=*/true, /*block_following=*/true);
-  const std::vector<SafeInterval>& at1 = table.Intervals(1);
-  ASSERT_EQ(at1.size(), 2u);
-  EXPECT_EQ(at1[0].end_step, 1);
-  EXPECT_EQ(at1[1].begin_step, 3);
-  // Vertex 0 is taken at steps 0 and 1.
-  EXPECT_EQ(table.Intervals(0)[0].begin_step, 2);
-  table.RemoveHardPath({0, 1, 2}, 0, /*park=*/true, /*block_following=*/true);
-  EXPECT_EQ(table.Intervals(1).size(), 1u);
-  EXPECT_EQ(table.Intervals(0)[0].begin_step, 0);
-}
-
 TEST(SippTest, ShortestPathWithoutReservations) {
   const GridGraph g(InlineMap(".....\n", 5, 1));
   ConstraintTable table(g.size());
@@ -135,6 +120,32 @@ TEST(SippTest, GoalIsReachedOnlyWhereTheAgentMayStay) {
   EXPECT_EQ(r->arrival_step, 7);
   EXPECT_NE(r->path[6], 2);
   EXPECT_EQ(r->path.back(), 2);
+}
+
+TEST(SippTest, WithNoFollowingItNeverEntersAVertexTakenTheStepBefore) {
+  // Another robot leaves vertex 1 for 2 at step 1; ours, at 0, wants to reach 3.
+  const GridGraph g(InlineMap("....\n", 4, 1));
+  ConstraintTable table(g.size());
+  table.AddHardPath({1, 2, 3, 3}, 0, /*park=*/false);
+  DistanceTable dist(g, 3);
+  SippPlanner sipp(g);
+  SippRequest req{0, 3};
+  absl::StatusOr<SippResult> follows = sipp.Plan(req, table, dist);
+  ASSERT_TRUE(follows.ok()) << follows.status();
+  EXPECT_EQ(follows->arrival_step, 4);  // right behind the other robot, then 3 once it is free
+  req.no_following = true;
+  absl::StatusOr<SippResult> apart = sipp.Plan(req, table, dist);
+  ASSERT_TRUE(apart.ok()) << apart.status();
+  for (size_t k = 1; k < apart->path.size(); ++k) {
+    if (apart->path[k] == apart->path[k - 1]) continue;
+    // The vertex entered at step k was free at step k - 1: the other robot holds 1 at step 0, 2
+    // at 1, 3 at 2 and 3, nothing later.
+    const std::vector<int> other = {1, 2, 3, 3};
+    if (k - 1 < other.size()) {
+      EXPECT_NE(apart->path[k], other[k - 1]) << "step " << k;
+    }
+  }
+  EXPECT_EQ(apart->arrival_step, 5);
 }
 
 TEST(SippTest, StartsAtTheGivenStep) {

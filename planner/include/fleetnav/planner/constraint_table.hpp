@@ -41,13 +41,10 @@ class ConstraintTable {
   /// Forbids the move from → to that arrives at `step`.
   void AddHardEdge(int from, int to, int step);
   /// Reserves `path` (path[k] at step start_step + k) as hard; with `park` its last vertex
-  /// stays reserved for ever. With `block_following` each vertex stays reserved one step
-  /// longer, so a search never enters a vertex this path held the step before.
-  void AddHardPath(const std::vector<int>& path, int start_step = 0, bool park = true,
-                   bool block_following = false);
+  /// stays reserved for ever.
+  void AddHardPath(const std::vector<int>& path, int start_step = 0, bool park = true);
   /// Undoes AddHardPath with the same arguments.
-  void RemoveHardPath(const std::vector<int>& path, int start_step = 0, bool park = true,
-                      bool block_following = false);
+  void RemoveHardPath(const std::vector<int>& path, int start_step = 0, bool park = true);
   /// Reserves `path` as soft (conflicts to avoid); same layout as AddHardPath.
   void AddSoftPath(const std::vector<int>& path, int start_step = 0, bool park = true);
 
@@ -72,8 +69,7 @@ class ConstraintTable {
     bool intervals_valid = false;
   };
   VertexRecord& Touch(int v);
-  void ChangePath(const std::vector<int>& path, int start_step, bool park, bool hard,
-                  bool block_following, int delta);
+  void ChangePath(const std::vector<int>& path, int start_step, bool park, bool hard, int delta);
   static void BuildIntervals(VertexRecord& r);
 
   std::vector<VertexRecord> vertices_;
