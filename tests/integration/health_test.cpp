@@ -1,14 +1,11 @@
 // grpc.health.v1.Health as fleetnavd serves it, over real loopback gRPC: Check and Watch for the
 // whole server and each service, unknown names refused, and watchers released on shutdown.
-#include <grpcpp/create_channel.h>
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <thread>
 
-#include "fleetnav/server/rpc/fleet_server.hpp"
+#include "fleet_fixture.hpp"
 #include "grpc/health/v1/health.grpc.pb.h"
-#include "test_paths.hpp"
 
 namespace fleetnav {
 namespace {
@@ -16,23 +13,11 @@ namespace {
 using grpc::health::v1::HealthCheckRequest;
 using grpc::health::v1::HealthCheckResponse;
 
-class HealthTest : public ::testing::Test {
+class HealthTest : public testing::FleetServerFixture {
  protected:
   void SetUp() override {
-    db_path_ = testing::UniqueTempPath("health") + ".db";
-    server::FleetServerParams params;
-    params.listen_address = "127.0.0.1:0";
-    params.db_path = db_path_;
-    server_ = std::make_unique<server::FleetServer>(params);
-    absl::StatusOr<int> port = server_->Start();
-    ASSERT_TRUE(port.ok()) << port.status();
-    health_ = grpc::health::v1::Health::NewStub(grpc::CreateChannel(
-        "127.0.0.1:" + std::to_string(*port), grpc::InsecureChannelCredentials()));
-  }
-  void TearDown() override {
-    server_->Shutdown();
-    server_.reset();
-    std::filesystem::remove(db_path_);
+    FleetServerFixture::SetUp();
+    health_ = grpc::health::v1::Health::NewStub(channel_);
   }
 
   grpc::Status Check(const std::string& service, HealthCheckResponse* response) {
@@ -42,8 +27,6 @@ class HealthTest : public ::testing::Test {
     return health_->Check(&context, request, response);
   }
 
-  std::string db_path_;
-  std::unique_ptr<server::FleetServer> server_;
   std::unique_ptr<grpc::health::v1::Health::Stub> health_;
 };
 
