@@ -41,6 +41,7 @@ class RobotSpace {
     return CoveredCells(map_, robot_.motion, StateAt(id), out);
   }
   bool Fits(int id) const {
+    if (!fits_.empty()) return fits_[id] != 0;
     std::vector<int> cells;
     return Cells(id, &cells);
   }
@@ -83,8 +84,12 @@ class RobotSpace {
   // predecessors of a state are found by trying every state's successors once, inverted.
   void ComputeDistances() {
     const int n = map_.width * map_.height * 4;
-    std::vector<std::vector<int>> predecessors(n);
+    // Which states the footprint fits in, once: the searches ask for every successor.
+    std::vector<uint8_t> fits(n);
     std::vector<int> next;
+    for (int id = 0; id < n; ++id) fits[id] = Cells(id, &next) ? 1 : 0;
+    fits_ = std::move(fits);
+    std::vector<std::vector<int>> predecessors(n);
     for (int id = 0; id < n; ++id) {
       if (!Fits(id)) continue;
       Successors(id, &next);
@@ -114,6 +119,7 @@ class RobotSpace {
   const MovingAiMap& map_;
   const GridRobot& robot_;
   std::vector<int> distance_;
+  std::vector<uint8_t> fits_;  // per state, once ComputeDistances has run
 };
 
 // Reservations per (cell, half step): states at 2t, moves from t to t + 1 at 2t + 1. A parked
@@ -418,8 +424,8 @@ absl::Status ValidateKinematicPlan(const KinematicMapfProblem& problem,
     return absl::InvalidArgumentError(
         absl::StrCat("plan: ", plan.states.size(), " robots, problem has ", n));
   }
-  size_t horizon = 0;
   std::vector<RobotSpace> spaces;
+  std::vector<std::vector<int>> ids(n);
   for (size_t i = 0; i < n; ++i) {
     const GridRobot& r = problem.robots[i];
     const auto& states = plan.states[i];
@@ -435,6 +441,7 @@ absl::Status ValidateKinematicPlan(const KinematicMapfProblem& problem,
     std::vector<int> next;
     for (size_t t = 0; t < states.size(); ++t) {
       const int id = spaces[i].StateOf(states[t]);
+      ids[i].push_back(id);
       if (states[t].heading < 0 || states[t].heading > 3 || !spaces[i].Fits(id)) {
         return absl::InvalidArgumentError(
             absl::StrCat("robot ", i, " step ", t, ": footprint not on free cells"));
@@ -446,32 +453,13 @@ absl::Status ValidateKinematicPlan(const KinematicMapfProblem& problem,
             absl::StrCat("robot ", i, " step ", t, ": a move its motion model does not allow"));
       }
     }
-    horizon = std::max(horizon, states.size());
   }
-  auto at = [&](size_t i, size_t t) {
-    const auto& s = plan.states[i];
-    return spaces[i].StateOf(t < s.size() ? s[t] : s.back());
-  };
-  absl::flat_hash_map<int, size_t> owner;
-  std::vector<int> a, b;
-  for (size_t half = 0; half < 2 * horizon; ++half) {
-    owner.clear();
-    const size_t t = half / 2;
-    for (size_t i = 0; i < n; ++i) {
-      spaces[i].Cells(at(i, t), &a);
-      if (half % 2 == 1) {
-        spaces[i].Cells(at(i, t + 1), &b);
-        a = Union(a, b);
-      }
-      for (int c : a) {
-        auto [it, fresh] = owner.emplace(c, i);
-        if (!fresh) {
-          return absl::InvalidArgumentError(absl::StrCat(
-              "robots ", it->second, " and ", i, " overlap at cell (", c % problem.map->width, ",",
-              c / problem.map->width, ") ", half % 2 ? "moving from step " : "at step ", t));
-        }
-      }
-    }
+  const Overlap o = FirstOverlap(spaces, ids);
+  if (o.a >= 0) {
+    const int w = problem.map->width;
+    return absl::InvalidArgumentError(absl::StrCat(
+        "robots ", o.a, " and ", o.b, " overlap at cell (", o.cell % w, ",", o.cell / w, ") ",
+        o.half_step % 2 ? "moving from step " : "at step ", o.half_step / 2));
   }
   return absl::OkStatus();
 }

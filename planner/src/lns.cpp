@@ -63,6 +63,10 @@ absl::Status LnsRefiner::Load(const MapfSolution& initial, std::vector<int> fixe
   visitors_.assign(instance_.graph->size(), {});
   mark_.assign(n, 0);
   tabu_.assign(n, false);
+  shortest_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    shortest_[i] = fixed_steps_[i] - 1 + Distances(i).Get(paths_[i][fixed_steps_[i] - 1]);
+  }
   for (int i = 0; i < n; ++i) {
     if (fixed_steps_[i] > 1) {
       const std::vector<int> prefix(paths_[i].begin(), paths_[i].begin() + (fixed_steps_[i] - 1));
@@ -176,10 +180,7 @@ std::vector<int> LnsRefiner::RandomNeighborhood() {
 
 std::vector<int> LnsRefiner::AgentBasedNeighborhood() {
   const int n = instance_.num_agents();
-  auto delay = [&](int a) {
-    const int fixed = fixed_steps_[a];
-    return Cost(a) - (fixed - 1) - Distances(a).Get(paths_[a][fixed - 1]);
-  };
+  auto delay = [&](int a) { return Cost(a) - shortest_[a]; };
   int chosen = -1;
   int64_t worst = 0;
   for (int pass = 0; pass < 2 && chosen < 0; ++pass) {
@@ -284,7 +285,7 @@ absl::StatusOr<MapfSolution> LnsRefiner::Refine(const MapfSolution& initial, std
   int64_t lower_bound = 0;
   for (int i = 0; i < n; ++i) {
     st.initial_soc += Cost(i);
-    lower_bound += fixed_steps_[i] - 1 + Distances(i).Get(paths_[i][fixed_steps_[i] - 1]);
+    lower_bound += shortest_[i];
   }
   int64_t soc = st.initial_soc;
   double weights[3] = {1.0, 1.0, 1.0};

@@ -94,7 +94,9 @@ class LnsRefiner {
   std::vector<std::vector<int>> visitors_;  // per vertex: agents whose path visits it
   std::vector<int> mark_;                   // per agent: stamp for de-duplication
   int mark_stamp_ = 0;
-  std::vector<bool> tabu_;  // per agent: chosen by the agent-based heuristic this round
+  std::vector<bool> tabu_;
+  std::vector<int64_t> shortest_;  // per agent: the cost of its shortest path after its prefix  //
+                                   // per agent: chosen by the agent-based heuristic this round
   // Replan gives up on an iteration once this passes (Refine sets it; RemoveRotations keeps it
   // at the far future, since a plan with a rotation is no use).
   std::chrono::steady_clock::time_point deadline_ = std::chrono::steady_clock::time_point::max();
