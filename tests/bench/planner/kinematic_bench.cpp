@@ -1,6 +1,6 @@
 // Heterogeneous multi-robot planning figures: PlanKinematicMapf on seeded mixed fleets (three
-// forward-only robots, three omni and two 2 x 2 platforms) on random-32-32-10, the instances of
-// the kinematic delay test. Counter: the plan's makespan in steps.
+// forward-only robots, three omni and two 2 x 2 platforms) on random-32-32-10 from
+// --data_dir. Counter: the plan's makespan in steps.
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
@@ -8,21 +8,16 @@
 #include <string>
 
 #include "fleetnav/planner/kinematic_mapf.hpp"
+#include "bench_registry.hpp"
 #include "kinematic_fleet.hpp"
 
 namespace fp = fleetnav::planner;
 
 namespace {
 
-void BM_KinematicMixedFleet(benchmark::State& state) {
-  absl::StatusOr<fp::MovingAiMap> map =
-      fp::LoadMovingAiMap(std::string(FLEETNAV_MAPF_DATA_DIR) + "/random-32-32-10.map");
-  if (!map.ok()) {
-    std::cerr << map.status() << "\n";
-    std::abort();
-  }
+void RunKinematicMixedFleet(benchmark::State& state, const fp::MovingAiMap& map) {
   const fp::KinematicMapfProblem problem =
-      fp::testing::RandomMixedFleet(*map, static_cast<uint64_t>(state.range(0)));
+      fp::testing::RandomMixedFleet(map, static_cast<uint64_t>(state.range(0)));
   size_t makespan = 0;
   for (auto _ : state) {
     fp::KinematicMapfParams params;
@@ -40,4 +35,17 @@ void BM_KinematicMixedFleet(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_KinematicMixedFleet)->DenseRange(1, 10)->Unit(benchmark::kMillisecond);
+namespace fleetnav::planner::bench {
+
+void RegisterKinematicBenchmarks(const std::string& data_dir) {
+  absl::StatusOr<fp::MovingAiMap> map = fp::LoadMovingAiMap(data_dir + "/random-32-32-10.map");
+  if (!map.ok()) {
+    std::cerr << "planner_bench: " << map.status() << " (--data_dir=" << data_dir << ")\n";
+    std::exit(2);
+  }
+  benchmark::RegisterBenchmark("BM_KinematicMixedFleet", RunKinematicMixedFleet, *map)
+      ->DenseRange(1, 10)
+      ->Unit(benchmark::kMillisecond);
+}
+
+}  // namespace fleetnav::planner::bench

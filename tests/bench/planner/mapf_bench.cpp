@@ -1,11 +1,13 @@
 // Multi-robot planner figures: time to the first plan (LaCAM, not anytime) and to a
-// bounded-suboptimal plan (EECBS) on the shared MovingAI maps. Counters report the sum of
-// costs over the lower bound. Fails loudly when the data folder is missing.
+// bounded-suboptimal plan (EECBS) on the MovingAI benchmark maps in the folder given
+// by --data_dir. Counters report the sum of costs over the lower bound.
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
 #include <iostream>
 #include <string>
+
+#include "bench_registry.hpp"
 
 #include "fleetnav/planner/eecbs.hpp"
 #include "fleetnav/planner/lacam.hpp"
@@ -15,18 +17,17 @@ namespace fp = fleetnav::planner;
 
 namespace {
 
-fp::MovingAiMap LoadOrDie(const std::string& name) {
-  absl::StatusOr<fp::MovingAiMap> map =
-      fp::LoadMovingAiMap(std::string(FLEETNAV_MAPF_DATA_DIR) + "/" + name);
+fp::MovingAiMap LoadOrDie(const std::string& data_dir, const std::string& name) {
+  absl::StatusOr<fp::MovingAiMap> map = fp::LoadMovingAiMap(data_dir + "/" + name);
   if (!map.ok()) {
-    std::cerr << map.status() << "\n";
-    std::abort();
+    std::cerr << "planner_bench: " << map.status() << " (--data_dir=" << data_dir << ")\n";
+    std::exit(2);
   }
   return *map;
 }
 
-void RunLacam(benchmark::State& state, const char* map_name) {
-  const fp::GridGraph graph(LoadOrDie(map_name));
+void RunLacam(benchmark::State& state, const fp::MovingAiMap& map) {
+  const fp::GridGraph graph(map);
   const int agents = static_cast<int>(state.range(0));
   const fp::MapfInstance inst = fp::RandomInstance(graph, agents, 1).value();
   const double lb = static_cast<double>(fp::SumOfCostsLowerBound(inst));
@@ -45,12 +46,8 @@ void RunLacam(benchmark::State& state, const char* map_name) {
   state.counters["soc_over_lb"] = ratio;
 }
 
-void BM_LacamRandom32(benchmark::State& state) { RunLacam(state, "random-32-32-20.map"); }
-void BM_LacamWarehouse(benchmark::State& state) { RunLacam(state, "warehouse-20-40-10-2-2.map"); }
-void BM_LacamDen520d(benchmark::State& state) { RunLacam(state, "den520d.map"); }
-
-void BM_EecbsRandom32(benchmark::State& state) {
-  const fp::GridGraph graph(LoadOrDie("random-32-32-20.map"));
+void RunEecbs(benchmark::State& state, const fp::MovingAiMap& map) {
+  const fp::GridGraph graph(map);
   const fp::MapfInstance inst =
       fp::RandomInstance(graph, static_cast<int>(state.range(0)), 2).value();
   const double lb = static_cast<double>(fp::SumOfCostsLowerBound(inst));
@@ -68,8 +65,28 @@ void BM_EecbsRandom32(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_LacamRandom32)->Arg(100)->Arg(200)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_LacamWarehouse)->Arg(1000)->Unit(benchmark::kMillisecond)->Iterations(2);
-BENCHMARK(BM_LacamDen520d)->Arg(500)->Unit(benchmark::kMillisecond)->Iterations(2);
-BENCHMARK(BM_EecbsRandom32)->Arg(50)->Arg(100)->Unit(benchmark::kMillisecond);
-BENCHMARK_MAIN();
+namespace fleetnav::planner::bench {
+
+void RegisterMapfBenchmarks(const std::string& data_dir) {
+  const fp::MovingAiMap random32 = LoadOrDie(data_dir, "random-32-32-20.map");
+  const fp::MovingAiMap warehouse = LoadOrDie(data_dir, "warehouse-20-40-10-2-2.map");
+  const fp::MovingAiMap den520d = LoadOrDie(data_dir, "den520d.map");
+  benchmark::RegisterBenchmark("BM_LacamRandom32", RunLacam, random32)
+      ->Arg(100)
+      ->Arg(200)
+      ->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("BM_LacamWarehouse", RunLacam, warehouse)
+      ->Arg(1000)
+      ->Unit(benchmark::kMillisecond)
+      ->Iterations(2);
+  benchmark::RegisterBenchmark("BM_LacamDen520d", RunLacam, den520d)
+      ->Arg(500)
+      ->Unit(benchmark::kMillisecond)
+      ->Iterations(2);
+  benchmark::RegisterBenchmark("BM_EecbsRandom32", RunEecbs, random32)
+      ->Arg(50)
+      ->Arg(100)
+      ->Unit(benchmark::kMillisecond);
+}
+
+}  // namespace fleetnav::planner::bench

@@ -15,7 +15,6 @@ namespace {
 
 using ::testing::HasSubstr;
 using testing::InlineMap;
-using testing::MapfDataPath;
 
 // Executes an ADG in discrete ticks. Each move lasts 1 tick plus, with probability
 // `delay_probability`, a seeded random delay of 1..max_delay ticks; a moving robot holds both
@@ -128,7 +127,7 @@ TEST(AdgTest, RefusesInvalidPlansAndRotations) {
 class AdgDelayTest : public ::testing::TestWithParam<uint64_t> {};
 
 TEST_P(AdgDelayTest, FiftyRobotsWithRandomDelaysNeverCollideAndAllArrive) {
-  absl::StatusOr<MovingAiMap> map = LoadMovingAiMap(MapfDataPath("random-32-32-20.map"));
+  absl::StatusOr<MovingAiMap> map = testing::Random32Map20();
   ASSERT_TRUE(map.ok()) << map.status();
   const GridGraph g(*map);
   absl::StatusOr<MapfInstance> inst = RandomInstance(g, 50, GetParam());
@@ -157,7 +156,7 @@ INSTANTIATE_TEST_SUITE_P(Seeds, AdgDelayTest, ::testing::Values(21, 22, 23, 24, 
 TEST(AdgDelayTest, WithoutTheGraphDelaysCauseCollisions) {
   // Control experiment: the same plans executed step by step with the same delays but no
   // cross-robot dependencies do collide, so the delay test above is not vacuous.
-  absl::StatusOr<MovingAiMap> map = LoadMovingAiMap(MapfDataPath("random-32-32-20.map"));
+  absl::StatusOr<MovingAiMap> map = testing::Random32Map20();
   ASSERT_TRUE(map.ok()) << map.status();
   const GridGraph g(*map);
   absl::StatusOr<MapfInstance> inst = RandomInstance(g, 50, 21);

@@ -9,7 +9,6 @@ namespace fleetnav::planner {
 namespace {
 
 using testing::InlineMap;
-using testing::MapfDataPath;
 
 absl::StatusOr<MapfResult> RunEecbs(const MapfInstance& inst, double w, double time_s = 5.0) {
   EecbsParams p;
@@ -58,7 +57,7 @@ TEST(EecbsTest, RejectsBadParams) {
 class EecbsBoundTest : public ::testing::TestWithParam<uint64_t> {};
 
 TEST_P(EecbsBoundTest, StaysWithinTheBoundOnRandom32With30Agents) {
-  absl::StatusOr<MovingAiMap> map = LoadMovingAiMap(MapfDataPath("random-32-32-20.map"));
+  absl::StatusOr<MovingAiMap> map = testing::Random32Map20();
   ASSERT_TRUE(map.ok()) << map.status();
   const GridGraph g(*map);
   absl::StatusOr<MapfInstance> inst = RandomInstance(g, 30, GetParam());
@@ -76,7 +75,7 @@ TEST_P(EecbsBoundTest, StaysWithinTheBoundOnRandom32With30Agents) {
 INSTANTIATE_TEST_SUITE_P(Seeds, EecbsBoundTest, ::testing::Values(11, 12, 13, 14, 15));
 
 TEST(MapfPlannerTest, AutoUsesEecbsForFewAgentsAndLacamForMany) {
-  absl::StatusOr<MovingAiMap> map = LoadMovingAiMap(MapfDataPath("random-32-32-20.map"));
+  absl::StatusOr<MovingAiMap> map = testing::Random32Map20();
   ASSERT_TRUE(map.ok()) << map.status();
   const GridGraph g(*map);
   MapfPlannerParams params;
@@ -117,7 +116,7 @@ TEST(MapfPlannerTest, TwoRobotsSentToOneGoalOneWaitsBesideIt) {
 class DuplicateGoalsTest : public ::testing::TestWithParam<uint64_t> {};
 
 TEST_P(DuplicateGoalsTest, EveryRobotArrivesAtItsGoalOrBesideIt) {
-  const GridGraph g(LoadMovingAiMap(MapfDataPath("random-32-32-20.map")).value());
+  const GridGraph g(testing::Random32Map20());
   MapfInstance inst = RandomInstance(g, 40, GetParam()).value();
   for (int i = 30; i < 40; ++i) inst.goals[i] = inst.goals[i - 30];  // ten goals twice
   MapfPlannerParams params;

@@ -11,7 +11,6 @@ namespace fleetnav::planner {
 namespace {
 
 using testing::InlineMap;
-using testing::MapfDataPath;
 using testing::RandomMixedFleet;
 
 struct Outcome {
@@ -133,7 +132,7 @@ class KinematicDelayTest : public ::testing::TestWithParam<uint64_t> {};
 // A mixed fleet (forward-only, omni and 2 x 2 robots) is planned, validated, and executed with
 // random delays: never an overlap, never a deadlock, everyone home.
 TEST_P(KinematicDelayTest, MixedFleetIsPlannedAndNeverOverlapsUnderDelays) {
-  const MovingAiMap map = LoadMovingAiMap(MapfDataPath("random-32-32-10.map")).value();
+  const MovingAiMap map = testing::Random32Map10();
   const KinematicMapfProblem problem = RandomMixedFleet(map, GetParam());
   ASSERT_EQ(problem.robots.size(), 8u);
   KinematicMapfParams params;

@@ -9,7 +9,6 @@ namespace fleetnav::planner {
 namespace {
 
 using testing::InlineMap;
-using testing::MapfDataPath;
 
 absl::StatusOr<MapfResult> RunLacam(const MapfInstance& inst, double time_s, uint64_t seed,
                                     bool anytime = true) {
@@ -78,7 +77,7 @@ TEST(LacamTest, StopTokenCancelsBeforeAPlan) {
 class LacamBenchmarkMapTest : public ::testing::TestWithParam<uint64_t> {};
 
 TEST_P(LacamBenchmarkMapTest, SolvesRandom32With100AgentsValidly) {
-  absl::StatusOr<MovingAiMap> map = LoadMovingAiMap(MapfDataPath("random-32-32-20.map"));
+  absl::StatusOr<MovingAiMap> map = testing::Random32Map20();
   ASSERT_TRUE(map.ok()) << map.status();
   const GridGraph g(*map);
   absl::StatusOr<MapfInstance> inst = RandomInstance(g, 100, GetParam());
@@ -99,11 +98,12 @@ TEST_P(LacamBenchmarkMapTest, SolvesRandom32With100AgentsValidly) {
 
 INSTANTIATE_TEST_SUITE_P(Seeds, LacamBenchmarkMapTest, ::testing::Values(1, 2, 3, 4, 5));
 
-TEST(LacamTest, SolvesTheFirst50ScenarioAgentsAndMatchesTheScenarioLowerBound) {
-  absl::StatusOr<MovingAiMap> map = LoadMovingAiMap(MapfDataPath("random-32-32-20.map"));
+TEST(LacamTest, SolvesTheFirst50ScenarioAgentsAboveTheLowerBound) {
+  absl::StatusOr<MovingAiMap> map = testing::Random32Map20();
   ASSERT_TRUE(map.ok()) << map.status();
   absl::StatusOr<std::vector<ScenarioEntry>> scen =
-      LoadMovingAiScenario(MapfDataPath("random-32-32-20-random-1.scen"));
+      ParseMovingAiScenario(fleetnav::testing::ScenarioText(
+          fleetnav::testing::RandomMapRows(32, 32, 20, 1), "random-32-32-20.map", 100, 1));
   ASSERT_TRUE(scen.ok()) << scen.status();
   const GridGraph g(*map);
   absl::StatusOr<MapfInstance> inst = InstanceFromScenario(g, *scen, 50);

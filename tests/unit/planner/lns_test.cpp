@@ -10,7 +10,6 @@ namespace fleetnav::planner {
 namespace {
 
 using testing::InlineMap;
-using testing::MapfDataPath;
 
 MapfSolution LacamPlan(const MapfInstance& inst, uint64_t seed) {
   LacamParams p;
@@ -23,7 +22,7 @@ MapfSolution LacamPlan(const MapfInstance& inst, uint64_t seed) {
 class LnsSeedTest : public ::testing::TestWithParam<uint64_t> {};
 
 TEST_P(LnsSeedTest, LowersTheSumOfCostsOfALacamPlanAndKeepsItValid) {
-  const GridGraph g(LoadMovingAiMap(MapfDataPath("random-32-32-20.map")).value());
+  const GridGraph g(testing::Random32Map20());
   const MapfInstance inst = RandomInstance(g, 100, GetParam()).value();
   const MapfSolution initial = LacamPlan(inst, GetParam());
   LnsParams params;
@@ -48,7 +47,7 @@ TEST_P(LnsSeedTest, LowersTheSumOfCostsOfALacamPlanAndKeepsItValid) {
 INSTANTIATE_TEST_SUITE_P(Seeds, LnsSeedTest, ::testing::Values(1, 2, 3, 4, 5));
 
 TEST(LnsTest, KeepsTheCommittedPrefixes) {
-  const GridGraph g(LoadMovingAiMap(MapfDataPath("random-32-32-20.map")).value());
+  const GridGraph g(testing::Random32Map20());
   const MapfInstance inst = RandomInstance(g, 60, 7).value();
   const MapfSolution initial = LacamPlan(inst, 7);
   std::vector<int> fixed(inst.num_agents());

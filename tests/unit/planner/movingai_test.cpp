@@ -3,6 +3,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+#include <string>
+#include <vector>
+
 #include "test_maps.hpp"
 
 namespace fleetnav::planner {
@@ -91,19 +95,42 @@ TEST(MovingAiFilesTest, MissingFileIsNotFound) {
             absl::StatusCode::kNotFound);
 }
 
-TEST(MovingAiFilesTest, LoadsTheSharedBenchmarkMapAndScenario) {
-  absl::StatusOr<MovingAiMap> map = LoadMovingAiMap(testing::MapfDataPath("random-32-32-20.map"));
-  ASSERT_TRUE(map.ok()) << map.status()
-                        << " (the benchmark data must be in ../shared/data/mapf beside the repo)";
-  EXPECT_EQ(map->width, 32);
-  EXPECT_EQ(map->height, 32);
-  absl::StatusOr<std::vector<ScenarioEntry>> scen =
-      LoadMovingAiScenario(testing::MapfDataPath("random-32-32-20-random-1.scen"));
-  ASSERT_TRUE(scen.ok()) << scen.status();
-  ASSERT_GE(scen->size(), 100u);
-  for (const ScenarioEntry& e : *scen) {
-    EXPECT_TRUE(map->Passable(e.start_x, e.start_y));
-    EXPECT_TRUE(map->Passable(e.goal_x, e.goal_y));
+TEST(MovingAiFilesTest, LoadsGeneratedMapAndScenarioFilesOfEachBenchmarkFamily) {
+  struct Family {
+    std::string name;
+    std::vector<std::string> rows;
+  };
+  const std::vector<Family> families = {
+      {"random-32-32-20", fleetnav::testing::RandomMapRows(32, 32, 20, 7)},
+      {"warehouse-4-3-10-2", fleetnav::testing::WarehouseMapRows(4, 3, 10, 2)},
+      {"room-4-4-8", fleetnav::testing::RoomsMapRows(4, 4, 8, 7)},
+  };
+  const std::string dir = ::testing::TempDir();
+  for (const Family& family : families) {
+    SCOPED_TRACE(family.name);
+    const std::string map_path = dir + "/" + family.name + ".map";
+    const std::string scen_path = dir + "/" + family.name + ".scen";
+    ASSERT_TRUE(fleetnav::testing::WriteTextFile(
+        map_path, fleetnav::testing::MovingAiMapText(family.rows)));
+    ASSERT_TRUE(fleetnav::testing::WriteTextFile(
+        scen_path, fleetnav::testing::ScenarioText(family.rows, family.name + ".map", 100, 3)));
+    absl::StatusOr<MovingAiMap> map = LoadMovingAiMap(map_path);
+    ASSERT_TRUE(map.ok()) << map.status();
+    EXPECT_EQ(map->width, static_cast<int>(family.rows.front().size()));
+    EXPECT_EQ(map->height, static_cast<int>(family.rows.size()));
+    int blocked = 0;
+    for (bool p : map->passable) blocked += p ? 0 : 1;
+    EXPECT_GT(blocked, 0);
+    absl::StatusOr<std::vector<ScenarioEntry>> scen = LoadMovingAiScenario(scen_path);
+    ASSERT_TRUE(scen.ok()) << scen.status();
+    ASSERT_EQ(scen->size(), 100u);
+    for (const ScenarioEntry& e : *scen) {
+      EXPECT_EQ(e.map_name, family.name + ".map");
+      EXPECT_TRUE(map->Passable(e.start_x, e.start_y));
+      EXPECT_TRUE(map->Passable(e.goal_x, e.goal_y));
+      // The generated maps are connected, so every goal has a finite distance.
+      EXPECT_GE(e.optimal_length, std::abs(e.goal_x - e.start_x) + std::abs(e.goal_y - e.start_y));
+    }
   }
 }
 

@@ -9,7 +9,6 @@ namespace fleetnav::planner {
 namespace {
 
 using testing::InlineMap;
-using testing::MapfDataPath;
 
 int At(const std::vector<int>& path, int step) {
   return step < static_cast<int>(path.size()) ? path[step] : path.back();
@@ -22,7 +21,7 @@ class ReplanSeedTest : public ::testing::TestWithParam<uint64_t> {};
 // the blocked robot, which have committed to nothing beyond their position. The replan keeps
 // every prefix, lets robot 0 wait, and brings everyone home without a conflict or a rotation.
 TEST_P(ReplanSeedTest, ALateRobotGetsANewPlanThatKeepsEveryCommittedPrefix) {
-  const GridGraph g(LoadMovingAiMap(MapfDataPath("random-32-32-20.map")).value());
+  const GridGraph g(testing::Random32Map20());
   const MapfInstance original = RandomInstance(g, 40, GetParam()).value();
   MapfPlannerParams params;
   params.time_limit_s = 0.3;

@@ -4,6 +4,7 @@
 
 #include "fleetnav/core/occupancy_grid.hpp"
 #include "fleetnav/planner/movingai.hpp"
+#include "movingai_generators.hpp"
 
 namespace fleetnav::planner::testing {
 
@@ -14,10 +15,10 @@ inline MovingAiMap InlineMap(const std::string& rows_joined_by_newline, int widt
   return ParseMovingAiMap(text).value();
 }
 
-/// Path of a file in the shared MovingAI data folder.
-inline std::string MapfDataPath(const std::string& name) {
-  return std::string(FLEETNAV_MAPF_DATA_DIR) + "/" + name;
-}
+/// A seeded 32 × 32 map with 20 % obstacles, shaped like the benchmark's random-32-32-20.
+inline MovingAiMap Random32Map20() { return fleetnav::testing::Random32Map20(); }
+/// A seeded 32 × 32 map with 10 % obstacles, shaped like the benchmark's random-32-32-10.
+inline MovingAiMap Random32Map10() { return fleetnav::testing::Random32Map10(); }
 
 /// 24 m × 16 m at 0.1 m: a border, a wall at x = 12 m with a 4 m door (y 6–10 m), and two
 /// boxes (5–7 × 10–12 m and 17–18.5 × 3–5 m).
