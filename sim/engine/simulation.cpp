@@ -58,6 +58,9 @@ void Simulation::Build() {
   robots_.clear();
   index_.clear();
   contacts_.clear();
+  touching_now_.clear();
+  touching_last_.clear();
+  episodes_.clear();
   faults_.clear();
   for (const FaultSpec& fault : original_.faults) faults_.push_back({fault, 0});
   tick_ = 0;
@@ -232,8 +235,23 @@ double Simulation::TractionAt(const Pose2& pose) const {
 }
 
 void Simulation::RecordContact(const std::string& robot_id, const std::string& other) {
+  touching_now_.emplace(robot_id, other);
   contacts_.push_back({robot_id, other, now_ns()});
   if (contacts_.size() > 10000) contacts_.erase(contacts_.begin());
+}
+
+void Simulation::CountContactEpisodes() {
+  for (const auto& pair : touching_now_) {
+    if (touching_last_.count(pair) != 0) continue;
+    std::pair<int, int>& counts = episodes_[pair.first];
+    if (pair.second == "static") {
+      ++counts.first;
+    } else {
+      ++counts.second;
+    }
+  }
+  touching_last_.swap(touching_now_);
+  touching_now_.clear();
 }
 
 void Simulation::MoveKinematic(SimRobot& robot, int index, double traction) {
@@ -285,6 +303,7 @@ void Simulation::Advance() {
                                                   : robots_[contact.other_robot_index].robot_id);
     }
   }
+  CountContactEpisodes();
   ++tick_;
   // Faults that ran out leave before the next frames.
   const int64_t now = now_ns();
@@ -393,8 +412,13 @@ GroundTruthSnapshot Simulation::GroundTruth() const {
   out.tick = tick_;
   out.sim_time_ns = now_ns();
   for (const SimRobot& robot : robots_) {
-    out.robots.push_back({robot.robot_id, robot.body->GroundTruthPose(),
-                          robot.body->GroundTruthVelocity(), robot.body->UpVectorZ()});
+    RobotTruth truth{robot.robot_id, robot.body->GroundTruthPose(),
+                     robot.body->GroundTruthVelocity(), robot.body->UpVectorZ()};
+    if (auto it = episodes_.find(robot.robot_id); it != episodes_.end()) {
+      truth.collisions_world = it->second.first;
+      truth.collisions_robots = it->second.second;
+    }
+    out.robots.push_back(truth);
   }
   out.contacts = contacts_;
   out.min_separation_m = min_separation_m_;

@@ -92,6 +92,9 @@ grpc::Status SimServiceImpl::GetGroundTruth(grpc::ServerContext*, const v1::GetG
     *wire->mutable_pose() = fleetnav::ToProto(robot.pose);
     *wire->mutable_velocity() = ToProto(robot.velocity);
     wire->set_up_z(robot.up_z);
+    wire->set_collisions(static_cast<uint32_t>(robot.collisions()));
+    wire->set_collisions_world(static_cast<uint32_t>(robot.collisions_world));
+    wire->set_collisions_robots(static_cast<uint32_t>(robot.collisions_robots));
   }
   for (const SimContact& contact : truth.contacts) {
     v1::Contact* wire = response->add_contacts();

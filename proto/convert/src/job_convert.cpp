@@ -147,6 +147,12 @@ absl::StatusOr<JobEvent> JobEventFromAgentEvent(const v1::AgentEvent& event) {
     case v1::AgentEvent::TYPE_MODE_SWITCH:
       out.type = JobEventType::kModeSwitch;
       break;
+    case v1::AgentEvent::TYPE_BUMPER:
+      out.type = JobEventType::kBumper;
+      break;
+    case v1::AgentEvent::TYPE_LOCALIZATION_LOST:
+      out.type = JobEventType::kLocalizationLost;
+      break;
     default:
       return absl::InvalidArgumentError(
           absl::StrCat("event.type: not a job event (", static_cast<int>(event.type()), ")"));
@@ -176,6 +182,12 @@ v1::AgentEvent ToAgentEvent(const JobEvent& event, int64_t stamp_ns) {
       break;
     case JobEventType::kCancelled:
       out.set_type(v1::AgentEvent::TYPE_JOB_CANCELLED);
+      break;
+    case JobEventType::kBumper:
+      out.set_type(v1::AgentEvent::TYPE_BUMPER);
+      break;
+    case JobEventType::kLocalizationLost:
+      out.set_type(v1::AgentEvent::TYPE_LOCALIZATION_LOST);
       break;
     default:
       out.set_type(v1::AgentEvent::TYPE_MODE_SWITCH);

@@ -220,7 +220,9 @@ void JobService::OnRobotEvent(const std::string& robot_id, const JobEvent& event
       return;
     case JobEventType::kActionStarted:
     case JobEventType::kActionFinished:
-    case JobEventType::kModeSwitch: {
+    case JobEventType::kModeSwitch:
+    case JobEventType::kBumper:
+    case JobEventType::kLocalizationLost: {
       const bool starts = job.state == JobState::kAssigned;
       if (starts) job.state = JobState::kRunning;
       JobEvent stored =

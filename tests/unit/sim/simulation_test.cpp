@@ -210,6 +210,45 @@ TEST(SimulationTest, WallStopsTheRobotAndIsReported) {
   EXPECT_EQ(truth.contacts.front().robot_id, "lely1");
   EXPECT_EQ(truth.contacts.front().other, "static");
   EXPECT_GT(truth.contacts.front().sim_time_ns, 4'000'000'000);
+  // Thousands of touching physics steps, but one contact episode, with the world.
+  EXPECT_GT(truth.contacts.size(), 100u);
+  EXPECT_EQ(truth.robots.at(0).collisions_world, 1);
+  EXPECT_EQ(truth.robots.at(0).collisions_robots, 0);
+  EXPECT_EQ(truth.robots.at(0).collisions(), 1);
+}
+
+// Backing off and driving in again is a second episode; Reset clears the count.
+TEST(SimulationTest, EachRunIntoTheWallIsOneEpisode) {
+  WorldDescription world = EmptyWorld();
+  world.boxes.push_back({"wall", Eigen::Vector2d(3.0, 0.0), Eigen::Vector2d(0.2, 6.0), 0.0, 2.5});
+  absl::StatusOr<std::unique_ptr<Simulation>> sim =
+      Simulation::Create(world, SimulationParams{});
+  ASSERT_TRUE(sim.ok()) << sim.status();
+  ASSERT_TRUE((*sim)->AddRobot("lely1", "lely-vector", Pose2(0, 0, 0)).ok());
+  std::vector<int> episodes;
+  for (int run = 0; run < 2; ++run) {
+    ASSERT_TRUE((*sim)->Command("lely1", TwistCommand(0.3, 0.0)).ok());
+    for (int i = 0; i < 400; ++i) (*sim)->Advance();
+    // Turn away from the wall (the Lely never reverses), drive off, and turn back to face it.
+    for (const Twist2& leg : {Twist2{0.0, 0.0, 0.4}, Twist2{0.3, 0.0, 0.0}, Twist2{0.0, 0.0, 0.4}}) {
+      ASSERT_TRUE((*sim)->Command("lely1", TwistCommand(leg.vx_mps, leg.yaw_rate_radps)).ok());
+      for (int i = 0; i < (leg.vx_mps > 0 ? 250 : 393); ++i) (*sim)->Advance();
+    }
+    ASSERT_TRUE((*sim)->Command("lely1", TwistCommand(0.0, 0.0)).ok());
+    for (int i = 0; i < 50; ++i) (*sim)->Advance();
+    episodes.push_back((*sim)->GroundTruth().robots.at(0).collisions_world);
+    std::printf("[ figures  ] run %d: %d contact episode(s) with the world so far\n", run,
+                episodes.back());
+  }
+  // The first run touches the wall (and may scrape it once more turning away); the second,
+  // which again drives into it, adds at least one episode; thousands of steps are not counted.
+  EXPECT_GE(episodes[0], 1);
+  EXPECT_LE(episodes[0], 2);
+  EXPECT_GT(episodes[1], episodes[0]);
+  EXPECT_LE(episodes[1], 4);
+  EXPECT_EQ((*sim)->GroundTruth().robots.at(0).collisions_robots, 0);
+  (*sim)->Reset(2);
+  EXPECT_EQ((*sim)->GroundTruth().robots.at(0).collisions(), 0);
 }
 
 TEST(SimulationTest, TwoRobotsReportSeparation) {

@@ -47,7 +47,10 @@ absl::Status PrintGroundTruth(const CommandContext& context,
                         {"x_m", r.pose().x_m()},
                         {"y_m", r.pose().y_m()},
                         {"yaw_rad", r.pose().yaw_rad()},
-                        {"up_z", r.up_z()}});
+                        {"up_z", r.up_z()},
+                        {"collisions", r.collisions()},
+                        {"collisions_world", r.collisions_world()},
+                        {"collisions_robots", r.collisions_robots()}});
     }
     *context.out << nlohmann::json{{"sim_time_s", truth->sim_time_ns() * 1e-9},
                                    {"robots", robots},
@@ -58,12 +61,14 @@ absl::Status PrintGroundTruth(const CommandContext& context,
   }
   *context.out << absl::StrFormat("sim time %.2f s, %d contact(s)\n", truth->sim_time_ns() * 1e-9,
                                   truth->contacts_size());
-  Table table({"ROBOT", "TRUE POSE (x, y, yaw)", "SPEED", "YAW RATE", "UPRIGHT"});
+  Table table({"ROBOT", "TRUE POSE (x, y, yaw)", "SPEED", "YAW RATE", "UPRIGHT", "COLLISIONS"});
   for (const auto& r : truth->robots()) {
     table.AddRow({r.robot_id(), PoseText(r.pose()),
                   absl::StrFormat("%.3f m/s", r.velocity().vx_mps()),
                   absl::StrFormat("%.3f rad/s", r.velocity().yaw_rate_radps()),
-                  absl::StrFormat("%.3f", r.up_z())});
+                  absl::StrFormat("%.3f", r.up_z()),
+                  absl::StrFormat("%u (world %u, robots %u)", r.collisions(), r.collisions_world(),
+                                  r.collisions_robots())});
   }
   table.Print(*context.out);
   return absl::OkStatus();

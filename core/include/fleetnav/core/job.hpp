@@ -31,6 +31,8 @@ enum class JobEventType {
   kSucceeded,
   kFailed,
   kCancelled,
+  kBumper,            ///< the bumper closed: the robot stopped (the job then fails)
+  kLocalizationLost,  ///< the estimate diverged: the robot stopped (the job then fails)
 };
 
 /// A job: run a route (by name, pinned to a version when accepted) or go to a goal, with any

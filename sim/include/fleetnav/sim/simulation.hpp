@@ -36,6 +36,11 @@ struct RobotTruth {
   Pose2 pose;
   Twist2 velocity;
   double up_z = 1.0;
+  /// Contact episodes since the start (or the last Reset): a run of consecutive ticks in which
+  /// this robot touches the same thing counts once. The floor never counts.
+  int collisions_world = 0;   ///< with walls, fences, boxes, poles
+  int collisions_robots = 0;  ///< with other robots
+  int collisions() const { return collisions_world + collisions_robots; }
 };
 
 struct SimContact {
@@ -134,6 +139,8 @@ class Simulation {
   double SlowFactor(const std::string& robot_id) const;
   std::set<std::string> DroppedSensors(const std::string& robot_id) const;
   void RecordContact(const std::string& robot_id, const std::string& other);
+  /// Counts the (robot, other) pairs touching this tick that did not touch the tick before.
+  void CountContactEpisodes();
   void UpdateSeparation();
 
   WorldDescription original_;
@@ -144,6 +151,9 @@ class Simulation {
   std::map<std::string, size_t> index_;
   std::vector<ActiveFault> faults_;
   std::vector<SimContact> contacts_;
+  std::set<std::pair<std::string, std::string>> touching_now_;   ///< (robot, other) this tick
+  std::set<std::pair<std::string, std::string>> touching_last_;  ///< … the tick before
+  std::map<std::string, std::pair<int, int>> episodes_;  ///< robot → (world, robots) episodes
   SensingScene scene_;
   bool scene_static_valid_ = false;
   uint64_t scene_robots_tick_ = ~uint64_t{0};
