@@ -1,22 +1,48 @@
-// fleetnav-agent: the robot daemon. Wiring only: flags -> HAL + server link + route -> Agent.
+// fleetnav-agent: the robot daemon. Wiring only: flags -> model, map, markers, localizer,
+// HAL and server link -> Agent.
 #include <grpcpp/create_channel.h>
 #include <spdlog/spdlog.h>
+#include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
+#include <memory>
 
 #include "fleetnav/core/angles.hpp"
+#include "fleetnav/core/map_io.hpp"
 #include "fleetnav/core/route.hpp"
+#include "fleetnav/core/stripe_marker.hpp"
+#include "fleetnav/localization/dead_reckoning_localizer.hpp"
+#include "fleetnav/localization/samcl_localizer.hpp"
 #include "fleetnav/robot_agent/agent.hpp"
 #include "fleetnav/robot_agent/server_link.hpp"
 #include "fleetnav/robot_agent/sim_hal.hpp"
+
+namespace {
+
+double CpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
+int Fail(const std::string& what) {
+  spdlog::error("fleetnav-agent: {}", what);
+  return 1;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   std::string robot_id = "lely1";
   std::string kind = "lely-vector";
   std::string sim_address = "127.0.0.1:50061";
   std::string server_address = "127.0.0.1:50051";
-  std::string route_path;
-  std::vector<double> initial_pose = {0.0, 0.0, 0.0};
+  std::string route_path, map_path, markers_path;
+  std::vector<double> initial_pose;
+  size_t particles = 2000;
+  uint64_t seed = 1;
+  bool ignore_markers = false;
   fleetnav::agent::AgentParams params;
   double telemetry_hz = 1.0 / params.telemetry_period_s;
   CLI::App app{"fleetnav-agent: robot daemon (HAL over SimService, telemetry to fleetnavd)"};
@@ -24,63 +50,139 @@ int main(int argc, char** argv) {
   app.add_option("--kind", kind, "robot kind: lely-vector | mecanum-platform | ackermann-delivery")
       ->capture_default_str();
   app.add_option("--sim", sim_address, "fleetnav-sim address (SimService)")->capture_default_str();
-  app.add_option("--server", server_address, "fleetnavd address (AgentService)")
+  app.add_option("--server", server_address,
+                 "fleetnavd address (AgentService); telemetry to an absent server is dropped")
       ->capture_default_str();
   app.add_option("--route", route_path,
-                 "route YAML to run once (turn and straight actions); without it the agent "
-                 "takes jobs from fleetnavd");
+                 "route YAML to run once, then exit 0 if every action completed, 1 otherwise; "
+                 "without it the agent takes jobs from fleetnavd");
+  app.add_option("--map", map_path,
+                 "map_server YAML of the site: localize with SAMCL on it (without it: odometry "
+                 "and gyro only)");
+  app.add_option("--markers", markers_path,
+                 "marker set YAML of the map: calibration markers for SAMCL and marker end "
+                 "conditions");
+  app.add_option("--initial-pose", initial_pose,
+                 "the robot's pose in the map at start: x_m y_m yaw_deg (required)")
+      ->expected(3)
+      ->required();
+  app.add_option("--particles", particles, "AMCL particles at most (with --map)")
+      ->capture_default_str();
+  app.add_option("--seed", seed, "seed of the particle filter")->capture_default_str();
+  app.add_flag("--ignore-markers", ignore_markers,
+               "plain AMCL: do not calibrate on stripe markers (the SAMCL baseline)");
   app.add_option("--max-jobs", params.max_jobs,
                  "in job mode, exit after this many jobs have ended (0 = run until the sim ends)");
-  app.add_option("--initial-pose", initial_pose, "pose in the map at start: x_m y_m yaw_deg")
-      ->expected(3);
   app.add_option("--telemetry-hz", telemetry_hz, "telemetry rate in robot time (>= 10)")
       ->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    (void)app.exit(e);
+    return 1;
+  }
 
   absl::StatusOr<fleetnav::RobotModel> model = fleetnav::RobotModelByKind(kind);
-  if (!model.ok()) {
-    spdlog::error("{}", model.status().ToString());
-    return 2;
-  }
+  if (!model.ok()) return Fail(model.status().ToString());
   std::optional<fleetnav::Route> route;
   if (!route_path.empty()) {
     absl::StatusOr<fleetnav::Route> loaded = fleetnav::LoadRoute(route_path);
-    if (!loaded.ok()) {
-      spdlog::error("{}", loaded.status().ToString());
-      return 2;
-    }
+    if (!loaded.ok()) return Fail(absl::StrCat(route_path, ": ", loaded.status().ToString()));
     route = *loaded;
   }
-  params.initial_pose_in_map =
-      fleetnav::Pose2(initial_pose[0], initial_pose[1], fleetnav::DegToRad(initial_pose[2]));
+  const fleetnav::Pose2 start(initial_pose[0], initial_pose[1],
+                              fleetnav::DegToRad(initial_pose[2]));
+  if (!start.IsFinite()) return Fail("--initial-pose: must be finite");
   params.telemetry_period_s = telemetry_hz > 0 ? 1.0 / telemetry_hz : 0.0;
   params.exit_when_done = route.has_value();
 
+  fleetnav::agent::RouteContext context{*model, std::nullopt};
+  if (!markers_path.empty()) {
+    if (map_path.empty()) return Fail("--markers needs --map");
+    absl::StatusOr<fleetnav::MarkerSet> markers = fleetnav::LoadMarkerSet(markers_path);
+    if (!markers.ok()) return Fail(absl::StrCat(markers_path, ": ", markers.status().ToString()));
+    context.markers = *markers;
+  }
+  std::unique_ptr<fleetnav::localization::Localizer> localizer;
+  if (!map_path.empty()) {
+    absl::StatusOr<fleetnav::OccupancyGrid> map = fleetnav::LoadMapServer(map_path);
+    if (!map.ok()) return Fail(absl::StrCat(map_path, ": ", map.status().ToString()));
+    fleetnav::localization::SamclLocalizerParams lp;
+    lp.amcl.max_particles = particles;
+    lp.amcl.min_particles = std::min(lp.amcl.min_particles, particles);
+    lp.amcl.seed = seed;
+    lp.use_markers = !ignore_markers;
+    lp.ultrasonic_range_max_m = params.ultrasonic_range_max_m;
+    auto samcl = fleetnav::localization::SamclLocalizer::Create(
+        *model, *map, context.markers.value_or(fleetnav::MarkerSet{}), start, lp);
+    if (!samcl.ok()) return Fail(absl::StrCat("localization: ", samcl.status().ToString()));
+    localizer = std::make_unique<fleetnav::localization::SamclLocalizer>(*std::move(samcl));
+  } else {
+    auto dead_reckoning = fleetnav::localization::DeadReckoningLocalizer::Create(*model, start);
+    if (!dead_reckoning.ok()) {
+      return Fail(absl::StrCat("localization: ", dead_reckoning.status().ToString()));
+    }
+    localizer = std::make_unique<fleetnav::localization::DeadReckoningLocalizer>(
+        *std::move(dead_reckoning));
+  }
+  // A route this agent cannot run is refused before the robot moves.
+  if (route) {
+    if (absl::Status s = fleetnav::agent::CheckRoute(*route, context); !s.ok()) {
+      return Fail(absl::StrCat("route refused before moving: ", s.message()));
+    }
+  }
+
+  auto sim_channel = grpc::CreateChannel(sim_address, grpc::InsecureChannelCredentials());
+  if (absl::Status s = fleetnav::agent::SimHal::CheckRobotKind(sim_channel, robot_id, kind);
+      !s.ok()) {
+    return Fail(s.ToString());
+  }
   // What this agent can execute: a job needs every one of its route's action types here.
-  fleetnav::RobotIdentity identity{robot_id, *model, {"straight", "turn"}, "0.1.0"};
+  fleetnav::RobotIdentity identity{robot_id, *model, fleetnav::agent::SupportedActionTypes(),
+                                   "0.2.0"};
   fleetnav::agent::ServerLink link(
       grpc::CreateChannel(server_address, grpc::InsecureChannelCredentials()), identity);
-  fleetnav::agent::SimHal hal(grpc::CreateChannel(sim_address, grpc::InsecureChannelCredentials()),
-                              robot_id);
-  fleetnav::agent::Agent agent(*model, &hal, &link, route, params,
-                               route.has_value() ? nullptr : &link);
-  spdlog::info("fleetnav-agent '{}' ({}) attached to {}, reporting to {}", robot_id, kind,
-               sim_address, server_address);
+  fleetnav::agent::SimHal hal(sim_channel, robot_id);
+  fleetnav::agent::AgentPorts ports{&hal, localizer.get(), &link,
+                                    route.has_value() ? nullptr : &link};
+  fleetnav::agent::Agent agent(context, ports, route, params);
+  spdlog::info("fleetnav-agent '{}' ({}) attached to {}, reporting to {}, localizing with {}",
+               robot_id, kind, sim_address, server_address,
+               map_path.empty() ? "odometry" : (ignore_markers ? "AMCL" : "SAMCL"));
+  const double cpu_start_s = CpuSeconds();
   absl::StatusOr<fleetnav::agent::AgentResult> result = agent.Run();
+  const double cpu_s = CpuSeconds() - cpu_start_s;
   link.Close();
-  if (!result.ok()) {
-    spdlog::error("fleetnav-agent: {}", result.status().ToString());
-    return 1;
+  if (!result.ok()) return Fail(result.status().ToString());
+  for (const fleetnav::JobEvent& event : result->events) {
+    if (event.type == fleetnav::JobEventType::kModeSwitch ||
+        event.type == fleetnav::JobEventType::kBumper ||
+        event.type == fleetnav::JobEventType::kLocalizationLost) {
+      spdlog::info("event: action {}: {}", event.action_index, event.reason);
+    }
+  }
+  for (const auto& c : result->calibrations) {
+    spdlog::info("calibrated on marker {} ({}) at t = {:.2f} s, moved {:.3f} m", c.marker_id,
+                 c.sensor_name, c.stamp_ns * 1e-9, c.correction_m);
   }
   const fleetnav::Pose2& end = result->final_pose_in_map;
+  const double sim_s = static_cast<double>(result->ticks) * 0.02;
   spdlog::info(
-      "fleetnav-agent: {} after {} ticks; odometry pose ({:.3f}, {:.3f}, {:.2f} deg); "
-      "{} telemetry messages sent",
+      "fleetnav-agent: {} after {} ticks; estimated pose ({:.3f}, {:.3f}, {:.2f} deg); "
+      "{} telemetry messages; {:.2f} CPU-s for {:.1f} sim-s ({:.1f} % of a core at 1x)",
       !route.has_value() ? std::to_string(result->jobs_finished) + " job(s) ended"
       : result->state == fleetnav::agent::ExecutionState::kSucceeded ? "route succeeded"
       : result->state == fleetnav::agent::ExecutionState::kFailed
           ? "route failed: " + result->failure_reason
           : "stopped",
-      result->ticks, end.x_m(), end.y_m(), fleetnav::RadToDeg(end.yaw_rad()), link.sent());
-  return result->state == fleetnav::agent::ExecutionState::kFailed ? 1 : 0;
+      result->ticks, end.x_m(), end.y_m(), fleetnav::RadToDeg(end.yaw_rad()), link.sent(), cpu_s,
+      sim_s, sim_s > 0 ? 100.0 * cpu_s / sim_s : 0.0);
+  if (route.has_value() && result->state != fleetnav::agent::ExecutionState::kSucceeded) {
+    return Fail(result->state == fleetnav::agent::ExecutionState::kFailed
+                    ? "route failed: " + result->failure_reason
+                    : "the simulation ended before the route did");
+  }
+  return 0;
 }

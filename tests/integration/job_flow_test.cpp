@@ -7,6 +7,7 @@
 #include "fleet_fixture.hpp"
 #include "fleetnav/core/angles.hpp"
 #include "fleetnav/proto/telemetry_convert.hpp"
+#include "fleetnav/localization/dead_reckoning_localizer.hpp"
 #include "fleetnav/robot_agent/agent.hpp"
 #include "fleetnav/robot_agent/server_link.hpp"
 #include "fleetnav/robot_agent/sim_hal.hpp"
@@ -42,9 +43,11 @@ class JobFlowTest : public testing::FleetServerFixture {
                                             grpc::InsecureChannelCredentials()),
                         "lely1");
       agent::AgentParams params;
-      params.initial_pose_in_map = Barn().robots[0].pose;
       params.max_jobs = jobs;
-      agent::Agent agent(model, &hal, &link, std::nullopt, params, &link);
+      localization::DeadReckoningLocalizer localizer =
+          localization::DeadReckoningLocalizer::Create(model, Barn().robots[0].pose).value();
+      agent::Agent agent(agent::RouteContext{model, std::nullopt},
+                         agent::AgentPorts{&hal, &localizer, &link, &link}, std::nullopt, params);
       absl::StatusOr<agent::AgentResult> run = agent.Run();
       link.Close();
       if (run.ok()) *result = *run;

@@ -7,6 +7,7 @@
 
 #include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/route.hpp"
+#include "fleetnav/localization/dead_reckoning_localizer.hpp"
 #include "fleetnav/robot_agent/agent.hpp"
 #include "fleetnav/robot_agent/server_link.hpp"
 #include "fleetnav/robot_agent/sim_hal.hpp"
@@ -50,9 +51,11 @@ TEST(WalkingSkeletonTest, DemoRouteReachesNominalEndAndServerGetsTelemetryAtTenH
   {
     agent::ServerLink link(Loopback(*fleet_port), RobotIdentity{"lely1", model, {}, "test"});
     agent::SimHal hal(Loopback(*sim_port), "lely1");
-    agent::AgentParams params;
-    params.initial_pose_in_map = start;
-    agent::Agent agent(model, &hal, &link, *route, params);
+    localization::DeadReckoningLocalizer localizer =
+        localization::DeadReckoningLocalizer::Create(model, start).value();
+    agent::Agent agent(agent::RouteContext{model, std::nullopt},
+                       agent::AgentPorts{&hal, &localizer, &link, nullptr}, *route,
+                       agent::AgentParams{});
     absl::StatusOr<agent::AgentResult> run = agent.Run();
     ASSERT_TRUE(run.ok()) << run.status();
     result = *run;

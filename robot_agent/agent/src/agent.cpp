@@ -13,91 +13,102 @@ absl::Status AgentParams::Validate() const {
     return absl::InvalidArgumentError(absl::StrCat(
         "telemetry_period_s: must be in (0, 0.1] (at least 10 Hz), got ", telemetry_period_s));
   }
-  if (!initial_pose_in_map.IsFinite()) {
-    return absl::InvalidArgumentError("initial_pose_in_map: must be finite");
-  }
   if (settle_ticks < 0) return absl::InvalidArgumentError("settle_ticks: must be >= 0");
-  return absl::OkStatus();
+  if (!(std::isfinite(ultrasonic_range_max_m) && ultrasonic_range_max_m > 0.0)) {
+    return absl::InvalidArgumentError("ultrasonic_range_max_m: must be finite and > 0");
+  }
+  RETURN_IF_ERROR(modes.Validate());
+  return safety.Validate();
 }
 
-Agent::Agent(const RobotModel& model, RobotHal* hal, TelemetrySink* telemetry,
-             std::optional<Route> route, AgentParams params, JobChannel* jobs)
-    : model_(model),
-      hal_(hal),
-      telemetry_(telemetry),
+Agent::Agent(RouteContext context, AgentPorts ports, std::optional<Route> route,
+             AgentParams params)
+    : context_(std::move(context)),
+      ports_(ports),
       params_(params),
-      odometry_(model),
-      jobs_(jobs) {
-  if (route) executor_.emplace(std::move(*route));
+      perception_(params.ultrasonic_range_max_m),
+      safety_(params.safety) {
+  if (route) StartRoute(std::move(*route));
 }
 
-void Agent::ReportJobEvent(JobEventType type, int action_index, const std::string& reason) {
+void Agent::StartRoute(Route route) {
+  executor_.emplace(std::move(route), context_, params_.modes);
+  reported_action_ = -1;
+  reported_mode_ = NavigationMode::kIdle;
+  paused_ = false;
+  end_reported_ = false;
+  safety_.Reset();
+}
+
+void Agent::Report(JobEventType type, int action_index, NavigationMode mode,
+                   const std::string& reason, AgentResult* result) {
   JobEvent event;
   event.job_id = current_job_id_;
   event.type = type;
   event.action_index = action_index;
+  event.mode = mode;
   event.reason = reason;
-  jobs_->ReportEvent(event);
+  result->events.push_back(event);
+  if (ports_.jobs != nullptr && !current_job_id_.empty()) ports_.jobs->ReportEvent(event);
 }
 
-void Agent::ServeJobs(const ExecutorOutput& output, int64_t stamp_ns, AgentResult* result) {
-  (void)stamp_ns;
-  for (const JobCommand& command : jobs_->TakeCommands()) {
+void Agent::ReportProgress(const ExecutorOutput& output, AgentResult* result) {
+  if (output.action_index >= 0 && output.action_index != reported_action_) {
+    if (reported_action_ >= 0) {
+      Report(JobEventType::kActionFinished, reported_action_, output.mode, "", result);
+    }
+    Report(JobEventType::kActionStarted, output.action_index, output.mode, "", result);
+    reported_action_ = output.action_index;
+  }
+  if (!output.mode_reason.empty()) {
+    Report(JobEventType::kModeSwitch, output.action_index, output.mode, output.mode_reason,
+           result);
+  }
+  reported_mode_ = output.mode;
+}
+
+void Agent::ServeJobs(const ExecutorOutput& output, AgentResult* result) {
+  for (const JobCommand& command : ports_.jobs->TakeCommands()) {
     if (command.job_id != current_job_id_ || current_job_id_.empty()) continue;
     if (command.type == JobCommandType::kPause) paused_ = true;
     if (command.type == JobCommandType::kResume) paused_ = false;
     if (command.type == JobCommandType::kCancel) {
-      ReportJobEvent(JobEventType::kCancelled, output.action_index, command.reason);
+      Report(JobEventType::kCancelled, output.action_index, NavigationMode::kIdle, command.reason,
+             result);
       executor_.reset();
       current_job_id_.clear();
-      jobs_->SetCurrentJob("");
+      ports_.jobs->SetCurrentJob("");
       ++result->jobs_finished;
     }
   }
-  if (!current_job_id_.empty() && executor_) {
-    if (output.action_index != reported_action_ && output.action_index >= 0) {
-      if (reported_action_ >= 0) {
-        ReportJobEvent(JobEventType::kActionFinished, reported_action_, "");
-      }
-      ReportJobEvent(JobEventType::kActionStarted, output.action_index, "");
-      reported_action_ = output.action_index;
-    }
-    if (executor_->state() != ExecutionState::kRunning) {
-      const bool succeeded = executor_->state() == ExecutionState::kSucceeded;
-      if (succeeded && reported_action_ >= 0) {
-        ReportJobEvent(JobEventType::kActionFinished, reported_action_, "");
-      }
-      ReportJobEvent(succeeded ? JobEventType::kSucceeded : JobEventType::kFailed, reported_action_,
-                     succeeded ? "" : std::string(executor_->failure().message()));
-      executor_.reset();
-      current_job_id_.clear();
-      jobs_->SetCurrentJob("");
-      ++result->jobs_finished;
-    }
+  if (!current_job_id_.empty() && executor_ && executor_->state() != ExecutionState::kRunning) {
+    executor_.reset();
+    current_job_id_.clear();
+    ports_.jobs->SetCurrentJob("");
+    ++result->jobs_finished;
   }
   if (current_job_id_.empty()) {
-    if (std::optional<JobAssignment> assignment = jobs_->TakeAssignment()) {
+    if (std::optional<JobAssignment> assignment = ports_.jobs->TakeAssignment()) {
       current_job_id_ = assignment->job.job_id;
-      reported_action_ = -1;
-      paused_ = false;
-      executor_.emplace(std::move(assignment->route));
-      jobs_->SetCurrentJob(current_job_id_);
+      StartRoute(std::move(assignment->route));
+      ports_.jobs->SetCurrentJob(current_job_id_);
     }
   }
 }
 
 Telemetry Agent::MakeTelemetry(int64_t stamp_ns, const ExecutorOutput& output) const {
+  const localization::LocalizerEstimate& estimate = ports_.localizer->estimate();
   Telemetry t;
   t.stamp_ns = stamp_ns;
-  t.pose_in_odom = odometry_.pose_in_odom();
-  t.pose_in_map = params_.initial_pose_in_map * odometry_.pose_in_odom();
-  // Dead reckoning: uncertainty grows with distance (1 % of distance, 0.5° per metre).
-  const double d = odometry_.distance_travelled_m();
-  t.covariance = {std::pow(0.01 * d, 2),  0, 0, 0, std::pow(0.01 * d, 2), 0, 0, 0,
-                  std::pow(0.0087 * d, 2)};
-  t.velocity = odometry_.velocity();
+  t.pose_in_odom = estimate.pose_in_odom;
+  t.pose_in_map = estimate.pose_in_map;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) t.covariance[static_cast<size_t>(r * 3 + c)] = estimate.covariance(r, c);
+  }
+  t.velocity = estimate.velocity;
   t.mode = output.mode;
-  t.localization_confidence = 1.0 / (1.0 + 0.05 * d);
+  t.localization_confidence = estimate.confidence;
+  t.localization_lost = estimate.lost;
   t.battery_fraction = 1.0;
   t.action_index = output.action_index;
   t.job_progress_fraction = output.progress_fraction;
@@ -106,44 +117,96 @@ Telemetry Agent::MakeTelemetry(int64_t stamp_ns, const ExecutorOutput& output) c
 
 absl::StatusOr<AgentResult> Agent::Run() {
   RETURN_IF_ERROR(params_.Validate());
+  if (ports_.hal == nullptr || ports_.localizer == nullptr || ports_.telemetry == nullptr) {
+    return absl::InvalidArgumentError("agent ports: hal, localizer and telemetry are required");
+  }
   AgentResult result;
   int64_t next_telemetry_ns = 0;
   int settle_remaining = params_.settle_ticks;
   int64_t last_stamp_ns = -1;
   while (true) {
-    ASSIGN_OR_RETURN(std::optional<SensorFrame> frame, hal_->NextFrame());
+    ASSIGN_OR_RETURN(std::optional<SensorFrame> frame, ports_.hal->NextFrame());
     if (!frame) break;  // the hardware or simulation ended
     ++result.ticks;
-    odometry_.Update(*frame);
     const double dt_s =
         last_stamp_ns < 0 ? frame->control_period_s : (frame->stamp_ns - last_stamp_ns) * 1e-9;
     last_stamp_ns = frame->stamp_ns;
+    RETURN_IF_ERROR(ports_.localizer->Update(*frame));
+    const localization::LocalizerEstimate& estimate = ports_.localizer->estimate();
+    std::vector<int> detected_markers;
+    for (localization::MarkerCalibration& c : ports_.localizer->TakeCalibrations()) {
+      detected_markers.push_back(c.marker_id);
+      result.calibrations.push_back(std::move(c));
+    }
+    ControlInput input;
+    input.pose_in_map = estimate.pose_in_map;
+    input.pose_in_odom = estimate.pose_in_odom;
+    input.velocity = estimate.velocity;
+    input.perception = perception_.Build(*frame);
+    input.dt_s = dt_s;
 
     ExecutorOutput output;
-    if (executor_ && !paused_) output = executor_->Step(odometry_.pose_in_odom(), dt_s);
-    if (executor_ && executor_->state() == ExecutionState::kFailed) {
-      output.mode = NavigationMode::kFault;  // keep reporting the fault while settling
+    const std::string job_for_telemetry = current_job_id_;
+    if (executor_ && executor_->state() == ExecutionState::kRunning) {
+      const SafetyVerdict& verdict =
+          safety_.Check(input.perception, last_command_, estimate.velocity, estimate.lost, dt_s);
+      if (verdict.stop != SafetyStop::kNone) {
+        result.safety_stop = verdict.stop;
+        if (verdict.stop == SafetyStop::kBumper) {
+          Report(JobEventType::kBumper, executor_->action_index(), NavigationMode::kFault,
+                 verdict.reason, &result);
+        } else if (verdict.stop == SafetyStop::kLocalizationLost) {
+          Report(JobEventType::kLocalizationLost, executor_->action_index(),
+                 NavigationMode::kFault, verdict.reason, &result);
+        }
+        executor_->Abort(absl::AbortedError(verdict.reason));
+      }
+      const bool was_running = executor_->state() == ExecutionState::kRunning;
+      if (was_running && !paused_) {
+        output = executor_->Step(input, detected_markers);
+        ReportProgress(output, &result);
+      } else {
+        output = executor_->Step(input, {});  // reports the state, commands nothing
+      }
+    } else if (executor_) {
+      output = executor_->Step(input, {});
     }
-    if (paused_) output.mode = NavigationMode::kPaused;
+    if (executor_ && executor_->state() != ExecutionState::kRunning && !end_reported_) {
+      end_reported_ = true;
+      if (executor_->state() == ExecutionState::kSucceeded) {
+        if (output.action_index >= 0) {
+          Report(JobEventType::kActionFinished, output.action_index, NavigationMode::kIdle, "",
+                 &result);
+        }
+        Report(JobEventType::kSucceeded, output.action_index, NavigationMode::kIdle, "", &result);
+      } else {
+        Report(JobEventType::kFailed, executor_->action_index(), NavigationMode::kFault,
+               std::string(executor_->failure().message()), &result);
+      }
+    }
+    if (paused_) {
+      output.mode = NavigationMode::kPaused;
+      output.command = Twist2{};
+    }
+    last_command_ = output.command;
+    if (ports_.jobs != nullptr) ServeJobs(output, &result);
     ActuatorCommand command;
     command.tick = frame->tick;
     command.drive = output.command;
-    const std::string job_for_telemetry = current_job_id_;
-    if (jobs_ != nullptr) ServeJobs(output, frame->stamp_ns, &result);
-    RETURN_IF_ERROR(hal_->Send(command));
+    RETURN_IF_ERROR(ports_.hal->Send(command));
 
     if (frame->stamp_ns >= next_telemetry_ns) {
       Telemetry telemetry = MakeTelemetry(frame->stamp_ns, output);
       telemetry.sequence = ++sequence_;
       telemetry.job_id = job_for_telemetry;
-      telemetry_->Publish(telemetry);
+      ports_.telemetry->Publish(telemetry);
       ++result.telemetry_sent;
       // Schedule from the due time, not the frame time, so the rate holds whatever the tick.
       const int64_t period_ns =
           static_cast<int64_t>(std::llround(params_.telemetry_period_s * 1e9));
       next_telemetry_ns = std::max(next_telemetry_ns + period_ns, frame->stamp_ns - period_ns / 2);
     }
-    if (jobs_ != nullptr) {
+    if (ports_.jobs != nullptr) {
       if (params_.max_jobs > 0 && result.jobs_finished >= params_.max_jobs &&
           settle_remaining-- <= 0) {
         break;
@@ -159,7 +222,7 @@ absl::StatusOr<AgentResult> Agent::Run() {
   if (executor_ && !executor_->failure().ok()) {
     result.failure_reason = std::string(executor_->failure().message());
   }
-  result.final_pose_in_map = params_.initial_pose_in_map * odometry_.pose_in_odom();
+  result.final_pose_in_map = ports_.localizer->estimate().pose_in_map;
   return result;
 }
 

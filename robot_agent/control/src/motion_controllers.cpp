@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
+#include "absl/strings/str_cat.h"
 #include "fleetnav/core/angles.hpp"
 
 namespace fleetnav::agent {
@@ -14,11 +16,36 @@ double Clamp(double value, double limit) { return std::clamp(value, -limit, limi
 
 }  // namespace
 
+absl::Status MotionProfile::Validate() const {
+  for (const auto& [name, value] :
+       {std::pair{"accel_mps2", accel_mps2}, std::pair{"decel_mps2", decel_mps2},
+        std::pair{"yaw_accel_radps2", yaw_accel_radps2}}) {
+    if (!(std::isfinite(value) && value > 0.0)) {
+      return absl::InvalidArgumentError(absl::StrCat(name, ": must be finite and > 0"));
+    }
+  }
+  if (!(min_speed_mps >= 0.0 && min_yaw_rate_radps >= 0.0)) {
+    return absl::InvalidArgumentError("min_speed_mps, min_yaw_rate_radps: must be >= 0");
+  }
+  return absl::OkStatus();
+}
+
+absl::Status HeadingPidGains::Validate() const {
+  if (!(std::isfinite(kp) && std::isfinite(ki) && std::isfinite(kd) &&
+        std::isfinite(cross_track_gain) && kp >= 0 && ki >= 0 && kd >= 0 &&
+        cross_track_gain >= 0)) {
+    return absl::InvalidArgumentError("heading PID gains: must be finite and >= 0");
+  }
+  return absl::OkStatus();
+}
+
 StraightController::StraightController(double distance_m, double speed_mps, MotionProfile profile,
                                        HeadingPidGains gains)
     : distance_m_(distance_m), speed_mps_(speed_mps), profile_(profile), gains_(gains) {}
 
-ControlOutput StraightController::Step(const Pose2& pose_in_odom, double dt_s) {
+ControlOutput StraightController::Step(const ControlInput& input) {
+  const Pose2& pose_in_odom = input.pose_in_odom;
+  const double dt_s = input.dt_s;
   if (!started_) {
     start_ = pose_in_odom;
     started_ = true;
@@ -26,6 +53,7 @@ ControlOutput StraightController::Step(const Pose2& pose_in_odom, double dt_s) {
   const Pose2 local = Between(start_, pose_in_odom);  // x along the start heading, y lateral
   const double remaining_m = distance_m_ - local.x_m();
   ControlOutput out;
+  out.mode = NavigationMode::kStraight;
   out.progress_fraction = std::clamp(local.x_m() / distance_m_, 0.0, 1.0);
   if (remaining_m <= kDistanceToleranceM) {
     out.done = true;
@@ -55,7 +83,9 @@ TurnController::TurnController(double angle_rad, double yaw_rate_radps, MotionPr
       profile_(profile),
       tolerance_rad_(tolerance_rad) {}
 
-ControlOutput TurnController::Step(const Pose2& pose_in_odom, double dt_s) {
+ControlOutput TurnController::Step(const ControlInput& input) {
+  const Pose2& pose_in_odom = input.pose_in_odom;
+  const double dt_s = input.dt_s;
   if (!started_) {
     last_yaw_rad_ = pose_in_odom.yaw_rad();
     started_ = true;
@@ -65,6 +95,7 @@ ControlOutput TurnController::Step(const Pose2& pose_in_odom, double dt_s) {
   last_yaw_rad_ = pose_in_odom.yaw_rad();
   const double error = angle_rad_ - turned_rad_;
   ControlOutput out;
+  out.mode = NavigationMode::kTurn;
   out.progress_fraction =
       std::clamp(1.0 - std::abs(error) / std::max(std::abs(angle_rad_), 1e-9), 0.0, 1.0);
   if (std::abs(error) <= tolerance_rad_) {

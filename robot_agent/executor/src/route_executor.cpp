@@ -1,41 +1,63 @@
 #include "fleetnav/robot_agent/route_executor.hpp"
 
+#include <algorithm>
+
 #include "absl/strings/str_cat.h"
 
 namespace fleetnav::agent {
 
-RouteExecutor::RouteExecutor(Route route, MotionProfile profile)
-    : route_(std::move(route)), profile_(profile) {}
+RouteExecutor::RouteExecutor(Route route, RouteContext context, ModeParams params)
+    : route_(std::move(route)), context_(std::move(context)), params_(params) {
+  if (absl::Status s = params_.Validate(); !s.ok()) {
+    failure_ = absl::InvalidArgumentError(absl::StrCat("mode parameters: ", s.message()));
+  } else {
+    failure_ = CheckRoute(route_, context_);
+  }
+  if (!failure_.ok()) state_ = ExecutionState::kFailed;
+}
 
 absl::Status RouteExecutor::StartAction(int index) {
   index_ = index;
-  const RouteAction& action = route_.actions[index];
-  if (action.end.kind != EndConditionKind::kDistance) {
-    return absl::FailedPreconditionError(
-        absl::StrCat("actions[", index, "] (", std::string(ActionTypeName(action.params)),
-                     "): end condition '", std::string(EndConditionKindName(action.end.kind)),
-                     "' needs sensing this agent version does not have"));
-  }
-  if (const auto* straight = std::get_if<StraightAction>(&action.params)) {
-    controller_.emplace<StraightController>(straight->distance_m, straight->speed_mps, profile_);
-    return absl::OkStatus();
-  }
-  if (const auto* turn = std::get_if<TurnAction>(&action.params)) {
-    controller_.emplace<TurnController>(turn->angle_rad, turn->yaw_rate_radps, profile_);
-    return absl::OkStatus();
-  }
-  return absl::FailedPreconditionError(absl::StrCat("actions[", index, "] (",
-                                                    std::string(ActionTypeName(action.params)),
-                                                    "): not supported by this agent version"));
+  absl::StatusOr<std::unique_ptr<MotionController>> controller =
+      MakeController(route_.actions[index], index, context_, params_);
+  if (!controller.ok()) return controller.status();
+  controller_ = *std::move(controller);
+  return absl::OkStatus();
 }
 
-ExecutorOutput RouteExecutor::Step(const Pose2& pose_in_odom, double dt_s) {
+ExecutorOutput RouteExecutor::Fail(absl::Status status) {
+  failure_ = std::move(status);
+  state_ = ExecutionState::kFailed;
+  controller_.reset();
+  ExecutorOutput out;
+  out.state = state_;
+  out.mode = NavigationMode::kFault;
+  out.action_index = index_;
+  return out;
+}
+
+void RouteExecutor::Abort(const absl::Status& reason) {
+  if (state_ != ExecutionState::kRunning) return;
+  const int index = std::max(index_, 0);
+  std::string where = "route";
+  if (index < static_cast<int>(route_.actions.size())) {
+    where = absl::StrCat("actions[", index, "] (",
+                         std::string(ActionTypeName(route_.actions[index].params)), ")");
+  }
+  (void)Fail(absl::Status(reason.code(), absl::StrCat(where, ": ", reason.message())));
+}
+
+ExecutorOutput RouteExecutor::Step(const ControlInput& input,
+                                   const std::vector<int>& detected_markers) {
   ExecutorOutput out;
   out.state = state_;
   if (state_ != ExecutionState::kRunning) {
     out.progress_fraction = state_ == ExecutionState::kSucceeded ? 1.0 : 0.0;
+    out.mode = state_ == ExecutionState::kFailed ? NavigationMode::kFault : NavigationMode::kIdle;
+    out.action_index = index_;
     return out;
   }
+  const double actions = static_cast<double>(route_.actions.size());
   if (index_ < 0) {
     if (route_.actions.empty()) {
       state_ = ExecutionState::kSucceeded;
@@ -43,39 +65,47 @@ ExecutorOutput RouteExecutor::Step(const Pose2& pose_in_odom, double dt_s) {
       out.progress_fraction = 1.0;
       return out;
     }
-    failure_ = StartAction(0);
+    if (absl::Status s = StartAction(0); !s.ok()) return Fail(s);
   }
-  while (failure_.ok()) {
-    ControlOutput control;
-    if (auto* straight = std::get_if<StraightController>(&controller_)) {
-      control = straight->Step(pose_in_odom, dt_s);
-      out.mode = NavigationMode::kStraight;
-    } else if (auto* turn = std::get_if<TurnController>(&controller_)) {
-      control = turn->Step(pose_in_odom, dt_s);
-      out.mode = NavigationMode::kTurn;
+  while (true) {
+    const RouteAction& action = route_.actions[index_];
+    ControlOutput control = controller_->Step(input);
+    if (!control.failure.ok()) {
+      return Fail(absl::Status(
+          control.failure.code(),
+          absl::StrCat("actions[", index_, "] (", std::string(ActionTypeName(action.params)),
+                       "): ", control.failure.message())));
     }
-    const double actions = static_cast<double>(route_.actions.size());
+    bool done = control.done;
+    if (action.end.kind == EndConditionKind::kMarkerDetected) {
+      const bool seen = std::find(detected_markers.begin(), detected_markers.end(),
+                                  action.end.marker_id) != detected_markers.end();
+      if (!seen && control.done) {
+        return Fail(absl::FailedPreconditionError(absl::StrCat(
+            "actions[", index_, "] (", std::string(ActionTypeName(action.params)), "): marker ",
+            action.end.marker_id, " was not detected within the action's distance")));
+      }
+      done = seen;
+    }
+    out.mode = control.mode;
+    out.mode_reason = control.mode_reason;
     out.action_index = index_;
-    out.progress_fraction = (index_ + control.progress_fraction) / actions;
-    if (!control.done) {
+    out.progress_fraction = (index_ + (done ? 1.0 : control.progress_fraction)) / actions;
+    if (!done) {
       out.command = control.command;
       return out;
     }
     if (index_ + 1 >= static_cast<int>(route_.actions.size())) {
       state_ = ExecutionState::kSucceeded;
+      controller_.reset();
       out.state = state_;
       out.mode = NavigationMode::kIdle;
       out.progress_fraction = 1.0;
       out.command = Twist2{};
       return out;
     }
-    failure_ = StartAction(index_ + 1);
+    if (absl::Status s = StartAction(index_ + 1); !s.ok()) return Fail(s);
   }
-  state_ = ExecutionState::kFailed;
-  out.state = state_;
-  out.mode = NavigationMode::kFault;
-  out.command = Twist2{};
-  return out;
 }
 
 }  // namespace fleetnav::agent

@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "fleetnav/core/angles.hpp"
+#include "fleetnav/localization/dead_reckoning_localizer.hpp"
 #include "kinematic_unicycle.hpp"
 
 namespace fleetnav::agent {
@@ -28,15 +30,26 @@ class KinematicHal : public RobotHal {
   KinematicHal(const RobotModel& model, uint64_t max_ticks)
       : model_(model), max_ticks_(max_ticks) {}
 
+  /// A wall across the start's x axis at `x_m`: the robot cannot pass it (wheels and body
+  /// stop) and, when `bumper` is true, its bumper closes once it is within 5 cm.
+  void AddWall(double x_m, bool bumper) {
+    wall_x_m_ = x_m;
+    bumper_fitted_ = bumper;
+  }
+
   absl::StatusOr<std::optional<SensorFrame>> NextFrame() override {
     if (issued_ > 0) {
       EXPECT_TRUE(answered_) << "no command for tick " << issued_ - 1;
       const double half_track = 0.5 * model_.track_m;
-      left_angle_rad_ += (command_.vx_mps - command_.yaw_rate_radps * half_track) /
-                         model_.wheel_radius_m * kPeriodS;
-      right_angle_rad_ += (command_.vx_mps + command_.yaw_rate_radps * half_track) /
-                          model_.wheel_radius_m * kPeriodS;
-      robot_.Step(command_, kPeriodS);
+      KinematicUnicycle moved = robot_;
+      moved.Step(command_, kPeriodS);
+      if (!wall_x_m_ || moved.pose().x_m() < *wall_x_m_) {
+        left_angle_rad_ += (command_.vx_mps - command_.yaw_rate_radps * half_track) /
+                           model_.wheel_radius_m * kPeriodS;
+        right_angle_rad_ += (command_.vx_mps + command_.yaw_rate_radps * half_track) /
+                            model_.wheel_radius_m * kPeriodS;
+        robot_ = moved;
+      }
     }
     if (issued_ >= max_ticks_) return std::optional<SensorFrame>();
     SensorFrame frame;
@@ -45,6 +58,7 @@ class KinematicHal : public RobotHal {
     frame.control_period_s = kPeriodS;
     frame.encoders = {{"left", Ticks(left_angle_rad_)}, {"right", Ticks(right_angle_rad_)}};
     frame.imu.gyro_z_radps = command_.yaw_rate_radps;
+    frame.bumper = bumper_fitted_ && wall_x_m_ && robot_.pose().x_m() >= *wall_x_m_ - 0.05;
     ++issued_;
     answered_ = false;
     return std::optional<SensorFrame>(frame);
@@ -78,12 +92,30 @@ class KinematicHal : public RobotHal {
   double right_angle_rad_ = 0.0;
   KinematicUnicycle robot_;
   std::vector<Twist2> commands_;
+  std::optional<double> wall_x_m_;
+  bool bumper_fitted_ = false;
 };
 
 class RecordingSink : public TelemetrySink {
  public:
   void Publish(const Telemetry& telemetry) override { messages.push_back(telemetry); }
   std::vector<Telemetry> messages;
+};
+
+localization::DeadReckoningLocalizer Odometry(const RobotModel& model, const Pose2& start) {
+  return localization::DeadReckoningLocalizer::Create(model, start).value();
+}
+
+/// An agent running `route` once on dead reckoning from `start`.
+struct RouteRun {
+  RouteRun(const RobotModel& model, RobotHal* hal, std::optional<Route> route,
+           const Pose2& start = Pose2(), AgentParams params = {})
+      : localizer(Odometry(model, start)),
+        agent(RouteContext{model, std::nullopt}, AgentPorts{hal, &localizer, &sink, nullptr},
+              std::move(route), params) {}
+  RecordingSink sink;
+  localization::DeadReckoningLocalizer localizer;
+  Agent agent;
 };
 
 Route FeedRoute() {
@@ -99,10 +131,10 @@ Route FeedRoute() {
 TEST(AgentTest, DrivesTheRouteAndReportsAtTenHertzOrMore) {
   const RobotModel model = LelyVectorModel();
   KinematicHal hal(model, 10000);
-  RecordingSink sink;
   const Pose2 initial(-5.5, 1.0, DegToRad(30));
-  Agent agent(model, &hal, &sink, FeedRoute(), AgentParams{.initial_pose_in_map = initial});
-  absl::StatusOr<AgentResult> result = agent.Run();
+  RouteRun run(model, &hal, FeedRoute(), initial);
+  const RecordingSink& sink = run.sink;
+  absl::StatusOr<AgentResult> result = run.agent.Run();
   ASSERT_TRUE(result.ok()) << result.status();
   EXPECT_EQ(result->state, ExecutionState::kSucceeded) << result->failure_reason;
   EXPECT_TRUE(result->failure_reason.empty());
@@ -168,19 +200,21 @@ TEST(AgentTest, DrivesTheRouteAndReportsAtTenHertzOrMore) {
   }
 }
 
-TEST(AgentTest, UnsupportedActionEndsTheRunAsFailed) {
+TEST(AgentTest, UnsupportedActionFailsTheRouteBeforeTheRobotMoves) {
   const RobotModel model = LelyVectorModel();
   KinematicHal hal(model, 10000);
-  RecordingSink sink;
   Route route = FeedRoute();
-  route.actions[1] = {FenceNavigationAction{Side::kLeft, 0.5, 10.0, 0.25}, {}};
-  Agent agent(model, &hal, &sink, route, AgentParams{});
-  absl::StatusOr<AgentResult> result = agent.Run();
+  route.actions[1] = {DockAction{DockTarget::kCharger, "pole"}, {}};
+  RouteRun run(model, &hal, route);
+  const RecordingSink& sink = run.sink;
+  absl::StatusOr<AgentResult> result = run.agent.Run();
   ASSERT_TRUE(result.ok()) << result.status();
   EXPECT_EQ(result->state, ExecutionState::kFailed);
   EXPECT_THAT(result->failure_reason, HasSubstr("actions[1]"));
   EXPECT_LT(result->ticks, 10000u);
-  EXPECT_NEAR(hal.pose_in_start().x_m(), 2.0, 0.01);  // drove the first straight only
+  EXPECT_NEAR(hal.pose_in_start().x_m(), 0.0, 1e-9);  // nothing half-executed
+  ASSERT_FALSE(result->events.empty());
+  EXPECT_EQ(result->events.back().type, JobEventType::kFailed);
   // The robot was told to stop when the route failed.
   EXPECT_EQ(hal.commands().back().vx_mps, 0.0);
   EXPECT_EQ(hal.commands().back().yaw_rate_radps, 0.0);
@@ -190,14 +224,50 @@ TEST(AgentTest, UnsupportedActionEndsTheRunAsFailed) {
 TEST(AgentTest, WithoutARouteRunsUntilTheHardwareEnds) {
   const RobotModel model = LelyVectorModel();
   KinematicHal hal(model, 123);
-  RecordingSink sink;
-  Agent agent(model, &hal, &sink, std::nullopt, AgentParams{});
-  absl::StatusOr<AgentResult> result = agent.Run();
+  RouteRun run(model, &hal, std::nullopt);
+  const RecordingSink& sink = run.sink;
+  absl::StatusOr<AgentResult> result = run.agent.Run();
   ASSERT_TRUE(result.ok()) << result.status();
   EXPECT_EQ(result->ticks, 123u);
   EXPECT_EQ(result->state, ExecutionState::kRunning);
   EXPECT_TRUE(result->final_pose_in_map.IsNear(Pose2(), 1e-12, 1e-12));
   EXPECT_GE(sink.messages.size(), 123u * kPeriodS * 10.0);
+}
+
+// A robot that drives into something stops at once, reports BUMPER, and its action fails
+// with the reason: no action "succeeds" while the robot is stuck.
+TEST(AgentTest, BumperStopsTheRobotAndFailsTheAction) {
+  const RobotModel model = LelyVectorModel();
+  KinematicHal hal(model, 10000);
+  hal.AddWall(1.0, /*bumper=*/true);
+  RouteRun run(model, &hal, FeedRoute());
+  absl::StatusOr<AgentResult> result = run.agent.Run();
+  ASSERT_TRUE(result.ok()) << result.status();
+  EXPECT_EQ(result->state, ExecutionState::kFailed);
+  EXPECT_EQ(result->safety_stop, SafetyStop::kBumper);
+  EXPECT_THAT(result->failure_reason, HasSubstr("actions[0] (straight): bumper pressed"));
+  EXPECT_LT(hal.pose_in_start().x_m(), 1.0);
+  bool bumper_event = false;
+  for (const JobEvent& e : result->events) bumper_event |= e.type == JobEventType::kBumper;
+  EXPECT_TRUE(bumper_event);
+  EXPECT_EQ(result->events.back().type, JobEventType::kFailed);
+  EXPECT_EQ(hal.commands().back().vx_mps, 0.0);
+  EXPECT_EQ(run.sink.messages.back().mode, NavigationMode::kFault);
+}
+
+TEST(AgentTest, StallWithoutBumperFailsAfterTwoSeconds) {
+  const RobotModel model = LelyVectorModel();
+  KinematicHal hal(model, 10000);
+  hal.AddWall(1.0, /*bumper=*/false);
+  RouteRun run(model, &hal, FeedRoute());
+  absl::StatusOr<AgentResult> result = run.agent.Run();
+  ASSERT_TRUE(result.ok()) << result.status();
+  EXPECT_EQ(result->state, ExecutionState::kFailed);
+  EXPECT_EQ(result->safety_stop, SafetyStop::kStall);
+  EXPECT_THAT(result->failure_reason, HasSubstr("actions[0] (straight): stalled"));
+  // It drove ~1 m (4 s at 0.25 m/s), then stalled for 2 s: well under 10 s of ticks.
+  EXPECT_LT(result->ticks * kPeriodS, 10.0);
+  EXPECT_EQ(hal.commands().back().vx_mps, 0.0);
 }
 
 class FailingHal : public RobotHal {
@@ -211,14 +281,13 @@ class FailingHal : public RobotHal {
 TEST(AgentTest, HalErrorsAndBadParamsPropagate) {
   const RobotModel model = LelyVectorModel();
   FailingHal failing;
-  RecordingSink sink;
-  Agent agent(model, &failing, &sink, FeedRoute(), AgentParams{});
-  EXPECT_EQ(agent.Run().status().code(), absl::StatusCode::kUnavailable);
+  RouteRun broken(model, &failing, FeedRoute());
+  EXPECT_EQ(broken.agent.Run().status().code(), absl::StatusCode::kUnavailable);
 
   KinematicHal hal(model, 10);
-  Agent slow(model, &hal, &sink, FeedRoute(), AgentParams{.telemetry_period_s = 0.5});
-  EXPECT_EQ(slow.Run().status().code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_TRUE(sink.messages.empty());
+  RouteRun slow(model, &hal, FeedRoute(), Pose2(), AgentParams{.telemetry_period_s = 0.5});
+  EXPECT_EQ(slow.agent.Run().status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_TRUE(slow.sink.messages.empty());
 }
 
 }  // namespace

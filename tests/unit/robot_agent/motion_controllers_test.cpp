@@ -46,7 +46,7 @@ TEST_P(StraightControllerTest, EndsOnTargetWithinLimits) {
   bool done = false;
   double last_progress = 0.0;
   for (; steps < kMaxSteps; ++steps) {
-    const ControlOutput out = controller.Step(robot.pose(), kDt);
+    const ControlOutput out = controller.Step(OdometryInput(robot.pose(), kDt));
     ASSERT_GE(out.progress_fraction, last_progress - 1e-12) << "step " << steps;
     last_progress = out.progress_fraction;
     if (out.done) {
@@ -125,7 +125,7 @@ TEST_P(TurnControllerTest, TurnsTheAngleAskedWithinLimits) {
   bool done = false;
   int steps = 0;
   for (; steps < kMaxSteps; ++steps) {
-    const ControlOutput out = controller.Step(robot.pose(), kDt);
+    const ControlOutput out = controller.Step(OdometryInput(robot.pose(), kDt));
     if (out.done) {
       done = true;
       EXPECT_EQ(out.command.yaw_rate_radps, 0.0);
@@ -163,7 +163,7 @@ TEST(TurnControllerProgressTest, ProgressRisesToOne) {
   KinematicUnicycle robot;
   double last = 0.0;
   for (int i = 0; i < kMaxSteps; ++i) {
-    const ControlOutput out = controller.Step(robot.pose(), kDt);
+    const ControlOutput out = controller.Step(OdometryInput(robot.pose(), kDt));
     ASSERT_GE(out.progress_fraction, last - 1e-12);
     last = out.progress_fraction;
     if (out.done) break;

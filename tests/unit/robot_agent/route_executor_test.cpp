@@ -3,7 +3,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "fleetnav/core/angles.hpp"
 #include "kinematic_unicycle.hpp"
@@ -18,6 +20,10 @@ constexpr double kDt = 0.02;
 constexpr int kMaxSteps = 20000;
 
 RouteAction Act(ActionParams params, EndCondition end = {}) { return RouteAction{params, end}; }
+
+RouteContext Lely(std::optional<MarkerSet> markers = std::nullopt) {
+  return RouteContext{LelyVectorModel(), std::move(markers)};
+}
 
 Route MakeRoute(std::vector<RouteAction> actions) {
   Route route;
@@ -34,10 +40,17 @@ struct RunResult {
   KinematicUnicycle robot;
 };
 
-RunResult RunOnUnicycle(RouteExecutor& executor, const Pose2& start = Pose2()) {
+RunResult RunOnUnicycle(RouteExecutor& executor, const Pose2& start = Pose2(),
+                        double marker_at_x_m = -1e9, int marker_id = -1) {
   RunResult result{.robot = KinematicUnicycle(start)};
+  bool marker_seen = false;
   for (; result.steps < kMaxSteps; ++result.steps) {
-    const ExecutorOutput out = executor.Step(result.robot.pose(), kDt);
+    std::vector<int> markers;
+    if (!marker_seen && result.robot.pose().x_m() >= marker_at_x_m) {
+      markers.push_back(marker_id);
+      marker_seen = true;
+    }
+    const ExecutorOutput out = executor.Step(OdometryInput(result.robot.pose(), kDt), markers);
     result.outputs.push_back(out);
     if (out.state != ExecutionState::kRunning) {
       result.state = out.state;
@@ -51,7 +64,8 @@ RunResult RunOnUnicycle(RouteExecutor& executor, const Pose2& start = Pose2()) {
 TEST(RouteExecutorTest, StraightTurnStraightEndsWhereTheRouteSays) {
   RouteExecutor executor(
       MakeRoute({Act(StraightAction{2.0, 0.25}), Act(TurnAction{DegToRad(90), 0.3}),
-                 Act(StraightAction{1.0, 0.25})}));
+                 Act(StraightAction{1.0, 0.25})}),
+      Lely());
   const RunResult run = RunOnUnicycle(executor);
   ASSERT_EQ(run.state, ExecutionState::kSucceeded) << executor.failure();
   EXPECT_EQ(executor.state(), ExecutionState::kSucceeded);
@@ -90,7 +104,7 @@ TEST(RouteExecutorTest, StraightTurnStraightEndsWhereTheRouteSays) {
   EXPECT_EQ(run.outputs.back().command.yaw_rate_radps, 0.0);
 
   // Once done it stays done and commands a standstill.
-  const ExecutorOutput after = executor.Step(run.robot.pose(), kDt);
+  const ExecutorOutput after = executor.Step(OdometryInput(run.robot.pose(), kDt));
   EXPECT_EQ(after.state, ExecutionState::kSucceeded);
   EXPECT_EQ(after.progress_fraction, 1.0);
   EXPECT_EQ(after.command.vx_mps, 0.0);
@@ -98,7 +112,7 @@ TEST(RouteExecutorTest, StraightTurnStraightEndsWhereTheRouteSays) {
 
 TEST(RouteExecutorTest, RouteFromAnOffsetStartIsRelative) {
   RouteExecutor executor(
-      MakeRoute({Act(TurnAction{DegToRad(-270), 0.4}), Act(StraightAction{1.5, 0.4})}));
+      MakeRoute({Act(TurnAction{DegToRad(-270), 0.4}), Act(StraightAction{1.5, 0.4})}), Lely());
   const Pose2 start(3.0, -1.0, DegToRad(30));
   const RunResult run = RunOnUnicycle(executor, start);
   ASSERT_EQ(run.state, ExecutionState::kSucceeded) << executor.failure();
@@ -109,46 +123,93 @@ TEST(RouteExecutorTest, RouteFromAnOffsetStartIsRelative) {
   EXPECT_NEAR(RadToDeg(run.robot.unwrapped_yaw_rad()), 30.0 - 270.0, 0.5);
 }
 
-TEST(RouteExecutorTest, FenceNavigationFailsNamingTheAction) {
+// A route with an action this agent cannot run is refused before the robot moves, naming the
+// action: nothing is half-executed.
+TEST(RouteExecutorTest, UnsupportedActionRefusesTheWholeRouteBeforeMoving) {
   RouteExecutor executor(MakeRoute({Act(StraightAction{0.5, 0.25}),
-                                    Act(FenceNavigationAction{Side::kLeft, 0.5, 10.0, 0.25}),
-                                    Act(StraightAction{1.0, 0.25})}));
-  const RunResult run = RunOnUnicycle(executor);
-  ASSERT_EQ(run.state, ExecutionState::kFailed);
+                                    Act(DockAction{DockTarget::kCharger, "pole"}),
+                                    Act(StraightAction{1.0, 0.25})}),
+                         Lely());
   EXPECT_EQ(executor.state(), ExecutionState::kFailed);
-  EXPECT_EQ(executor.failure().code(), absl::StatusCode::kFailedPrecondition) << executor.failure();
-  EXPECT_THAT(std::string(executor.failure().message()), HasSubstr("actions[1]"));
-  EXPECT_THAT(std::string(executor.failure().message()), HasSubstr("fence_navigation"));
-  // The first straight was driven, the fence part was not, and the robot is told to stop.
-  EXPECT_NEAR(run.robot.pose().x_m(), 0.5, 0.005);
-  EXPECT_EQ(run.outputs.back().mode, NavigationMode::kFault);
-  EXPECT_EQ(run.outputs.back().command.vx_mps, 0.0);
-  EXPECT_EQ(run.outputs.back().command.yaw_rate_radps, 0.0);
-  EXPECT_EQ(executor.Step(run.robot.pose(), kDt).state, ExecutionState::kFailed);
-}
-
-TEST(RouteExecutorTest, UnsupportedFirstActionFailsAtOnce) {
-  RouteExecutor executor(MakeRoute({Act(DockAction{DockTarget::kCharger, "pole"})}));
-  const ExecutorOutput out = executor.Step(Pose2(), kDt);
+  const ExecutorOutput out = executor.Step(OdometryInput(Pose2(), kDt));
   EXPECT_EQ(out.state, ExecutionState::kFailed);
+  EXPECT_EQ(out.mode, NavigationMode::kFault);
+  EXPECT_EQ(out.command.vx_mps, 0.0);
   EXPECT_EQ(executor.failure().code(), absl::StatusCode::kFailedPrecondition);
-  EXPECT_THAT(std::string(executor.failure().message()), HasSubstr("actions[0]"));
+  EXPECT_THAT(std::string(executor.failure().message()), HasSubstr("actions[1]"));
+  EXPECT_THAT(std::string(executor.failure().message()), HasSubstr("dock"));
 }
 
-TEST(RouteExecutorTest, EndConditionNeedingSensingFails) {
+TEST(RouteExecutorTest, FenceLegOnARobotWithoutUltrasonicsIsRefused) {
+  RouteExecutor executor(MakeRoute({Act(FenceNavigationAction{Side::kLeft, 0.5, 10.0, 0.25})}),
+                         RouteContext{MecanumPlatformModel(), std::nullopt});
+  EXPECT_EQ(executor.state(), ExecutionState::kFailed);
+  EXPECT_THAT(std::string(executor.failure().message()), HasSubstr("actions[0]"));
+  EXPECT_THAT(std::string(executor.failure().message()), HasSubstr("ultrasonic"));
+}
+
+TEST(RouteExecutorTest, MarkerEndWithoutAMarkerSetIsRefused) {
   RouteExecutor executor(
       MakeRoute({Act(StraightAction{1.0, 0.25}),
-                 Act(StraightAction{3.0, 0.25}, {EndConditionKind::kMarkerDetected, 4})}));
-  const RunResult run = RunOnUnicycle(executor);
-  ASSERT_EQ(run.state, ExecutionState::kFailed);
+                 Act(StraightAction{3.0, 0.25}, {EndConditionKind::kMarkerDetected, 4})}),
+      Lely());
+  EXPECT_EQ(executor.state(), ExecutionState::kFailed);
   EXPECT_EQ(executor.failure().code(), absl::StatusCode::kFailedPrecondition);
   EXPECT_THAT(std::string(executor.failure().message()), HasSubstr("actions[1]"));
-  EXPECT_THAT(std::string(executor.failure().message()), HasSubstr("marker"));
+  EXPECT_THAT(std::string(executor.failure().message()), HasSubstr("marker set"));
+}
+
+MarkerSet OneMarker(int id) {
+  MarkerSet markers;
+  markers.map_id = "barn";
+  StripeMarker m;
+  m.id = id;
+  m.position_m = Eigen::Vector2d(1.2, 0.0);
+  m.yaw_rad = DegToRad(-90);
+  m.length_m = 0.6;
+  markers.markers.push_back(m);
+  return markers;
+}
+
+// A straight that ends on a marker ends when the localizer reports the marker, not at its
+// distance; the next action starts there.
+TEST(RouteExecutorTest, StraightEndsOnTheDetectedMarker) {
+  RouteExecutor executor(
+      MakeRoute({Act(StraightAction{5.0, 0.25}, {EndConditionKind::kMarkerDetected, 7}),
+                 Act(TurnAction{DegToRad(90), 0.3})}),
+      Lely(OneMarker(7)));
+  ASSERT_EQ(executor.state(), ExecutionState::kRunning) << executor.failure();
+  const RunResult run = RunOnUnicycle(executor, Pose2(), /*marker_at_x_m=*/1.2, 7);
+  ASSERT_EQ(run.state, ExecutionState::kSucceeded) << executor.failure();
+  EXPECT_NEAR(run.robot.pose().x_m(), 1.2, 0.1);  // stopped near the marker, not at 5 m
+  EXPECT_NEAR(RadToDeg(run.robot.pose().yaw_rad()), 90.0, 1.0);
+}
+
+TEST(RouteExecutorTest, MarkerNeverSeenFailsAtTheActionsDistance) {
+  RouteExecutor executor(
+      MakeRoute({Act(StraightAction{1.0, 0.25}, {EndConditionKind::kMarkerDetected, 7})}),
+      Lely(OneMarker(7)));
+  const RunResult run = RunOnUnicycle(executor);
+  ASSERT_EQ(run.state, ExecutionState::kFailed);
+  EXPECT_NEAR(run.robot.pose().x_m(), 1.0, 0.01);
+  EXPECT_THAT(std::string(executor.failure().message()), HasSubstr("marker 7 was not detected"));
+}
+
+TEST(RouteExecutorTest, AbortFailsTheCurrentActionAndStops) {
+  RouteExecutor executor(MakeRoute({Act(StraightAction{1.0, 0.25}), Act(StraightAction{1.0, 0.25})}),
+                         Lely());
+  KinematicUnicycle robot;
+  for (int i = 0; i < 50; ++i) robot.Step(executor.Step(OdometryInput(robot.pose(), kDt)).command, kDt);
+  executor.Abort(absl::AbortedError("bumper pressed"));
+  const ExecutorOutput out = executor.Step(OdometryInput(robot.pose(), kDt));
+  EXPECT_EQ(out.state, ExecutionState::kFailed);
+  EXPECT_EQ(out.command.vx_mps, 0.0);
+  EXPECT_EQ(std::string(executor.failure().message()), "actions[0] (straight): bumper pressed");
 }
 
 TEST(RouteExecutorTest, EmptyRouteSucceedsAtOnce) {
-  RouteExecutor executor(MakeRoute({}));
-  const ExecutorOutput out = executor.Step(Pose2(), kDt);
+  RouteExecutor executor(MakeRoute({}), Lely());
+  const ExecutorOutput out = executor.Step(OdometryInput(Pose2(), kDt));
   EXPECT_EQ(out.state, ExecutionState::kSucceeded);
   EXPECT_EQ(out.progress_fraction, 1.0);
 }

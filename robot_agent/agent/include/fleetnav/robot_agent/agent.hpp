@@ -2,30 +2,45 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "absl/status/statusor.h"
+#include "fleetnav/core/job.hpp"
 #include "fleetnav/core/robot_state.hpp"
 #include "fleetnav/core/route.hpp"
+#include "fleetnav/localization/localizer.hpp"
 #include "fleetnav/robot_agent/hal.hpp"
 #include "fleetnav/robot_agent/job_channel.hpp"
+#include "fleetnav/robot_agent/perception.hpp"
 #include "fleetnav/robot_agent/route_executor.hpp"
+#include "fleetnav/robot_agent/safety_monitor.hpp"
 #include "fleetnav/robot_agent/telemetry_sink.hpp"
-#include "fleetnav/robot_agent/wheel_odometry.hpp"
 
 namespace fleetnav::agent {
 
 struct AgentParams {
   /// Telemetry period in robot (sim) time; 0.05 s = 20 Hz, above the 10 Hz the server needs.
   double telemetry_period_s = 0.05;
-  /// The robot's pose in the map when odometry starts (map → odom is this pose).
-  Pose2 initial_pose_in_map;
   /// Return from Run() once the route has ended (after the robot has stopped).
   bool exit_when_done = true;
   /// Ticks of standstill commanded after the route ends, so the robot settles.
   int settle_ticks = 25;
   /// In job mode, return after this many jobs have ended (0: run until the HAL ends).
   int max_jobs = 0;
+  /// Ultrasonic readings at or beyond this range are "no echo".
+  double ultrasonic_range_max_m = 2.5;
+  ModeParams modes;
+  SafetyParams safety;
   absl::Status Validate() const;
+};
+
+/// The agent's collaborators: the robot's hardware, its localization, where telemetry goes,
+/// and (in job mode) the server's job channel.
+struct AgentPorts {
+  RobotHal* hal = nullptr;
+  localization::Localizer* localizer = nullptr;
+  TelemetrySink* telemetry = nullptr;
+  JobChannel* jobs = nullptr;  ///< null: run the given route once
 };
 
 /// How a Run() ended.
@@ -36,39 +51,51 @@ struct AgentResult {
   Pose2 final_pose_in_map;
   uint64_t ticks = 0;
   uint64_t telemetry_sent = 0;
+  SafetyStop safety_stop = SafetyStop::kNone;
+  /// Every event of the run (also those sent to the server), in order.
+  std::vector<JobEvent> events;
+  /// Marker calibrations the localizer applied, in order.
+  std::vector<localization::MarkerCalibration> calibrations;
 };
 
-/// The agent's control loop: per tick, read a frame from the HAL, update wheel odometry, step
-/// the route executor, send the command, and publish telemetry every telemetry_period_s of
-/// robot time. The pose in map is initial_pose_in_map ∘ pose_in_odom until localization lands.
-/// Two ways to get work: a route given at start (run once, then return), or jobs from a
-/// JobChannel (the server): one job at a time, reporting action started/finished, succeeded,
-/// failed or cancelled; pause holds the robot still. Runs on the caller's thread until the HAL
-/// ends (or the given route is done, or max_jobs jobs have ended).
+/// The agent's control loop (Lely thesis Fig. 6.5): per tick, read a frame from the HAL,
+/// update the localizer (odometry EKF, SAMCL), build the perception, let the safety monitor
+/// judge (bumper, stall, lost localization: safety stop over every navigation mode), step the
+/// route executor on the estimated pose, send the command, report events (action started and
+/// finished, mode switches with their reason, bumper, localization lost, the end of the job)
+/// and publish telemetry every telemetry_period_s of robot time. Work comes as a route given at
+/// start (run once, then return) or as jobs from a JobChannel, one at a time; pause holds the
+/// robot still. Runs on the caller's thread until the HAL ends (or the route is done, or
+/// max_jobs jobs have ended).
 class Agent {
  public:
-  Agent(const RobotModel& model, RobotHal* hal, TelemetrySink* telemetry,
-        std::optional<Route> route, AgentParams params, JobChannel* jobs = nullptr);
+  Agent(RouteContext context, AgentPorts ports, std::optional<Route> route, AgentParams params);
 
   absl::StatusOr<AgentResult> Run();
 
  private:
   Telemetry MakeTelemetry(int64_t stamp_ns, const ExecutorOutput& output) const;
-  /// Takes new assignments and commands, and reports the current job's events.
-  void ServeJobs(const ExecutorOutput& output, int64_t stamp_ns, AgentResult* result);
-  void ReportJobEvent(JobEventType type, int action_index, const std::string& reason);
+  /// Takes new assignments and commands, and reports the current job's end.
+  void ServeJobs(const ExecutorOutput& output, AgentResult* result);
+  /// Reports action and mode events of this tick's output.
+  void ReportProgress(const ExecutorOutput& output, AgentResult* result);
+  void Report(JobEventType type, int action_index, NavigationMode mode, const std::string& reason,
+              AgentResult* result);
+  void StartRoute(Route route);
 
-  RobotModel model_;
-  RobotHal* hal_;
-  TelemetrySink* telemetry_;
+  RouteContext context_;
+  AgentPorts ports_;
   std::optional<RouteExecutor> executor_;
   AgentParams params_;
-  WheelOdometry odometry_;
+  PerceptionBuilder perception_;
+  SafetyMonitor safety_;
   uint64_t sequence_ = 0;
-  JobChannel* jobs_;
   std::string current_job_id_;
   int reported_action_ = -1;
+  NavigationMode reported_mode_ = NavigationMode::kIdle;
   bool paused_ = false;
+  bool end_reported_ = false;
+  Twist2 last_command_;
 };
 
 }  // namespace fleetnav::agent

@@ -1,7 +1,9 @@
 #pragma once
 
+#include "absl/status/status.h"
 #include "fleetnav/core/pose2.hpp"
 #include "fleetnav/core/robot_state.hpp"
+#include "fleetnav/robot_agent/motion_controller.hpp"
 
 namespace fleetnav::agent {
 
@@ -12,13 +14,7 @@ struct MotionProfile {
   double yaw_accel_radps2 = 0.6;
   double min_speed_mps = 0.02;  ///< creep speed near the end so the goal is reached
   double min_yaw_rate_radps = 0.02;
-};
-
-/// One control step's answer.
-struct ControlOutput {
-  Twist2 command;
-  bool done = false;
-  double progress_fraction = 0.0;
+  absl::Status Validate() const;
 };
 
 struct HeadingPidGains {
@@ -26,17 +22,18 @@ struct HeadingPidGains {
   double ki = 0.1;
   double kd = 0.05;
   double cross_track_gain = 0.8;  ///< rad/s per metre of lateral offset
+  absl::Status Validate() const;
 };
 
 /// Drives straight ahead for a distance holding the heading it started with (Lely thesis
 /// §6.3, "straight driving": PID on the heading), with a trapezoidal speed profile that ends
 /// exactly at the distance (v ≤ √(2·a·remaining)) and a cross-track term that pulls back onto
-/// the start line. Not thread-safe.
-class StraightController {
+/// the start line. Drives on the odometry pose, which never jumps. Not thread-safe.
+class StraightController : public MotionController {
  public:
   StraightController(double distance_m, double speed_mps, MotionProfile profile,
                      HeadingPidGains gains = {});
-  ControlOutput Step(const Pose2& pose_in_odom, double dt_s);
+  ControlOutput Step(const ControlInput& input) override;
 
  private:
   double distance_m_;
@@ -52,12 +49,12 @@ class StraightController {
 
 /// Turns in place by an angle (Lely thesis §6.3, "turn": until the orientation difference
 /// reaches the angle), with a yaw-rate profile that lands on the target (ω ≤ √(2·α·|error|)).
-/// Not thread-safe.
-class TurnController {
+/// Turns on the odometry pose (gyro-aided). Not thread-safe.
+class TurnController : public MotionController {
  public:
   TurnController(double angle_rad, double yaw_rate_radps, MotionProfile profile,
                  double tolerance_rad = 0.003);
-  ControlOutput Step(const Pose2& pose_in_odom, double dt_s);
+  ControlOutput Step(const ControlInput& input) override;
 
  private:
   double angle_rad_;

@@ -2,11 +2,12 @@
 
 #include <memory>
 #include <string>
-#include <variant>
+#include <vector>
 
 #include "absl/status/status.h"
 #include "fleetnav/core/route.hpp"
-#include "fleetnav/robot_agent/motion_controllers.hpp"
+#include "fleetnav/robot_agent/mode_factory.hpp"
+#include "fleetnav/robot_agent/motion_controller.hpp"
 
 namespace fleetnav::agent {
 
@@ -19,30 +20,40 @@ struct ExecutorOutput {
   int action_index = -1;
   double progress_fraction = 0.0;  ///< of the whole route
   ExecutionState state = ExecutionState::kRunning;
+  /// Set on the tick the mode switched between reactive and map-based: why.
+  std::string mode_reason;
 };
 
-/// Runs a route's actions one after another on odometry (Lely thesis §6.3): each action gets
-/// its controller when it starts and hands over when its end condition holds. This version
-/// executes turn and straight actions ended by distance; any other action fails the route
-/// with a reason naming the action's index (FailedPrecondition), so nothing is silently
-/// skipped. Not thread-safe.
+/// Runs a route's actions one after another (Lely thesis §6.3): each action gets its
+/// MotionController from the mode factory when it starts and hands over when its end
+/// condition holds — its own distance or angle, or a calibration marker that the localizer
+/// detected (never the simulator's truth). The whole route is checked before the first tick
+/// moves the robot: an action this agent cannot run fails the route at once, naming its index,
+/// so nothing is half-executed. Abort() stops it (safety stop). Not thread-safe.
 class RouteExecutor {
  public:
-  RouteExecutor(Route route, MotionProfile profile = {});
+  RouteExecutor(Route route, RouteContext context, ModeParams params = {});
 
-  ExecutorOutput Step(const Pose2& pose_in_odom, double dt_s);
+  /// One control tick. `detected_markers` are the calibration markers the localizer associated
+  /// with an inductive edge this tick.
+  ExecutorOutput Step(const ControlInput& input, const std::vector<int>& detected_markers = {});
+  /// Fails the current action with `reason` (prefixed with its index); the robot is told to stop.
+  void Abort(const absl::Status& reason);
   ExecutionState state() const { return state_; }
   /// Why the route failed (OK while running or after success).
   const absl::Status& failure() const { return failure_; }
   const Route& route() const { return route_; }
+  int action_index() const { return index_; }
 
  private:
   absl::Status StartAction(int index);
+  ExecutorOutput Fail(absl::Status status);
 
   Route route_;
-  MotionProfile profile_;
+  RouteContext context_;
+  ModeParams params_;
   int index_ = -1;
-  std::variant<std::monostate, StraightController, TurnController> controller_;
+  std::unique_ptr<MotionController> controller_;
   ExecutionState state_ = ExecutionState::kRunning;
   absl::Status failure_;
 };

@@ -4,6 +4,7 @@
 #include <grpcpp/client_context.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "fleetnav/robot_agent/hal.hpp"
@@ -19,6 +20,12 @@ class SimHal final : public RobotHal {
   /// Opens the stream and attaches to `robot_id`; Attach errors surface on the first read.
   SimHal(std::shared_ptr<grpc::Channel> channel, std::string robot_id);
   ~SimHal() override;
+
+  /// Asks the simulator (GetWorld) for `robot_id` before attaching: NotFound when it has no
+  /// such robot, FailedPrecondition naming both kinds when its kind is not `kind_name`.
+  static absl::Status CheckRobotKind(const std::shared_ptr<grpc::Channel>& channel,
+                                     const std::string& robot_id, const std::string& kind_name,
+                                     double timeout_s = 10.0);
 
   absl::StatusOr<std::optional<SensorFrame>> NextFrame() override;
   absl::Status Send(const ActuatorCommand& command) override;

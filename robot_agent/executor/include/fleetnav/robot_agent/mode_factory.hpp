@@ -1,0 +1,47 @@
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "fleetnav/core/robot_model.hpp"
+#include "fleetnav/core/route.hpp"
+#include "fleetnav/core/stripe_marker.hpp"
+#include "fleetnav/robot_agent/fence_following_controller.hpp"
+#include "fleetnav/robot_agent/motion_controller.hpp"
+#include "fleetnav/robot_agent/motion_controllers.hpp"
+
+namespace fleetnav::agent {
+
+/// How the executor's controllers are tuned for one robot.
+struct ModeParams {
+  MotionProfile profile;
+  HeadingPidGains heading;
+  FenceFollowingParams fence;
+  absl::Status Validate() const;
+};
+
+/// What the robot brings to a route: its model and, when it has them, the marker set of the
+/// route's map (needed by marker end conditions).
+struct RouteContext {
+  RobotModel model;
+  std::optional<MarkerSet> markers;
+};
+
+/// The action types this agent version executes, as advertised to fleetnavd.
+std::vector<std::string> SupportedActionTypes();
+
+/// Checks a whole route before the robot moves: every action type and end condition is
+/// executable here, its sensors are fitted, and every marker it ends on is in the marker set.
+/// FailedPrecondition naming the action's index and what is missing.
+absl::Status CheckRoute(const Route& route, const RouteContext& context);
+
+/// The controller of one action (the mode of Fig. 6.12), or FailedPrecondition naming the index.
+absl::StatusOr<std::unique_ptr<MotionController>> MakeController(const RouteAction& action,
+                                                                 int index,
+                                                                 const RouteContext& context,
+                                                                 const ModeParams& params);
+
+}  // namespace fleetnav::agent

@@ -1,0 +1,50 @@
+#pragma once
+
+#include <string>
+
+#include "absl/status/status.h"
+#include "fleetnav/core/robot_state.hpp"
+#include "fleetnav/robot_agent/perception.hpp"
+
+namespace fleetnav::agent {
+
+struct SafetyParams {
+  /// Stall: motion commanded (≥ these speeds) but none measured (≤ these) for stall_after_s.
+  double stall_after_s = 2.0;
+  double stall_command_mps = 0.03;
+  double stall_command_radps = 0.05;
+  double stall_measured_mps = 0.01;
+  double stall_measured_radps = 0.01;
+  /// Localization must report lost for this long before the robot is stopped.
+  double lost_after_s = 0.5;
+  absl::Status Validate() const;
+};
+
+enum class SafetyStop { kNone, kBumper, kStall, kLocalizationLost };
+
+struct SafetyVerdict {
+  SafetyStop stop = SafetyStop::kNone;
+  std::string reason;
+};
+
+/// The top of the twist priority (the thesis's twist_mux, §6.6): decides each tick whether the
+/// robot must stop whatever its navigation mode says — the bumper closed, the drive stalled
+/// (commanded motion, none measured by the wheels for 2 s), or the localizer lost the robot.
+/// Latches the first stop until Reset(). Not thread-safe.
+class SafetyMonitor {
+ public:
+  explicit SafetyMonitor(SafetyParams params = {}) : params_(params) {}
+  /// `commanded` is the twist sent on the previous tick; `measured` the odometry's twist.
+  const SafetyVerdict& Check(const Perception& perception, const Twist2& commanded,
+                             const Twist2& measured, bool localization_lost, double dt_s);
+  const SafetyVerdict& verdict() const { return verdict_; }
+  void Reset();
+
+ private:
+  SafetyParams params_;
+  SafetyVerdict verdict_;
+  double stalled_s_ = 0.0;
+  double lost_s_ = 0.0;
+};
+
+}  // namespace fleetnav::agent

@@ -1,0 +1,203 @@
+// fleetnav-sim and fleetnav-agent as processes, in closed loop, judged by the simulator's
+// ground truth (pose, contact episodes), never by the agent's belief about itself. The world
+// is written here: a hall with a feeding fence along y = 2 m, two calibration markers and a
+// robot near the fence; a fault removes 3 m of the fence.
+#include <grpcpp/create_channel.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "fleetnav/v1/sim_service.grpc.pb.h"
+#include "testing/child_process.hpp"
+
+namespace fleetnav {
+namespace {
+
+using ::testing::HasSubstr;
+using testing::ChildProcess;
+
+constexpr char kHall[] = R"(name: fence-hall
+extent: {min: [-15, -5], max: [15, 5]}
+walls:
+  - {from: [-15, -4.9], to: [15, -4.9], thickness: 0.2, height: 3.0}
+  - {from: [-15, 4.9], to: [15, 4.9], thickness: 0.2, height: 3.0}
+  - {from: [-14.9, -5], to: [-14.9, 5], thickness: 0.2, height: 3.0}
+  - {from: [14.9, -5], to: [14.9, 5], thickness: 0.2, height: 3.0}
+fences:
+  - {from: [-12, 2.0], to: [12, 2.0], thickness: 0.1, height: 1.2}
+boxes:
+  - {center: [0, -3], size: [4, 1], height: 1.0, kind: feed_kitchen}
+markers:
+  - {id: 1, at: [-4.0, 0.8], yaw_deg: 90, length: 0.6}
+  - {id: 2, at: [4.0, 0.8], yaw_deg: 90, length: 0.6}
+robots:
+  - {id: lely1, kind: lely-vector, pose: [-10, 0.8, 0]}
+)";
+
+constexpr char kGapFault[] = R"(faults:
+  - {type: remove_fence, label: gap, region: {min: [-1.0, 1.8], max: [2.0, 2.2]}}
+)";
+
+/// One closed-loop run: a fresh directory, the world, its exported map, a simulator process.
+class ClosedLoop : public ::testing::Test {
+ protected:
+  void StartSim(bool with_gap, uint64_t seed = 3) {
+    dir_ = std::filesystem::path(::testing::TempDir()) /
+           ("closed-loop-" + std::to_string(getpid()) + "-" + std::to_string(counter_++));
+    std::filesystem::create_directories(dir_);
+    const std::string world = Path("hall.yaml");
+    std::ofstream(world) << kHall << (with_gap ? kGapFault : "");
+    ChildProcess exporter({FLEETNAV_SIM_PATH, "--world", world, "--export-map", Path("map")},
+                          Path("export.out"), Path("export.err"));
+    ASSERT_EQ(exporter.Wait(60.0), 0) << exporter.Stderr();
+    sim_ = std::make_unique<ChildProcess>(
+        std::vector<std::string>{FLEETNAV_SIM_PATH, "--world", world, "--listen", "127.0.0.1:0",
+                                 "--port-file", Path("sim.port"), "--seed",
+                                 std::to_string(seed)},
+        Path("sim.out"), Path("sim.err"));
+    const int port = testing::WaitForPortFile(Path("sim.port"));
+    ASSERT_GT(port, 0) << sim_->Stderr();
+    sim_address_ = "127.0.0.1:" + std::to_string(port);
+  }
+
+  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+
+  std::string WriteRoute(const std::string& actions) {
+    const std::string path = Path("route-" + std::to_string(counter_++) + ".yaml");
+    std::ofstream(path) << "name: hall-route\nmap: fence-hall\nactions:\n" << actions;
+    return path;
+  }
+
+  /// Runs fleetnav-agent on `route` for lely1 and returns its exit code (-1: timed out).
+  int RunAgent(const std::string& route, std::vector<std::string> extra = {},
+               const std::string& kind = "lely-vector",
+               std::vector<double> pose = {-10.02, 0.82, 0.5}) {
+    std::vector<std::string> args = {FLEETNAV_AGENT_PATH,
+                                     "--robot-id", "lely1",
+                                     "--kind", kind,
+                                     "--sim", sim_address_,
+                                     "--server", "127.0.0.1:1",  // nothing listens there
+                                     "--route", route,
+                                     "--map", Path("map/fence-hall.yaml"),
+                                     "--markers", Path("map/fence-hall.markers.yaml"),
+                                     "--particles", "1000",
+                                     "--initial-pose"};
+    for (double v : pose) args.push_back(std::to_string(v));
+    args.insert(args.end(), extra.begin(), extra.end());
+    agent_ = std::make_unique<ChildProcess>(args, Path("agent.out"), Path("agent.err"));
+    return agent_->Wait(240.0).value_or(-1);
+  }
+
+  v1::GroundTruth Truth() {
+    auto stub = v1::SimService::NewStub(
+        grpc::CreateChannel(sim_address_, grpc::InsecureChannelCredentials()));
+    grpc::ClientContext context;
+    context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
+    v1::GroundTruth truth;
+    EXPECT_TRUE(stub->GetGroundTruth(&context, v1::GetGroundTruthRequest(), &truth).ok());
+    return truth;
+  }
+
+  static const v1::RobotGroundTruth& Robot(const v1::GroundTruth& truth, const std::string& id) {
+    for (const auto& r : truth.robots()) {
+      if (r.robot_id() == id) return r;
+    }
+    ADD_FAILURE() << "no robot " << id;
+    return truth.robots(0);
+  }
+
+  std::string AgentLog() const { return agent_ ? agent_->Stderr() + agent_->Stdout() : ""; }
+
+  void TearDown() override {
+    if (sim_) sim_->Stop();
+  }
+
+  std::filesystem::path dir_;
+  std::string sim_address_;
+  std::unique_ptr<ChildProcess> sim_;
+  std::unique_ptr<ChildProcess> agent_;
+  static inline int counter_ = 0;
+};
+
+// Fence navigation along 16 m of fence with a 3 m gap: reactive on the ultrasonic, map-based
+// (SAMCL) through the gap, reactive again after it; the robot ends on its line at the distance.
+TEST_F(ClosedLoop, FenceLegBridgesAGapAndEndsOnTheLine) {
+  StartSim(/*with_gap=*/true);
+  const std::string route = WriteRoute(
+      "  - fence_navigation: {side: left, fence_distance: 0.9, distance: 16, speed: 0.3}\n");
+  ASSERT_EQ(RunAgent(route), 0) << AgentLog();
+  const v1::GroundTruth truth = Truth();
+  const v1::RobotGroundTruth& lely = Robot(truth, "lely1");
+  // The sensor line is 0.9 m from the fence face (y = 1.95): the robot at y = 0.8.
+  EXPECT_NEAR(lely.pose().x_m(), 6.0, 0.2) << AgentLog();
+  EXPECT_NEAR(lely.pose().y_m(), 0.8, 0.06) << AgentLog();
+  EXPECT_LT(std::abs(lely.pose().yaw_rad()), 0.05);
+  EXPECT_EQ(lely.collisions(), 0u);
+  EXPECT_THAT(AgentLog(), HasSubstr("no echo from the left fence"));
+  EXPECT_THAT(AgentLog(), HasSubstr("the fence answers again"));
+}
+
+// A straight that ends on marker 2 ends where the robot's own inductive sensor crossed it
+// (sensor 0.485 m ahead of the axle: the axle at x ≈ 3.5 m), not at its 16 m.
+TEST_F(ClosedLoop, StraightEndsOnTheMarkerTheAgentDetects) {
+  StartSim(/*with_gap=*/false);
+  const std::string route = WriteRoute(
+      "  - straight: {distance: 16, speed: 0.25}\n    until: {marker: 2}\n");
+  ASSERT_EQ(RunAgent(route), 0) << AgentLog();
+  const v1::RobotGroundTruth& lely = Robot(Truth(), "lely1");
+  EXPECT_GT(lely.pose().x_m(), 3.4) << AgentLog();
+  EXPECT_LT(lely.pose().x_m(), 3.9) << AgentLog();
+  EXPECT_EQ(lely.collisions(), 0u);
+  EXPECT_THAT(AgentLog(), HasSubstr("calibrated on marker 1"));
+  EXPECT_THAT(AgentLog(), HasSubstr("calibrated on marker 2"));
+}
+
+// Driving at the east wall: the bumper stops the robot, the action fails naming the reason and
+// the agent exits 1; the robot is not pushing on through the wall.
+TEST_F(ClosedLoop, BumperStopsTheRobotAndTheRouteFails) {
+  StartSim(/*with_gap=*/false);
+  const std::string route = WriteRoute("  - straight: {distance: 30, speed: 0.3}\n");
+  EXPECT_EQ(RunAgent(route), 1) << AgentLog();
+  EXPECT_THAT(AgentLog(), HasSubstr("actions[0] (straight): bumper pressed"));
+  const v1::RobotGroundTruth& lely = Robot(Truth(), "lely1");
+  EXPECT_LT(lely.pose().x_m(), 14.9 - 1.3);
+  EXPECT_GT(lely.pose().x_m(), 12.0);
+  EXPECT_NEAR(lely.velocity().vx_mps(), 0.0, 0.02);
+}
+
+TEST_F(ClosedLoop, WrongKindIsRefusedAtAttachNamingBoth) {
+  StartSim(/*with_gap=*/false);
+  const std::string route = WriteRoute("  - straight: {distance: 1, speed: 0.25}\n");
+  EXPECT_EQ(RunAgent(route, {}, "mecanum-platform"), 1);
+  EXPECT_THAT(AgentLog(), HasSubstr("mecanum-platform"));
+  EXPECT_THAT(AgentLog(), HasSubstr("lely-vector"));
+}
+
+// A route with an action this agent cannot run is refused before the robot moves.
+TEST_F(ClosedLoop, UnrunnableRouteIsRefusedBeforeTheRobotMoves) {
+  StartSim(/*with_gap=*/false);
+  const std::string route = WriteRoute(
+      "  - straight: {distance: 2, speed: 0.25}\n  - dock: {target: charger}\n");
+  EXPECT_EQ(RunAgent(route), 1);
+  EXPECT_THAT(AgentLog(), HasSubstr("actions[1] (dock)"));
+  const v1::RobotGroundTruth& lely = Robot(Truth(), "lely1");
+  EXPECT_NEAR(lely.pose().x_m(), -10.0, 0.01);
+}
+
+TEST_F(ClosedLoop, InitialPoseIsRequired) {
+  StartSim(/*with_gap=*/false);
+  const std::string route = WriteRoute("  - straight: {distance: 1, speed: 0.25}\n");
+  ChildProcess agent({FLEETNAV_AGENT_PATH, "--robot-id", "lely1", "--sim", sim_address_,
+                      "--route", route},
+                     Path("a.out"), Path("a.err"));
+  EXPECT_EQ(agent.Wait(30.0), 1);
+  EXPECT_THAT(agent.Stderr() + agent.Stdout(), HasSubstr("--initial-pose"));
+}
+
+}  // namespace
+}  // namespace fleetnav
