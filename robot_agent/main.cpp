@@ -5,7 +5,9 @@
 #include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
+#include <fstream>
 #include <memory>
+#include <optional>
 
 #include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/map_io.hpp"
@@ -16,6 +18,7 @@
 #include "fleetnav/robot_agent/agent.hpp"
 #include "fleetnav/robot_agent/server_link.hpp"
 #include "fleetnav/robot_agent/sim_hal.hpp"
+#include "fleetnav/robot_agent/telemetry_recorder.hpp"
 
 namespace {
 
@@ -75,6 +78,10 @@ int main(int argc, char** argv) {
                  "in job mode, exit after this many jobs have ended (0 = run until the sim ends)");
   app.add_option("--telemetry-hz", telemetry_hz, "telemetry rate in robot time (>= 10)")
       ->capture_default_str();
+  std::string record_path;
+  app.add_option("--record", record_path,
+                 "append the estimated position of every telemetry message to this CSV "
+                 "(robot_id,estimate,x,y,t_s: the fleetnav-sim --trajectories format)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -98,7 +105,7 @@ int main(int argc, char** argv) {
   params.telemetry_period_s = telemetry_hz > 0 ? 1.0 / telemetry_hz : 0.0;
   params.exit_when_done = route.has_value();
 
-  fleetnav::agent::RouteContext context{*model, std::nullopt};
+  fleetnav::agent::RouteContext context{*model, std::nullopt, nullptr};
   if (!markers_path.empty()) {
     if (map_path.empty()) return Fail("--markers needs --map");
     absl::StatusOr<fleetnav::MarkerSet> markers = fleetnav::LoadMarkerSet(markers_path);
@@ -109,6 +116,7 @@ int main(int argc, char** argv) {
   if (!map_path.empty()) {
     absl::StatusOr<fleetnav::OccupancyGrid> map = fleetnav::LoadMapServer(map_path);
     if (!map.ok()) return Fail(absl::StrCat(map_path, ": ", map.status().ToString()));
+    context.map = std::make_shared<const fleetnav::OccupancyGrid>(*map);
     fleetnav::localization::SamclLocalizerParams lp;
     lp.amcl.max_particles = particles;
     lp.amcl.min_particles = std::min(lp.amcl.min_particles, particles);
@@ -129,7 +137,7 @@ int main(int argc, char** argv) {
   }
   // A route this agent cannot run is refused before the robot moves.
   if (route) {
-    if (absl::Status s = fleetnav::agent::CheckRoute(*route, context); !s.ok()) {
+    if (absl::Status s = fleetnav::agent::CheckRoute(*route, context, params.modes); !s.ok()) {
       return Fail(absl::StrCat("route refused before moving: ", s.message()));
     }
   }
@@ -145,7 +153,16 @@ int main(int argc, char** argv) {
   fleetnav::agent::ServerLink link(
       grpc::CreateChannel(server_address, grpc::InsecureChannelCredentials()), identity);
   fleetnav::agent::SimHal hal(sim_channel, robot_id);
-  fleetnav::agent::AgentPorts ports{&hal, localizer.get(), &link,
+  std::ofstream record;
+  std::optional<fleetnav::agent::TelemetryRecorder> recorder;
+  if (!record_path.empty()) {
+    record.open(record_path, std::ios::app);
+    if (!record) return Fail(absl::StrCat("cannot write --record file '", record_path, "'"));
+    recorder.emplace(robot_id, &record, &link);
+  }
+  fleetnav::agent::TelemetrySink* telemetry =
+      recorder ? static_cast<fleetnav::agent::TelemetrySink*>(&*recorder) : &link;
+  fleetnav::agent::AgentPorts ports{&hal, localizer.get(), telemetry,
                                     route.has_value() ? nullptr : &link};
   fleetnav::agent::Agent agent(context, ports, route, params);
   spdlog::info("fleetnav-agent '{}' ({}) attached to {}, reporting to {}, localizing with {}",
@@ -164,8 +181,10 @@ int main(int argc, char** argv) {
     }
   }
   for (const auto& c : result->calibrations) {
-    spdlog::info("calibrated on marker {} ({}) at t = {:.2f} s, moved {:.3f} m", c.marker_id,
-                 c.sensor_name, c.stamp_ns * 1e-9, c.correction_m);
+    spdlog::info("calibrated on marker {} ({}) at t = {:.2f} s, moved {:.3f} m to ({:.3f}, {:.3f}, "
+                 "{:.1f} deg)",
+                 c.marker_id, c.sensor_name, c.stamp_ns * 1e-9, c.correction_m,
+                 c.pose_in_map.x_m(), c.pose_in_map.y_m(), fleetnav::RadToDeg(c.pose_in_map.yaw_rad()));
   }
   const fleetnav::Pose2& end = result->final_pose_in_map;
   const double sim_s = static_cast<double>(result->ticks) * 0.02;

@@ -3,8 +3,11 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include "fleetnav/core/map_io.hpp"
@@ -82,6 +85,10 @@ int main(int argc, char** argv) {
   app.add_option("--trajectories", trajectory_path,
                  "CSV of robot_id,truth|estimate,x,y to draw with --render");
   app.add_option("--render-px-per-m", render_scale, "scale of --render")->capture_default_str();
+  std::string record_path;
+  app.add_option("--record-truth", record_path,
+                 "append every robot's true position at 10 Hz of sim time to this CSV "
+                 "(robot_id,truth,x,y,t_s: the --trajectories format)");
   CLI11_PARSE(app, argc, argv);
 
   absl::StatusOr<fleetnav::sim::WorldDescription> world = fleetnav::sim::LoadWorld(world_path);
@@ -112,11 +119,31 @@ int main(int argc, char** argv) {
     return 0;
   }
 
+  std::ofstream record;  // outlives the server, whose loop writes to it
+  if (!record_path.empty()) {
+    record.open(record_path, std::ios::app);
+    if (!record) {
+      spdlog::error("fleetnav-sim: cannot write --record-truth file '{}'", record_path);
+      return 1;
+    }
+  }
   fleetnav::sim::SimServer server(*world, params);
   absl::StatusOr<int> port = server.Start();
   if (!port.ok()) {
     spdlog::error("fleetnav-sim: {}", port.status().ToString());
     return 1;
+  }
+  if (!record_path.empty()) {
+    const int every_ticks = std::max(1, static_cast<int>(std::lround(
+                                            0.1 / params.simulation.control_period_s)));
+    server.lockstep().SetTickObserver([&record, every_ticks](const fleetnav::sim::Simulation& sim) {
+      if (sim.tick() % static_cast<uint64_t>(every_ticks) != 0) return;
+      const fleetnav::sim::GroundTruthSnapshot truth = sim.GroundTruth();
+      for (const fleetnav::sim::RobotTruth& robot : truth.robots) {
+        record << robot.robot_id << ",truth," << robot.pose.x_m() << ',' << robot.pose.y_m()
+               << ',' << truth.sim_time_ns * 1e-9 << '\n';
+      }
+    });
   }
   spdlog::info("fleetnav-sim: world '{}' with {} robot(s) on port {}", world->name,
                world->robots.size(), *port);

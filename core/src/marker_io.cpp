@@ -70,7 +70,7 @@ absl::StatusOr<StripeMarker> ParseMarker(const YAML::Node& node, size_t index) {
   const std::string where = absl::StrCat("markers[", index, "]");
   if (!node.IsMap()) return absl::InvalidArgumentError(absl::StrCat(where, ": expected a mapping"));
   RETURN_IF_ERROR(
-      internal::CheckKnownKeys(node, {"id", "position", "orientation", "length", "kind"}, where));
+      internal::CheckKnownKeys(node, {"id", "position", "orientation", "length", "kind", "stripe"}, where));
   StripeMarker marker;
   const YAML::Node id = node["id"];
   if (!id.IsDefined() || id.IsNull()) {
@@ -89,6 +89,12 @@ absl::StatusOr<StripeMarker> ParseMarker(const YAML::Node& node, size_t index) {
       return absl::InvalidArgumentError(absl::StrCat(where, ".kind: ", parsed.status().message()));
     }
     marker.kind = *parsed;
+  }
+  if (node["stripe"].IsDefined()) {
+    ASSIGN_OR_RETURN(marker.stripe_id, internal::AsInt(node["stripe"], where + ".stripe"));
+    if (marker.stripe_id < 0) {
+      return absl::InvalidArgumentError(absl::StrCat(where, ".stripe: must be >= 0"));
+    }
   }
   return marker;
 }
@@ -146,6 +152,7 @@ std::string MarkerSetToYaml(const MarkerSet& markers) {
                     ", c: ", FormatDouble(q[2]), ", d: ", FormatDouble(q[3]), "}\n");
     absl::StrAppend(&text, "    length: ", FormatDouble(marker.length_m), "\n");
     absl::StrAppend(&text, "    kind: ", internal::ToAbsl(MarkerKindName(marker.kind)), "\n");
+    if (marker.stripe_id != 0) absl::StrAppend(&text, "    stripe: ", marker.stripe_id, "\n");
   }
   return text;
 }

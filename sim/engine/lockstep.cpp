@@ -118,6 +118,7 @@ void Lockstep::Run() {
     mutex_.Await(absl::Condition(this, &Lockstep::AllAnswered));
     if (stopping_) break;
     simulation_->Advance();
+    if (tick_observer_) tick_observer_(*simulation_);
     if (requested_ticks_ > 0) --requested_ticks_;
 
     const double rtf = params_.real_time_factor;
@@ -135,6 +136,11 @@ void Lockstep::Run() {
       mutex_.Lock();
     }
   }
+}
+
+void Lockstep::SetTickObserver(std::function<void(const Simulation&)> observer) {
+  absl::MutexLock lock(&mutex_);
+  tick_observer_ = std::move(observer);
 }
 
 void Lockstep::Stop() {

@@ -1,5 +1,6 @@
 #include "fleetnav/sim/simulation.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -16,6 +17,18 @@ double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).coun
 
 }  // namespace
 
+absl::Status BatteryParams::Validate() const {
+  if (!(initial_fraction >= 0.0 && initial_fraction <= 1.0)) {
+    return absl::InvalidArgumentError("battery.initial_fraction: must be in [0, 1]");
+  }
+  for (double rate : {drain_per_s, drain_per_m, charge_per_s}) {
+    if (!(std::isfinite(rate) && rate >= 0.0)) {
+      return absl::InvalidArgumentError("battery rates: must be finite and >= 0");
+    }
+  }
+  return absl::OkStatus();
+}
+
 absl::Status SimulationParams::Validate() const {
   if (!(physics_step_s > 0.0 && physics_step_s <= 0.005)) {
     return absl::InvalidArgumentError(
@@ -29,6 +42,7 @@ absl::Status SimulationParams::Validate() const {
   if (std::abs(ratio - std::round(ratio)) > 1e-6) {
     return absl::InvalidArgumentError("control_period_s: must be a whole number of physics steps");
   }
+  if (absl::Status s = battery.Validate(); !s.ok()) return s;
   return absl::OkStatus();
 }
 
@@ -106,6 +120,7 @@ absl::Status Simulation::CreateRobot(const std::string& robot_id, const std::str
   robot.robot_id = robot_id;
   robot.kind_name = kind_name;
   robot.start = pose;
+  robot.battery_fraction = params_.battery.initial_fraction;
   const int index = static_cast<int>(robots_.size());
   if (model.kinematics == Kinematics::kDifferential) {
     robot.body = std::make_unique<DiffDriveRobot>(world_.get(), index, model, pose);
@@ -197,6 +212,8 @@ absl::StatusOr<SensorFrame> Simulation::Sense(const std::string& robot_id) {
   EnsureScene();
   robot.exteroceptive->Sample(scene_, static_cast<int>(it->second), robot.body->GroundTruthPose(),
                               tick_, params_.control_period_s, dropped, &frame);
+  robot.charger_contact = frame.charger_contact;
+  frame.battery_fraction = robot.battery_fraction;
   timing_.sensors_s += Seconds(Clock::now() - start);
   return frame;
 }
@@ -285,6 +302,8 @@ void Simulation::Advance() {
   EnsureScene();
 
   std::vector<double> traction(robots_.size(), 1.0);
+  std::vector<Pose2> before(robots_.size());
+  for (size_t i = 0; i < robots_.size(); ++i) before[i] = robots_[i].body->GroundTruthPose();
   for (size_t i = 0; i < robots_.size(); ++i) {
     SimRobot& robot = robots_[i];
     (void)robot.body->SetDrive(robot.drive, SlowFactor(robot.robot_id));
@@ -304,6 +323,16 @@ void Simulation::Advance() {
     }
   }
   CountContactEpisodes();
+  for (size_t i = 0; i < robots_.size(); ++i) {
+    SimRobot& robot = robots_[i];
+    const BatteryParams& b = params_.battery;
+    const double moved_m =
+        (robot.body->GroundTruthPose().translation() - before[i].translation()).norm();
+    const double change = robot.charger_contact
+                              ? b.charge_per_s * params_.control_period_s
+                              : -(b.drain_per_s * params_.control_period_s + b.drain_per_m * moved_m);
+    robot.battery_fraction = std::clamp(robot.battery_fraction + change, 0.0, 1.0);
+  }
   ++tick_;
   // Faults that ran out leave before the next frames.
   const int64_t now = now_ns();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace fleetnav::sim {
 namespace {
@@ -24,13 +25,14 @@ SensingScene StaticScene(const WorldDescription& world) {
   }
   for (const FloorStripe& stripe : world.stripes) {
     for (size_t i = 0; i + 1 < stripe.points_m.size(); ++i) {
-      scene.strips.push_back({stripe.points_m[i], stripe.points_m[i + 1], 0.5 * stripe.width_m});
+      scene.strips.push_back(
+          {stripe.points_m[i], stripe.points_m[i + 1], 0.5 * stripe.width_m, true});
     }
   }
   for (const StripeMarker& marker : world.markers) {
     const Eigen::Vector2d half =
         0.5 * marker.length_m * Eigen::Vector2d(std::cos(marker.yaw_rad), std::sin(marker.yaw_rad));
-    scene.strips.push_back({marker.position_m - half, marker.position_m + half, 0.025});
+    scene.strips.push_back({marker.position_m - half, marker.position_m + half, 0.025, false});
   }
   return scene;
 }
@@ -129,7 +131,31 @@ void ExteroceptiveSensors::Sample(const SensingScene& scene, int robot_index, co
             break;
           }
         }
-        frame->inductive.push_back({mount.name, detected && !off});
+        // The lateral line through the sensor: where does a follow stripe cross it?
+        const Eigen::Vector2d lateral(-std::sin(sensor_pose.yaw_rad()),
+                                      std::cos(sensor_pose.yaw_rad()));
+        std::optional<double> offset;
+        for (const SensingScene::Strip& strip : scene.strips) {
+          if (!strip.follow) continue;
+          const Eigen::Vector2d d = strip.b - strip.a;
+          const double length = d.norm();
+          if (length <= 0.0) continue;
+          const Eigen::Vector2d u = d / length;
+          const double cross = lateral.x() * u.y() - lateral.y() * u.x();  // sin of the angle
+          if (std::abs(cross) < std::sin(params_.inductive_min_crossing_rad)) continue;
+          // origin + t·lateral = a + s·u
+          const Eigen::Vector2d w = strip.a - origin;
+          const double t = (w.x() * u.y() - w.y() * u.x()) / cross;
+          const double along = (w.x() * lateral.y() - w.y() * lateral.x()) / cross;
+          if (std::abs(t) > params_.inductive_range_m || along < 0.0 || along > length) continue;
+          if (!offset || std::abs(t) < std::abs(*offset)) offset = t;
+        }
+        if (offset && !off) {
+          offset = *offset + Stream(mount.name).Gaussian(params_.inductive_noise_m);
+        } else {
+          offset.reset();
+        }
+        frame->inductive.push_back({mount.name, detected && !off, offset});
         break;
       }
       case SensorType::kLaser: {

@@ -169,6 +169,14 @@ absl::StatusOr<WorldDescription> ParseRoot(const YAML::Node& root) {
       return absl::InvalidArgumentError(absl::StrCat(field, ".points: needs at least 2 points"));
     }
     ASSIGN_OR_RETURN(stripe.width_m, ReadPositive(node["width"], field + ".width", 0.05));
+    if (node["kind"]) {
+      const std::string kind = node["kind"].as<std::string>();
+      if (kind != "follow" && kind != "charger") {
+        return absl::InvalidArgumentError(absl::StrCat(field, ".kind: '", kind,
+                                                       "' is not a stripe kind (follow, charger)"));
+      }
+      stripe.charger = kind == "charger";
+    }
     world.stripes.push_back(stripe);
   }
   for (size_t i = 0; i < ListSize(root, "markers"); ++i) {

@@ -1,5 +1,6 @@
 #include "fleetnav/sim/world_rasterizer.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
@@ -48,6 +49,23 @@ MarkerSet MarkerSetOf(const WorldDescription& world, const std::string& map_id) 
   MarkerSet set;
   set.map_id = map_id;
   set.markers = world.markers;
+  // Each straight piece of a follow or charger stripe, numbered after the markers, tied to its
+  // stripe by stripe_id: the agent knows where a stripe ends and tells an end from a gap.
+  int next_id = 0;
+  for (const StripeMarker& m : set.markers) next_id = std::max(next_id, m.id);
+  for (const FloorStripe& stripe : world.stripes) {
+    for (size_t i = 0; i + 1 < stripe.points_m.size(); ++i) {
+      const Eigen::Vector2d a = stripe.points_m[i], b = stripe.points_m[i + 1];
+      StripeMarker piece;
+      piece.id = ++next_id;
+      piece.position_m = 0.5 * (a + b);
+      piece.yaw_rad = NormalizeMarkerYaw(std::atan2(b.y() - a.y(), b.x() - a.x()));
+      piece.length_m = (b - a).norm();
+      piece.kind = stripe.charger ? MarkerKind::kChargerStripe : MarkerKind::kFollowStripe;
+      piece.stripe_id = stripe.id;
+      if (piece.length_m > 0.0) set.markers.push_back(piece);
+    }
+  }
   return set;
 }
 

@@ -46,7 +46,7 @@ class JobFlowTest : public testing::FleetServerFixture {
       params.max_jobs = jobs;
       localization::DeadReckoningLocalizer localizer =
           localization::DeadReckoningLocalizer::Create(model, Barn().robots[0].pose).value();
-      agent::Agent agent(agent::RouteContext{model, std::nullopt},
+      agent::Agent agent(agent::RouteContext{model, std::nullopt, nullptr},
                          agent::AgentPorts{&hal, &localizer, &link, &link}, std::nullopt, params);
       absl::StatusOr<agent::AgentResult> run = agent.Run();
       link.Close();

@@ -44,7 +44,17 @@ TEST_F(JobServiceTest, MarkerSetsAreVersionedPerMapAndNeedTheirMap) {
   v1::GetMarkerSetResponse markers;
   ASSERT_TRUE(fleet_->GetMarkerSet(&context, get, &markers).ok());
   EXPECT_EQ(markers.version(), 1u);
-  EXPECT_EQ(markers.marker_set().markers_size(), 3);
+  // The barn's three calibration markers and the 19 straight pieces of its nine stripes, which
+  // keep their stripe numbers through the wire.
+  EXPECT_EQ(markers.marker_set().markers_size(), 3 + 19);
+  int charger_pieces = 0;
+  for (const v1::StripeMarker& m : markers.marker_set().markers()) {
+    if (m.kind() == v1::MARKER_KIND_CHARGER_STRIPE) {
+      ++charger_pieces;
+      EXPECT_EQ(m.stripe_id(), 9);
+    }
+  }
+  EXPECT_EQ(charger_pieces, 1);
 
   grpc::ClientContext unknown_context;
   v1::PutMarkerSetRequest put;

@@ -53,7 +53,7 @@ TEST(WalkingSkeletonTest, DemoRouteReachesNominalEndAndServerGetsTelemetryAtTenH
     agent::SimHal hal(Loopback(*sim_port), "lely1");
     localization::DeadReckoningLocalizer localizer =
         localization::DeadReckoningLocalizer::Create(model, start).value();
-    agent::Agent agent(agent::RouteContext{model, std::nullopt},
+    agent::Agent agent(agent::RouteContext{model, std::nullopt, nullptr},
                        agent::AgentPorts{&hal, &localizer, &link, nullptr}, *route,
                        agent::AgentParams{});
     absl::StatusOr<agent::AgentResult> run = agent.Run();

@@ -1,7 +1,9 @@
 // fleetnav-sim and fleetnav-agent as processes, in closed loop, judged by the simulator's
 // ground truth (pose, contact episodes), never by the agent's belief about itself. The world
 // is written here: a hall with a feeding fence along y = 2 m, two calibration markers and a
-// robot near the fence; a fault removes 3 m of the fence.
+// robot (lely1) near the fence; a floor stripe along y = -5 m (out of lely1's ultrasonic range) leading to a charger stripe and a
+// charging pole, with a second robot (lely2) on it. Faults remove 3 m of the fence and 1.5 m
+// of the stripe.
 #include <grpcpp/create_channel.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -22,36 +24,48 @@ using ::testing::HasSubstr;
 using testing::ChildProcess;
 
 constexpr char kHall[] = R"(name: fence-hall
-extent: {min: [-15, -5], max: [15, 5]}
+extent: {min: [-15, -9], max: [15, 5]}
 walls:
-  - {from: [-15, -4.9], to: [15, -4.9], thickness: 0.2, height: 3.0}
+  - {from: [-15, -8.9], to: [15, -8.9], thickness: 0.2, height: 3.0}
   - {from: [-15, 4.9], to: [15, 4.9], thickness: 0.2, height: 3.0}
-  - {from: [-14.9, -5], to: [-14.9, 5], thickness: 0.2, height: 3.0}
-  - {from: [14.9, -5], to: [14.9, 5], thickness: 0.2, height: 3.0}
+  - {from: [-14.9, -9], to: [-14.9, 5], thickness: 0.2, height: 3.0}
+  - {from: [14.9, -9], to: [14.9, 5], thickness: 0.2, height: 3.0}
 fences:
   - {from: [-12, 2.0], to: [12, 2.0], thickness: 0.1, height: 1.2}
 boxes:
-  - {center: [0, -3], size: [4, 1], height: 1.0, kind: feed_kitchen}
+  - {center: [0, -7.2], size: [4, 0.8], height: 1.0, kind: feed_kitchen}
+cylinders:
+  - {center: [8.5, -5.0], radius: 0.15, height: 1.5, kind: charging_pole}
+stripes:
+  - {id: 5, points: [[-12, -5.0], [5.5, -5.0]]}
+  - {id: 9, points: [[5.6, -5.0], [7.8, -5.0]], kind: charger}
 markers:
   - {id: 1, at: [-4.0, 0.8], yaw_deg: 90, length: 0.6}
   - {id: 2, at: [4.0, 0.8], yaw_deg: 90, length: 0.6}
 robots:
   - {id: lely1, kind: lely-vector, pose: [-10, 0.8, 0]}
+  - {id: lely2, kind: lely-vector, pose: [-10, -5.0, 0]}
 )";
 
 constexpr char kGapFault[] = R"(faults:
   - {type: remove_fence, label: gap, region: {min: [-1.0, 1.8], max: [2.0, 2.2]}}
+  - {type: remove_stripe, label: interruption, region: {min: [-3.0, -5.2], max: [-1.5, -4.8]}}
 )";
 
 /// One closed-loop run: a fresh directory, the world, its exported map, a simulator process.
 class ClosedLoop : public ::testing::Test {
  protected:
-  void StartSim(bool with_gap, uint64_t seed = 3) {
+  void StartSim(bool with_gap, uint64_t seed = 3, const std::string& world_file = "") {
     dir_ = std::filesystem::path(::testing::TempDir()) /
            ("closed-loop-" + std::to_string(getpid()) + "-" + std::to_string(counter_++));
     std::filesystem::create_directories(dir_);
-    const std::string world = Path("hall.yaml");
-    std::ofstream(world) << kHall << (with_gap ? kGapFault : "");
+    std::string world = Path("fence-hall.yaml");
+    if (world_file.empty()) {
+      std::ofstream(world) << kHall << (with_gap ? kGapFault : "");
+    } else {
+      world = world_file;
+    }
+    map_stem_ = std::filesystem::path(world).stem().string();
     ChildProcess exporter({FLEETNAV_SIM_PATH, "--world", world, "--export-map", Path("map")},
                           Path("export.out"), Path("export.err"));
     ASSERT_EQ(exporter.Wait(60.0), 0) << exporter.Stderr();
@@ -76,15 +90,16 @@ class ClosedLoop : public ::testing::Test {
   /// Runs fleetnav-agent on `route` for lely1 and returns its exit code (-1: timed out).
   int RunAgent(const std::string& route, std::vector<std::string> extra = {},
                const std::string& kind = "lely-vector",
-               std::vector<double> pose = {-10.02, 0.82, 0.5}) {
+               std::vector<double> pose = {-10.02, 0.82, 0.5},
+               const std::string& robot_id = "lely1") {
     std::vector<std::string> args = {FLEETNAV_AGENT_PATH,
-                                     "--robot-id", "lely1",
+                                     "--robot-id", robot_id,
                                      "--kind", kind,
                                      "--sim", sim_address_,
                                      "--server", "127.0.0.1:1",  // nothing listens there
                                      "--route", route,
-                                     "--map", Path("map/fence-hall.yaml"),
-                                     "--markers", Path("map/fence-hall.markers.yaml"),
+                                     "--map", Path("map/" + map_stem_ + ".yaml"),
+                                     "--markers", Path("map/" + map_stem_ + ".markers.yaml"),
                                      "--particles", "1000",
                                      "--initial-pose"};
     for (double v : pose) args.push_back(std::to_string(v));
@@ -118,6 +133,7 @@ class ClosedLoop : public ::testing::Test {
   }
 
   std::filesystem::path dir_;
+  std::string map_stem_;
   std::string sim_address_;
   std::unique_ptr<ChildProcess> sim_;
   std::unique_ptr<ChildProcess> agent_;
@@ -170,6 +186,49 @@ TEST_F(ClosedLoop, BumperStopsTheRobotAndTheRouteFails) {
   EXPECT_NEAR(lely.velocity().vx_mps(), 0.0, 0.02);
 }
 
+// Stripe navigation to the stripe's end across a 1.5 m interruption (map-based on the stripe
+// known from the marker set), then docking along the charger stripe until the charger contact
+// closes: the robot stops at the pole without touching it.
+TEST_F(ClosedLoop, StripeLegAcrossAnInterruptionThenDocksAtTheCharger) {
+  StartSim(/*with_gap=*/true);
+  const std::string route = WriteRoute(
+      "  - stripe_navigation: {stripe: 5, distance: 0, speed: 0.25}\n"
+      "    until: stripe_end\n"
+      "  - dock: {target: charger}\n"
+      "    until: charger_contact\n");
+  ASSERT_EQ(RunAgent(route, {}, "lely-vector", {-10.01, -5.02, -0.5}, "lely2"), 0) << AgentLog();
+  const v1::RobotGroundTruth& lely = Robot(Truth(), "lely2");
+  // Contact 5 cm before the front (1.395 m ahead of the axle) meets the pole at x = 8.35.
+  EXPECT_GT(lely.pose().x_m(), 6.80) << AgentLog();
+  EXPECT_LT(lely.pose().x_m(), 6.96) << AgentLog();
+  EXPECT_NEAR(lely.pose().y_m(), -5.0, 0.03) << AgentLog();
+  EXPECT_EQ(lely.collisions(), 0u) << AgentLog();
+  EXPECT_THAT(AgentLog(), HasSubstr("stripe 5 interrupted"));
+  EXPECT_THAT(AgentLog(), HasSubstr("stripe 5 answers again"));
+}
+
+// The shipped feeding round on the shipped barn (every action type: free navigation, stripes,
+// a straight, a turn, fence navigation along the feed kitchen, docking), on the barn with the
+// error cases too: it completes, never touches anything, and ends on the charger.
+class BarnFeedingRound : public ClosedLoop, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(BarnFeedingRound, CompletesWithoutContactAndDocks) {
+  StartSim(false, 5, std::string(FLEETNAV_WORLDS_DIR) + "/" + GetParam());
+  ASSERT_EQ(RunAgent(std::string(FLEETNAV_ROUTES_DIR) + "/barn_feeding.yaml", {}, "lely-vector",
+                     {-5.48, 0.02, 0.5}),
+            0)
+      << AgentLog();
+  const v1::RobotGroundTruth& lely = Robot(Truth(), "lely1");
+  EXPECT_EQ(lely.collisions(), 0u) << AgentLog();
+  // Docked: heading west on the charger stripe, the contact 5 cm short of the pole's face.
+  EXPECT_NEAR(lely.pose().x_m(), -9.91, 0.05) << AgentLog();
+  EXPECT_NEAR(lely.pose().y_m(), 0.0, 0.03) << AgentLog();
+  EXPECT_GT(std::abs(lely.pose().yaw_rad()), 3.1);
+}
+
+INSTANTIATE_TEST_SUITE_P(Worlds, BarnFeedingRound,
+                         ::testing::Values("barn.yaml", "barn_errors.yaml"));
+
 TEST_F(ClosedLoop, WrongKindIsRefusedAtAttachNamingBoth) {
   StartSim(/*with_gap=*/false);
   const std::string route = WriteRoute("  - straight: {distance: 1, speed: 0.25}\n");
@@ -182,7 +241,7 @@ TEST_F(ClosedLoop, WrongKindIsRefusedAtAttachNamingBoth) {
 TEST_F(ClosedLoop, UnrunnableRouteIsRefusedBeforeTheRobotMoves) {
   StartSim(/*with_gap=*/false);
   const std::string route = WriteRoute(
-      "  - straight: {distance: 2, speed: 0.25}\n  - dock: {target: charger}\n");
+      "  - straight: {distance: 2, speed: 0.25}\n  - dock: {target: trolley}\n");
   EXPECT_EQ(RunAgent(route), 1);
   EXPECT_THAT(AgentLog(), HasSubstr("actions[1] (dock)"));
   const v1::RobotGroundTruth& lely = Robot(Truth(), "lely1");

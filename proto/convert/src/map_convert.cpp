@@ -74,6 +74,7 @@ v1::StripeMarker ToProto(const StripeMarker& marker) {
   out.set_length_m(marker.length_m);
   out.set_kind(ToProto(marker.kind));
   out.set_z_m(marker.z_m);
+  out.set_stripe_id(marker.stripe_id);
   return out;
 }
 
@@ -94,6 +95,10 @@ absl::StatusOr<StripeMarker> FromProto(const v1::StripeMarker& marker, const std
         absl::StrCat(field, ".length_m must be finite and > 0, got ", out.length_m));
   }
   ASSIGN_OR_RETURN(out.kind, MarkerKindFromProto(marker.kind(), field));
+  out.stripe_id = marker.stripe_id();
+  if (out.stripe_id < 0) {
+    return absl::InvalidArgumentError(absl::StrCat(field, ".stripe_id must be >= 0"));
+  }
   return out;
 }
 

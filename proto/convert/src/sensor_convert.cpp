@@ -27,6 +27,10 @@ v1::SensorFrame ToProto(const SensorFrame& frame) {
     v1::InductiveReading* wire = out.add_inductive();
     wire->set_name(s.name);
     wire->set_detected(s.detected);
+    if (s.lateral_offset_m) {
+      wire->set_has_lateral_offset(true);
+      wire->set_lateral_offset_m(*s.lateral_offset_m);
+    }
   }
   for (const LaserScanSample& scan : frame.lasers) {
     v1::LaserScan* wire = out.add_lasers();
@@ -38,6 +42,10 @@ v1::SensorFrame ToProto(const SensorFrame& frame) {
   }
   out.set_charger_contact(frame.charger_contact);
   out.set_bumper(frame.bumper);
+  if (frame.battery_fraction) {
+    out.set_has_battery(true);
+    out.set_battery_fraction(*frame.battery_fraction);
+  }
   if (frame.gps) {
     out.mutable_gps()->set_x_m(frame.gps->x_m);
     out.mutable_gps()->set_y_m(frame.gps->y_m);
@@ -55,7 +63,11 @@ SensorFrame FromProto(const v1::SensorFrame& frame) {
   out.imu = {frame.imu().gyro_z_radps(), frame.imu().accel_x_mps2(), frame.imu().accel_y_mps2()};
   for (const auto& r : frame.ultrasonic())
     out.ultrasonic.push_back({r.name(), r.range_m(), r.echo()});
-  for (const auto& s : frame.inductive()) out.inductive.push_back({s.name(), s.detected()});
+  for (const auto& s : frame.inductive()) {
+    InductiveSample sample{s.name(), s.detected(), std::nullopt};
+    if (s.has_lateral_offset()) sample.lateral_offset_m = s.lateral_offset_m();
+    out.inductive.push_back(sample);
+  }
   for (const auto& scan : frame.lasers()) {
     out.lasers.push_back({scan.name(), scan.angle_min_rad(), scan.angle_increment_rad(),
                           scan.range_max_m(),
@@ -63,6 +75,7 @@ SensorFrame FromProto(const v1::SensorFrame& frame) {
   }
   out.charger_contact = frame.charger_contact();
   out.bumper = frame.bumper();
+  if (frame.has_battery()) out.battery_fraction = frame.battery_fraction();
   if (frame.has_gps())
     out.gps = GpsFix{frame.gps().x_m(), frame.gps().y_m(), frame.gps().stddev_m()};
   return out;

@@ -26,7 +26,7 @@ Agent::Agent(RouteContext context, AgentPorts ports, std::optional<Route> route,
     : context_(std::move(context)),
       ports_(ports),
       params_(params),
-      perception_(params.ultrasonic_range_max_m),
+      perception_(context_.model, params.ultrasonic_range_max_m),
       safety_(params.safety) {
   if (route) StartRoute(std::move(*route));
 }
@@ -109,7 +109,7 @@ Telemetry Agent::MakeTelemetry(int64_t stamp_ns, const ExecutorOutput& output) c
   t.mode = output.mode;
   t.localization_confidence = estimate.confidence;
   t.localization_lost = estimate.lost;
-  t.battery_fraction = 1.0;
+  t.battery_fraction = battery_fraction_;
   t.action_index = output.action_index;
   t.job_progress_fraction = output.progress_fraction;
   return t;
@@ -132,6 +132,7 @@ absl::StatusOr<AgentResult> Agent::Run() {
         last_stamp_ns < 0 ? frame->control_period_s : (frame->stamp_ns - last_stamp_ns) * 1e-9;
     last_stamp_ns = frame->stamp_ns;
     RETURN_IF_ERROR(ports_.localizer->Update(*frame));
+    if (frame->battery_fraction) battery_fraction_ = *frame->battery_fraction;
     const localization::LocalizerEstimate& estimate = ports_.localizer->estimate();
     std::vector<int> detected_markers;
     for (localization::MarkerCalibration& c : ports_.localizer->TakeCalibrations()) {

@@ -1,8 +1,8 @@
 #include "fleetnav/robot_agent/fence_following_controller.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "absl/strings/str_cat.h"
 
@@ -10,8 +10,7 @@ namespace fleetnav::agent {
 namespace {
 
 constexpr double kDistanceToleranceM = 0.002;
-constexpr size_t kMinLinePoints = 10;
-constexpr double kMinLineSpanM = 0.5;
+constexpr double kMinLineMemoryM = 0.5;
 
 }  // namespace
 
@@ -28,9 +27,9 @@ absl::Status FenceFollowingParams::Validate() const {
   if (lost_after_ticks < 1 || found_after_ticks < 1) {
     return absl::InvalidArgumentError("lost_after_ticks, found_after_ticks: must be >= 1");
   }
-  if (!(std::isfinite(line_memory_m) && line_memory_m > kMinLineSpanM)) {
+  if (!(std::isfinite(line_memory_m) && line_memory_m > kMinLineMemoryM)) {
     return absl::InvalidArgumentError(
-        absl::StrCat("line_memory_m: must be finite and > ", kMinLineSpanM));
+        absl::StrCat("line_memory_m: must be finite and > ", kMinLineMemoryM));
   }
   return absl::OkStatus();
 }
@@ -43,32 +42,11 @@ FenceFollowingController::FenceFollowingController(const FenceNavigationAction& 
       ultrasonic_(ultrasonic),
       profile_(profile),
       params_(params),
-      side_sign_(action.side == Side::kLeft ? 1.0 : -1.0) {}
+      side_sign_(action.side == Side::kLeft ? 1.0 : -1.0),
+      line_(params.line_memory_m) {}
 
 double FenceFollowingController::DistanceToLine(const Pose2& sensor_in_map) const {
-  const Eigen::Vector2d side_normal =
-      side_sign_ * Eigen::Vector2d(-line_.direction.y(), line_.direction.x());
-  return (line_.point - sensor_in_map.translation()).dot(side_normal);
-}
-
-void FenceFollowingController::FitLine(const Eigen::Vector2d& heading) {
-  if (points_.size() < kMinLinePoints ||
-      points_.back().travelled_m - points_.front().travelled_m < kMinLineSpanM) {
-    return;
-  }
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  for (const FencePoint& p : points_) mean += p.point_in_map;
-  mean /= static_cast<double>(points_.size());
-  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-  for (const FencePoint& p : points_) {
-    const Eigen::Vector2d d = p.point_in_map - mean;
-    scatter += d * d.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(scatter);
-  Eigen::Vector2d direction = solver.eigenvectors().col(1);  // largest eigenvalue
-  if (direction.dot(heading) < 0.0) direction = -direction;
-  line_.point = mean;
-  line_.direction = direction.normalized();
+  return -side_sign_ * line_.SignedDistance(sensor_in_map.translation());
 }
 
 ControlOutput FenceFollowingController::Step(const ControlInput& input) {
@@ -82,16 +60,18 @@ ControlOutput FenceFollowingController::Step(const ControlInput& input) {
     // distance from the sensor.
     const Eigen::Vector2d beam(std::cos(sensor_in_map.yaw_rad()),
                                std::sin(sensor_in_map.yaw_rad()));
-    line_.point = sensor_in_map.translation() + action_.fence_distance_m * beam;
-    line_.direction = heading;
+    line_.Assume(sensor_in_map.translation() + action_.fence_distance_m * beam, heading);
   }
   const Pose2 moved = Between(last_odom_, input.pose_in_odom);
   travelled_m_ += std::hypot(moved.x_m(), moved.y_m());
   last_odom_ = input.pose_in_odom;
 
   ControlOutput out;
-  const double remaining_m = action_.distance_m - travelled_m_;
-  out.progress_fraction = std::clamp(travelled_m_ / action_.distance_m, 0.0, 1.0);
+  // distance_m = 0: until the end condition (a marker) says so.
+  const bool limited = action_.distance_m > 0.0;
+  const double remaining_m =
+      limited ? action_.distance_m - travelled_m_ : std::numeric_limits<double>::infinity();
+  out.progress_fraction = limited ? std::clamp(travelled_m_ / action_.distance_m, 0.0, 1.0) : 0.0;
   out.mode = map_based_ ? NavigationMode::kFenceMapBased : NavigationMode::kFenceReactive;
   if (remaining_m <= kDistanceToleranceM) {
     out.done = true;
@@ -107,11 +87,7 @@ ControlOutput FenceFollowingController::Step(const ControlInput& input) {
   if (usable) {
     const Eigen::Vector2d beam(std::cos(sensor_in_map.yaw_rad()),
                                std::sin(sensor_in_map.yaw_rad()));
-    points_.push_back({sensor_in_map.translation() + *range * beam, travelled_m_});
-    while (!points_.empty() && points_.front().travelled_m < travelled_m_ - params_.line_memory_m) {
-      points_.pop_front();
-    }
-    FitLine(heading);
+    line_.Add(sensor_in_map.translation() + *range * beam, travelled_m_, heading);
     ++present_ticks_;
     missing_ticks_ = 0;
   } else {

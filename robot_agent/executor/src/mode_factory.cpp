@@ -17,49 +17,113 @@ const SensorMount* FenceUltrasonic(const FenceNavigationAction& fence, const Rob
   return mount != nullptr && mount->type == SensorType::kUltrasonic ? mount : nullptr;
 }
 
-absl::Status CheckAction(const RouteAction& action, int index, const RouteContext& context) {
-  const bool supported = std::holds_alternative<TurnAction>(action.params) ||
-                         std::holds_alternative<StraightAction>(action.params) ||
-                         std::holds_alternative<FenceNavigationAction>(action.params);
-  if (!supported) {
-    return absl::FailedPreconditionError(
-        absl::StrCat(Where(action, index), ": not supported by this agent version"));
+bool HasInductiveSensors(const RobotModel& model) {
+  for (const SensorMount& mount : model.sensors) {
+    if (mount.type == SensorType::kInductive) return true;
   }
-  if (const auto* fence = std::get_if<FenceNavigationAction>(&action.params)) {
-    if (FenceUltrasonic(*fence, context.model) == nullptr) {
-      return absl::FailedPreconditionError(absl::StrCat(
-          Where(action, index), ": ", context.model.kind_name, " has no ",
-          fence->side == Side::kLeft ? "left" : "right", " ultrasonic to follow a fence with"));
-    }
+  return false;
+}
+
+/// The marker set's pieces of stripe `stripe_id` (of `kind`), or of every stripe of `kind` when
+/// stripe_id is 0.
+std::vector<StripeMarker> StripePieces(const RouteContext& context, int stripe_id,
+                                       MarkerKind kind) {
+  std::vector<StripeMarker> pieces;
+  if (!context.markers) return pieces;
+  for (const StripeMarker& m : context.markers->markers) {
+    if (m.kind == kind && (stripe_id == 0 || m.stripe_id == stripe_id)) pieces.push_back(m);
   }
-  switch (action.end.kind) {
+  return pieces;
+}
+
+bool HasStripesOfKind(const RouteContext& context, MarkerKind kind) {
+  return !StripePieces(context, 0, kind).empty();
+}
+
+absl::Status CheckEnd(const RouteAction& action, int index, const RouteContext& context) {
+  const EndConditionKind end = action.end.kind;
+  const auto refuse = [&](const std::string& why) {
+    return absl::FailedPreconditionError(absl::StrCat(Where(action, index), ": ", why));
+  };
+  switch (end) {
     case EndConditionKind::kDistance:
       return absl::OkStatus();
     case EndConditionKind::kMarkerDetected: {
-      if (std::holds_alternative<TurnAction>(action.params)) {
-        return absl::FailedPreconditionError(
-            absl::StrCat(Where(action, index), ": a turn cannot end on a marker"));
+      if (std::holds_alternative<TurnAction>(action.params) ||
+          std::holds_alternative<DockAction>(action.params)) {
+        return refuse("cannot end on a marker");
       }
       if (!context.markers.has_value()) {
-        return absl::FailedPreconditionError(
-            absl::StrCat(Where(action, index), ": ends on marker ", action.end.marker_id,
-                         " but the robot has no marker set for this map"));
+        return refuse(absl::StrCat("ends on marker ", action.end.marker_id,
+                                   " but the robot has no marker set for this map"));
       }
       for (const StripeMarker& m : context.markers->markers) {
         if (m.id == action.end.marker_id && m.kind == MarkerKind::kCalibration) {
           return absl::OkStatus();
         }
       }
-      return absl::FailedPreconditionError(
-          absl::StrCat(Where(action, index), ": marker ", action.end.marker_id,
-                       " is not a calibration marker of the marker set"));
+      return refuse(absl::StrCat("marker ", action.end.marker_id,
+                                 " is not a calibration marker of the marker set"));
     }
+    case EndConditionKind::kStripeEnd:
+      if (std::holds_alternative<StripeNavigationAction>(action.params)) return absl::OkStatus();
+      break;
+    case EndConditionKind::kChargerContact:
+      if (std::holds_alternative<DockAction>(action.params)) return absl::OkStatus();
+      break;
+    case EndConditionKind::kGoalReached:
+      if (std::holds_alternative<FreeNavigationAction>(action.params)) return absl::OkStatus();
+      break;
     default:
-      return absl::FailedPreconditionError(absl::StrCat(
-          Where(action, index), ": end condition '",
-          std::string(EndConditionKindName(action.end.kind)),
-          "' needs sensing this agent version does not have"));
+      break;
   }
+  return refuse(absl::StrCat("end condition '", std::string(EndConditionKindName(end)),
+                             "' needs sensing this agent version does not have"));
+}
+
+absl::Status CheckAction(const RouteAction& action, int index, const RouteContext& context,
+                         const ModeParams& params) {
+  const auto refuse = [&](const std::string& why) {
+    return absl::FailedPreconditionError(absl::StrCat(Where(action, index), ": ", why));
+  };
+  if (const auto* free = std::get_if<FreeNavigationAction>(&action.params)) {
+    if (context.model.kinematics != Kinematics::kDifferential) {
+      return refuse(absl::StrCat("free navigation for ", context.model.kind_name,
+                                 " is not supported by this agent version"));
+    }
+    if (context.map == nullptr) return refuse("free navigation needs the map (--map)");
+    if (absl::Status s = CheckFreeNavigation(*free, context.model, *context.map,
+                                             params.free_navigation.padding_m);
+        !s.ok()) {
+      return refuse(std::string(s.message()));
+    }
+  }
+  if (const auto* fence = std::get_if<FenceNavigationAction>(&action.params)) {
+    if (FenceUltrasonic(*fence, context.model) == nullptr) {
+      return refuse(absl::StrCat(context.model.kind_name, " has no ",
+                                 fence->side == Side::kLeft ? "left" : "right",
+                                 " ultrasonic to follow a fence with"));
+    }
+  }
+  if (const auto* stripe = std::get_if<StripeNavigationAction>(&action.params)) {
+    if (!HasInductiveSensors(context.model)) {
+      return refuse(absl::StrCat(context.model.kind_name, " has no inductive stripe sensors"));
+    }
+    if (HasStripesOfKind(context, MarkerKind::kFollowStripe) &&
+        StripePieces(context, stripe->stripe_id, MarkerKind::kFollowStripe).empty()) {
+      return refuse(absl::StrCat("stripe ", stripe->stripe_id, " is not in the marker set"));
+    }
+  }
+  if (const auto* dock = std::get_if<DockAction>(&action.params)) {
+    if (dock->target != DockTarget::kCharger) {
+      return refuse("docking under a trolley is not supported by this agent version");
+    }
+    if (!HasInductiveSensors(context.model)) {
+      return refuse(absl::StrCat(context.model.kind_name,
+                                 " has no inductive sensors to follow a charger stripe with"));
+    }
+  }
+  return CheckEnd(action, index, context);
 }
 
 }  // namespace
@@ -67,16 +131,21 @@ absl::Status CheckAction(const RouteAction& action, int index, const RouteContex
 absl::Status ModeParams::Validate() const {
   if (absl::Status s = profile.Validate(); !s.ok()) return s;
   if (absl::Status s = heading.Validate(); !s.ok()) return s;
-  return fence.Validate();
+  if (absl::Status s = fence.Validate(); !s.ok()) return s;
+  if (absl::Status s = stripe.Validate(); !s.ok()) return s;
+  if (absl::Status s = docking.Validate(); !s.ok()) return s;
+  return free_navigation.Validate();
 }
 
 std::vector<std::string> SupportedActionTypes() {
-  return {"straight", "turn", "fence_navigation"};
+  return {"straight", "turn", "fence_navigation", "stripe_navigation", "dock", "free_navigation"};
 }
 
-absl::Status CheckRoute(const Route& route, const RouteContext& context) {
+absl::Status CheckRoute(const Route& route, const RouteContext& context,
+                        const ModeParams& params) {
   for (size_t i = 0; i < route.actions.size(); ++i) {
-    if (absl::Status s = CheckAction(route.actions[i], static_cast<int>(i), context); !s.ok()) {
+    if (absl::Status s = CheckAction(route.actions[i], static_cast<int>(i), context, params);
+        !s.ok()) {
       return s;
     }
   }
@@ -87,7 +156,7 @@ absl::StatusOr<std::unique_ptr<MotionController>> MakeController(const RouteActi
                                                                  int index,
                                                                  const RouteContext& context,
                                                                  const ModeParams& params) {
-  if (absl::Status s = CheckAction(action, index, context); !s.ok()) return s;
+  if (absl::Status s = CheckAction(action, index, context, params); !s.ok()) return s;
   if (const auto* straight = std::get_if<StraightAction>(&action.params)) {
     return std::make_unique<StraightController>(straight->distance_m, straight->speed_mps,
                                                 params.profile, params.heading);
@@ -96,9 +165,23 @@ absl::StatusOr<std::unique_ptr<MotionController>> MakeController(const RouteActi
     return std::make_unique<TurnController>(turn->angle_rad, turn->yaw_rate_radps,
                                             params.profile);
   }
-  const auto& fence = std::get<FenceNavigationAction>(action.params);
-  return std::make_unique<FenceFollowingController>(
-      fence, *FenceUltrasonic(fence, context.model), params.profile, params.fence);
+  if (const auto* fence = std::get_if<FenceNavigationAction>(&action.params)) {
+    return std::make_unique<FenceFollowingController>(
+        *fence, *FenceUltrasonic(*fence, context.model), params.profile, params.fence);
+  }
+  if (const auto* free = std::get_if<FreeNavigationAction>(&action.params)) {
+    return std::make_unique<FreeNavigationController>(*free, context.model, context.map,
+                                                      params.free_navigation);
+  }
+  if (const auto* stripe = std::get_if<StripeNavigationAction>(&action.params)) {
+    return std::make_unique<StripeFollowingController>(
+        *stripe, action.end.kind,
+        StripePieces(context, stripe->stripe_id, MarkerKind::kFollowStripe), params.profile,
+        params.stripe);
+  }
+  return std::make_unique<ChargerDockingController>(
+      StripePieces(context, 0, MarkerKind::kChargerStripe), params.profile, params.stripe,
+      params.docking);
 }
 
 }  // namespace fleetnav::agent

@@ -11,7 +11,7 @@ RouteExecutor::RouteExecutor(Route route, RouteContext context, ModeParams param
   if (absl::Status s = params_.Validate(); !s.ok()) {
     failure_ = absl::InvalidArgumentError(absl::StrCat("mode parameters: ", s.message()));
   } else {
-    failure_ = CheckRoute(route_, context_);
+    failure_ = CheckRoute(route_, context_, params_);
   }
   if (!failure_.ok()) state_ = ExecutionState::kFailed;
 }

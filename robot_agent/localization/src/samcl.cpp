@@ -14,6 +14,9 @@ absl::Status SamclParams::Validate() const {
   if (!(std::isfinite(soft_sigma_m) && soft_sigma_m > 0.0)) {
     return absl::InvalidArgumentError("soft_sigma_m must be finite and > 0");
   }
+  if (!(min_crossing_angle_rad >= 0.0 && min_crossing_angle_rad <= kPi / 2.0)) {
+    return absl::InvalidArgumentError("min_crossing_angle_rad must be in [0, pi/2]");
+  }
   if (!(std::isfinite(odometry_history_s) && odometry_history_s > 0.0)) {
     return absl::InvalidArgumentError("odometry_history_s must be finite and > 0");
   }
@@ -79,8 +82,14 @@ absl::StatusOr<CalibrationResult> Samcl::OnInductiveEdge(const InductiveEdge& ed
   CalibrationResult result;
   const StripeMarker* marker = nullptr;
   int candidates = 0;
+  const Eigen::Vector2d heading(std::cos(estimate_at_edge.yaw_rad()),
+                                std::sin(estimate_at_edge.yaw_rad()));
   for (const StripeMarker& m : markers_.markers) {
     if (m.kind != MarkerKind::kCalibration) continue;
+    // A marker is crossed, not driven along: metal met while heading along the marker's line
+    // (a stripe crossed near it) is not that marker.
+    const Eigen::Vector2d along(std::cos(m.yaw_rad), std::sin(m.yaw_rad));
+    if (std::abs(heading.dot(along)) > std::cos(params_.min_crossing_angle_rad)) continue;
     if ((m.position_m - sensor_estimate).norm() < params_.association_radius_m) {
       marker = &m;
       ++candidates;

@@ -1,6 +1,8 @@
 #include "fleetnav/localization/samcl_localizer.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "absl/strings/str_cat.h"
@@ -8,21 +10,36 @@
 #include "fleetnav/localization/dead_reckoning_localizer.hpp"
 
 namespace fleetnav::localization {
+namespace {
+
+/// A sensor whose lateral reading puts the stripe this close is over that stripe (5 cm wide).
+constexpr double kOnStripeM = 0.035;
+
+}  // namespace
 
 AmclParams DefaultAgentAmclParams() {
   AmclParams p;
   p.min_particles = 500;
   p.max_particles = 2000;
-  p.motion.alpha1 = 0.02;
-  p.motion.alpha2 = 0.0005;
-  p.motion.alpha3 = 0.002;
-  p.motion.alpha4 = 0.002;
+  // The motion model's input is the gyro-aided EKF: its heading is far better than wheel
+  // odometry's, so rotation noise is small (a loose yaw would random-walk where two
+  // ultrasonic beams cannot observe it).
+  p.motion.alpha1 = 0.005;
+  p.motion.alpha2 = 0.0001;
+  p.motion.alpha3 = 0.001;
+  p.motion.alpha4 = 0.001;
   p.likelihood_field.sigma_hit_m = 0.05;
   p.update_min_distance_m = 0.05;
   p.update_min_angle_rad = DegToRad(3.0);
   // Two ultrasonic beams cannot tell a kidnapping from a fence gap: random particles would
   // carry the estimate off to some other fence. The robot's start is known; tracking only.
   p.max_injection_fraction = 0.0;
+  // Lost means diverged: the cloud spread over half a metre, or measurements that the map
+  // cannot explain for 40 updates in a row (2 m of travel, or two turns in place) — not a few
+  // oblique echoes of two ultrasonics while turning.
+  p.lost_position_stddev_m = 0.5;
+  p.lost_likelihood_score = 0.05;
+  p.lost_min_updates = 40;
   return p;
 }
 
@@ -50,20 +67,97 @@ absl::StatusOr<SamclLocalizer> SamclLocalizer::Create(const RobotModel& model,
   if (!odometry.ok()) return odometry.status();
   absl::StatusOr<Amcl> amcl = Amcl::Create(params.amcl, map);
   if (!amcl.ok()) return amcl.status();
+  std::vector<Line2> stripes;
+  for (const StripeMarker& m : markers.markers) {
+    if (m.kind == MarkerKind::kCalibration) continue;
+    const Eigen::Vector2d direction(std::cos(m.yaw_rad), std::sin(m.yaw_rad));
+    stripes.push_back(Line2{m.position_m - 0.5 * m.length_m * direction, direction * m.length_m});
+  }
   absl::StatusOr<Samcl> samcl = Samcl::Create(*std::move(amcl), std::move(markers), model,
                                               params.samcl);
   if (!samcl.ok()) return samcl.status();
-  return SamclLocalizer(model, *std::move(odometry), *std::move(samcl), start_in_map, params);
+  return SamclLocalizer(model, *std::move(odometry), *std::move(samcl), std::move(stripes),
+                        start_in_map, params);
 }
 
 SamclLocalizer::SamclLocalizer(const RobotModel& model, OdometryFrontEnd odometry, Samcl samcl,
-                               const Pose2& start_in_map, const SamclLocalizerParams& params)
+                               std::vector<Line2> stripe_pieces, const Pose2& start_in_map,
+                               const SamclLocalizerParams& params)
     : model_(model),
       odometry_(std::move(odometry)),
       samcl_(std::move(samcl)),
       start_in_map_(start_in_map),
       params_(params) {
+  // Line2's direction is unit length: keep each piece's length beside it.
+  for (Line2& piece : stripe_pieces) {
+    const double length = piece.direction.norm();
+    piece.direction /= length;
+    stripes_.push_back(piece);
+    stripe_lengths_m_.push_back(length);
+  }
   estimate_.pose_in_map = start_in_map;
+}
+
+absl::StatusOr<bool> SamclLocalizer::WeighByStripes(const SensorFrame& frame, const Pose2& odom) {
+  if (stripes_.empty() || params_.stripe_sigma_m <= 0.0) return false;
+  if (distance_at_stripe_update_m_ >= 0.0 &&
+      estimate_.distance_travelled_m - distance_at_stripe_update_m_ <
+          params_.stripe_update_distance_m) {
+    return false;
+  }
+  // The readings as points in base_link.
+  std::vector<Eigen::Vector2d> readings;
+  for (const InductiveSample& sample : frame.inductive) {
+    if (!sample.lateral_offset_m) continue;
+    const SensorMount* mount = model_.FindSensor(sample.name);
+    if (mount == nullptr) continue;
+    readings.push_back(
+        (mount->pose_in_base * Pose2(0.0, *sample.lateral_offset_m, 0.0)).translation());
+  }
+  if (readings.empty()) return false;
+  Amcl& amcl = samcl_.amcl();
+  if (absl::Status s = amcl.Predict(odom); !s.ok()) return s;
+  ParticleSet& p = amcl.mutable_particles();
+  const auto nearest_stripe_m = [&](const Eigen::Vector2d& point) {
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t k = 0; k < stripes_.size(); ++k) {
+      const double along =
+          std::clamp((point - stripes_[k].point).dot(stripes_[k].direction), 0.0,
+                     stripe_lengths_m_[k]);
+      best = std::min(best, (stripes_[k].point + along * stripes_[k].direction - point).norm());
+    }
+    return best;
+  };
+  std::vector<double> log_weight(p.size(), 0.0);
+  double closest = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < p.size(); ++i) {
+    const Pose2 particle(p.x_m[i], p.y_m[i], p.yaw_rad[i]);
+    for (const Eigen::Vector2d& reading : readings) {
+      const double d = std::min(nearest_stripe_m(particle.TransformPoint(reading)),
+                                params_.stripe_association_m);
+      closest = std::min(closest, d);
+      const double z = d / params_.stripe_sigma_m;
+      log_weight[i] -= 0.5 * z * z;
+    }
+  }
+  if (closest >= params_.stripe_association_m) return false;  // a stripe the map lacks
+  const double max_log = *std::max_element(log_weight.begin(), log_weight.end());
+  double total = 0.0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    p.weight[i] *= std::exp(log_weight[i] - max_log);
+    total += p.weight[i];
+  }
+  if (!(total > 0.0 && std::isfinite(total))) {
+    p.SetUniformWeights();
+  } else {
+    for (double& w : p.weight) w /= total;
+  }
+  if (EffectiveSampleSize(p.weight) < amcl.params().resample_neff_ratio * p.size()) {
+    amcl.Resample();
+  }
+  amcl.RecomputeEstimate(frame.stamp_ns);
+  distance_at_stripe_update_m_ = estimate_.distance_travelled_m;
+  return true;
 }
 
 absl::StatusOr<RangeObservation> SamclLocalizer::Observe(const SensorFrame& frame) const {
@@ -80,7 +174,17 @@ absl::StatusOr<RangeObservation> SamclLocalizer::Observe(const SensorFrame& fram
     }
     return all;
   }
-  return FakeLaserFromUltrasonics(frame.ultrasonic, model_, params_.ultrasonic_range_max_m);
+  absl::StatusOr<RangeObservation> fake =
+      FakeLaserFromUltrasonics(frame.ultrasonic, model_, params_.ultrasonic_range_max_m);
+  if (!fake.ok() || params_.ultrasonic_no_echo_is_evidence) return fake;
+  // An ultrasonic is silent for many reasons besides free space (a surface met at more than
+  // 40 deg, a soft target, a dropout): as in the thesis (eq. 5.2, 5.4) a silent sensor says
+  // nothing.
+  RangeObservation echoes;
+  for (const RangeBeam& beam : fake->beams) {
+    if (!beam.no_echo) echoes.beams.push_back(beam);
+  }
+  return echoes;
 }
 
 absl::Status SamclLocalizer::Update(const SensorFrame& frame) {
@@ -109,7 +213,11 @@ absl::Status SamclLocalizer::Update(const SensorFrame& frame) {
     bool& last = inductive_last_[sample.name];
     const bool rising = sample.detected && !last;
     last = sample.detected;
-    if (!rising || !params_.use_markers) continue;
+    // Metal under a sensor that reads the followed stripe right there is that stripe, not a
+    // marker crossed.
+    const bool on_followed_stripe =
+        sample.lateral_offset_m && std::abs(*sample.lateral_offset_m) < kOnStripeM;
+    if (!rising || !params_.use_markers || on_followed_stripe) continue;
     const Pose2 before = samcl_.amcl().PoseInMap(odom);
     absl::StatusOr<CalibrationResult> result =
         samcl_.OnInductiveEdge(InductiveEdge{sample.name, frame.stamp_ns});
@@ -118,7 +226,10 @@ absl::Status SamclLocalizer::Update(const SensorFrame& frame) {
     const Pose2 after = samcl_.amcl().PoseInMap(odom);
     calibrations_.push_back(
         {result->marker_id, sample.name, frame.stamp_ns,
-         std::hypot(after.x_m() - before.x_m(), after.y_m() - before.y_m())});
+         std::hypot(after.x_m() - before.x_m(), after.y_m() - before.y_m()), after});
+  }
+  if (absl::StatusOr<bool> weighed = WeighByStripes(frame, odom); !weighed.ok()) {
+    return weighed.status();
   }
   const Amcl& amcl = samcl_.amcl();
   estimate_.pose_in_map = amcl.PoseInMap(odom);

@@ -111,7 +111,7 @@ struct RouteRun {
   RouteRun(const RobotModel& model, RobotHal* hal, std::optional<Route> route,
            const Pose2& start = Pose2(), AgentParams params = {})
       : localizer(Odometry(model, start)),
-        agent(RouteContext{model, std::nullopt}, AgentPorts{hal, &localizer, &sink, nullptr},
+        agent(RouteContext{model, std::nullopt, nullptr}, AgentPorts{hal, &localizer, &sink, nullptr},
               std::move(route), params) {}
   RecordingSink sink;
   localization::DeadReckoningLocalizer localizer;
@@ -204,7 +204,7 @@ TEST(AgentTest, UnsupportedActionFailsTheRouteBeforeTheRobotMoves) {
   const RobotModel model = LelyVectorModel();
   KinematicHal hal(model, 10000);
   Route route = FeedRoute();
-  route.actions[1] = {DockAction{DockTarget::kCharger, "pole"}, {}};
+  route.actions[1] = {DockAction{DockTarget::kTrolley, "t1"}, {}};
   RouteRun run(model, &hal, route);
   const RecordingSink& sink = run.sink;
   absl::StatusOr<AgentResult> result = run.agent.Run();

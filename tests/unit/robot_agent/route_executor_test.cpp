@@ -22,7 +22,7 @@ constexpr int kMaxSteps = 20000;
 RouteAction Act(ActionParams params, EndCondition end = {}) { return RouteAction{params, end}; }
 
 RouteContext Lely(std::optional<MarkerSet> markers = std::nullopt) {
-  return RouteContext{LelyVectorModel(), std::move(markers)};
+  return RouteContext{LelyVectorModel(), std::move(markers), nullptr};
 }
 
 Route MakeRoute(std::vector<RouteAction> actions) {
@@ -127,7 +127,7 @@ TEST(RouteExecutorTest, RouteFromAnOffsetStartIsRelative) {
 // action: nothing is half-executed.
 TEST(RouteExecutorTest, UnsupportedActionRefusesTheWholeRouteBeforeMoving) {
   RouteExecutor executor(MakeRoute({Act(StraightAction{0.5, 0.25}),
-                                    Act(DockAction{DockTarget::kCharger, "pole"}),
+                                    Act(DockAction{DockTarget::kTrolley, "t1"}),
                                     Act(StraightAction{1.0, 0.25})}),
                          Lely());
   EXPECT_EQ(executor.state(), ExecutionState::kFailed);
@@ -142,7 +142,7 @@ TEST(RouteExecutorTest, UnsupportedActionRefusesTheWholeRouteBeforeMoving) {
 
 TEST(RouteExecutorTest, FenceLegOnARobotWithoutUltrasonicsIsRefused) {
   RouteExecutor executor(MakeRoute({Act(FenceNavigationAction{Side::kLeft, 0.5, 10.0, 0.25})}),
-                         RouteContext{MecanumPlatformModel(), std::nullopt});
+                         RouteContext{MecanumPlatformModel(), std::nullopt, nullptr});
   EXPECT_EQ(executor.state(), ExecutionState::kFailed);
   EXPECT_THAT(std::string(executor.failure().message()), HasSubstr("actions[0]"));
   EXPECT_THAT(std::string(executor.failure().message()), HasSubstr("ultrasonic"));

@@ -265,3 +265,69 @@ TEST(SimulationTest, TwoRobotsReportSeparation) {
 
 }  // namespace
 }  // namespace fleetnav::sim
+
+namespace fleetnav::sim {
+namespace {
+
+// The inductive pair over a 5 cm stripe: each sensor reads where the stripe crosses its lateral
+// line (the thesis's sensor), so a robot centred on the stripe still sees it; a marker crossed
+// at right angles gives `detected` but no lateral reading.
+TEST(SimulationTest, InductiveSensorsReadTheStripesLateralOffset) {
+  WorldDescription world = EmptyWorld();
+  world.stripes.push_back({1, {Eigen::Vector2d(-5.0, 0.0), Eigen::Vector2d(5.0, 0.0)}, 0.05, false});
+  SimulationParams params;
+  params.exteroceptive.inductive_noise_m = 0.0;
+  absl::StatusOr<std::unique_ptr<Simulation>> sim = Simulation::Create(world, params);
+  ASSERT_TRUE(sim.ok()) << sim.status();
+  ASSERT_TRUE((*sim)->AddRobot("lely1", "lely-vector", Pose2(0.0, 0.08, 0.0)).ok());
+  absl::StatusOr<SensorFrame> frame = (*sim)->Sense("lely1");
+  ASSERT_TRUE(frame.ok());
+  ASSERT_EQ(frame->inductive.size(), 2u);
+  for (const InductiveSample& s : frame->inductive) {
+    ASSERT_TRUE(s.lateral_offset_m.has_value()) << s.name;
+    // Sensors at y = 0.08 ± 0.05: the stripe is 0.13 m and 0.03 m to their right.
+    EXPECT_NEAR(*s.lateral_offset_m, s.name == "inductive_left" ? -0.13 : -0.03, 1e-9) << s.name;
+    EXPECT_FALSE(s.detected) << s.name;  // neither sensor point is over the 5 cm of metal
+  }
+  // 0.3 m to the side: out of the sensors' ±0.15 m range.
+  ASSERT_TRUE((*sim)->AddRobot("lely2", "lely-vector", Pose2(0.0, 3.3, 0.0)).ok());
+  frame = (*sim)->Sense("lely2");
+  ASSERT_TRUE(frame.ok());
+  for (const InductiveSample& s : frame->inductive) EXPECT_FALSE(s.lateral_offset_m) << s.name;
+}
+
+TEST(SimulationTest, BatteryDrainsWithDistanceAndChargesOnTheCharger) {
+  WorldDescription world = EmptyWorld();
+  world.cylinders.push_back({"charging_pole", Eigen::Vector2d(3.0, 0.0), 0.15, 1.5});
+  SimulationParams params;
+  params.battery.initial_fraction = 0.5;
+  params.battery.drain_per_m = 0.01;
+  params.battery.drain_per_s = 0.0;
+  params.battery.charge_per_s = 0.01;
+  absl::StatusOr<std::unique_ptr<Simulation>> sim = Simulation::Create(world, params);
+  ASSERT_TRUE(sim.ok()) << sim.status();
+  ASSERT_TRUE((*sim)->AddRobot("lely1", "lely-vector", Pose2(0.0, 0.0, 0.0)).ok());
+  EXPECT_NEAR(*(*sim)->Sense("lely1")->battery_fraction, 0.5, 1e-12);
+  ASSERT_TRUE((*sim)->Command("lely1", TwistCommand(0.1, 0.0)).ok());
+  double last = 0.5;
+  bool charged = false;
+  for (int i = 0; i < 1500; ++i) {
+    (*sim)->Advance();
+    absl::StatusOr<SensorFrame> frame = (*sim)->Sense("lely1");
+    ASSERT_TRUE(frame.ok());
+    if (frame->charger_contact) {
+      ASSERT_TRUE((*sim)->Command("lely1", TwistCommand(0.0, 0.0)).ok());
+      charged |= *frame->battery_fraction > last + 1e-9;
+    } else if (!charged) {
+      ASSERT_LE(*frame->battery_fraction, last + 1e-12) << "tick " << i;
+    }
+    last = *frame->battery_fraction;
+  }
+  // Driven ~0.2 m before the contact closed (front at 1.395 m, pole face at 2.85 m): 0.2 % gone,
+  // then charged at 1 %/s for the rest of the 30 s.
+  EXPECT_TRUE(charged);
+  EXPECT_GT(last, 0.6);
+}
+
+}  // namespace
+}  // namespace fleetnav::sim

@@ -48,8 +48,10 @@ TEST(WorldDescriptionTest, LoadsTheShippedBarn) {
   ASSERT_EQ(barn->cylinders.size(), 5u);
   EXPECT_EQ(barn->cylinders[0].kind, "charging_pole");
   EXPECT_NEAR(barn->cylinders[0].radius_m, 0.15, 1e-12);
-  ASSERT_EQ(barn->stripes.size(), 8u);
-  for (size_t i = 0; i < 8; ++i) EXPECT_EQ(barn->stripes[i].id, static_cast<int>(i) + 1);
+  ASSERT_EQ(barn->stripes.size(), 9u);
+  for (size_t i = 0; i < 9; ++i) EXPECT_EQ(barn->stripes[i].id, static_cast<int>(i) + 1);
+  for (size_t i = 0; i < 8; ++i) EXPECT_FALSE(barn->stripes[i].charger);
+  EXPECT_TRUE(barn->stripes[8].charger);
   EXPECT_EQ(barn->stripes[0].id, 1);
   EXPECT_NEAR(barn->stripes[0].width_m, 0.05, 1e-12);  // the default
   ASSERT_EQ(barn->markers.size(), 3u);

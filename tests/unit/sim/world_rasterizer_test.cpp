@@ -124,10 +124,40 @@ TEST(WorldRasterizerTest, MarkerSetOfCarriesTheMarkers) {
   ASSERT_TRUE(barn.ok()) << barn.status();
   const MarkerSet set = MarkerSetOf(*barn, "barn-map");
   EXPECT_EQ(set.map_id, "barn-map");
-  ASSERT_EQ(set.markers.size(), 3u);
+  // The three calibration markers, then one piece per straight part of each stripe: stripes
+  // 1-6 and the charger stripe 9 are straight, the arcs 7 and 8 have six pieces each.
+  ASSERT_EQ(set.markers.size(), 3u + 7u + 12u);
   ASSERT_NE(set.Find(2), nullptr);
   EXPECT_EQ(set.Find(2)->position_m, Eigen::Vector2d(5.0, 4.7));
+  EXPECT_EQ(set.Find(2)->kind, MarkerKind::kCalibration);
+  int arc_pieces = 0, charger_pieces = 0;
+  for (const StripeMarker& m : set.markers) {
+    if (m.kind == MarkerKind::kCalibration) {
+      EXPECT_EQ(m.stripe_id, 0);
+      continue;
+    }
+    EXPECT_GT(m.id, 3);
+    if (m.stripe_id == 7) ++arc_pieces;
+    if (m.kind == MarkerKind::kChargerStripe) {
+      ++charger_pieces;
+      EXPECT_EQ(m.stripe_id, 9);
+      EXPECT_NEAR(m.length_m, 4.6, 1e-9);
+      EXPECT_NEAR(m.position_m.x(), -8.3, 1e-9);
+    }
+    if (m.stripe_id == 1) {
+      EXPECT_EQ(m.kind, MarkerKind::kFollowStripe);
+      EXPECT_NEAR(m.length_m, 20.0, 1e-9);
+      EXPECT_NEAR(m.yaw_rad, 0.0, 1e-9);
+    }
+  }
+  EXPECT_EQ(arc_pieces, 6);
+  EXPECT_EQ(charger_pieces, 1);
   EXPECT_TRUE(set.Validate().ok()) << set.Validate();
+  // The pieces survive the marker YAML.
+  absl::StatusOr<MarkerSet> parsed = ParseMarkerSetYaml(MarkerSetToYaml(set));
+  ASSERT_TRUE(parsed.ok()) << parsed.status();
+  ASSERT_EQ(parsed->markers.size(), set.markers.size());
+  EXPECT_EQ(parsed->markers.back().stripe_id, 9);
 }
 
 }  // namespace

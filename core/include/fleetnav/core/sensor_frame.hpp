@@ -27,9 +27,14 @@ struct RangeReading {
   bool echo = false;
 };
 
+/// One inductive stripe sensor (Lely thesis §3.3, Table 3.6): `detected` when the sensor's
+/// point is over metal (a stripe or a marker crossed); `lateral_offset_m`, when a stripe runs
+/// under the sensor's lateral measuring line within its range, is where it crosses that line
+/// (sensor frame, positive to the left) — the analog reading stripe following steers on.
 struct InductiveSample {
   std::string name;
   bool detected = false;
+  std::optional<double> lateral_offset_m;
 };
 
 struct LaserScanSample {
@@ -60,6 +65,8 @@ struct SensorFrame {
   std::vector<LaserScanSample> lasers;
   bool charger_contact = false;
   bool bumper = false;
+  /// State of charge in [0, 1], when the robot reports one.
+  std::optional<double> battery_fraction;
   std::optional<GpsFix> gps;
 
   const EncoderReading* FindEncoder(std::string_view name) const {

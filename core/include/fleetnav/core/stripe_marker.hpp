@@ -34,6 +34,9 @@ struct StripeMarker {
   double yaw_rad = 0.0;  ///< in [-pi/2, pi/2)
   double length_m = 0.5;
   MarkerKind kind = MarkerKind::kCalibration;
+  /// Follow and charger stripes: the stripe this straight piece belongs to (routes name
+  /// stripes by it; a curved stripe is several pieces). 0: none.
+  int stripe_id = 0;
 
   /// The marker as a line (thesis eq. 5.7–5.9).
   Line2 AsLine() const;

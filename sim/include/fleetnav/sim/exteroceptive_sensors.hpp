@@ -50,6 +50,13 @@ struct ExteroceptiveParams {
   LaserParams ackermann_laser{180.0 * kDegToRad, 361, 0.05, 30.0, 0.01, 10.0};  ///< capstone
   GpsParams gps;
   double charger_reach_m = 0.05;  ///< contact when the contact point is this close to the pole
+  /// Inductive sensors measure where a stripe crosses their lateral line within ± this range
+  /// (the thesis's sensor reads the stripe's lateral position), with this noise.
+  double inductive_range_m = 0.15;
+  double inductive_noise_m = 0.003;
+  /// A stripe meeting the lateral line at less than this angle (a marker crossed at right
+  /// angles to the travel) gives no lateral reading.
+  double inductive_min_crossing_rad = 30.0 * kDegToRad;
   double bumper_margin_m = 0.02;  ///< the bumper fires this far out of the footprint
 };
 
@@ -62,6 +69,7 @@ struct SensingScene {
   struct Strip {
     Eigen::Vector2d a, b;
     double half_width_m;
+    bool follow = true;  ///< a stripe to follow (markers are only crossed)
   };
   std::vector<Strip> strips;
   std::vector<Shape2> charging_poles;

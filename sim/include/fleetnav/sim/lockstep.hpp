@@ -72,6 +72,8 @@ class Lockstep {
   /// an agent still owing an answer gets the frame of tick 0, and its answer to the frame from
   /// before the reset is ignored.
   void Reset(uint64_t seed);
+  /// Calls `observer` after every tick, on the loop's thread, between ticks (recording).
+  void SetTickObserver(std::function<void(const Simulation&)> observer);
   /// Runs `read` on the simulation between ticks.
   void Inspect(const std::function<void(const Simulation&)>& read) const;
   GroundTruthSnapshot GroundTruth() const;
@@ -95,6 +97,7 @@ class Lockstep {
 
   Simulation* simulation_;
   mutable absl::Mutex mutex_;
+  std::function<void(const Simulation&)> tick_observer_;
   LockstepParams params_ ABSL_GUARDED_BY(mutex_);
   std::map<std::string, Slot> slots_ ABSL_GUARDED_BY(mutex_);
   uint64_t requested_ticks_ ABSL_GUARDED_BY(mutex_) = 0;

@@ -20,6 +20,16 @@
 
 namespace fleetnav::sim {
 
+/// The robots' battery: drains with time and distance, charges while the charger contact is
+/// closed. Rates are fractions of a full charge.
+struct BatteryParams {
+  double initial_fraction = 1.0;
+  double drain_per_s = 1.0 / (12.0 * 3600.0);  ///< electronics: 12 h standing
+  double drain_per_m = 1.0 / 6000.0;           ///< driving: 6 km on a charge
+  double charge_per_s = 1.0 / 3600.0;          ///< one hour from empty to full
+  absl::Status Validate() const;
+};
+
 struct SimulationParams {
   double physics_step_s = 0.002;   ///< ≤ 5 ms keeps the heavy robot's yaw tracking ≥ 95 %
   double control_period_s = 0.02;  ///< one lockstep tick (50 Hz)
@@ -27,6 +37,7 @@ struct SimulationParams {
   ProprioceptiveParams sensors;
   ExteroceptiveParams exteroceptive;
   CasterFlipParams caster_flip;
+  BatteryParams battery;
   /// Checks positive steps and that the control period is a whole number of physics steps.
   absl::Status Validate() const;
 };
@@ -123,6 +134,8 @@ class Simulation {
     DriveCommand drive = Twist2{};
     Eigen::Vector2d world_velocity = Eigen::Vector2d::Zero();
     Eigen::Vector2d accel_body = Eigen::Vector2d::Zero();
+    double battery_fraction = 1.0;
+    bool charger_contact = false;  ///< as last sensed
   };
   struct ActiveFault {
     FaultSpec spec;

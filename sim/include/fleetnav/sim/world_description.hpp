@@ -33,6 +33,7 @@ struct FloorStripe {
   int id = 0;
   std::vector<Eigen::Vector2d> points_m;
   double width_m = 0.05;
+  bool charger = false;  ///< `kind: charger`: the stripe that leads onto the charger
 };
 
 /// A shopping trolley (KUKA thesis ch. 15): a basket above laser height on four legs; the

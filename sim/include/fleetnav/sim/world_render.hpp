@@ -30,7 +30,8 @@ absl::Status RenderWorld(const WorldDescription& world,
                          const std::vector<TrajectoryTrace>& trajectories, const std::string& path,
                          RenderParams params = {});
 
-/// Reads trajectories from CSV lines "robot_id,truth|estimate,x,y" (a header line starting with
+/// Reads trajectories from CSV lines "robot_id,truth|estimate,x,y[,t_s]" (fleetnav-sim
+/// --record-truth and fleetnav-agent --record write them; a header line starting with
 /// "robot_id" and blank lines are skipped); InvalidArgument naming the line otherwise.
 absl::StatusOr<std::vector<TrajectoryTrace>> LoadTrajectoriesCsv(const std::string& path);
 

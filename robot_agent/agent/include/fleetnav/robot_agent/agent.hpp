@@ -95,6 +95,7 @@ class Agent {
   NavigationMode reported_mode_ = NavigationMode::kIdle;
   bool paused_ = false;
   bool end_reported_ = false;
+  double battery_fraction_ = 1.0;  ///< as the robot last reported it
   Twist2 last_command_;
 };
 

@@ -1,13 +1,11 @@
 #pragma once
 
-#include <Eigen/Core>
-#include <deque>
-#include <optional>
 #include <string>
 
 #include "absl/status/status.h"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/core/route.hpp"
+#include "fleetnav/robot_agent/line_memory.hpp"
 #include "fleetnav/robot_agent/motion_controller.hpp"
 #include "fleetnav/robot_agent/motion_controllers.hpp"
 
@@ -44,17 +42,8 @@ class FenceFollowingController : public MotionController {
   ControlOutput Step(const ControlInput& input) override;
 
  private:
-  struct FencePoint {
-    Eigen::Vector2d point_in_map;
-    double travelled_m = 0.0;
-  };
-  struct FenceLine {
-    Eigen::Vector2d point = Eigen::Vector2d::Zero();
-    Eigen::Vector2d direction = Eigen::Vector2d::UnitX();
-  };
-  /// The signed distance of the sensor point from the fence line, towards the fence side.
+  /// The distance of the sensor point from the fence line, towards the fence side.
   double DistanceToLine(const Pose2& sensor_in_map) const;
-  void FitLine(const Eigen::Vector2d& heading);
 
   FenceNavigationAction action_;
   SensorMount ultrasonic_;
@@ -68,8 +57,7 @@ class FenceFollowingController : public MotionController {
   bool map_based_ = false;
   int missing_ticks_ = 0;
   int present_ticks_ = 0;
-  std::deque<FencePoint> points_;
-  FenceLine line_;
+  LineMemory line_;
 };
 
 }  // namespace fleetnav::agent

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <optional>
 #include <vector>
 
@@ -9,7 +10,9 @@
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
+#include "fleetnav/robot_agent/charger_docking_controller.hpp"
 #include "fleetnav/robot_agent/fence_following_controller.hpp"
+#include "fleetnav/robot_agent/free_navigation_controller.hpp"
 #include "fleetnav/robot_agent/motion_controller.hpp"
 #include "fleetnav/robot_agent/motion_controllers.hpp"
 
@@ -20,14 +23,19 @@ struct ModeParams {
   MotionProfile profile;
   HeadingPidGains heading;
   FenceFollowingParams fence;
+  StripeFollowingParams stripe;
+  ChargerDockingParams docking;
+  FreeNavigationParams free_navigation;
   absl::Status Validate() const;
 };
 
 /// What the robot brings to a route: its model and, when it has them, the marker set of the
-/// route's map (needed by marker end conditions).
+/// route's map (marker end conditions, the stripes' geometry) and the map itself (free
+/// navigation).
 struct RouteContext {
   RobotModel model;
   std::optional<MarkerSet> markers;
+  std::shared_ptr<const OccupancyGrid> map;
 };
 
 /// The action types this agent version executes, as advertised to fleetnavd.
@@ -36,7 +44,8 @@ std::vector<std::string> SupportedActionTypes();
 /// Checks a whole route before the robot moves: every action type and end condition is
 /// executable here, its sensors are fitted, and every marker it ends on is in the marker set.
 /// FailedPrecondition naming the action's index and what is missing.
-absl::Status CheckRoute(const Route& route, const RouteContext& context);
+absl::Status CheckRoute(const Route& route, const RouteContext& context,
+                        const ModeParams& params = {});
 
 /// The controller of one action (the mode of Fig. 6.12), or FailedPrecondition naming the index.
 absl::StatusOr<std::unique_ptr<MotionController>> MakeController(const RouteAction& action,

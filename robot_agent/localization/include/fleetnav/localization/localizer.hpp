@@ -33,6 +33,7 @@ struct MarkerCalibration {
   std::string sensor_name;
   int64_t stamp_ns = 0;
   double correction_m = 0.0;  ///< how far the estimate moved
+  Pose2 pose_in_map;          ///< the estimate after the correction
 };
 
 /// The robot's localization as the agent's control loop sees it: one Update per control tick

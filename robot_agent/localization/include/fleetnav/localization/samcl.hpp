@@ -25,6 +25,9 @@ struct SamclParams {
   /// h of Algorithm 4: a marker is associated when the estimated sensor point is within this
   /// distance of the marker's position.
   double association_radius_m = 1.0;
+  /// A marker is associated only when the robot crosses it at least this steeply (markers lie
+  /// across the travel; a stripe crossed near one is not the marker).
+  double min_crossing_angle_rad = 0.5;
   /// Soft mode: standard deviation of the sensor point's distance to the marker line.
   double soft_sigma_m = 0.02;
   /// Odometry history kept to interpolate the pose at a detection edge.

@@ -25,6 +25,8 @@ struct SamclLocalizerParams {
   OdometryFrontEndParams odometry;
   /// Range reported by an ultrasonic without echo (the fake laser's range_max).
   double ultrasonic_range_max_m = 2.5;
+  /// false (default): an ultrasonic without echo is left out of the update (thesis eq. 5.2).
+  bool ultrasonic_no_echo_is_evidence = false;
   /// Laser beams used per update (evenly sub-sampled; 0: all).
   int laser_max_beams = 60;
   /// Spread of the particles around the start pose: a real robot's start is known to a few
@@ -32,6 +34,13 @@ struct SamclLocalizerParams {
   Eigen::Vector3d start_stddev = Eigen::Vector3d(0.05, 0.05, 0.035);
   /// false: plain AMCL (inductive edges ignored), the baseline of the thesis's Experiment 2.
   bool use_markers = true;
+  /// Stripe measurement: while an inductive sensor reads a follow or charger stripe of the
+  /// marker set, particles are weighted by how far their view of the reading lies from the
+  /// stripe (σ below), every stripe_update_distance_m of travel. 0 disables.
+  double stripe_sigma_m = 0.02;
+  double stripe_update_distance_m = 0.05;
+  /// Readings whose nearest stripe is further than this from every particle are not used.
+  double stripe_association_m = 0.3;
   absl::Status Validate() const;
 };
 
@@ -54,8 +63,11 @@ class SamclLocalizer : public Localizer {
 
  private:
   SamclLocalizer(const RobotModel& model, OdometryFrontEnd odometry, Samcl samcl,
-                 const Pose2& start_in_map, const SamclLocalizerParams& params);
+                 std::vector<Line2> stripe_pieces_start_end, const Pose2& start_in_map,
+                 const SamclLocalizerParams& params);
   absl::StatusOr<RangeObservation> Observe(const SensorFrame& frame) const;
+  /// The stripe measurement update (see stripe_sigma_m); returns whether it was applied.
+  absl::StatusOr<bool> WeighByStripes(const SensorFrame& frame, const Pose2& odom);
 
   RobotModel model_;
   OdometryFrontEnd odometry_;
@@ -64,6 +76,10 @@ class SamclLocalizer : public Localizer {
   SamclLocalizerParams params_;
   bool started_ = false;
   std::map<std::string, bool> inductive_last_;
+  /// Follow and charger stripe pieces as segments: point = one end, direction·length = the other.
+  std::vector<Line2> stripes_;
+  std::vector<double> stripe_lengths_m_;
+  double distance_at_stripe_update_m_ = -1.0;
   std::vector<MarkerCalibration> calibrations_;
   LocalizerEstimate estimate_;
 };

@@ -2,6 +2,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "absl/status/statusor.h"
 #include "fleetnav/core/robot_model.hpp"
@@ -18,6 +19,11 @@ struct Perception {
   bool inductive_left = false;
   bool inductive_right = false;
   bool inductive_any() const { return inductive_left || inductive_right; }
+  /// Where the followed stripe runs under the inductive sensors, in base_link's y (positive
+  /// left), averaged over the sensors that read it; nullopt when none does.
+  std::optional<double> stripe_offset_m;
+  /// x in base_link of the inductive sensors' lateral line (0 when the robot has none).
+  double stripe_sensor_x_m = 0.0;
   bool charger_contact = false;
   bool bumper = false;
   int64_t stamp_ns = 0;
@@ -29,11 +35,12 @@ struct Perception {
 /// Readings at or beyond `ultrasonic_range_max_m` count as no echo. Stateless.
 class PerceptionBuilder {
  public:
-  explicit PerceptionBuilder(double ultrasonic_range_max_m = 2.5)
-      : ultrasonic_range_max_m_(ultrasonic_range_max_m) {}
+  explicit PerceptionBuilder(RobotModel model, double ultrasonic_range_max_m = 2.5)
+      : model_(std::move(model)), ultrasonic_range_max_m_(ultrasonic_range_max_m) {}
   Perception Build(const SensorFrame& frame) const;
 
  private:
+  RobotModel model_;
   double ultrasonic_range_max_m_;
 };
 

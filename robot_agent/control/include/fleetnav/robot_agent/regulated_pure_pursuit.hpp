@@ -1,0 +1,63 @@
+#pragma once
+
+#include <vector>
+
+#include "absl/status/status.h"
+#include "fleetnav/core/pose2.hpp"
+#include "fleetnav/core/robot_model.hpp"
+#include "fleetnav/core/robot_state.hpp"
+
+namespace fleetnav::agent {
+
+struct RegulatedPurePursuitParams {
+  double desired_speed_mps = 0.3;
+  /// Lookahead = speed × lookahead_time_s, clamped to [min, max] (adaptive pure pursuit).
+  double lookahead_time_s = 1.5;
+  double min_lookahead_m = 0.5;
+  double max_lookahead_m = 1.5;
+  /// Curvature regulation: below this turning radius the speed scales with radius / it.
+  double regulated_min_radius_m = 1.0;
+  double min_regulated_speed_mps = 0.05;
+  /// Approach: within this distance of the goal the speed scales with the distance left.
+  double approach_distance_m = 0.8;
+  /// Rotate in place (v = 0) while the lookahead point is more than this off the heading.
+  double rotate_to_heading_rad = 0.6;
+  double heading_gain_radps_per_rad = 1.0;
+  /// The goal is reached within these tolerances.
+  double goal_tolerance_m = 0.1;
+  double goal_tolerance_rad = 0.03;
+  absl::Status Validate() const;
+};
+
+/// Regulated pure pursuit (Macenski, Singh, Martín, Ginés, "Regulated Pure Pursuit for Robot
+/// Path Tracking", Autonomous Robots 2023) for robots that turn in place and never reverse:
+/// adaptive lookahead, the speed regulated down on tight curvature and on the approach to the
+/// goal, rotation in place when the path turns away from the heading, and a final rotation to
+/// the goal's yaw. Respects the model's speed, yaw-rate and acceleration limits. Not
+/// thread-safe.
+class RegulatedPurePursuit {
+ public:
+  RegulatedPurePursuit(RegulatedPurePursuitParams params, MotionLimits limits);
+
+  /// A path in the map frame ending at the goal pose (at least one pose).
+  void SetPath(std::vector<Pose2> path);
+  Twist2 Step(const Pose2& pose_in_map, double dt_s);
+  bool done() const { return done_; }
+  /// Distance from the robot's closest path point to the goal along the path.
+  double remaining_m() const { return remaining_m_; }
+  /// Distance from the robot to the closest path point (for replanning).
+  double cross_track_m() const { return cross_track_m_; }
+
+ private:
+  RegulatedPurePursuitParams params_;
+  MotionLimits limits_;
+  std::vector<Pose2> path_;
+  std::vector<double> to_goal_m_;  ///< along-path distance from each pose to the goal
+  size_t closest_ = 0;
+  double last_speed_mps_ = 0.0;
+  double remaining_m_ = 0.0;
+  double cross_track_m_ = 0.0;
+  bool done_ = false;
+};
+
+}  // namespace fleetnav::agent

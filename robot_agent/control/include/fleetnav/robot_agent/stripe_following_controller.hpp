@@ -1,0 +1,79 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "fleetnav/core/route.hpp"
+#include "fleetnav/core/stripe_marker.hpp"
+#include "fleetnav/robot_agent/line_memory.hpp"
+#include "fleetnav/robot_agent/motion_controller.hpp"
+#include "fleetnav/robot_agent/motion_controllers.hpp"
+
+namespace fleetnav::agent {
+
+struct StripeFollowingParams {
+  /// Yaw rate per metre of lateral stripe offset at the inductive sensors, a look-ahead of
+  /// 0.485 m on the Lely: e'' + L·k·e' + v·k·e = 0 has ζ ≈ 0.6 at 0.25 m/s for k = 1.5.
+  double gain_radps_per_m = 1.5;
+  double max_yaw_rate_radps = 0.3;
+  /// Ticks without a reading before map-based fallback, and with readings before reactive again.
+  int lost_after_ticks = 3;
+  int found_after_ticks = 5;
+  /// Travel over which stripe points are kept for the fitted stripe line.
+  double line_memory_m = 3.0;
+  /// The stripe counts as ended (not interrupted) when its reading is lost within this distance
+  /// of an end of the stripe in the marker set.
+  double end_tolerance_m = 0.3;
+  /// Without the stripe in the marker set, a loss this long is taken as its end.
+  double unknown_end_after_m = 0.3;
+  absl::Status Validate() const;
+};
+
+/// Stripe navigation (Lely thesis §6.6.4, Fig. 6.14): a P law on the lateral offset that the
+/// inductive sensors read of the stripe under them. Where the reading is lost, the pieces of the
+/// stripe in the marker set (kind follow_stripe / charger_stripe, joined by stripe_id) tell an
+/// end from an interruption: near one of the stripe's ends the stripe has ended (the action is
+/// done when it ends on stripe_end); elsewhere the robot goes on map-based, on the estimated
+/// pose, along the known stripe piece nearest to it (or, without a marker set, along the line
+/// fitted through the stripe points it measured), until the stripe answers again. A distance of
+/// 0 runs until the end condition. Not thread-safe.
+class StripeFollowingController : public MotionController {
+ public:
+  /// `stripe_pieces`: the marker set's pieces of this stripe (may be empty).
+  StripeFollowingController(const StripeNavigationAction& action, EndConditionKind end,
+                            std::vector<StripeMarker> stripe_pieces, MotionProfile profile,
+                            StripeFollowingParams params = {},
+                            NavigationMode reactive_mode = NavigationMode::kStripeReactive,
+                            NavigationMode map_based_mode = NavigationMode::kStripeMapBased);
+  ControlOutput Step(const ControlInput& input) override;
+
+ private:
+  /// Distance from `point` to the nearest end of the stripe (infinity when unknown).
+  double DistanceToStripeEnd(const Eigen::Vector2d& point) const;
+  /// The line map-based fallback steers on near `point`.
+  void FallbackLine(const Eigen::Vector2d& point, Eigen::Vector2d* on_line,
+                    Eigen::Vector2d* direction) const;
+
+  StripeNavigationAction action_;
+  EndConditionKind end_;
+  std::vector<StripeMarker> pieces_;
+  std::vector<Eigen::Vector2d> ends_;
+  MotionProfile profile_;
+  StripeFollowingParams params_;
+  NavigationMode reactive_mode_;
+  NavigationMode map_based_mode_;
+  bool started_ = false;
+  bool seen_ = false;
+  Pose2 last_odom_;
+  double travelled_m_ = 0.0;
+  double lost_since_m_ = 0.0;
+  double last_speed_mps_ = 0.0;
+  bool map_based_ = false;
+  int missing_ticks_ = 0;
+  int present_ticks_ = 0;
+  LineMemory line_;
+};
+
+}  // namespace fleetnav::agent
