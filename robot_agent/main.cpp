@@ -16,6 +16,7 @@
 #include "fleetnav/localization/dead_reckoning_localizer.hpp"
 #include "fleetnav/localization/samcl_localizer.hpp"
 #include "fleetnav/robot_agent/agent.hpp"
+#include "fleetnav/robot_agent/fleet_site_source.hpp"
 #include "fleetnav/robot_agent/server_link.hpp"
 #include "fleetnav/robot_agent/sim_hal.hpp"
 #include "fleetnav/robot_agent/telemetry_recorder.hpp"
@@ -112,17 +113,17 @@ int main(int argc, char** argv) {
     if (!markers.ok()) return Fail(absl::StrCat(markers_path, ": ", markers.status().ToString()));
     context.markers = *markers;
   }
+  fleetnav::localization::SamclLocalizerParams lp;
+  lp.amcl.max_particles = particles;
+  lp.amcl.min_particles = std::min(lp.amcl.min_particles, particles);
+  lp.amcl.seed = seed;
+  lp.use_markers = !ignore_markers;
+  lp.ultrasonic_range_max_m = params.ultrasonic_range_max_m;
   std::unique_ptr<fleetnav::localization::Localizer> localizer;
   if (!map_path.empty()) {
     absl::StatusOr<fleetnav::OccupancyGrid> map = fleetnav::LoadMapServer(map_path);
     if (!map.ok()) return Fail(absl::StrCat(map_path, ": ", map.status().ToString()));
     context.map = std::make_shared<const fleetnav::OccupancyGrid>(*map);
-    fleetnav::localization::SamclLocalizerParams lp;
-    lp.amcl.max_particles = particles;
-    lp.amcl.min_particles = std::min(lp.amcl.min_particles, particles);
-    lp.amcl.seed = seed;
-    lp.use_markers = !ignore_markers;
-    lp.ultrasonic_range_max_m = params.ultrasonic_range_max_m;
     auto samcl = fleetnav::localization::SamclLocalizer::Create(
         *model, *map, context.markers.value_or(fleetnav::MarkerSet{}), start, lp);
     if (!samcl.ok()) return Fail(absl::StrCat("localization: ", samcl.status().ToString()));
@@ -150,8 +151,8 @@ int main(int argc, char** argv) {
   // What this agent can execute: a job needs every one of its route's action types here.
   fleetnav::RobotIdentity identity{robot_id, *model, fleetnav::agent::SupportedActionTypes(),
                                    "0.2.0"};
-  fleetnav::agent::ServerLink link(
-      grpc::CreateChannel(server_address, grpc::InsecureChannelCredentials()), identity);
+  auto server_channel = grpc::CreateChannel(server_address, grpc::InsecureChannelCredentials());
+  fleetnav::agent::ServerLink link(server_channel, identity);
   fleetnav::agent::SimHal hal(sim_channel, robot_id);
   std::ofstream record;
   std::optional<fleetnav::agent::TelemetryRecorder> recorder;
@@ -164,6 +165,20 @@ int main(int argc, char** argv) {
       recorder ? static_cast<fleetnav::agent::TelemetrySink*>(&*recorder) : &link;
   fleetnav::agent::AgentPorts ports{&hal, localizer.get(), telemetry,
                                     route.has_value() ? nullptr : &link};
+  // In job mode each job brings its map and marker set, at the versions its route was
+  // validated against: the agent localizes with SAMCL on them.
+  fleetnav::agent::FleetSiteSource sites(server_channel);
+  if (!route) {
+    ports.sites = &sites;
+    ports.make_localizer = [&model, lp](const fleetnav::agent::SiteData& site,
+                                        const fleetnav::Pose2& start)
+        -> absl::StatusOr<std::unique_ptr<fleetnav::localization::Localizer>> {
+      auto samcl = fleetnav::localization::SamclLocalizer::Create(
+          *model, *site.map, site.markers.value_or(fleetnav::MarkerSet{}), start, lp);
+      if (!samcl.ok()) return samcl.status();
+      return std::make_unique<fleetnav::localization::SamclLocalizer>(*std::move(samcl));
+    };
+  }
   fleetnav::agent::Agent agent(context, ports, route, params);
   spdlog::info("fleetnav-agent '{}' ({}) attached to {}, reporting to {}, localizing with {}",
                robot_id, kind, sim_address, server_address,
@@ -181,10 +196,10 @@ int main(int argc, char** argv) {
     }
   }
   for (const auto& c : result->calibrations) {
-    spdlog::info("calibrated on marker {} ({}) at t = {:.2f} s, moved {:.3f} m to ({:.3f}, {:.3f}, "
-                 "{:.1f} deg)",
-                 c.marker_id, c.sensor_name, c.stamp_ns * 1e-9, c.correction_m,
-                 c.pose_in_map.x_m(), c.pose_in_map.y_m(), fleetnav::RadToDeg(c.pose_in_map.yaw_rad()));
+    spdlog::info("{} marker {} ({}) at t = {:.3f} s, moved {:.3f} m to ({:.3f}, {:.3f}, {:.1f} deg)",
+                 c.applied ? "calibrated on" : "crossed (not used)", c.marker_id, c.sensor_name,
+                 c.stamp_ns * 1e-9, c.correction_m, c.pose_in_map.x_m(), c.pose_in_map.y_m(),
+                 fleetnav::RadToDeg(c.pose_in_map.yaw_rad()));
   }
   const fleetnav::Pose2& end = result->final_pose_in_map;
   const double sim_s = static_cast<double>(result->ticks) * 0.02;

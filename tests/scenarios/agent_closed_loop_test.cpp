@@ -258,5 +258,16 @@ TEST_F(ClosedLoop, InitialPoseIsRequired) {
   EXPECT_THAT(agent.Stderr() + agent.Stdout(), HasSubstr("--initial-pose"));
 }
 
+// A watch at 0 Hz would flood the terminal: refused before anything is asked of a server.
+TEST(FleetnavctlProcess, WatchRateMustBePositive) {
+  const std::string dir = ::testing::TempDir();
+  ChildProcess ctl({FLEETNAV_CTL_PATH, "--server", "127.0.0.1:1", "watch", "--rate-hz", "0"},
+                   dir + "/ctl.out", dir + "/ctl.err");
+  const std::optional<int> code = ctl.Wait(10.0);
+  ASSERT_TRUE(code.has_value());
+  EXPECT_NE(*code, 0);
+  EXPECT_THAT(ctl.Stderr() + ctl.Stdout(), HasSubstr("--rate-hz"));
+}
+
 }  // namespace
 }  // namespace fleetnav

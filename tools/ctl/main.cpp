@@ -85,7 +85,9 @@ int main(int argc, char** argv) {
   CLI::App* watch = app.add_subcommand("watch", "follow the fleet live");
   double rate_hz = 5.0, duration_s = 0.0;
   int count = 0;
-  watch->add_option("--rate-hz", rate_hz, "update rate")->capture_default_str();
+  watch->add_option("--rate-hz", rate_hz, "update rate in Hz, in (0, 100]")
+      ->check(CLI::PositiveNumber & CLI::Range(0.0, 100.0))
+      ->capture_default_str();
   watch->add_option("--count", count, "stop after this many updates (0 = never)");
   watch->add_option("--duration-s", duration_s, "stop after this long (0 = never)");
   CLI::App* sim = app.add_subcommand("sim", "simulator: ground truth, compare with the server");

@@ -90,14 +90,48 @@ void Agent::ServeJobs(const ExecutorOutput& output, AgentResult* result) {
   if (current_job_id_.empty()) {
     if (std::optional<JobAssignment> assignment = ports_.jobs->TakeAssignment()) {
       current_job_id_ = assignment->job.job_id;
-      StartRoute(std::move(assignment->route));
       ports_.jobs->SetCurrentJob(current_job_id_);
+      if (absl::Status site = PrepareSite(*assignment); !site.ok()) {
+        // Nothing moves: the job fails at once with the reason.
+        StartRoute(Route{});
+        executor_->Abort(site);
+        return;
+      }
+      StartRoute(std::move(assignment->route));
     }
   }
 }
 
+absl::Status Agent::PrepareSite(const JobAssignment& assignment) {
+  if (ports_.sites == nullptr || !ports_.make_localizer || assignment.job.map_id.empty()) {
+    return absl::OkStatus();
+  }
+  const std::string key = absl::StrCat(assignment.job.map_id, "@", assignment.map_version, "/",
+                                       assignment.marker_set_version);
+  if (key == site_key_) return absl::OkStatus();
+  absl::StatusOr<SiteData> site = ports_.sites->Load(
+      assignment.job.map_id, assignment.map_version, assignment.marker_set_version);
+  if (!site.ok()) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("map ", assignment.job.map_id, " v", assignment.map_version,
+                     " could not be loaded on the robot: ", site.status().message()));
+  }
+  absl::StatusOr<std::unique_ptr<localization::Localizer>> made =
+      ports_.make_localizer(*site, localizer().estimate().pose_in_map);
+  if (!made.ok()) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("cannot localize on map ", assignment.job.map_id, ": ",
+                     made.status().message()));
+  }
+  job_localizer_ = *std::move(made);
+  context_.map = site->map;
+  context_.markers = site->markers;
+  site_key_ = key;
+  return absl::OkStatus();
+}
+
 Telemetry Agent::MakeTelemetry(int64_t stamp_ns, const ExecutorOutput& output) const {
-  const localization::LocalizerEstimate& estimate = ports_.localizer->estimate();
+  const localization::LocalizerEstimate& estimate = localizer().estimate();
   Telemetry t;
   t.stamp_ns = stamp_ns;
   t.pose_in_odom = estimate.pose_in_odom;
@@ -131,11 +165,11 @@ absl::StatusOr<AgentResult> Agent::Run() {
     const double dt_s =
         last_stamp_ns < 0 ? frame->control_period_s : (frame->stamp_ns - last_stamp_ns) * 1e-9;
     last_stamp_ns = frame->stamp_ns;
-    RETURN_IF_ERROR(ports_.localizer->Update(*frame));
+    RETURN_IF_ERROR(localizer().Update(*frame));
     if (frame->battery_fraction) battery_fraction_ = *frame->battery_fraction;
-    const localization::LocalizerEstimate& estimate = ports_.localizer->estimate();
+    const localization::LocalizerEstimate& estimate = localizer().estimate();
     std::vector<int> detected_markers;
-    for (localization::MarkerCalibration& c : ports_.localizer->TakeCalibrations()) {
+    for (localization::MarkerCalibration& c : localizer().TakeCalibrations()) {
       detected_markers.push_back(c.marker_id);
       result.calibrations.push_back(std::move(c));
     }
@@ -223,7 +257,7 @@ absl::StatusOr<AgentResult> Agent::Run() {
   if (executor_ && !executor_->failure().ok()) {
     result.failure_reason = std::string(executor_->failure().message());
   }
-  result.final_pose_in_map = ports_.localizer->estimate().pose_in_map;
+  result.final_pose_in_map = localizer().estimate().pose_in_map;
   return result;
 }
 

@@ -22,7 +22,7 @@ Eigen::Vector2d PieceEnd(const StripeMarker& piece, double sign) {
 
 absl::Status StripeFollowingParams::Validate() const {
   for (double v : {gain_radps_per_m, max_yaw_rate_radps, line_memory_m, end_tolerance_m,
-                   unknown_end_after_m}) {
+                   unknown_end_after_m, max_interruption_m}) {
     if (!(std::isfinite(v) && v > 0.0)) {
       return absl::InvalidArgumentError("stripe following parameters: must be finite and > 0");
     }
@@ -145,6 +145,11 @@ ControlOutput StripeFollowingController::Step(const ControlInput& input) {
       out.failure = absl::FailedPreconditionError(absl::StrFormat(
           "stripe %d ended after %.2f m, before the action's %.2f m", action_.stripe_id,
           travelled_m_, action_.distance_m));
+      return out;
+    }
+    if (lost_since_m_ > params_.max_interruption_m) {
+      out.failure = absl::FailedPreconditionError(absl::StrFormat(
+          "stripe %d lost for %.1f m, away from its ends", action_.stripe_id, lost_since_m_));
       return out;
     }
     if (!map_based_) {

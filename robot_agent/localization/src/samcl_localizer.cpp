@@ -68,8 +68,12 @@ absl::StatusOr<SamclLocalizer> SamclLocalizer::Create(const RobotModel& model,
   absl::StatusOr<Amcl> amcl = Amcl::Create(params.amcl, map);
   if (!amcl.ok()) return amcl.status();
   std::vector<Line2> stripes;
+  std::vector<StripeMarker> calibration_markers;
   for (const StripeMarker& m : markers.markers) {
-    if (m.kind == MarkerKind::kCalibration) continue;
+    if (m.kind == MarkerKind::kCalibration) {
+      calibration_markers.push_back(m);
+      continue;
+    }
     const Eigen::Vector2d direction(std::cos(m.yaw_rad), std::sin(m.yaw_rad));
     stripes.push_back(Line2{m.position_m - 0.5 * m.length_m * direction, direction * m.length_m});
   }
@@ -77,15 +81,17 @@ absl::StatusOr<SamclLocalizer> SamclLocalizer::Create(const RobotModel& model,
                                               params.samcl);
   if (!samcl.ok()) return samcl.status();
   return SamclLocalizer(model, *std::move(odometry), *std::move(samcl), std::move(stripes),
-                        start_in_map, params);
+                        std::move(calibration_markers), start_in_map, params);
 }
 
 SamclLocalizer::SamclLocalizer(const RobotModel& model, OdometryFrontEnd odometry, Samcl samcl,
-                               std::vector<Line2> stripe_pieces, const Pose2& start_in_map,
-                               const SamclLocalizerParams& params)
+                               std::vector<Line2> stripe_pieces,
+                               std::vector<StripeMarker> calibration_markers,
+                               const Pose2& start_in_map, const SamclLocalizerParams& params)
     : model_(model),
       odometry_(std::move(odometry)),
       samcl_(std::move(samcl)),
+      markers_(std::move(calibration_markers)),
       start_in_map_(start_in_map),
       params_(params) {
   // Line2's direction is unit length: keep each piece's length beside it.
@@ -118,13 +124,20 @@ absl::StatusOr<bool> SamclLocalizer::WeighByStripes(const SensorFrame& frame, co
   Amcl& amcl = samcl_.amcl();
   if (absl::Status s = amcl.Predict(odom); !s.ok()) return s;
   ParticleSet& p = amcl.mutable_particles();
+  // Only the distance across a stripe is evidence: where along it the sensor is cannot be told
+  // from a stripe reading. Near a piece's ends a reading says nothing (a particle behind the
+  // stripe's start would be punished for being there, and the cloud would ratchet forward).
   const auto nearest_stripe_m = [&](const Eigen::Vector2d& point) {
     double best = std::numeric_limits<double>::infinity();
     for (size_t k = 0; k < stripes_.size(); ++k) {
-      const double along =
-          std::clamp((point - stripes_[k].point).dot(stripes_[k].direction), 0.0,
-                     stripe_lengths_m_[k]);
-      best = std::min(best, (stripes_[k].point + along * stripes_[k].direction - point).norm());
+      const Eigen::Vector2d d = point - stripes_[k].point;
+      const double along = d.dot(stripes_[k].direction);
+      if (along < params_.stripe_association_m ||
+          along > stripe_lengths_m_[k] - params_.stripe_association_m) {
+        continue;
+      }
+      const Eigen::Vector2d normal(-stripes_[k].direction.y(), stripes_[k].direction.x());
+      best = std::min(best, std::abs(d.dot(normal)));
     }
     return best;
   };
@@ -217,7 +230,22 @@ absl::Status SamclLocalizer::Update(const SensorFrame& frame) {
     // marker crossed.
     const bool on_followed_stripe =
         sample.lateral_offset_m && std::abs(*sample.lateral_offset_m) < kOnStripeM;
-    if (!rising || !params_.use_markers || on_followed_stripe) continue;
+    if (!rising || on_followed_stripe) continue;
+    if (!params_.use_markers) {
+      // Plain AMCL: note which marker the estimate says was crossed, and use nothing.
+      const SensorMount* mount = model_.FindSensor(sample.name);
+      const Pose2 estimate = samcl_.amcl().PoseInMap(odom);
+      if (mount == nullptr) continue;
+      const Eigen::Vector2d point = estimate.TransformPoint(mount->pose_in_base.translation());
+      for (const StripeMarker& m : markers_) {
+        if ((m.position_m - point).norm() < params_.samcl.association_radius_m) {
+          calibrations_.push_back(
+              {m.id, sample.name, frame.stamp_ns, 0.0, estimate, /*applied=*/false});
+          break;
+        }
+      }
+      continue;
+    }
     const Pose2 before = samcl_.amcl().PoseInMap(odom);
     absl::StatusOr<CalibrationResult> result =
         samcl_.OnInductiveEdge(InductiveEdge{sample.name, frame.stamp_ns});
@@ -226,7 +254,7 @@ absl::Status SamclLocalizer::Update(const SensorFrame& frame) {
     const Pose2 after = samcl_.amcl().PoseInMap(odom);
     calibrations_.push_back(
         {result->marker_id, sample.name, frame.stamp_ns,
-         std::hypot(after.x_m() - before.x_m(), after.y_m() - before.y_m()), after});
+         std::hypot(after.x_m() - before.x_m(), after.y_m() - before.y_m()), after, true});
   }
   if (absl::StatusOr<bool> weighed = WeighByStripes(frame, odom); !weighed.ok()) {
     return weighed.status();

@@ -6,7 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <optional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "fleetnav/core/angles.hpp"
@@ -268,6 +271,103 @@ TEST(AgentTest, StallWithoutBumperFailsAfterTwoSeconds) {
   // It drove ~1 m (4 s at 0.25 m/s), then stalled for 2 s: well under 10 s of ticks.
   EXPECT_LT(result->ticks * kPeriodS, 10.0);
   EXPECT_EQ(hal.commands().back().vx_mps, 0.0);
+}
+
+/// A JobChannel with one assignment and a record of the events.
+class OneJobChannel : public JobChannel {
+ public:
+  explicit OneJobChannel(JobAssignment assignment) : assignment_(std::move(assignment)) {}
+  std::optional<JobAssignment> TakeAssignment() override { return std::exchange(assignment_, {}); }
+  std::vector<JobCommand> TakeCommands() override { return {}; }
+  void ReportEvent(const JobEvent& event) override { events.push_back(event); }
+  void SetCurrentJob(const std::string&) override {}
+  std::vector<JobEvent> events;
+
+ private:
+  std::optional<JobAssignment> assignment_;
+};
+
+/// A SiteSource that has map "barn" v3 with marker set v2 only.
+class OneSite : public SiteSource {
+ public:
+  absl::StatusOr<SiteData> Load(const std::string& map_id, uint32_t map_version,
+                                uint32_t marker_set_version) override {
+    ++loads;
+    if (map_id != "barn" || map_version != 3) return absl::NotFoundError("no such map version");
+    SiteData site{map_id, map_version, marker_set_version,
+                  std::make_shared<const OccupancyGrid>(
+                      OccupancyGrid::Filled(10, 10, 1.0, Pose2(), OccupancyGrid::kFreeValue)
+                          .value()),
+                  MarkerSet{}};
+    return site;
+  }
+  int loads = 0;
+};
+
+JobAssignment FeedJob(uint32_t map_version) {
+  JobAssignment assignment;
+  assignment.job.job_id = "job-1";
+  assignment.job.map_id = "barn";
+  assignment.route = FeedRoute();
+  assignment.map_version = map_version;
+  assignment.marker_set_version = 2;
+  return assignment;
+}
+
+// In job mode the job's map and marker set, at the versions the route was validated against,
+// are loaded and the robot localizes on them from where it stands.
+TEST(AgentTest, JobBringsItsSiteAndTheAgentLocalizesOnIt) {
+  const RobotModel model = LelyVectorModel();
+  KinematicHal hal(model, 10000);
+  RecordingSink sink;
+  OneJobChannel jobs(FeedJob(3));
+  OneSite sites;
+  const Pose2 start(2.0, 3.0, 0.0);
+  localization::DeadReckoningLocalizer initial = Odometry(model, start);
+  std::vector<SiteData> made_for;
+  AgentPorts ports{&hal, &initial, &sink, &jobs, &sites,
+                   [&](const SiteData& site, const Pose2& from)
+                       -> absl::StatusOr<std::unique_ptr<localization::Localizer>> {
+                     made_for.push_back(site);
+                     EXPECT_TRUE(from.IsNear(start, 1e-6, 1e-6)) << from.DebugString();
+                     return std::make_unique<localization::DeadReckoningLocalizer>(
+                         Odometry(model, from));
+                   }};
+  Agent agent(RouteContext{model, std::nullopt, nullptr}, ports, std::nullopt,
+              AgentParams{.max_jobs = 1});
+  absl::StatusOr<AgentResult> result = agent.Run();
+  ASSERT_TRUE(result.ok()) << result.status();
+  EXPECT_EQ(sites.loads, 1);
+  ASSERT_EQ(made_for.size(), 1u);
+  EXPECT_EQ(made_for[0].map_version, 3u);
+  EXPECT_EQ(made_for[0].marker_set_version, 2u);
+  ASSERT_FALSE(jobs.events.empty());
+  EXPECT_EQ(jobs.events.back().type, JobEventType::kSucceeded) << jobs.events.back().reason;
+  EXPECT_TRUE(result->final_pose_in_map.IsNear(start * Pose2(2.0, 1.0, DegToRad(90)), 0.02,
+                                               DegToRad(1)));
+}
+
+TEST(AgentTest, JobWhoseSiteCannotBeLoadedFailsBeforeMoving) {
+  const RobotModel model = LelyVectorModel();
+  KinematicHal hal(model, 10000);
+  RecordingSink sink;
+  OneJobChannel jobs(FeedJob(7));
+  OneSite sites;
+  localization::DeadReckoningLocalizer initial = Odometry(model, Pose2());
+  AgentPorts ports{&hal, &initial, &sink, &jobs, &sites,
+                   [&](const SiteData&, const Pose2&)
+                       -> absl::StatusOr<std::unique_ptr<localization::Localizer>> {
+                     ADD_FAILURE() << "no site, no localizer";
+                     return absl::InternalError("unreachable");
+                   }};
+  Agent agent(RouteContext{model, std::nullopt, nullptr}, ports, std::nullopt,
+              AgentParams{.max_jobs = 1});
+  absl::StatusOr<AgentResult> result = agent.Run();
+  ASSERT_TRUE(result.ok()) << result.status();
+  ASSERT_FALSE(jobs.events.empty());
+  EXPECT_EQ(jobs.events.back().type, JobEventType::kFailed);
+  EXPECT_THAT(jobs.events.back().reason, HasSubstr("map barn v7 could not be loaded"));
+  EXPECT_NEAR(hal.pose_in_start().x_m(), 0.0, 1e-9);
 }
 
 class FailingHal : public RobotHal {

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,6 +16,7 @@
 #include "fleetnav/robot_agent/perception.hpp"
 #include "fleetnav/robot_agent/route_executor.hpp"
 #include "fleetnav/robot_agent/safety_monitor.hpp"
+#include "fleetnav/robot_agent/site_source.hpp"
 #include "fleetnav/robot_agent/telemetry_sink.hpp"
 
 namespace fleetnav::agent {
@@ -34,13 +37,20 @@ struct AgentParams {
   absl::Status Validate() const;
 };
 
+/// Makes the localizer for a job's site, starting from the robot's current pose in map.
+using LocalizerFactory = std::function<absl::StatusOr<std::unique_ptr<localization::Localizer>>(
+    const SiteData& site, const Pose2& start_in_map)>;
+
 /// The agent's collaborators: the robot's hardware, its localization, where telemetry goes,
-/// and (in job mode) the server's job channel.
+/// and (in job mode) the server's job channel and, to localize on each job's own map and
+/// marker set, where sites come from and how a localizer is made for one.
 struct AgentPorts {
   RobotHal* hal = nullptr;
-  localization::Localizer* localizer = nullptr;
+  localization::Localizer* localizer = nullptr;  ///< until a job brings its site
   TelemetrySink* telemetry = nullptr;
   JobChannel* jobs = nullptr;  ///< null: run the given route once
+  SiteSource* sites = nullptr;
+  LocalizerFactory make_localizer;
 };
 
 /// How a Run() ended.
@@ -82,6 +92,13 @@ class Agent {
   void Report(JobEventType type, int action_index, NavigationMode mode, const std::string& reason,
               AgentResult* result);
   void StartRoute(Route route);
+  /// Loads the assignment's site and localizer when it is not the one in use; the reason when
+  /// the job cannot run here.
+  absl::Status PrepareSite(const JobAssignment& assignment);
+  localization::Localizer& localizer() { return job_localizer_ ? *job_localizer_ : *ports_.localizer; }
+  const localization::Localizer& localizer() const {
+    return job_localizer_ ? *job_localizer_ : *ports_.localizer;
+  }
 
   RouteContext context_;
   AgentPorts ports_;
@@ -96,6 +113,8 @@ class Agent {
   bool paused_ = false;
   bool end_reported_ = false;
   double battery_fraction_ = 1.0;  ///< as the robot last reported it
+  std::unique_ptr<localization::Localizer> job_localizer_;
+  std::string site_key_;  ///< map id and versions of the site in use ("" : the start's)
   Twist2 last_command_;
 };
 

@@ -13,6 +13,9 @@ namespace fleetnav::agent {
 struct JobAssignment {
   Job job;
   Route route;
+  /// The versions the route was validated against (0: unknown, use what the agent has).
+  uint32_t map_version = 0;
+  uint32_t marker_set_version = 0;
 };
 
 enum class JobCommandType { kPause, kResume, kCancel };

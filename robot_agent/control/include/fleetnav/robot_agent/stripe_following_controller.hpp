@@ -24,8 +24,11 @@ struct StripeFollowingParams {
   /// Travel over which stripe points are kept for the fitted stripe line.
   double line_memory_m = 3.0;
   /// The stripe counts as ended (not interrupted) when its reading is lost within this distance
-  /// of an end of the stripe in the marker set.
-  double end_tolerance_m = 0.3;
+  /// of an end of the stripe in the marker set: the estimate's along-track error between two
+  /// markers, not the sensor's, sets it.
+  double end_tolerance_m = 0.8;
+  /// An interruption is bridged map-based for at most this far; then the leg fails.
+  double max_interruption_m = 3.0;
   /// Without the stripe in the marker set, a loss this long is taken as its end.
   double unknown_end_after_m = 0.3;
   absl::Status Validate() const;

@@ -34,6 +34,8 @@ struct MarkerCalibration {
   int64_t stamp_ns = 0;
   double correction_m = 0.0;  ///< how far the estimate moved
   Pose2 pose_in_map;          ///< the estimate after the correction
+  /// false: the marker was recognised but not used (plain AMCL, the SAMCL baseline).
+  bool applied = true;
 };
 
 /// The robot's localization as the agent's control loop sees it: one Update per control tick

@@ -63,7 +63,8 @@ class SamclLocalizer : public Localizer {
 
  private:
   SamclLocalizer(const RobotModel& model, OdometryFrontEnd odometry, Samcl samcl,
-                 std::vector<Line2> stripe_pieces_start_end, const Pose2& start_in_map,
+                 std::vector<Line2> stripe_pieces_start_end,
+                 std::vector<StripeMarker> calibration_markers, const Pose2& start_in_map,
                  const SamclLocalizerParams& params);
   absl::StatusOr<RangeObservation> Observe(const SensorFrame& frame) const;
   /// The stripe measurement update (see stripe_sigma_m); returns whether it was applied.
@@ -72,6 +73,7 @@ class SamclLocalizer : public Localizer {
   RobotModel model_;
   OdometryFrontEnd odometry_;
   Samcl samcl_;
+  std::vector<StripeMarker> markers_;  ///< the calibration markers
   Pose2 start_in_map_;
   SamclLocalizerParams params_;
   bool started_ = false;
