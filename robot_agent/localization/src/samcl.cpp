@@ -14,6 +14,9 @@ absl::Status SamclParams::Validate() const {
   if (!(std::isfinite(soft_sigma_m) && soft_sigma_m > 0.0)) {
     return absl::InvalidArgumentError("soft_sigma_m must be finite and > 0");
   }
+  if (!(std::isfinite(marker_half_width_m) && marker_half_width_m >= 0.0)) {
+    return absl::InvalidArgumentError("marker_half_width_m must be finite and >= 0");
+  }
   if (!(min_crossing_angle_rad >= 0.0 && min_crossing_angle_rad <= kPi / 2.0)) {
     return absl::InvalidArgumentError("min_crossing_angle_rad must be in [0, pi/2]");
   }
@@ -119,7 +122,10 @@ absl::StatusOr<CalibrationResult> Samcl::OnInductiveEdge(const InductiveEdge& ed
     const double ec = std::cos(eyaw), es = std::sin(eyaw);
     const Eigen::Vector2d sensor(ex + ec * s_in_base.x() - es * s_in_base.y(),
                                  ey + es * s_in_base.x() + ec * s_in_base.y());
-    const double signed_distance = (sensor - line.point).dot(normal);
+    // The sensor first meets the marker's near edge, half its width before its centre line.
+    const double approach = (ec * normal.x() + es * normal.y()) >= 0.0 ? 1.0 : -1.0;
+    const double signed_distance =
+        (sensor - line.point).dot(normal) + approach * params_.marker_half_width_m;
     if (params_.mode == SamclMode::kHard) {
       // The foot point is sensor − d·n: shift the particle by the same vector.
       p.x_m[i] -= static_cast<float>(signed_distance * normal.x());

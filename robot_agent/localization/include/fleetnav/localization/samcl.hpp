@@ -28,6 +28,9 @@ struct SamclParams {
   /// A marker is associated only when the robot crosses it at least this steeply (markers lie
   /// across the travel; a stripe crossed near one is not the marker).
   double min_crossing_angle_rad = 0.5;
+  /// Half the marker strip's width: the detection edge is its near edge, not its centre line
+  /// (0 for an edge stamped on the centre line, as the synthetic experiment does).
+  double marker_half_width_m = 0.0;
   /// Soft mode: standard deviation of the sensor point's distance to the marker line.
   double soft_sigma_m = 0.02;
   /// Odometry history kept to interpolate the pose at a detection edge.

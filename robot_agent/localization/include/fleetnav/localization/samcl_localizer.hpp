@@ -21,7 +21,12 @@ AmclParams DefaultAgentAmclParams();
 
 struct SamclLocalizerParams {
   AmclParams amcl = DefaultAgentAmclParams();
-  SamclParams samcl;
+  /// SAMCL; markers are 5 cm wide strips (the thesis's and the simulator's).
+  SamclParams samcl = [] {
+    SamclParams p;
+    p.marker_half_width_m = 0.025;
+    return p;
+  }();
   OdometryFrontEndParams odometry;
   /// Range reported by an ultrasonic without echo (the fake laser's range_max).
   double ultrasonic_range_max_m = 2.5;
