@@ -111,6 +111,12 @@ int main(int argc, char** argv) {
     if (map_path.empty()) return Fail("--markers needs --map");
     absl::StatusOr<fleetnav::MarkerSet> markers = fleetnav::LoadMarkerSet(markers_path);
     if (!markers.ok()) return Fail(absl::StrCat(markers_path, ": ", markers.status().ToString()));
+    if (route && !markers->map_id.empty() && !route->map_id.empty() &&
+        markers->map_id != route->map_id) {
+      return Fail(absl::StrCat("route refused before moving: route '", route->name,
+                               "' is on map '", route->map_id, "' but ", markers_path,
+                               " is the marker set of map '", markers->map_id, "'"));
+    }
     context.markers = *markers;
   }
   fleetnav::localization::SamclLocalizerParams lp;

@@ -248,6 +248,16 @@ TEST_F(ClosedLoop, UnrunnableRouteIsRefusedBeforeTheRobotMoves) {
   EXPECT_NEAR(lely.pose().x_m(), -10.0, 0.01);
 }
 
+TEST_F(ClosedLoop, RouteOnAnotherMapIsRefusedBeforeTheRobotMoves) {
+  StartSim(/*with_gap=*/false);
+  const std::string route = Path("other-map.yaml");
+  std::ofstream(route) << "name: elsewhere\nmap: barn\nactions:\n"
+                       << "  - straight: {distance: 2, speed: 0.25}\n";
+  EXPECT_EQ(RunAgent(route), 1);
+  EXPECT_THAT(AgentLog(), HasSubstr("is on map 'barn'"));
+  EXPECT_NEAR(Robot(Truth(), "lely1").pose().x_m(), -10.0, 0.01);
+}
+
 TEST_F(ClosedLoop, InitialPoseIsRequired) {
   StartSim(/*with_gap=*/false);
   const std::string route = WriteRoute("  - straight: {distance: 1, speed: 0.25}\n");
