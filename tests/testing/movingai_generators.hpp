@@ -28,40 +28,52 @@ inline std::string MovingAiMapText(const std::vector<std::string>& rows) {
   return out.str();
 }
 
+/// 4-connected breadth-first distances (in cells) from `start` over the free cells of `rows`;
+/// -1 where unreachable.
+inline std::vector<int> BfsDistances(const std::vector<std::string>& rows, int start) {
+  const int height = static_cast<int>(rows.size());
+  const int width = height == 0 ? 0 : static_cast<int>(rows.front().size());
+  std::vector<int> dist(static_cast<size_t>(width * height), -1);
+  std::deque<int> open{start};
+  dist[start] = 0;
+  while (!open.empty()) {
+    const int cell = open.front();
+    open.pop_front();
+    const int x = cell % width, y = cell / width;
+    const int nx[4] = {x + 1, x - 1, x, x};
+    const int ny[4] = {y, y, y + 1, y - 1};
+    for (int k = 0; k < 4; ++k) {
+      if (nx[k] < 0 || ny[k] < 0 || nx[k] >= width || ny[k] >= height) continue;
+      const int n = ny[k] * width + nx[k];
+      if (rows[ny[k]][nx[k]] != '.' || dist[n] >= 0) continue;
+      dist[n] = dist[cell] + 1;
+      open.push_back(n);
+    }
+  }
+  return dist;
+}
+
 /// Blocks every free cell outside the largest 4-connected free region, so that any two free
 /// cells of the result are connected (the benchmark scenarios only use that region too).
 inline void KeepLargestRegion(std::vector<std::string>& rows) {
   const int height = static_cast<int>(rows.size());
   const int width = height == 0 ? 0 : static_cast<int>(rows.front().size());
-  std::vector<int> region(static_cast<size_t>(width * height), -1);
-  int best_region = -1;
+  std::vector<bool> seen(static_cast<size_t>(width * height), false);
+  std::vector<int> best_dist;
   size_t best_size = 0;
-  int next_region = 0;
   for (int start = 0; start < width * height; ++start) {
-    if (rows[start / width][start % width] != '.' || region[start] >= 0) continue;
+    if (rows[start / width][start % width] != '.' || seen[start]) continue;
+    std::vector<int> dist = BfsDistances(rows, start);
     size_t size = 0;
-    std::deque<int> open{start};
-    region[start] = next_region;
-    while (!open.empty()) {
-      const int cell = open.front();
-      open.pop_front();
+    for (int cell = 0; cell < width * height; ++cell) {
+      if (dist[cell] < 0) continue;
+      seen[cell] = true;
       ++size;
-      const int x = cell % width, y = cell / width;
-      const int nx[4] = {x + 1, x - 1, x, x};
-      const int ny[4] = {y, y, y + 1, y - 1};
-      for (int k = 0; k < 4; ++k) {
-        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= width || ny[k] >= height) continue;
-        const int n = ny[k] * width + nx[k];
-        if (rows[ny[k]][nx[k]] != '.' || region[n] >= 0) continue;
-        region[n] = next_region;
-        open.push_back(n);
-      }
     }
-    if (size > best_size) best_size = size, best_region = next_region;
-    ++next_region;
+    if (size > best_size) best_size = size, best_dist = std::move(dist);
   }
   for (int cell = 0; cell < width * height; ++cell) {
-    if (region[cell] != best_region) rows[cell / width][cell % width] = '@';
+    if (best_dist.empty() || best_dist[cell] < 0) rows[cell / width][cell % width] = '@';
   }
 }
 
@@ -150,23 +162,7 @@ inline std::string ScenarioText(const std::vector<std::string>& rows, const std:
   std::ostringstream out;
   out << "version 1\n";
   for (int i = 0; i < count && i < static_cast<int>(free_cells.size()); ++i) {
-    std::vector<int> dist(static_cast<size_t>(width * height), -1);
-    std::deque<int> open{starts[i]};
-    dist[starts[i]] = 0;
-    while (!open.empty()) {
-      const int cell = open.front();
-      open.pop_front();
-      const int x = cell % width, y = cell / width;
-      const int nx[4] = {x + 1, x - 1, x, x};
-      const int ny[4] = {y, y, y + 1, y - 1};
-      for (int k = 0; k < 4; ++k) {
-        if (nx[k] < 0 || ny[k] < 0 || nx[k] >= width || ny[k] >= height) continue;
-        const int n = ny[k] * width + nx[k];
-        if (rows[ny[k]][nx[k]] != '.' || dist[n] >= 0) continue;
-        dist[n] = dist[cell] + 1;
-        open.push_back(n);
-      }
-    }
+    const std::vector<int> dist = BfsDistances(rows, starts[i]);
     out << i / 10 << "\t" << map_name << "\t" << width << "\t" << height << "\t"
         << starts[i] % width << "\t" << starts[i] / width << "\t" << goals[i] % width << "\t"
         << goals[i] / width << "\t" << dist[goals[i]] << "\n";

@@ -111,9 +111,8 @@ ControlOutput FenceFollowingController::Step(const ControlInput& input) {
   const double yaw_rate = std::clamp(side_sign_ * params_.gain_radps_per_m * error_m,
                                      -params_.max_yaw_rate_radps, params_.max_yaw_rate_radps);
 
-  double speed = std::min({action_.speed_mps, last_speed_mps_ + profile_.accel_mps2 * input.dt_s,
-                           std::sqrt(2.0 * profile_.decel_mps2 * remaining_m)});
-  speed = std::max(speed, std::min(profile_.min_speed_mps, action_.speed_mps));
+  const double speed =
+      profile_.NextSpeed(action_.speed_mps, last_speed_mps_, remaining_m, input.dt_s);
   last_speed_mps_ = speed;
   out.command = Twist2{speed, 0.0, yaw_rate};
   return out;

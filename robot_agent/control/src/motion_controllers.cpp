@@ -30,6 +30,13 @@ absl::Status MotionProfile::Validate() const {
   return absl::OkStatus();
 }
 
+double MotionProfile::NextSpeed(double target_mps, double last_mps, double remaining_m,
+                                double dt_s) const {
+  const double speed = std::min({target_mps, last_mps + accel_mps2 * dt_s,
+                                 std::sqrt(2.0 * decel_mps2 * std::max(remaining_m, 0.0))});
+  return std::max(speed, std::min(min_speed_mps, target_mps));
+}
+
 absl::Status HeadingPidGains::Validate() const {
   if (!(std::isfinite(kp) && std::isfinite(ki) && std::isfinite(kd) &&
         std::isfinite(cross_track_gain) && kp >= 0 && ki >= 0 && kd >= 0 &&
@@ -60,9 +67,7 @@ ControlOutput StraightController::Step(const ControlInput& input) {
     out.progress_fraction = 1.0;
     return out;
   }
-  double speed = std::min({speed_mps_, last_speed_mps_ + profile_.accel_mps2 * dt_s,
-                           std::sqrt(2.0 * profile_.decel_mps2 * remaining_m)});
-  speed = std::max(speed, std::min(profile_.min_speed_mps, speed_mps_));
+  const double speed = profile_.NextSpeed(speed_mps_, last_speed_mps_, remaining_m, dt_s);
   last_speed_mps_ = speed;
 
   // Heading PID toward the start heading, plus a pull back onto the start line.

@@ -15,6 +15,10 @@ struct MotionProfile {
   double min_speed_mps = 0.02;  ///< creep speed near the end so the goal is reached
   double min_yaw_rate_radps = 0.02;
   absl::Status Validate() const;
+
+  /// The next speed of a trapezoidal profile towards `target_mps` that stops exactly after
+  /// `remaining_m` (v ≤ √(2·decel·remaining)), never below the creep speed so the end is reached.
+  double NextSpeed(double target_mps, double last_mps, double remaining_m, double dt_s) const;
 };
 
 struct HeadingPidGains {
