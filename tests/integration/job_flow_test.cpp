@@ -2,13 +2,19 @@
 // agent, the agent drives it in the ODE barn, and the job's events and end state come back.
 #include <gmock/gmock.h>
 
+#include <memory>
+#include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "fleet_fixture.hpp"
 #include "fleetnav/core/angles.hpp"
-#include "fleetnav/proto/telemetry_convert.hpp"
 #include "fleetnav/localization/dead_reckoning_localizer.hpp"
+#include "fleetnav/localization/samcl_localizer.hpp"
+#include "fleetnav/proto/telemetry_convert.hpp"
 #include "fleetnav/robot_agent/agent.hpp"
+#include "fleetnav/robot_agent/fleet_site_source.hpp"
 #include "fleetnav/robot_agent/server_link.hpp"
 #include "fleetnav/robot_agent/sim_hal.hpp"
 #include "fleetnav/sim/sim_server.hpp"
@@ -34,11 +40,19 @@ class JobFlowTest : public testing::FleetServerFixture {
     sim_port_ = *port;
   }
 
-  /// Runs an agent in job mode on a thread until it has ended `jobs` jobs.
-  std::thread StartAgent(int jobs, agent::AgentResult* result) {
-    return std::thread([this, jobs, result] {
+  /// Runs an agent in job mode on a thread until it has ended `jobs` jobs. With `sites`, each
+  /// job's map and marker set come from fleetnavd and SAMCL runs on them; `sites_loaded`
+  /// then lists the map versions and marker-set versions the agent localized on.
+  std::thread StartAgent(int jobs, agent::AgentResult* result, bool sites = false,
+                         std::vector<std::pair<uint32_t, uint32_t>>* sites_loaded = nullptr) {
+    return std::thread([this, jobs, result, sites, sites_loaded] {
       const RobotModel model = LelyVectorModel();
-      agent::ServerLink link(channel_, RobotIdentity{"lely1", model, {"straight", "turn"}, "t"});
+      // Without sites the robot says it turns and drives straight only (the dispatcher's
+      // capability test below relies on a route it cannot drive).
+      const std::vector<std::string> capabilities =
+          sites ? agent::SupportedActionTypes() : std::vector<std::string>{"straight", "turn"};
+      agent::ServerLink link(channel_, RobotIdentity{"lely1", model, capabilities, "t"});
+      agent::FleetSiteSource site_source(channel_);
       agent::SimHal hal(grpc::CreateChannel("127.0.0.1:" + std::to_string(sim_port_),
                                             grpc::InsecureChannelCredentials()),
                         "lely1");
@@ -46,8 +60,23 @@ class JobFlowTest : public testing::FleetServerFixture {
       params.max_jobs = jobs;
       localization::DeadReckoningLocalizer localizer =
           localization::DeadReckoningLocalizer::Create(model, Barn().robots[0].pose).value();
-      agent::Agent agent(agent::RouteContext{model, std::nullopt, nullptr},
-                         agent::AgentPorts{&hal, &localizer, &link, &link}, std::nullopt, params);
+      agent::AgentPorts ports{&hal, &localizer, &link, &link};
+      if (sites) {
+        ports.sites = &site_source;
+        ports.make_localizer = [&model, sites_loaded](const agent::SiteData& site,
+                                                      const Pose2& start)
+            -> absl::StatusOr<std::unique_ptr<localization::Localizer>> {
+          if (sites_loaded != nullptr) {
+            sites_loaded->emplace_back(site.map_version, site.marker_set_version);
+          }
+          auto samcl = localization::SamclLocalizer::Create(
+              model, *site.map, site.markers.value_or(MarkerSet{}), start);
+          if (!samcl.ok()) return samcl.status();
+          return std::make_unique<localization::SamclLocalizer>(*std::move(samcl));
+        };
+      }
+      agent::Agent agent(agent::RouteContext{model, std::nullopt, nullptr}, ports, std::nullopt,
+                         params);
       absl::StatusOr<agent::AgentResult> run = agent.Run();
       link.Close();
       if (run.ok()) *result = *run;
@@ -70,6 +99,33 @@ class JobFlowTest : public testing::FleetServerFixture {
   std::unique_ptr<sim::SimServer> simulator_;
   int sim_port_ = 0;
 };
+
+// In job mode the agent fetches the job's map and marker set from fleetnavd at the versions the
+// route was validated against and localizes with SAMCL on them; the robot, judged by the
+// simulator's truth, ends where the route says.
+TEST_F(JobFlowTest, AgentLocalizesOnTheJobsMapAndMarkersFromTheServer) {
+  PutBarn();
+  absl::StatusOr<Route> route = LoadRoute(std::string(FLEETNAV_ROUTES_DIR) + "/demo.yaml");
+  ASSERT_TRUE(route.ok());
+  ASSERT_TRUE(PutRoute(*route).ok());
+  StartSimulator();
+  agent::AgentResult result;
+  std::vector<std::pair<uint32_t, uint32_t>> sites_loaded;
+  std::thread agent = StartAgent(/*jobs=*/1, &result, /*sites=*/true, &sites_loaded);
+  v1::SubmitJobResponse submitted;
+  ASSERT_TRUE(Submit(route->name, "demo-site", &submitted).ok());
+  const std::vector<v1::JobEvent> events = WatchToTheEnd(submitted.job().job_id());
+  agent.join();
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(events.back().type(), v1::JOB_EVENT_TYPE_SUCCEEDED) << events.back().reason();
+  ASSERT_EQ(sites_loaded.size(), 1u);
+  EXPECT_EQ(sites_loaded[0], std::make_pair(1u, 1u));  // map barn v1, marker set v1
+  const Pose2 nominal = Barn().robots[0].pose * Pose2(5.0, 3.0, kPi / 2);
+  const Pose2 truth = simulator_->lockstep().GroundTruth().robots.at(0).pose;
+  EXPECT_LT((truth.translation() - nominal.translation()).norm(), 0.2) << truth.DebugString();
+  EXPECT_TRUE(result.final_pose_in_map.IsNear(truth, 0.1, DegToRad(3)))
+      << result.final_pose_in_map.DebugString() << " vs " << truth.DebugString();
+}
 
 TEST_F(JobFlowTest, SubmittedRouteIsDispatchedDrivenAndSucceeds) {
   PutBarn();

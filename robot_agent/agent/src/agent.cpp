@@ -103,25 +103,26 @@ void Agent::ServeJobs(const ExecutorOutput& output, AgentResult* result) {
 }
 
 absl::Status Agent::PrepareSite(const JobAssignment& assignment) {
-  if (ports_.sites == nullptr || !ports_.make_localizer || assignment.job.map_id.empty()) {
+  const std::string& map_id =
+      assignment.map_id.empty() ? assignment.job.map_id : assignment.map_id;
+  if (ports_.sites == nullptr || !ports_.make_localizer || map_id.empty()) {
     return absl::OkStatus();
   }
-  const std::string key = absl::StrCat(assignment.job.map_id, "@", assignment.map_version, "/",
-                                       assignment.marker_set_version);
+  const std::string key =
+      absl::StrCat(map_id, "@", assignment.map_version, "/", assignment.marker_set_version);
   if (key == site_key_) return absl::OkStatus();
-  absl::StatusOr<SiteData> site = ports_.sites->Load(
-      assignment.job.map_id, assignment.map_version, assignment.marker_set_version);
+  absl::StatusOr<SiteData> site =
+      ports_.sites->Load(map_id, assignment.map_version, assignment.marker_set_version);
   if (!site.ok()) {
-    return absl::FailedPreconditionError(
-        absl::StrCat("map ", assignment.job.map_id, " v", assignment.map_version,
-                     " could not be loaded on the robot: ", site.status().message()));
+    return absl::FailedPreconditionError(absl::StrCat("map ", map_id, " v", assignment.map_version,
+                                                      " could not be loaded on the robot: ",
+                                                      site.status().message()));
   }
   absl::StatusOr<std::unique_ptr<localization::Localizer>> made =
       ports_.make_localizer(*site, localizer().estimate().pose_in_map);
   if (!made.ok()) {
     return absl::FailedPreconditionError(
-        absl::StrCat("cannot localize on map ", assignment.job.map_id, ": ",
-                     made.status().message()));
+        absl::StrCat("cannot localize on map ", map_id, ": ", made.status().message()));
   }
   job_localizer_ = *std::move(made);
   context_.map = site->map;

@@ -59,7 +59,8 @@ void ServerLink::OnServerMessage(const v1::ServerMessage& message) {
     absl::StatusOr<Job> job = FromProto(message.assignment().job());
     absl::StatusOr<Route> route = FromProto(message.assignment().route());
     if (job.ok() && route.ok()) {
-      assignments_.push_back(JobAssignment{*job, *route, message.assignment().map_version(),
+      assignments_.push_back(JobAssignment{*job, *route, message.assignment().map_id(),
+                                           message.assignment().map_version(),
                                            message.assignment().marker_set_version()});
     } else {
       // The job cannot run here: say so, so the server fails it rather than waiting.

@@ -13,7 +13,9 @@ namespace fleetnav::agent {
 struct JobAssignment {
   Job job;
   Route route;
-  /// The versions the route was validated against (0: unknown, use what the agent has).
+  /// The map and versions the route was validated against ("" / 0: unknown, use what the
+  /// agent has).
+  std::string map_id;
   uint32_t map_version = 0;
   uint32_t marker_set_version = 0;
 };
