@@ -113,9 +113,9 @@ int main(int argc, char** argv) {
     if (!markers.ok()) return Fail(absl::StrCat(markers_path, ": ", markers.status().ToString()));
     if (route && !markers->map_id.empty() && !route->map_id.empty() &&
         markers->map_id != route->map_id) {
-      return Fail(absl::StrCat("route refused before moving: route '", route->name,
-                               "' is on map '", route->map_id, "' but ", markers_path,
-                               " is the marker set of map '", markers->map_id, "'"));
+      return Fail(absl::StrCat("route refused before moving: route '", route->name, "' is on map '",
+                               route->map_id, "' but ", markers_path, " is the marker set of map '",
+                               markers->map_id, "'"));
     }
     context.markers = *markers;
   }
@@ -202,10 +202,11 @@ int main(int argc, char** argv) {
     }
   }
   for (const auto& c : result->calibrations) {
-    spdlog::info("{} marker {} ({}) at t = {:.3f} s, moved {:.3f} m to ({:.3f}, {:.3f}, {:.1f} deg)",
-                 c.applied ? "calibrated on" : "crossed (not used)", c.marker_id, c.sensor_name,
-                 c.stamp_ns * 1e-9, c.correction_m, c.pose_in_map.x_m(), c.pose_in_map.y_m(),
-                 fleetnav::RadToDeg(c.pose_in_map.yaw_rad()));
+    spdlog::info(
+        "{} marker {} ({}) at t = {:.3f} s, moved {:.3f} m to ({:.3f}, {:.3f}, {:.1f} deg)",
+        c.applied ? "calibrated on" : "crossed (not used)", c.marker_id, c.sensor_name,
+        c.stamp_ns * 1e-9, c.correction_m, c.pose_in_map.x_m(), c.pose_in_map.y_m(),
+        fleetnav::RadToDeg(c.pose_in_map.yaw_rad()));
   }
   const fleetnav::Pose2& end = result->final_pose_in_map;
   const double sim_s = static_cast<double>(result->ticks) * 0.02;

@@ -134,14 +134,14 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (!record_path.empty()) {
-    const int every_ticks = std::max(1, static_cast<int>(std::lround(
-                                            0.1 / params.simulation.control_period_s)));
+    const int every_ticks =
+        std::max(1, static_cast<int>(std::lround(0.1 / params.simulation.control_period_s)));
     server.lockstep().SetTickObserver([&record, every_ticks](const fleetnav::sim::Simulation& sim) {
       if (sim.tick() % static_cast<uint64_t>(every_ticks) != 0) return;
       const fleetnav::sim::GroundTruthSnapshot truth = sim.GroundTruth();
       for (const fleetnav::sim::RobotTruth& robot : truth.robots) {
-        record << robot.robot_id << ",truth," << robot.pose.x_m() << ',' << robot.pose.y_m()
-               << ',' << truth.sim_time_ns * 1e-9 << '\n';
+        record << robot.robot_id << ",truth," << robot.pose.x_m() << ',' << robot.pose.y_m() << ','
+               << truth.sim_time_ns * 1e-9 << '\n';
       }
     });
   }

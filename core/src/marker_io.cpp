@@ -69,8 +69,8 @@ absl::Status ParseOrientation(const YAML::Node& marker_node, const std::string& 
 absl::StatusOr<StripeMarker> ParseMarker(const YAML::Node& node, size_t index) {
   const std::string where = absl::StrCat("markers[", index, "]");
   if (!node.IsMap()) return absl::InvalidArgumentError(absl::StrCat(where, ": expected a mapping"));
-  RETURN_IF_ERROR(
-      internal::CheckKnownKeys(node, {"id", "position", "orientation", "length", "kind", "stripe"}, where));
+  RETURN_IF_ERROR(internal::CheckKnownKeys(
+      node, {"id", "position", "orientation", "length", "kind", "stripe"}, where));
   StripeMarker marker;
   const YAML::Node id = node["id"];
   if (!id.IsDefined() || id.IsNull()) {

@@ -328,9 +328,10 @@ void Simulation::Advance() {
     const BatteryParams& b = params_.battery;
     const double moved_m =
         (robot.body->GroundTruthPose().translation() - before[i].translation()).norm();
-    const double change = robot.charger_contact
-                              ? b.charge_per_s * params_.control_period_s
-                              : -(b.drain_per_s * params_.control_period_s + b.drain_per_m * moved_m);
+    const double change =
+        robot.charger_contact
+            ? b.charge_per_s * params_.control_period_s
+            : -(b.drain_per_s * params_.control_period_s + b.drain_per_m * moved_m);
     robot.battery_fraction = std::clamp(robot.battery_fraction + change, 0.0, 1.0);
   }
   ++tick_;

@@ -172,8 +172,8 @@ absl::StatusOr<WorldDescription> ParseRoot(const YAML::Node& root) {
     if (node["kind"]) {
       const std::string kind = node["kind"].as<std::string>();
       if (kind != "follow" && kind != "charger") {
-        return absl::InvalidArgumentError(absl::StrCat(field, ".kind: '", kind,
-                                                       "' is not a stripe kind (follow, charger)"));
+        return absl::InvalidArgumentError(
+            absl::StrCat(field, ".kind: '", kind, "' is not a stripe kind (follow, charger)"));
       }
       stripe.charger = kind == "charger";
     }

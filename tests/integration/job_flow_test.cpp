@@ -63,9 +63,10 @@ class JobFlowTest : public testing::FleetServerFixture {
       agent::AgentPorts ports{&hal, &localizer, &link, &link};
       if (sites) {
         ports.sites = &site_source;
-        ports.make_localizer = [&model, sites_loaded](const agent::SiteData& site,
-                                                      const Pose2& start)
-            -> absl::StatusOr<std::unique_ptr<localization::Localizer>> {
+        ports.make_localizer =
+            [&model, sites_loaded](
+                const agent::SiteData& site,
+                const Pose2& start) -> absl::StatusOr<std::unique_ptr<localization::Localizer>> {
           if (sites_loaded != nullptr) {
             sites_loaded->emplace_back(site.map_version, site.marker_set_version);
           }

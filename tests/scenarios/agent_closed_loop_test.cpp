@@ -1,11 +1,11 @@
 // fleetnav-sim and fleetnav-agent as processes, in closed loop, judged by the simulator's
 // ground truth (pose, contact episodes), never by the agent's belief about itself. The world
 // is written here: a hall with a feeding fence along y = 2 m, two calibration markers and a
-// robot (lely1) near the fence; a floor stripe along y = -5 m (out of lely1's ultrasonic range) leading to a charger stripe and a
-// charging pole, with a second robot (lely2) on it. Faults remove 3 m of the fence and 1.5 m
-// of the stripe.
-#include <grpcpp/create_channel.h>
+// robot (lely1) near the fence; a floor stripe along y = -5 m (out of lely1's ultrasonic range)
+// leading to a charger stripe and a charging pole, with a second robot (lely2) on it. Faults remove
+// 3 m of the fence and 1.5 m of the stripe.
 #include <gmock/gmock.h>
+#include <grpcpp/create_channel.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -20,8 +20,8 @@
 namespace fleetnav {
 namespace {
 
-using ::testing::HasSubstr;
 using testing::ChildProcess;
+using ::testing::HasSubstr;
 
 constexpr char kHall[] = R"(name: fence-hall
 extent: {min: [-15, -9], max: [15, 5]}
@@ -65,14 +65,20 @@ class ClosedLoop : public ::testing::Test {
     } else {
       world = world_file;
     }
-    map_stem_ = std::filesystem::path(world).stem().string();
     ChildProcess exporter({FLEETNAV_SIM_PATH, "--world", world, "--export-map", Path("map")},
                           Path("export.out"), Path("export.err"));
     ASSERT_EQ(exporter.Wait(60.0), 0) << exporter.Stderr();
+    // --export-map names its files after the world's name.
+    for (const auto& entry : std::filesystem::directory_iterator(dir_ / "map")) {
+      const std::string file = entry.path().filename().string();
+      const std::string suffix = ".markers.yaml";
+      if (file.size() > suffix.size() && file.ends_with(suffix)) {
+        map_stem_ = file.substr(0, file.size() - suffix.size());
+      }
+    }
     sim_ = std::make_unique<ChildProcess>(
         std::vector<std::string>{FLEETNAV_SIM_PATH, "--world", world, "--listen", "127.0.0.1:0",
-                                 "--port-file", Path("sim.port"), "--seed",
-                                 std::to_string(seed)},
+                                 "--port-file", Path("sim.port"), "--seed", std::to_string(seed)},
         Path("sim.out"), Path("sim.err"));
     const int port = testing::WaitForPortFile(Path("sim.port"));
     ASSERT_GT(port, 0) << sim_->Stderr();
@@ -93,14 +99,22 @@ class ClosedLoop : public ::testing::Test {
                std::vector<double> pose = {-10.02, 0.82, 0.5},
                const std::string& robot_id = "lely1") {
     std::vector<std::string> args = {FLEETNAV_AGENT_PATH,
-                                     "--robot-id", robot_id,
-                                     "--kind", kind,
-                                     "--sim", sim_address_,
-                                     "--server", "127.0.0.1:1",  // nothing listens there
-                                     "--route", route,
-                                     "--map", Path("map/" + map_stem_ + ".yaml"),
-                                     "--markers", Path("map/" + map_stem_ + ".markers.yaml"),
-                                     "--particles", "1000",
+                                     "--robot-id",
+                                     robot_id,
+                                     "--kind",
+                                     kind,
+                                     "--sim",
+                                     sim_address_,
+                                     "--server",
+                                     "127.0.0.1:1",  // nothing listens there
+                                     "--route",
+                                     route,
+                                     "--map",
+                                     Path("map/" + map_stem_ + ".yaml"),
+                                     "--markers",
+                                     Path("map/" + map_stem_ + ".markers.yaml"),
+                                     "--particles",
+                                     "1000",
                                      "--initial-pose"};
     for (double v : pose) args.push_back(std::to_string(v));
     args.insert(args.end(), extra.begin(), extra.end());
@@ -162,8 +176,8 @@ TEST_F(ClosedLoop, FenceLegBridgesAGapAndEndsOnTheLine) {
 // (sensor 0.485 m ahead of the axle: the axle at x ≈ 3.5 m), not at its 16 m.
 TEST_F(ClosedLoop, StraightEndsOnTheMarkerTheAgentDetects) {
   StartSim(/*with_gap=*/false);
-  const std::string route = WriteRoute(
-      "  - straight: {distance: 16, speed: 0.25}\n    until: {marker: 2}\n");
+  const std::string route =
+      WriteRoute("  - straight: {distance: 16, speed: 0.25}\n    until: {marker: 2}\n");
   ASSERT_EQ(RunAgent(route), 0) << AgentLog();
   const v1::RobotGroundTruth& lely = Robot(Truth(), "lely1");
   EXPECT_GT(lely.pose().x_m(), 3.4) << AgentLog();
@@ -240,8 +254,8 @@ TEST_F(ClosedLoop, WrongKindIsRefusedAtAttachNamingBoth) {
 // A route with an action this agent cannot run is refused before the robot moves.
 TEST_F(ClosedLoop, UnrunnableRouteIsRefusedBeforeTheRobotMoves) {
   StartSim(/*with_gap=*/false);
-  const std::string route = WriteRoute(
-      "  - straight: {distance: 2, speed: 0.25}\n  - dock: {target: trolley}\n");
+  const std::string route =
+      WriteRoute("  - straight: {distance: 2, speed: 0.25}\n  - dock: {target: trolley}\n");
   EXPECT_EQ(RunAgent(route), 1);
   EXPECT_THAT(AgentLog(), HasSubstr("actions[1] (dock)"));
   const v1::RobotGroundTruth& lely = Robot(Truth(), "lely1");
@@ -261,9 +275,9 @@ TEST_F(ClosedLoop, RouteOnAnotherMapIsRefusedBeforeTheRobotMoves) {
 TEST_F(ClosedLoop, InitialPoseIsRequired) {
   StartSim(/*with_gap=*/false);
   const std::string route = WriteRoute("  - straight: {distance: 1, speed: 0.25}\n");
-  ChildProcess agent({FLEETNAV_AGENT_PATH, "--robot-id", "lely1", "--sim", sim_address_,
-                      "--route", route},
-                     Path("a.out"), Path("a.err"));
+  ChildProcess agent(
+      {FLEETNAV_AGENT_PATH, "--robot-id", "lely1", "--sim", sim_address_, "--route", route},
+      Path("a.out"), Path("a.err"));
   EXPECT_EQ(agent.Wait(30.0), 1);
   EXPECT_THAT(agent.Stderr() + agent.Stdout(), HasSubstr("--initial-pose"));
 }

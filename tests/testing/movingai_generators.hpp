@@ -6,10 +6,10 @@
 // open maps divided into rooms. Tests use them so that a clone of the repository with nothing
 // beside it passes; the real benchmark files stay an optional input of the benchmark programs.
 
+#include <algorithm>
 #include <cstdint>
 #include <deque>
 #include <fstream>
-#include <algorithm>
 #include <random>
 #include <sstream>
 #include <string>

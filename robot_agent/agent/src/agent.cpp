@@ -21,8 +21,7 @@ absl::Status AgentParams::Validate() const {
   return safety.Validate();
 }
 
-Agent::Agent(RouteContext context, AgentPorts ports, std::optional<Route> route,
-             AgentParams params)
+Agent::Agent(RouteContext context, AgentPorts ports, std::optional<Route> route, AgentParams params)
     : context_(std::move(context)),
       ports_(ports),
       params_(params),
@@ -61,8 +60,7 @@ void Agent::ReportProgress(const ExecutorOutput& output, AgentResult* result) {
     reported_action_ = output.action_index;
   }
   if (!output.mode_reason.empty()) {
-    Report(JobEventType::kModeSwitch, output.action_index, output.mode, output.mode_reason,
-           result);
+    Report(JobEventType::kModeSwitch, output.action_index, output.mode, output.mode_reason, result);
   }
   reported_mode_ = output.mode;
 }
@@ -103,8 +101,7 @@ void Agent::ServeJobs(const ExecutorOutput& output, AgentResult* result) {
 }
 
 absl::Status Agent::PrepareSite(const JobAssignment& assignment) {
-  const std::string& map_id =
-      assignment.map_id.empty() ? assignment.job.map_id : assignment.map_id;
+  const std::string& map_id = assignment.map_id.empty() ? assignment.job.map_id : assignment.map_id;
   if (ports_.sites == nullptr || !ports_.make_localizer || map_id.empty()) {
     return absl::OkStatus();
   }
@@ -114,9 +111,9 @@ absl::Status Agent::PrepareSite(const JobAssignment& assignment) {
   absl::StatusOr<SiteData> site =
       ports_.sites->Load(map_id, assignment.map_version, assignment.marker_set_version);
   if (!site.ok()) {
-    return absl::FailedPreconditionError(absl::StrCat("map ", map_id, " v", assignment.map_version,
-                                                      " could not be loaded on the robot: ",
-                                                      site.status().message()));
+    return absl::FailedPreconditionError(
+        absl::StrCat("map ", map_id, " v", assignment.map_version,
+                     " could not be loaded on the robot: ", site.status().message()));
   }
   absl::StatusOr<std::unique_ptr<localization::Localizer>> made =
       ports_.make_localizer(*site, localizer().estimate().pose_in_map);
@@ -138,7 +135,8 @@ Telemetry Agent::MakeTelemetry(int64_t stamp_ns, const ExecutorOutput& output) c
   t.pose_in_odom = estimate.pose_in_odom;
   t.pose_in_map = estimate.pose_in_map;
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) t.covariance[static_cast<size_t>(r * 3 + c)] = estimate.covariance(r, c);
+    for (int c = 0; c < 3; ++c)
+      t.covariance[static_cast<size_t>(r * 3 + c)] = estimate.covariance(r, c);
   }
   t.velocity = estimate.velocity;
   t.mode = output.mode;
@@ -192,8 +190,8 @@ absl::StatusOr<AgentResult> Agent::Run() {
           Report(JobEventType::kBumper, executor_->action_index(), NavigationMode::kFault,
                  verdict.reason, &result);
         } else if (verdict.stop == SafetyStop::kLocalizationLost) {
-          Report(JobEventType::kLocalizationLost, executor_->action_index(),
-                 NavigationMode::kFault, verdict.reason, &result);
+          Report(JobEventType::kLocalizationLost, executor_->action_index(), NavigationMode::kFault,
+                 verdict.reason, &result);
         }
         executor_->Abort(absl::AbortedError(verdict.reason));
       }

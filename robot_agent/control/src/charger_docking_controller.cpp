@@ -10,8 +10,7 @@ namespace fleetnav::agent {
 absl::Status ChargerDockingParams::Validate() const {
   if (!(std::isfinite(approach_speed_mps) && approach_speed_mps > 0.0 &&
         std::isfinite(max_travel_m) && max_travel_m > 0.0)) {
-    return absl::InvalidArgumentError(
-        "approach_speed_mps, max_travel_m: must be finite and > 0");
+    return absl::InvalidArgumentError("approach_speed_mps, max_travel_m: must be finite and > 0");
   }
   return absl::OkStatus();
 }
@@ -43,8 +42,8 @@ ControlOutput ChargerDockingController::Step(const ControlInput& input) {
     out.failure = absl::FailedPreconditionError(absl::StrFormat(
         "no charger contact within %.1f m of charger stripe", params_.max_travel_m));
   } else if (!out.failure.ok()) {
-    out.failure = absl::FailedPreconditionError(
-        absl::StrCat("charger stripe lost: ", out.failure.message()));
+    out.failure =
+        absl::FailedPreconditionError(absl::StrCat("charger stripe lost: ", out.failure.message()));
   }
   return out;
 }

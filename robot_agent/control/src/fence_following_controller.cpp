@@ -96,8 +96,9 @@ ControlOutput FenceFollowingController::Step(const ControlInput& input) {
   }
   if (!map_based_ && missing_ticks_ >= params_.lost_after_ticks) {
     map_based_ = true;
-    out.mode_reason = absl::StrCat("no echo from the ", action_.side == Side::kLeft ? "left" : "right",
-                                   " fence for ", missing_ticks_, " ticks");
+    out.mode_reason =
+        absl::StrCat("no echo from the ", action_.side == Side::kLeft ? "left" : "right",
+                     " fence for ", missing_ticks_, " ticks");
   } else if (map_based_ && present_ticks_ >= params_.found_after_ticks) {
     map_based_ = false;
     out.mode_reason = "the fence answers again";

@@ -41,9 +41,9 @@ absl::Status CheckFreeNavigation(const FreeNavigationAction& action, const Robot
     return costmap->PoseFree(p.x_m(), p.y_m(), p.yaw_rad());
   };
   if (!free(action.goal)) {
-    return absl::InvalidArgumentError(absl::StrFormat(
-        "goal (%.2f, %.2f) is not free for the robot's footprint on the map",
-        action.goal.x_m(), action.goal.y_m()));
+    return absl::InvalidArgumentError(
+        absl::StrFormat("goal (%.2f, %.2f) is not free for the robot's footprint on the map",
+                        action.goal.x_m(), action.goal.y_m()));
   }
   for (size_t i = 0; i < action.waypoints_m.size(); ++i) {
     // A waypoint is passed at some heading: it must be free at one of them.
@@ -68,11 +68,13 @@ FreeNavigationController::FreeNavigationController(const FreeNavigationAction& a
       model_(model),
       map_(std::move(map)),
       params_(params),
-      tracker_([&] {
-        RegulatedPurePursuitParams p = params.tracker;
-        p.desired_speed_mps = action.speed_mps;
-        return p;
-      }(), model.limits) {}
+      tracker_(
+          [&] {
+            RegulatedPurePursuitParams p = params.tracker;
+            p.desired_speed_mps = action.speed_mps;
+            return p;
+          }(),
+          model.limits) {}
 
 absl::Status FreeNavigationController::Plan(const Pose2& from_in_map) {
   if (!costmap_) {
@@ -89,9 +91,8 @@ absl::Status FreeNavigationController::Plan(const Pose2& from_in_map) {
   // Legs: the robot → each waypoint still ahead → the goal; waypoints face the next point.
   std::vector<Pose2> targets;
   for (size_t i = next_waypoint_; i < action_.waypoints_m.size(); ++i) {
-    const Eigen::Vector2d next = i + 1 < action_.waypoints_m.size()
-                                     ? action_.waypoints_m[i + 1]
-                                     : action_.goal.translation();
+    const Eigen::Vector2d next = i + 1 < action_.waypoints_m.size() ? action_.waypoints_m[i + 1]
+                                                                    : action_.goal.translation();
     const Eigen::Vector2d d = next - action_.waypoints_m[i];
     targets.emplace_back(action_.waypoints_m[i].x(), action_.waypoints_m[i].y(),
                          std::atan2(d.y(), d.x()));
@@ -115,9 +116,9 @@ absl::Status FreeNavigationController::Plan(const Pose2& from_in_map) {
                                           targets[t].y_m(), leg.status().message()));
     }
     if (!leg->exact) {
-      return absl::NotFoundError(absl::StrFormat(
-          "(%.2f, %.2f) cannot be reached on the map from (%.2f, %.2f)", targets[t].x_m(),
-          targets[t].y_m(), from.x_m(), from.y_m()));
+      return absl::NotFoundError(
+          absl::StrFormat("(%.2f, %.2f) cannot be reached on the map from (%.2f, %.2f)",
+                          targets[t].x_m(), targets[t].y_m(), from.x_m(), from.y_m()));
     }
     for (const Pose2& p : leg->poses) path.push_back(map_->origin() * p);
     planned_length_m_ += leg->length_m;
@@ -145,7 +146,8 @@ ControlOutput FreeNavigationController::Step(const ControlInput& input) {
   }
   out.command = tracker_.Step(input.pose_in_map, input.dt_s);
   if (tracker_.cross_track_m() > params_.replan_cross_track_m) {
-    out.mode_reason = absl::StrFormat("off the path by %.2f m: replanning", tracker_.cross_track_m());
+    out.mode_reason =
+        absl::StrFormat("off the path by %.2f m: replanning", tracker_.cross_track_m());
     if (absl::Status s = Plan(input.pose_in_map); !s.ok()) {
       out.failure = s;
       return out;

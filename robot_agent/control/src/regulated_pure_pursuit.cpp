@@ -22,12 +22,13 @@ constexpr double kMinTurnRateRadps = 0.05;
 }  // namespace
 
 absl::Status RegulatedPurePursuitParams::Validate() const {
-  for (double v : {desired_speed_mps, lookahead_time_s, min_lookahead_m, max_lookahead_m,
-                   regulated_min_radius_m, min_regulated_speed_mps, approach_distance_m,
-                   rotate_to_heading_rad, heading_gain_radps_per_rad, goal_tolerance_m,
-                   goal_tolerance_rad}) {
+  for (double v :
+       {desired_speed_mps, lookahead_time_s, min_lookahead_m, max_lookahead_m,
+        regulated_min_radius_m, min_regulated_speed_mps, approach_distance_m, rotate_to_heading_rad,
+        heading_gain_radps_per_rad, goal_tolerance_m, goal_tolerance_rad}) {
     if (!(std::isfinite(v) && v > 0.0)) {
-      return absl::InvalidArgumentError("regulated pure pursuit parameters: must be finite and > 0");
+      return absl::InvalidArgumentError(
+          "regulated pure pursuit parameters: must be finite and > 0");
     }
   }
   if (min_lookahead_m > max_lookahead_m) {
@@ -94,8 +95,8 @@ Twist2 RegulatedPurePursuit::Step(const Pose2& pose, double dt_s) {
       done_ = true;
       return Twist2{};
     }
-    const double rate = std::clamp(params_.heading_gain_radps_per_rad * error, -max_yaw_rate,
-                                   max_yaw_rate);
+    const double rate =
+        std::clamp(params_.heading_gain_radps_per_rad * error, -max_yaw_rate, max_yaw_rate);
     const double min_rate = 0.03;
     return Twist2{0.0, 0.0, std::abs(rate) < min_rate ? std::copysign(min_rate, error) : rate};
   }
@@ -114,9 +115,9 @@ Twist2 RegulatedPurePursuit::Step(const Pose2& pose, double dt_s) {
   const double bearing = std::atan2(local.y(), local.x());
   if (std::abs(bearing) > params_.rotate_to_heading_rad) {
     last_speed_mps_ = 0.0;
-    return Twist2{0.0, 0.0,
-                  std::clamp(params_.heading_gain_radps_per_rad * bearing, -max_yaw_rate,
-                             max_yaw_rate)};
+    return Twist2{
+        0.0, 0.0,
+        std::clamp(params_.heading_gain_radps_per_rad * bearing, -max_yaw_rate, max_yaw_rate)};
   }
   const double curvature = 2.0 * local.y() / std::max(local.squaredNorm(), 1e-9);
   double speed = std::min(params_.desired_speed_mps, limits_.max_speed_mps);

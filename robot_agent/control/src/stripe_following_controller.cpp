@@ -14,15 +14,15 @@ constexpr double kDistanceToleranceM = 0.002;
 constexpr double kSharedEndM = 0.02;  ///< piece ends closer than this join two pieces
 
 Eigen::Vector2d PieceEnd(const StripeMarker& piece, double sign) {
-  return piece.position_m +
-         sign * 0.5 * piece.length_m * Eigen::Vector2d(std::cos(piece.yaw_rad), std::sin(piece.yaw_rad));
+  return piece.position_m + sign * 0.5 * piece.length_m *
+                                Eigen::Vector2d(std::cos(piece.yaw_rad), std::sin(piece.yaw_rad));
 }
 
 }  // namespace
 
 absl::Status StripeFollowingParams::Validate() const {
   for (double v : {gain_radps_per_m, max_yaw_rate_radps, line_memory_m, end_tolerance_m,
-                   unknown_end_after_m, max_interruption_m}) {
+                   unknown_end_after_m, max_interruption_m, search_m}) {
     if (!(std::isfinite(v) && v > 0.0)) {
       return absl::InvalidArgumentError("stripe following parameters: must be finite and > 0");
     }
@@ -71,8 +71,8 @@ void StripeFollowingController::FallbackLine(const Eigen::Vector2d& point, Eigen
   double best = std::numeric_limits<double>::infinity();
   for (const StripeMarker& piece : pieces_) {
     const Line2 line = piece.AsLine();
-    const double along = std::clamp((point - line.point).dot(line.direction),
-                                    -0.5 * piece.length_m, 0.5 * piece.length_m);
+    const double along = std::clamp((point - line.point).dot(line.direction), -0.5 * piece.length_m,
+                                    0.5 * piece.length_m);
     const double distance = (line.point + along * line.direction - point).norm();
     if (distance < best) {
       best = distance;
@@ -118,33 +118,33 @@ ControlOutput StripeFollowingController::Step(const ControlInput& input) {
     ++present_ticks_;
     missing_ticks_ = 0;
     lost_since_m_ = 0.0;
-    line_.Add((input.pose_in_map * Pose2(input.perception.stripe_sensor_x_m, *offset, 0.0))
-                  .translation(),
-              travelled_m_, heading);
+    line_.Add(
+        (input.pose_in_map * Pose2(input.perception.stripe_sensor_x_m, *offset, 0.0)).translation(),
+        travelled_m_, heading);
   } else {
     ++missing_ticks_;
     present_ticks_ = 0;
     lost_since_m_ += step_m;
   }
-  if (!seen_ && travelled_m_ > params_.unknown_end_after_m) {
-    out.failure = absl::FailedPreconditionError(absl::StrFormat(
-        "no stripe under the inductive sensors after %.2f m", travelled_m_));
+  if (!seen_ && travelled_m_ > params_.search_m) {
+    out.failure = absl::FailedPreconditionError(
+        absl::StrFormat("no stripe under the inductive sensors after %.2f m", travelled_m_));
     return out;
   }
   if (seen_ && missing_ticks_ >= params_.lost_after_ticks) {
     // Lost: the stripe's end, or an interruption?
-    const bool at_end = pieces_.empty()
-                            ? lost_since_m_ >= params_.unknown_end_after_m
-                            : DistanceToStripeEnd(sensor_in_map.translation()) <= params_.end_tolerance_m;
+    const bool at_end = pieces_.empty() ? lost_since_m_ >= params_.unknown_end_after_m
+                                        : DistanceToStripeEnd(sensor_in_map.translation()) <=
+                                              params_.end_tolerance_m;
     if (at_end) {
       if (end_ == EndConditionKind::kStripeEnd || !limited) {
         out.done = true;
         out.progress_fraction = 1.0;
         return out;
       }
-      out.failure = absl::FailedPreconditionError(absl::StrFormat(
-          "stripe %d ended after %.2f m, before the action's %.2f m", action_.stripe_id,
-          travelled_m_, action_.distance_m));
+      out.failure = absl::FailedPreconditionError(
+          absl::StrFormat("stripe %d ended after %.2f m, before the action's %.2f m",
+                          action_.stripe_id, travelled_m_, action_.distance_m));
       return out;
     }
     if (lost_since_m_ > params_.max_interruption_m) {

@@ -141,8 +141,7 @@ std::vector<std::string> SupportedActionTypes() {
   return {"straight", "turn", "fence_navigation", "stripe_navigation", "dock", "free_navigation"};
 }
 
-absl::Status CheckRoute(const Route& route, const RouteContext& context,
-                        const ModeParams& params) {
+absl::Status CheckRoute(const Route& route, const RouteContext& context, const ModeParams& params) {
   for (size_t i = 0; i < route.actions.size(); ++i) {
     if (absl::Status s = CheckAction(route.actions[i], static_cast<int>(i), context, params);
         !s.ok()) {
@@ -162,8 +161,7 @@ absl::StatusOr<std::unique_ptr<MotionController>> MakeController(const RouteActi
                                                 params.profile, params.heading);
   }
   if (const auto* turn = std::get_if<TurnAction>(&action.params)) {
-    return std::make_unique<TurnController>(turn->angle_rad, turn->yaw_rate_radps,
-                                            params.profile);
+    return std::make_unique<TurnController>(turn->angle_rad, turn->yaw_rate_radps, params.profile);
   }
   if (const auto* fence = std::get_if<FenceNavigationAction>(&action.params)) {
     return std::make_unique<FenceFollowingController>(

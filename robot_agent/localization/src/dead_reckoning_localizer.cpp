@@ -24,8 +24,7 @@ absl::StatusOr<DeadReckoningLocalizer> DeadReckoningLocalizer::Create(
   return DeadReckoningLocalizer(*std::move(odometry), start_in_map, confidence_stddev_m);
 }
 
-DeadReckoningLocalizer::DeadReckoningLocalizer(OdometryFrontEnd odometry,
-                                               const Pose2& start_in_map,
+DeadReckoningLocalizer::DeadReckoningLocalizer(OdometryFrontEnd odometry, const Pose2& start_in_map,
                                                double confidence_stddev_m)
     : odometry_(std::move(odometry)),
       start_in_map_(start_in_map),

@@ -122,9 +122,8 @@ absl::Status OdometryFrontEnd::Update(const SensorFrame& frame) {
   still_s_ = moved ? 0.0 : still_s_ + dt_s;
 
   if (absl::Status s = ekf_.Predict(dt_s); !s.ok()) return s;
-  ekf_.FuseWheelTwist(
-      Eigen::Vector3d(wheel_velocity_.vx_mps, omni ? wheel_velocity_.vy_mps : 0.0,
-                      wheel_velocity_.yaw_rate_radps));
+  ekf_.FuseWheelTwist(Eigen::Vector3d(wheel_velocity_.vx_mps, omni ? wheel_velocity_.vy_mps : 0.0,
+                                      wheel_velocity_.yaw_rate_radps));
   // A standing robot does not turn, whatever its gyro's bias says (zero-velocity update).
   if (!standing_still()) ekf_.FuseGyro(frame.imu.gyro_z_radps);
   return absl::OkStatus();

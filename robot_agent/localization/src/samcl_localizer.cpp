@@ -77,8 +77,8 @@ absl::StatusOr<SamclLocalizer> SamclLocalizer::Create(const RobotModel& model,
     const Eigen::Vector2d direction(std::cos(m.yaw_rad), std::sin(m.yaw_rad));
     stripes.push_back(Line2{m.position_m - 0.5 * m.length_m * direction, direction * m.length_m});
   }
-  absl::StatusOr<Samcl> samcl = Samcl::Create(*std::move(amcl), std::move(markers), model,
-                                              params.samcl);
+  absl::StatusOr<Samcl> samcl =
+      Samcl::Create(*std::move(amcl), std::move(markers), model, params.samcl);
   if (!samcl.ok()) return samcl.status();
   return SamclLocalizer(model, *std::move(odometry), *std::move(samcl), std::move(stripes),
                         std::move(calibration_markers), start_in_map, params);
@@ -182,7 +182,8 @@ absl::StatusOr<RangeObservation> SamclLocalizer::Observe(const SensorFrame& fram
         return absl::InvalidArgumentError(
             absl::StrCat("laser '", scan.name, "' is not mounted on ", model_.kind_name));
       }
-      RangeObservation one = ObservationFromLaser(scan, mount->pose_in_base, params_.laser_max_beams);
+      RangeObservation one =
+          ObservationFromLaser(scan, mount->pose_in_base, params_.laser_max_beams);
       all.beams.insert(all.beams.end(), one.beams.begin(), one.beams.end());
     }
     return all;
@@ -205,8 +206,8 @@ absl::Status SamclLocalizer::Update(const SensorFrame& frame) {
   FillOdometry(odometry_, frame.stamp_ns, &estimate_);
   const Pose2 odom = estimate_.pose_in_odom;
   if (!started_) {
-    if (absl::Status s = samcl_.amcl().InitializePose(start_in_map_, params_.start_stddev, odom,
-                                                      frame.stamp_ns);
+    if (absl::Status s =
+            samcl_.amcl().InitializePose(start_in_map_, params_.start_stddev, odom, frame.stamp_ns);
         !s.ok()) {
       return s;
     }
@@ -252,9 +253,9 @@ absl::Status SamclLocalizer::Update(const SensorFrame& frame) {
     if (!result.ok()) return result.status();
     if (result->outcome != CalibrationOutcome::kApplied) continue;
     const Pose2 after = samcl_.amcl().PoseInMap(odom);
-    calibrations_.push_back(
-        {result->marker_id, sample.name, frame.stamp_ns,
-         std::hypot(after.x_m() - before.x_m(), after.y_m() - before.y_m()), after, true});
+    calibrations_.push_back({result->marker_id, sample.name, frame.stamp_ns,
+                             std::hypot(after.x_m() - before.x_m(), after.y_m() - before.y_m()),
+                             after, true});
   }
   if (absl::StatusOr<bool> weighed = WeighByStripes(frame, odom); !weighed.ok()) {
     return weighed.status();

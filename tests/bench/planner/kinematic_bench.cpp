@@ -7,8 +7,8 @@
 #include <iostream>
 #include <string>
 
-#include "fleetnav/planner/kinematic_mapf.hpp"
 #include "bench_registry.hpp"
+#include "fleetnav/planner/kinematic_mapf.hpp"
 #include "kinematic_fleet.hpp"
 
 namespace fp = fleetnav::planner;

@@ -8,7 +8,6 @@
 #include <string>
 
 #include "bench_registry.hpp"
-
 #include "fleetnav/planner/eecbs.hpp"
 #include "fleetnav/planner/lacam.hpp"
 #include "fleetnav/planner/mapf.hpp"

@@ -56,10 +56,10 @@ TEST(OdometryFrontEndTest, StraightTicksGiveTheDistanceDriven) {
   }
   // Then it stands still for a second, so the filtered speed has come to rest.
   for (int i = kFrames + 1; i <= kFrames + 50; ++i) {
-    ASSERT_TRUE(odometry
-                    .Update(DiffFrame(i, 1000 + kFrames * kTicksPerFrame,
-                                      -7 + kFrames * kTicksPerFrame))
-                    .ok());
+    ASSERT_TRUE(
+        odometry
+            .Update(DiffFrame(i, 1000 + kFrames * kTicksPerFrame, -7 + kFrames * kTicksPerFrame))
+            .ok());
   }
   const double expected_m = kFrames * kTicksPerFrame * MetersPerTick(lely);
   EXPECT_NEAR(odometry.distance_travelled_m(), expected_m, 1e-9 * expected_m);
@@ -126,8 +126,7 @@ TEST(OdometryFrontEndTest, MissingEncoderIsNamed) {
   EXPECT_THAT(std::string(status.message()), HasSubstr("'right'"));
 
   OdometryFrontEnd platform = Make(MecanumPlatformModel());
-  EXPECT_THAT(std::string(platform.Update(DiffFrame(0, 0, 0)).message()),
-              HasSubstr("front_left"));
+  EXPECT_THAT(std::string(platform.Update(DiffFrame(0, 0, 0)).message()), HasSubstr("front_left"));
 }
 
 TEST(OdometryFrontEndTest, BadParamsAreRefused) {

@@ -110,8 +110,8 @@ TEST(MovingAiFilesTest, LoadsGeneratedMapAndScenarioFilesOfEachBenchmarkFamily) 
     SCOPED_TRACE(family.name);
     const std::string map_path = dir + "/" + family.name + ".map";
     const std::string scen_path = dir + "/" + family.name + ".scen";
-    ASSERT_TRUE(fleetnav::testing::WriteTextFile(
-        map_path, fleetnav::testing::MovingAiMapText(family.rows)));
+    ASSERT_TRUE(fleetnav::testing::WriteTextFile(map_path,
+                                                 fleetnav::testing::MovingAiMapText(family.rows)));
     ASSERT_TRUE(fleetnav::testing::WriteTextFile(
         scen_path, fleetnav::testing::ScenarioText(family.rows, family.name + ".map", 100, 3)));
     absl::StatusOr<MovingAiMap> map = LoadMovingAiMap(map_path);

@@ -114,8 +114,8 @@ struct RouteRun {
   RouteRun(const RobotModel& model, RobotHal* hal, std::optional<Route> route,
            const Pose2& start = Pose2(), AgentParams params = {})
       : localizer(Odometry(model, start)),
-        agent(RouteContext{model, std::nullopt, nullptr}, AgentPorts{hal, &localizer, &sink, nullptr},
-              std::move(route), params) {}
+        agent(RouteContext{model, std::nullopt, nullptr},
+              AgentPorts{hal, &localizer, &sink, nullptr}, std::move(route), params) {}
   RecordingSink sink;
   localization::DeadReckoningLocalizer localizer;
   Agent agent;
@@ -294,11 +294,11 @@ class OneSite : public SiteSource {
                                 uint32_t marker_set_version) override {
     ++loads;
     if (map_id != "barn" || map_version != 3) return absl::NotFoundError("no such map version");
-    SiteData site{map_id, map_version, marker_set_version,
-                  std::make_shared<const OccupancyGrid>(
-                      OccupancyGrid::Filled(10, 10, 1.0, Pose2(), OccupancyGrid::kFreeValue)
-                          .value()),
-                  MarkerSet{}};
+    SiteData site{
+        map_id, map_version, marker_set_version,
+        std::make_shared<const OccupancyGrid>(
+            OccupancyGrid::Filled(10, 10, 1.0, Pose2(), OccupancyGrid::kFreeValue).value()),
+        MarkerSet{}};
     return site;
   }
   int loads = 0;
@@ -325,14 +325,18 @@ TEST(AgentTest, JobBringsItsSiteAndTheAgentLocalizesOnIt) {
   const Pose2 start(2.0, 3.0, 0.0);
   localization::DeadReckoningLocalizer initial = Odometry(model, start);
   std::vector<SiteData> made_for;
-  AgentPorts ports{&hal, &initial, &sink, &jobs, &sites,
-                   [&](const SiteData& site, const Pose2& from)
-                       -> absl::StatusOr<std::unique_ptr<localization::Localizer>> {
-                     made_for.push_back(site);
-                     EXPECT_TRUE(from.IsNear(start, 1e-6, 1e-6)) << from.DebugString();
-                     return std::make_unique<localization::DeadReckoningLocalizer>(
-                         Odometry(model, from));
-                   }};
+  AgentPorts ports{
+      &hal,
+      &initial,
+      &sink,
+      &jobs,
+      &sites,
+      [&](const SiteData& site,
+          const Pose2& from) -> absl::StatusOr<std::unique_ptr<localization::Localizer>> {
+        made_for.push_back(site);
+        EXPECT_TRUE(from.IsNear(start, 1e-6, 1e-6)) << from.DebugString();
+        return std::make_unique<localization::DeadReckoningLocalizer>(Odometry(model, from));
+      }};
   Agent agent(RouteContext{model, std::nullopt, nullptr}, ports, std::nullopt,
               AgentParams{.max_jobs = 1});
   absl::StatusOr<AgentResult> result = agent.Run();
@@ -343,8 +347,8 @@ TEST(AgentTest, JobBringsItsSiteAndTheAgentLocalizesOnIt) {
   EXPECT_EQ(made_for[0].marker_set_version, 2u);
   ASSERT_FALSE(jobs.events.empty());
   EXPECT_EQ(jobs.events.back().type, JobEventType::kSucceeded) << jobs.events.back().reason;
-  EXPECT_TRUE(result->final_pose_in_map.IsNear(start * Pose2(2.0, 1.0, DegToRad(90)), 0.02,
-                                               DegToRad(1)));
+  EXPECT_TRUE(
+      result->final_pose_in_map.IsNear(start * Pose2(2.0, 1.0, DegToRad(90)), 0.02, DegToRad(1)));
 }
 
 TEST(AgentTest, JobWhoseSiteCannotBeLoadedFailsBeforeMoving) {
@@ -354,9 +358,13 @@ TEST(AgentTest, JobWhoseSiteCannotBeLoadedFailsBeforeMoving) {
   OneJobChannel jobs(FeedJob(7));
   OneSite sites;
   localization::DeadReckoningLocalizer initial = Odometry(model, Pose2());
-  AgentPorts ports{&hal, &initial, &sink, &jobs, &sites,
-                   [&](const SiteData&, const Pose2&)
-                       -> absl::StatusOr<std::unique_ptr<localization::Localizer>> {
+  AgentPorts ports{&hal,
+                   &initial,
+                   &sink,
+                   &jobs,
+                   &sites,
+                   [&](const SiteData&,
+                       const Pose2&) -> absl::StatusOr<std::unique_ptr<localization::Localizer>> {
                      ADD_FAILURE() << "no site, no localizer";
                      return absl::InternalError("unreachable");
                    }};

@@ -126,10 +126,10 @@ TEST(RouteExecutorTest, RouteFromAnOffsetStartIsRelative) {
 // A route with an action this agent cannot run is refused before the robot moves, naming the
 // action: nothing is half-executed.
 TEST(RouteExecutorTest, UnsupportedActionRefusesTheWholeRouteBeforeMoving) {
-  RouteExecutor executor(MakeRoute({Act(StraightAction{0.5, 0.25}),
-                                    Act(DockAction{DockTarget::kTrolley, "t1"}),
-                                    Act(StraightAction{1.0, 0.25})}),
-                         Lely());
+  RouteExecutor executor(
+      MakeRoute({Act(StraightAction{0.5, 0.25}), Act(DockAction{DockTarget::kTrolley, "t1"}),
+                 Act(StraightAction{1.0, 0.25})}),
+      Lely());
   EXPECT_EQ(executor.state(), ExecutionState::kFailed);
   const ExecutorOutput out = executor.Step(OdometryInput(Pose2(), kDt));
   EXPECT_EQ(out.state, ExecutionState::kFailed);
@@ -196,10 +196,11 @@ TEST(RouteExecutorTest, MarkerNeverSeenFailsAtTheActionsDistance) {
 }
 
 TEST(RouteExecutorTest, AbortFailsTheCurrentActionAndStops) {
-  RouteExecutor executor(MakeRoute({Act(StraightAction{1.0, 0.25}), Act(StraightAction{1.0, 0.25})}),
-                         Lely());
+  RouteExecutor executor(
+      MakeRoute({Act(StraightAction{1.0, 0.25}), Act(StraightAction{1.0, 0.25})}), Lely());
   KinematicUnicycle robot;
-  for (int i = 0; i < 50; ++i) robot.Step(executor.Step(OdometryInput(robot.pose(), kDt)).command, kDt);
+  for (int i = 0; i < 50; ++i)
+    robot.Step(executor.Step(OdometryInput(robot.pose(), kDt)).command, kDt);
   executor.Abort(absl::AbortedError("bumper pressed"));
   const ExecutorOutput out = executor.Step(OdometryInput(robot.pose(), kDt));
   EXPECT_EQ(out.state, ExecutionState::kFailed);

@@ -111,11 +111,12 @@ TEST(StripeFollowingControllerTest, DistanceEndsTheLegAndAnEarlyEndFailsIt) {
 }
 
 TEST(StripeFollowingControllerTest, NoStripeUnderTheSensorsFails) {
+  // 3 m beside the stripe: no reading within the 1 m search.
   const StripeRun run = Drive(StripeNavigationAction{1, 5.0, 0.25}, EndConditionKind::kDistance,
-                              Pose2(0.0, 1.0, 0.0), {Piece()});
+                              Pose2(0.0, 3.0, 0.0), {Piece()});
   EXPECT_FALSE(run.done);
-  EXPECT_NE(run.failure.message().find("no stripe under the inductive sensors"),
-            std::string::npos);
+  EXPECT_LT(run.end.x_m(), 1.1);
+  EXPECT_NE(run.failure.message().find("no stripe under the inductive sensors"), std::string::npos);
 }
 
 }  // namespace

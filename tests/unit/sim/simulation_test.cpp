@@ -221,8 +221,7 @@ TEST(SimulationTest, WallStopsTheRobotAndIsReported) {
 TEST(SimulationTest, EachRunIntoTheWallIsOneEpisode) {
   WorldDescription world = EmptyWorld();
   world.boxes.push_back({"wall", Eigen::Vector2d(3.0, 0.0), Eigen::Vector2d(0.2, 6.0), 0.0, 2.5});
-  absl::StatusOr<std::unique_ptr<Simulation>> sim =
-      Simulation::Create(world, SimulationParams{});
+  absl::StatusOr<std::unique_ptr<Simulation>> sim = Simulation::Create(world, SimulationParams{});
   ASSERT_TRUE(sim.ok()) << sim.status();
   ASSERT_TRUE((*sim)->AddRobot("lely1", "lely-vector", Pose2(0, 0, 0)).ok());
   std::vector<int> episodes;
@@ -230,7 +229,8 @@ TEST(SimulationTest, EachRunIntoTheWallIsOneEpisode) {
     ASSERT_TRUE((*sim)->Command("lely1", TwistCommand(0.3, 0.0)).ok());
     for (int i = 0; i < 400; ++i) (*sim)->Advance();
     // Turn away from the wall (the Lely never reverses), drive off, and turn back to face it.
-    for (const Twist2& leg : {Twist2{0.0, 0.0, 0.4}, Twist2{0.3, 0.0, 0.0}, Twist2{0.0, 0.0, 0.4}}) {
+    for (const Twist2& leg :
+         {Twist2{0.0, 0.0, 0.4}, Twist2{0.3, 0.0, 0.0}, Twist2{0.0, 0.0, 0.4}}) {
       ASSERT_TRUE((*sim)->Command("lely1", TwistCommand(leg.vx_mps, leg.yaw_rate_radps)).ok());
       for (int i = 0; i < (leg.vx_mps > 0 ? 250 : 393); ++i) (*sim)->Advance();
     }
@@ -274,7 +274,8 @@ namespace {
 // at right angles gives `detected` but no lateral reading.
 TEST(SimulationTest, InductiveSensorsReadTheStripesLateralOffset) {
   WorldDescription world = EmptyWorld();
-  world.stripes.push_back({1, {Eigen::Vector2d(-5.0, 0.0), Eigen::Vector2d(5.0, 0.0)}, 0.05, false});
+  world.stripes.push_back(
+      {1, {Eigen::Vector2d(-5.0, 0.0), Eigen::Vector2d(5.0, 0.0)}, 0.05, false});
   SimulationParams params;
   params.exteroceptive.inductive_noise_m = 0.0;
   absl::StatusOr<std::unique_ptr<Simulation>> sim = Simulation::Create(world, params);

@@ -95,7 +95,9 @@ class Agent {
   /// Loads the assignment's site and localizer when it is not the one in use; the reason when
   /// the job cannot run here.
   absl::Status PrepareSite(const JobAssignment& assignment);
-  localization::Localizer& localizer() { return job_localizer_ ? *job_localizer_ : *ports_.localizer; }
+  localization::Localizer& localizer() {
+    return job_localizer_ ? *job_localizer_ : *ports_.localizer;
+  }
   const localization::Localizer& localizer() const {
     return job_localizer_ ? *job_localizer_ : *ports_.localizer;
   }

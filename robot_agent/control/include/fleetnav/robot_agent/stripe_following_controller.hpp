@@ -31,6 +31,9 @@ struct StripeFollowingParams {
   double max_interruption_m = 3.0;
   /// Without the stripe in the marker set, a loss this long is taken as its end.
   double unknown_end_after_m = 0.3;
+  /// A leg may start this far before its stripe (a straight before it came up short on a
+  /// slippery floor); no reading by then fails the leg.
+  double search_m = 1.0;
   absl::Status Validate() const;
 };
 

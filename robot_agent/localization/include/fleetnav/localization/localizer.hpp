@@ -15,7 +15,7 @@ namespace fleetnav::localization {
 /// Where a localizer believes the robot is after its last update (REP 105 frames).
 struct LocalizerEstimate {
   Pose2 pose_in_map;
-  Pose2 pose_in_odom;  ///< continuous odometry pose: never jumps
+  Pose2 pose_in_odom;                                    ///< continuous odometry pose: never jumps
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();  ///< of pose_in_map (x, y, yaw)
   Twist2 velocity;                                       ///< body frame, from odometry
   /// In [0, 1]: how far the estimate can be trusted (filter spread and measurement fit).
