@@ -63,6 +63,23 @@ StripeFollowingController::StripeFollowingController(
 double StripeFollowingController::DistanceToStripeEnd(const Eigen::Vector2d& point) const {
   double best = std::numeric_limits<double>::infinity();
   for (const Eigen::Vector2d& end : ends_) best = std::min(best, (end - point).norm());
+  // Past an end (the nearest point of the stripe is that end): the stripe has ended, however far
+  // the estimate has run on (wheel slip makes odometry run ahead).
+  double nearest = std::numeric_limits<double>::infinity();
+  Eigen::Vector2d nearest_point = point;
+  for (const StripeMarker& piece : pieces_) {
+    const Line2 line = piece.AsLine();
+    const double along = std::clamp((point - line.point).dot(line.direction), -0.5 * piece.length_m,
+                                    0.5 * piece.length_m);
+    const Eigen::Vector2d on = line.point + along * line.direction;
+    if ((on - point).norm() < nearest) {
+      nearest = (on - point).norm();
+      nearest_point = on;
+    }
+  }
+  for (const Eigen::Vector2d& end : ends_) {
+    if ((end - nearest_point).norm() < kSharedEndM) return 0.0;
+  }
   return best;
 }
 

@@ -90,6 +90,29 @@ TEST(StripeFollowingControllerTest, FollowsAcrossTheInterruptionToTheStripesEnd)
   EXPECT_EQ(run.modes[1], NavigationMode::kStripeMapBased);
 }
 
+// Slipping wheels run the estimate ahead: the stripe's end then lies behind the estimated
+// sensor, and a loss there is still the end, not an interruption to drive on through.
+TEST(StripeFollowingControllerTest, EstimateRunAheadPastTheEndStillEnds) {
+  StripeFollowingController controller(StripeNavigationAction{1, 0.0, 0.25},
+                                       EndConditionKind::kStripeEnd, {Piece()}, MotionProfile{});
+  KinematicUnicycle robot(Pose2(10.0, 0.0, 0.0));
+  const Pose2 run_ahead(1.5, 0.0, 0.0);  // the estimate is 1.5 m ahead of the truth
+  bool done = false;
+  for (int step = 0; step < 3000 && !done; ++step) {
+    ControlInput input = OdometryInput(robot.pose(), kDt);
+    input.pose_in_map = run_ahead * robot.pose();
+    input.perception.stripe_sensor_x_m = kSensorXM;
+    input.perception.stripe_offset_m = StripeOffset(robot.pose());
+    const ControlOutput out = controller.Step(input);
+    ASSERT_TRUE(out.failure.ok()) << out.failure;
+    ASSERT_NE(out.mode, NavigationMode::kStripeMapBased) << "took the end for an interruption";
+    done = out.done;
+    robot.Step(out.command, kDt);
+  }
+  EXPECT_TRUE(done);
+  EXPECT_NEAR(robot.pose().x_m() + kSensorXM, 12.0, 0.2);
+}
+
 // Without the stripe's geometry, an interruption cannot be told from the end: the leg ends
 // at the interruption.
 TEST(StripeFollowingControllerTest, WithoutTheMarkerSetALossIsTheEnd) {
