@@ -209,7 +209,7 @@ int main(int argc, char** argv) {
         fleetnav::RadToDeg(c.pose_in_map.yaw_rad()));
   }
   const fleetnav::Pose2& end = result->final_pose_in_map;
-  const double sim_s = static_cast<double>(result->ticks) * 0.02;
+  const double sim_s = result->sim_time_s;
   spdlog::info(
       "fleetnav-agent: {} after {} ticks; estimated pose ({:.3f}, {:.3f}, {:.2f} deg); "
       "{} telemetry messages; {:.2f} CPU-s for {:.1f} sim-s ({:.1f} % of a core at 1x)",

@@ -33,7 +33,6 @@ Agent::Agent(RouteContext context, AgentPorts ports, std::optional<Route> route,
 void Agent::StartRoute(Route route) {
   executor_.emplace(std::move(route), context_, params_.modes);
   reported_action_ = -1;
-  reported_mode_ = NavigationMode::kIdle;
   paused_ = false;
   end_reported_ = false;
   safety_.Reset();
@@ -62,7 +61,6 @@ void Agent::ReportProgress(const ExecutorOutput& output, AgentResult* result) {
   if (!output.mode_reason.empty()) {
     Report(JobEventType::kModeSwitch, output.action_index, output.mode, output.mode_reason, result);
   }
-  reported_mode_ = output.mode;
 }
 
 void Agent::ServeJobs(const ExecutorOutput& output, AgentResult* result) {
@@ -157,6 +155,7 @@ absl::StatusOr<AgentResult> Agent::Run() {
   int64_t next_telemetry_ns = 0;
   int settle_remaining = params_.settle_ticks;
   int64_t last_stamp_ns = -1;
+  int64_t first_stamp_ns = -1;
   while (true) {
     ASSIGN_OR_RETURN(std::optional<SensorFrame> frame, ports_.hal->NextFrame());
     if (!frame) break;  // the hardware or simulation ended
@@ -164,6 +163,7 @@ absl::StatusOr<AgentResult> Agent::Run() {
     const double dt_s =
         last_stamp_ns < 0 ? frame->control_period_s : (frame->stamp_ns - last_stamp_ns) * 1e-9;
     last_stamp_ns = frame->stamp_ns;
+    if (first_stamp_ns < 0) first_stamp_ns = frame->stamp_ns;
     RETURN_IF_ERROR(localizer().Update(*frame));
     if (frame->battery_fraction) battery_fraction_ = *frame->battery_fraction;
     const localization::LocalizerEstimate& estimate = localizer().estimate();
@@ -257,6 +257,7 @@ absl::StatusOr<AgentResult> Agent::Run() {
     result.failure_reason = std::string(executor_->failure().message());
   }
   result.final_pose_in_map = localizer().estimate().pose_in_map;
+  if (first_stamp_ns >= 0) result.sim_time_s = (last_stamp_ns - first_stamp_ns) * 1e-9;
   return result;
 }
 

@@ -45,7 +45,7 @@ const SafetyVerdict& SafetyMonitor::Check(const Perception& perception, const Tw
     return verdict_;
   }
   lost_s_ = localization_lost ? lost_s_ + dt_s : 0.0;
-  if (lost_s_ >= params_.lost_after_s && params_.lost_after_s >= 0.0 && localization_lost) {
+  if (localization_lost && lost_s_ >= params_.lost_after_s) {
     verdict_ = {SafetyStop::kLocalizationLost,
                 absl::StrFormat("localization lost for %.1f s: the robot stopped", lost_s_)};
   }

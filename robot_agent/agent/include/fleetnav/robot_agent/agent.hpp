@@ -60,6 +60,7 @@ struct AgentResult {
   int jobs_finished = 0;  ///< jobs from the server that ended (any outcome)
   Pose2 final_pose_in_map;
   uint64_t ticks = 0;
+  double sim_time_s = 0.0;  ///< robot time from the first frame to the last
   uint64_t telemetry_sent = 0;
   SafetyStop safety_stop = SafetyStop::kNone;
   /// Every event of the run (also those sent to the server), in order.
@@ -111,7 +112,6 @@ class Agent {
   uint64_t sequence_ = 0;
   std::string current_job_id_;
   int reported_action_ = -1;
-  NavigationMode reported_mode_ = NavigationMode::kIdle;
   bool paused_ = false;
   bool end_reported_ = false;
   double battery_fraction_ = 1.0;  ///< as the robot last reported it
