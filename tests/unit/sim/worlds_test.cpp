@@ -1,5 +1,6 @@
 // Every shipped world loads, simulates its robots, and yields its map and marker set.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -47,7 +48,12 @@ TEST_P(ShippedWorldTest, LoadsRasterizesAndRunsItsRobots) {
   EXPECT_TRUE((*sim)->GroundTruth().contacts.empty());
   const std::filesystem::path dir = std::filesystem::temp_directory_path();
   for (const char* ext : {".png", ".svg"}) {
-    const std::string path = (dir / (std::string("fleetnav_render_") + world.name + ext)).string();
+    // Named after the file, not the world: barn.yaml and barn_errors.yaml are one site, and
+    // the two test instances run in parallel.
+    const std::string path = (dir / (std::string("fleetnav_render_") +
+                                     std::filesystem::path(GetParam()).stem().string() + "_" +
+                                     std::to_string(getpid()) + ext))
+                                 .string();
     std::vector<TrajectoryTrace> traces = {
         {world.robots[0].robot_id,
          false,
