@@ -417,18 +417,21 @@ void Simulation::UpdateSeparation() {
     for (size_t j = i + 1; j < robots_.size(); ++j) {
       const RobotBody& a = *robots_[i].body;
       const RobotBody& b = *robots_[j].body;
-      const double distance =
+      // The circumscribed circles bound the footprint distance from below: the exact polygon
+      // distance is needed only when that bound could lower the minimum or mean contact.
+      const double circle_distance =
           (a.GroundTruthPose().translation() - b.GroundTruthPose().translation()).norm() -
           a.model().CircumscribedRadius() - b.model().CircumscribedRadius();
-      min_separation_m_ = std::min(min_separation_m_, distance);
-      // Footprints that start to overlap are a robot-robot contact, whatever their heights.
-      if (distance > 0.0) {
+      if (circle_distance >= min_separation_m_ && circle_distance > 0.0) {
         overlapping_.erase({i, j});
         continue;
       }
       const Shape2 shape_a = FootprintShape(a.model().footprint_m, a.GroundTruthPose(), 1.0, 0);
       const Shape2 shape_b = FootprintShape(b.model().footprint_m, b.GroundTruthPose(), 1.0, 1);
-      if (!Overlap(shape_a, shape_b)) {
+      const double distance = PolygonDistance(shape_a, shape_b);
+      min_separation_m_ = std::min(min_separation_m_, distance);
+      // Footprints that start to overlap are a robot-robot contact, whatever their heights.
+      if (distance > 0.0) {
         overlapping_.erase({i, j});
       } else if (overlapping_.insert({i, j}).second) {
         RecordContact(robots_[i].robot_id, robots_[j].robot_id);

@@ -44,6 +44,26 @@ bool SeparatedByEdges(const Shape2& polygon, const Shape2& other) {
   return false;
 }
 
+double PointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                            const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double length_sq = ab.squaredNorm();
+  const double t = length_sq > 0.0 ? std::clamp((p - a).dot(ab) / length_sq, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
+
+/// The smallest distance from any vertex of `from` to any edge of `to`.
+double VertexToEdgeDistance(const Shape2& from, const Shape2& to) {
+  double best = std::numeric_limits<double>::infinity();
+  const size_t n = to.vertices.size();
+  for (const Eigen::Vector2d& v : from.vertices) {
+    for (size_t i = 0; i < n; ++i) {
+      best = std::min(best, PointSegmentDistance(v, to.vertices[i], to.vertices[(i + 1) % n]));
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 Shape2 PolygonShape(std::vector<Eigen::Vector2d> vertices, double height_m, int owner) {
@@ -154,6 +174,12 @@ bool Overlap(const Shape2& a, const Shape2& b) {
   const Eigen::Vector2d axis = nearest - b.center;
   if (axis.norm() < 1e-12) return true;
   return !SeparatedOn(a, b, axis.normalized());
+}
+
+double PolygonDistance(const Shape2& a, const Shape2& b) {
+  if (Overlap(a, b)) return 0.0;
+  // Between disjoint convex polygons the closest pair always has a vertex on one side.
+  return std::min(VertexToEdgeDistance(a, b), VertexToEdgeDistance(b, a));
 }
 
 bool Contains(const Shape2& shape, const Eigen::Vector2d& point) {

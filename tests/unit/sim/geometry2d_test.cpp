@@ -45,6 +45,17 @@ TEST(Geometry2dTest, OverlapAndContainment) {
   EXPECT_TRUE(Contains(grown, {1.05, 1.05}));
 }
 
+TEST(Geometry2dTest, PolygonDistanceIsZeroOnOverlapAndExactApart) {
+  const Shape2 a = BoxShape({0, 0}, {2, 2}, 0.0, 1.0, 0);
+  const Shape2 apart = BoxShape({5, 0.5}, {2, 2}, 0.0, 1.0, 1);
+  const Shape2 corner = BoxShape({3, 3}, {2, 2}, 0.0, 1.0, 1);
+  const Shape2 rotated = BoxShape({1.5, 0}, {2, 2}, 0.3, 1.0, 1);
+  EXPECT_NEAR(PolygonDistance(a, apart), 3.0, 1e-9);
+  EXPECT_NEAR(PolygonDistance(apart, a), 3.0, 1e-9);
+  EXPECT_NEAR(PolygonDistance(a, corner), std::sqrt(2.0), 1e-9);
+  EXPECT_EQ(PolygonDistance(a, rotated), 0.0);
+}
+
 TEST(Geometry2dTest, ClipSegmentAndStrip) {
   const auto clip = ClipSegment({0, 0}, {10, 0}, {2, -1}, {4, 1});
   ASSERT_TRUE(clip.has_value());

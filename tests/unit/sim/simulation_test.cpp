@@ -251,16 +251,23 @@ TEST(SimulationTest, EachRunIntoTheWallIsOneEpisode) {
   EXPECT_EQ((*sim)->GroundTruth().robots.at(0).collisions(), 0);
 }
 
-TEST(SimulationTest, TwoRobotsReportSeparation) {
+TEST(SimulationTest, TwoRobotsReportFootprintSeparation) {
+  // In line, 10 m apart: the gap is 10 m less one 2.27 m body length.
   std::unique_ptr<Simulation> sim = MakeSimulation(1);
   ASSERT_TRUE(sim->AddRobot("a", "lely-vector", Pose2(0, 0, 0)).ok());
   ASSERT_TRUE(sim->AddRobot("b", "lely-vector", Pose2(10, 0, 0)).ok());
   sim->Advance();
-  const GroundTruthSnapshot truth = sim->GroundTruth();
-  absl::StatusOr<RobotModel> model = sim->ModelOf("a");
-  ASSERT_TRUE(model.ok());
-  EXPECT_NEAR(truth.min_separation_m, 10.0 - 2.0 * model->CircumscribedRadius(), 0.01);
+  EXPECT_NEAR(sim->GroundTruth().min_separation_m, 10.0 - 2.27, 0.02);
   EXPECT_EQ(sim->robot_ids(), (std::vector<std::string>{"a", "b"}));
+
+  // Side by side on lanes 3 m apart: 3 m less one 1.60 m body width (circumscribed circles
+  // would call it 0.24 m).
+  std::unique_ptr<Simulation> lanes = MakeSimulation(1);
+  ASSERT_TRUE(lanes->AddRobot("a", "lely-vector", Pose2(0, 0, 0)).ok());
+  ASSERT_TRUE(lanes->AddRobot("b", "lely-vector", Pose2(0.7, 3.0, 0)).ok());
+  lanes->Advance();
+  EXPECT_NEAR(lanes->GroundTruth().min_separation_m, 3.0 - 1.60, 0.02);
+  EXPECT_EQ(lanes->GroundTruth().robots.at(0).collisions_robots, 0);
 }
 
 }  // namespace

@@ -48,6 +48,9 @@ std::optional<RayHit> CastRay(const Shape2& shape, const Eigen::Vector2d& origin
 /// Whether two shapes overlap (separating-axis test; circles by closest point).
 bool Overlap(const Shape2& a, const Shape2& b);
 
+/// The smallest distance between two convex polygons' boundaries; 0 when they overlap.
+double PolygonDistance(const Shape2& a, const Shape2& b);
+
 /// Whether a point lies inside a shape.
 bool Contains(const Shape2& shape, const Eigen::Vector2d& point);
 
