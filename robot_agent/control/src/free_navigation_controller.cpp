@@ -6,6 +6,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "fleetnav/core/angles.hpp"
+#include "fleetnav/planner/route_prediction.hpp"
 
 namespace fleetnav::agent {
 namespace {
@@ -87,45 +88,13 @@ absl::Status FreeNavigationController::Plan(const Pose2& from_in_map) {
     if (!planner.ok()) return planner.status();
     planner_ = *std::move(planner);
   }
-  const Pose2 grid_from_map = map_->origin().Inverse();
-  // Legs: the robot → each waypoint still ahead → the goal; waypoints face the next point.
-  std::vector<Pose2> targets;
-  for (size_t i = next_waypoint_; i < action_.waypoints_m.size(); ++i) {
-    const Eigen::Vector2d next = i + 1 < action_.waypoints_m.size() ? action_.waypoints_m[i + 1]
-                                                                    : action_.goal.translation();
-    const Eigen::Vector2d d = next - action_.waypoints_m[i];
-    targets.emplace_back(action_.waypoints_m[i].x(), action_.waypoints_m[i].y(),
-                         std::atan2(d.y(), d.x()));
-  }
-  targets.push_back(action_.goal);
-  std::vector<Pose2> path;
-  Pose2 from = from_in_map;
-  planned_length_m_ = 0.0;
-  for (size_t t = 0; t < targets.size(); ++t) {
-    planner::PathRequest request;
-    request.start = grid_from_map * from;
-    request.goal = grid_from_map * targets[t];
-    request.time_limit_s = params_.plan_time_limit_s;
-    const bool last = t + 1 == targets.size();
-    // Waypoints are passed through, not stopped at: any heading within 45° will do.
-    request.goal_tolerance_rad = last ? 0.1 : 0.8;
-    absl::StatusOr<planner::PathResult> leg = planner_->Plan(request);
-    if (!leg.ok()) {
-      return absl::Status(leg.status().code(),
-                          absl::StrFormat("no path to (%.2f, %.2f): %s", targets[t].x_m(),
-                                          targets[t].y_m(), leg.status().message()));
-    }
-    if (!leg->exact) {
-      return absl::NotFoundError(
-          absl::StrFormat("(%.2f, %.2f) cannot be reached on the map from (%.2f, %.2f)",
-                          targets[t].x_m(), targets[t].y_m(), from.x_m(), from.y_m()));
-    }
-    for (const Pose2& p : leg->poses) path.push_back(map_->origin() * p);
-    planned_length_m_ += leg->length_m;
-    from = targets[t];
-  }
-  path.push_back(action_.goal);
-  tracker_.SetPath(std::move(path));
+  const std::vector<Eigen::Vector2d> ahead(action_.waypoints_m.begin() + next_waypoint_,
+                                           action_.waypoints_m.end());
+  absl::StatusOr<planner::WaypointPath> path = planner::PlanThroughWaypoints(
+      *planner_, map_->origin(), from_in_map, ahead, action_.goal, params_.plan_time_limit_s);
+  if (!path.ok()) return path.status();
+  planned_length_m_ = path->length_m;
+  tracker_.SetPath(std::move(path->poses));
   planned_ = true;
   return absl::OkStatus();
 }

@@ -1,0 +1,29 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "fleetnav/core/pose2.hpp"
+
+namespace fleetnav::planner {
+
+/// A region of the floor as the set of square cells (side cell_m, on a grid anchored at the
+/// map origin's (0, 0)) that it touches; sorted keys, so two sets intersect in linear time.
+/// Value type.
+class CellSet {
+ public:
+  CellSet() = default;
+  /// Every cell that a footprint (base_link polygon) placed at any of `poses` and grown by
+  /// `margin_m` touches (cells whose centre lies within margin_m + half a cell diagonal).
+  static CellSet Sweep(const std::vector<Pose2>& poses, const std::vector<Eigen::Vector2d>& footprint,
+                       double margin_m, double cell_m);
+
+  bool Intersects(const CellSet& other) const;
+  bool empty() const { return keys_.empty(); }
+  size_t size() const { return keys_.size(); }
+
+ private:
+  std::vector<uint64_t> keys_;
+};
+
+}  // namespace fleetnav::planner

@@ -1,0 +1,80 @@
+#include "fleetnav/planner/swept_cells.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace fleetnav::planner {
+namespace {
+
+uint64_t Key(int64_t ix, int64_t iy) {
+  return (static_cast<uint64_t>(static_cast<uint32_t>(ix)) << 32) |
+         static_cast<uint32_t>(iy);
+}
+
+/// Distance from `p` to the polygon: 0 inside, else to the nearest edge.
+double DistanceToPolygon(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& polygon) {
+  bool inside = false;
+  double best = std::numeric_limits<double>::infinity();
+  const size_t n = polygon.size();
+  for (size_t i = 0, j = n - 1; i < n; j = i++) {
+    const Eigen::Vector2d& a = polygon[j];
+    const Eigen::Vector2d& b = polygon[i];
+    if ((b.y() > p.y()) != (a.y() > p.y()) &&
+        p.x() < (a.x() - b.x()) * (p.y() - b.y()) / (a.y() - b.y()) + b.x()) {
+      inside = !inside;
+    }
+    const Eigen::Vector2d ab = b - a;
+    const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
+    best = std::min(best, (a + t * ab - p).norm());
+  }
+  return inside ? 0.0 : best;
+}
+
+}  // namespace
+
+CellSet CellSet::Sweep(const std::vector<Pose2>& poses,
+                       const std::vector<Eigen::Vector2d>& footprint, double margin_m,
+                       double cell_m) {
+  CellSet out;
+  const double reach_m = margin_m + cell_m * std::sqrt(0.5);
+  std::vector<Eigen::Vector2d> placed(footprint.size());
+  for (const Pose2& pose : poses) {
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector2d hi = -lo;
+    for (size_t i = 0; i < footprint.size(); ++i) {
+      placed[i] = pose.TransformPoint(footprint[i]);
+      lo = lo.cwiseMin(placed[i]);
+      hi = hi.cwiseMax(placed[i]);
+    }
+    const int64_t x0 = static_cast<int64_t>(std::floor((lo.x() - reach_m) / cell_m));
+    const int64_t x1 = static_cast<int64_t>(std::floor((hi.x() + reach_m) / cell_m));
+    const int64_t y0 = static_cast<int64_t>(std::floor((lo.y() - reach_m) / cell_m));
+    const int64_t y1 = static_cast<int64_t>(std::floor((hi.y() + reach_m) / cell_m));
+    for (int64_t ix = x0; ix <= x1; ++ix) {
+      for (int64_t iy = y0; iy <= y1; ++iy) {
+        const Eigen::Vector2d centre((ix + 0.5) * cell_m, (iy + 0.5) * cell_m);
+        if (DistanceToPolygon(centre, placed) <= reach_m) out.keys_.push_back(Key(ix, iy));
+      }
+    }
+  }
+  std::sort(out.keys_.begin(), out.keys_.end());
+  out.keys_.erase(std::unique(out.keys_.begin(), out.keys_.end()), out.keys_.end());
+  return out;
+}
+
+bool CellSet::Intersects(const CellSet& other) const {
+  auto a = keys_.begin();
+  auto b = other.keys_.begin();
+  while (a != keys_.end() && b != other.keys_.end()) {
+    if (*a == *b) return true;
+    if (*a < *b) {
+      ++a;
+    } else {
+      ++b;
+    }
+  }
+  return false;
+}
+
+}  // namespace fleetnav::planner

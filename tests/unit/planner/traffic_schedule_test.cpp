@@ -1,0 +1,169 @@
+#include "fleetnav/planner/traffic_schedule.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "fleetnav/planner/route_prediction.hpp"
+
+namespace fleetnav::planner {
+namespace {
+
+const std::vector<Eigen::Vector2d> kSquare{{-0.5, -0.5}, {0.5, -0.5}, {0.5, 0.5}, {-0.5, 0.5}};
+
+/// The cells a 1 m square sweeps from `from` to `to` (no margin, 0.25 m cells).
+CellSet Line(Eigen::Vector2d from, Eigen::Vector2d to) {
+  std::vector<Pose2> poses;
+  for (int i = 0; i <= 20; ++i) {
+    const Eigen::Vector2d p = from + (to - from) * (i / 20.0);
+    poses.emplace_back(p.x(), p.y(), 0.0);
+  }
+  return CellSet::Sweep(poses, kSquare, 0.0, 0.25);
+}
+
+CellSet At(Eigen::Vector2d p) { return Line(p, p); }
+
+/// A route of legs through `points`, one action per leg, each expected to take 10 s from t0.
+ScheduledRoute Route(const std::string& robot, std::vector<Eigen::Vector2d> points, double t0) {
+  ScheduledRoute r;
+  r.robot_id = robot;
+  r.job_id = "job-" + robot;
+  for (size_t i = 1; i < points.size(); ++i) {
+    r.action_cells.push_back(Line(points[i - 1], points[i]));
+    r.action_start_s.push_back(t0 + 10.0 * (i - 1));
+  }
+  r.start_cells = At(points.front());
+  r.end_cells = At(points.back());
+  return r;
+}
+
+TEST(CellSetTest, SweepCoversTheFootprintAndSetsIntersectOnlyWhenTheyShareCells) {
+  const CellSet a = Line({0, 0}, {4, 0});
+  EXPECT_TRUE(a.Intersects(At({4.2, 0})));
+  EXPECT_FALSE(a.Intersects(At({0, 2.0})));
+  // A margin grows the region: a square 0.6 m away is touched with a 0.6 m margin.
+  const CellSet grown = CellSet::Sweep({Pose2(0, 0, 0)}, kSquare, 0.6, 0.25);
+  EXPECT_TRUE(grown.Intersects(At({0, 1.6})));
+  EXPECT_FALSE(grown.Intersects(At({0, 3.0})));
+}
+
+TEST(TrafficScheduleTest, CrossingRoutesGoOneAfterTheOtherInExpectedOrder) {
+  // a drives east along y = 0 through x = 0 first (t 0–10); b comes south later (t 10–20)
+  // across the same place.
+  ScheduledRoute a = Route("a", {{-5, 0}, {5, 0}, {5, -5}}, 0.0);
+  ScheduledRoute b = Route("b", {{0, 8}, {0, 4}, {0, -4}}, 0.0);
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
+  ASSERT_EQ(d.size(), 2u);
+  EXPECT_EQ(d[0].cleared_up_to, 1);  // a: nothing holds it
+  EXPECT_TRUE(d[0].waits.empty());
+  EXPECT_EQ(d[1].cleared_up_to, 0);  // b: may approach, not cross
+  ASSERT_EQ(d[1].waits.size(), 1u);
+  EXPECT_EQ(d[1].waits[0].blocker_robot_id, "a");
+  EXPECT_EQ(d[1].waits[0].blocker_action, 0);
+  // Once a has left the crossing, b may cross; its clearance is kept when a is late.
+  a.first_unfinished = 1;
+  a.cleared_up_to = 1;
+  b.cleared_up_to = 0;
+  d = DecideClearances({a, b}, {});
+  EXPECT_EQ(d[1].cleared_up_to, 1);
+  EXPECT_TRUE(d[1].waits.empty());
+  EXPECT_FALSE(d[0].deadlocked);
+}
+
+TEST(TrafficScheduleTest, ClearedActionsComeFirstWhateverTheExpectedTimes) {
+  // b was cleared into the crossing before a's route was known: a waits, though its expected
+  // time is earlier.
+  ScheduledRoute a = Route("a", {{-5, 0}, {5, 0}}, 0.0);
+  ScheduledRoute b = Route("b", {{0, 5}, {0, -5}}, 100.0);
+  b.cleared_up_to = 0;
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
+  EXPECT_EQ(d[0].cleared_up_to, -1);
+  ASSERT_EQ(d[0].waits.size(), 1u);
+  EXPECT_EQ(d[0].waits[0].blocker_robot_id, "b");
+  EXPECT_EQ(d[1].cleared_up_to, 0);
+}
+
+TEST(TrafficScheduleTest, ARobotsRestingPlaceIsCrossedBeforeItArrives) {
+  // b ends at (0, 0), on a's later leg: a must pass there before b's last action, although b
+  // is expected earlier.
+  ScheduledRoute a = Route("a", {{-8, 3}, {-4, 3}, {-4, 0}, {4, 0}}, 0.0);
+  ScheduledRoute b = Route("b", {{0, -8}, {0, -4}, {0, 0}}, 0.0);
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
+  EXPECT_EQ(d[0].cleared_up_to, 2);
+  EXPECT_EQ(d[1].cleared_up_to, 0);
+  ASSERT_FALSE(d[1].waits.empty());
+  EXPECT_EQ(d[1].waits[0].blocker_robot_id, "a");
+  EXPECT_EQ(d[1].waits[0].blocker_action, 2);
+}
+
+TEST(TrafficScheduleTest, ARobotStandingAtItsStartIsPassedOnlyAfterItLeaves) {
+  // b stands on a's path until b's first action; b's first action is expected later than a
+  // passes, yet a waits for it.
+  ScheduledRoute a = Route("a", {{-5, 0}, {5, 0}}, 0.0);
+  ScheduledRoute b = Route("b", {{0, 0}, {0, 5}}, 50.0);
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
+  EXPECT_EQ(d[0].cleared_up_to, -1);
+  ASSERT_EQ(d[0].waits.size(), 1u);
+  EXPECT_EQ(d[0].waits[0].blocker_robot_id, "b");
+  EXPECT_EQ(d[1].cleared_up_to, 0);
+}
+
+TEST(TrafficScheduleTest, ParkedRobotsAreNeverDrivenThrough) {
+  ScheduledRoute a = Route("a", {{-5, 0}, {-2, 0}, {5, 0}}, 0.0);
+  std::vector<TrafficClearanceDecision> d =
+      DecideClearances({a}, {ParkedRobot{"idle", At({2, 0})}});
+  EXPECT_EQ(d[0].cleared_up_to, 0);
+  ASSERT_EQ(d[0].waits.size(), 1u);
+  EXPECT_EQ(d[0].waits[0].blocker_robot_id, "idle");
+  EXPECT_EQ(d[0].waits[0].blocker_action, -1);
+}
+
+TEST(TrafficScheduleTest, RoutesThatEndOnEachOthersStartAreHeldNotDeadlocked) {
+  // Each robot ends where the other starts: no order of whole actions works, so the newer
+  // route is held and the older one runs.
+  ScheduledRoute a = Route("a", {{0, 0}, {6, 0}}, 0.0);
+  ScheduledRoute b = Route("b", {{6, 0}, {0, 0}}, 1.0);
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
+  EXPECT_FALSE(d[0].deadlocked);
+  EXPECT_TRUE(d[1].deadlocked);
+  EXPECT_EQ(d[1].cleared_up_to, -1);
+}
+
+TEST(RoutePredictionTest, LegsChainFromTheStartAlongStripesAndTurns) {
+  MarkerSet markers;
+  StripeMarker stripe;
+  stripe.id = 10;
+  stripe.position_m = {5.0, 2.0};
+  stripe.yaw_rad = 0.0;
+  stripe.length_m = 6.0;  // x 2..8 at y = 2
+  stripe.kind = MarkerKind::kFollowStripe;
+  stripe.stripe_id = 3;
+  markers.markers.push_back(stripe);
+  fleetnav::Route route;
+  route.actions.push_back({StraightAction{2.0, 0.5}, {}});
+  route.actions.push_back({TurnAction{M_PI / 2, 0.5}, {}});
+  route.actions.push_back({StraightAction{2.0, 0.5}, {}});
+  route.actions.push_back({TurnAction{-M_PI / 2, 0.5}, {}});
+  route.actions.push_back({StripeNavigationAction{3, 0.0, 0.25}, {EndConditionKind::kStripeEnd}});
+  absl::StatusOr<std::vector<PredictedAction>> predicted =
+      PredictRoute(route, Pose2(0, 0, 0), &markers, nullptr, Pose2());
+  ASSERT_TRUE(predicted.ok()) << predicted.status();
+  ASSERT_EQ(predicted->size(), 5u);
+  EXPECT_TRUE(predicted->at(0).poses.back().IsNear(Pose2(2, 0, 0), 1e-9, 1e-9));
+  EXPECT_NEAR(predicted->at(0).duration_s, 4.0, 1e-9);
+  EXPECT_NEAR(predicted->at(1).duration_s, M_PI, 1e-9);
+  EXPECT_TRUE(predicted->at(2).poses.back().IsNear(Pose2(2, 2, M_PI / 2), 1e-9, 1e-9));
+  EXPECT_TRUE(predicted->at(4).poses.back().IsNear(Pose2(8, 2, 0), 1e-9, 1e-9));
+  EXPECT_NEAR(predicted->at(4).duration_s, 6.0 / 0.25, 1e-6);
+  for (const PredictedAction& action : *predicted) {
+    for (size_t i = 1; i < action.poses.size(); ++i) {
+      EXPECT_LE((action.poses[i].translation() - action.poses[i - 1].translation()).norm(), 0.1 + 1e-9);
+    }
+  }
+  route.actions.back().params = StripeNavigationAction{4, 0.0, 0.25};
+  EXPECT_EQ(PredictRoute(route, Pose2(0, 0, 0), &markers, nullptr, Pose2()).status().code(),
+            absl::StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace fleetnav::planner
