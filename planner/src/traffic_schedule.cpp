@@ -26,25 +26,93 @@ struct Graph {
   std::map<Node, std::vector<Dependency>> deps;  // waiting node → what it waits for
 };
 
-bool Started(const ScheduledRoute& r) { return r.first_unfinished > 0 || r.cleared_up_to >= 0; }
-
 int Count(const ScheduledRoute& r) { return static_cast<int>(r.action_cells.size()); }
 
-/// The floor a held route's robot stands on: before its first action its start, then the
-/// action it is in.
+/// Where the robot stands now: its start before the first action, else the end of the last
+/// finished one.
 const CellSet& Standing(const ScheduledRoute& r) {
-  if (!Started(r) || r.first_unfinished >= Count(r)) {
-    return r.first_unfinished >= Count(r) ? r.end_cells : r.start_cells;
-  }
-  return r.action_cells[r.first_unfinished];
+  if (r.first_unfinished <= 0 || r.action_end_cells.empty()) return r.start_cells;
+  return r.action_end_cells[std::min(r.first_unfinished, Count(r)) - 1];
 }
 
-Graph Build(const std::vector<ScheduledRoute>& routes, const std::vector<bool>& held,
-            const std::vector<ParkedRobot>& parked) {
-  Graph g;
+/// The newer of two routes (later expected start; the higher index on a tie).
+int Newer(const std::vector<ScheduledRoute>& routes, int r, int s) {
+  const double tr = routes[r].action_start_s.empty() ? 0.0 : routes[r].action_start_s.front();
+  const double ts = routes[s].action_start_s.empty() ? 0.0 : routes[s].action_start_s.front();
+  return ts > tr || (ts == tr && s > r) ? s : r;
+}
+
+/// One place two routes share: actions k1..k2 of the first and l1..l2 of the second.
+struct Block {
+  int k1, k2, l1, l2;
+};
+
+/// The blocks of two routes: 4-connected components of intersecting unfinished action pairs.
+std::vector<Block> Blocks(const ScheduledRoute& a, const ScheduledRoute& b) {
+  const int fa = a.first_unfinished;
+  const int fb = b.first_unfinished;
+  const int na = std::max(0, Count(a) - fa);
+  const int nb = std::max(0, Count(b) - fb);
+  std::vector<char> conflict(static_cast<size_t>(na) * nb, 0);
+  for (int i = 0; i < na; ++i) {
+    for (int j = 0; j < nb; ++j) {
+      conflict[i * nb + j] = a.action_cells[fa + i].Intersects(b.action_cells[fb + j]) ? 1 : 0;
+    }
+  }
+  std::vector<Block> blocks;
+  std::vector<char> seen(conflict.size(), 0);
+  for (int start = 0; start < na * nb; ++start) {
+    if (!conflict[start] || seen[start]) continue;
+    Block block{na, -1, nb, -1};
+    std::vector<int> stack{start};
+    seen[start] = 1;
+    while (!stack.empty()) {
+      const int cell = stack.back();
+      stack.pop_back();
+      const int i = cell / nb;
+      const int j = cell % nb;
+      block.k1 = std::min(block.k1, i);
+      block.k2 = std::max(block.k2, i);
+      block.l1 = std::min(block.l1, j);
+      block.l2 = std::max(block.l2, j);
+      const int neighbours[4][2] = {{i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
+      for (const auto& [ni, nj] : neighbours) {
+        if (ni < 0 || nj < 0 || ni >= na || nj >= nb) continue;
+        const int next = ni * nb + nj;
+        if (conflict[next] && !seen[next]) {
+          seen[next] = 1;
+          stack.push_back(next);
+        }
+      }
+    }
+    blocks.push_back({block.k1 + fa, block.k2 + fa, block.l1 + fb, block.l2 + fb});
+  }
+  return blocks;
+}
+
+/// Whether `cells` meets any of the route's action regions first..last.
+bool Meets(const CellSet& cells, const ScheduledRoute& route, int first, int last) {
+  for (int k = first; k <= last; ++k) {
+    if (cells.Intersects(route.action_cells[k])) return true;
+  }
+  return false;
+}
+
+/// The dependency graph, or the route to hold when two routes cannot be ordered at all.
+struct BuildResult {
+  Graph graph;
+  int infeasible_route = -1;
+};
+
+BuildResult Build(const std::vector<ScheduledRoute>& routes, const std::vector<bool>& held,
+                  const std::vector<ParkedRobot>& parked) {
+  BuildResult out;
+  Graph& g = out.graph;
   // Parked robots and held routes stand where they are.
   std::vector<std::pair<int, const CellSet*>> standing;
-  for (size_t p = 0; p < parked.size(); ++p) standing.emplace_back(static_cast<int>(p), &parked[p].cells);
+  for (size_t p = 0; p < parked.size(); ++p) {
+    standing.emplace_back(static_cast<int>(p), &parked[p].cells);
+  }
   for (size_t r = 0; r < routes.size(); ++r) {
     if (held[r]) standing.emplace_back(static_cast<int>(parked.size() + r), &Standing(routes[r]));
   }
@@ -53,7 +121,8 @@ Graph Build(const std::vector<ScheduledRoute>& routes, const std::vector<bool>& 
                                                  : routes[r].action_start_s[k];
     return std::make_tuple(t, r, k);
   };
-  for (int r = 0; r < static_cast<int>(routes.size()); ++r) {
+  const int n = static_cast<int>(routes.size());
+  for (int r = 0; r < n; ++r) {
     if (held[r]) continue;
     const ScheduledRoute& a = routes[r];
     for (int k = a.first_unfinished; k < Count(a); ++k) {
@@ -61,40 +130,42 @@ Graph Build(const std::vector<ScheduledRoute>& routes, const std::vector<bool>& 
         if (a.action_cells[k].Intersects(*cells)) g.deps[{r, k}].push_back({kParked, -1, index});
       }
     }
-    for (int s = 0; s < static_cast<int>(routes.size()); ++s) {
-      if (s == r || held[s]) continue;
+    for (int s = r + 1; s < n; ++s) {
+      if (held[s]) continue;
       const ScheduledRoute& b = routes[s];
-      std::set<std::pair<Node, Node>> forced;  // (before, after) pairs between r and s
-      for (int k = a.first_unfinished; k < Count(a); ++k) {
-        // Crossing where b stands before its first action: after that action.
-        if (!Started(b) && a.action_cells[k].Intersects(b.start_cells)) {
-          g.deps[{r, k}].push_back({s, 0, -1});
-          forced.insert({{s, 0}, {r, k}});
-        }
-        // Crossing where b will stay: before b's last action (unless that is under way).
-        const int last = Count(b) - 1;
-        if (last > b.cleared_up_to && a.action_cells[k].Intersects(b.end_cells)) {
-          g.deps[{s, last}].push_back({r, k, -1});
-          forced.insert({{r, k}, {s, last}});
-        }
-      }
-      if (s < r) continue;  // each pair of routes once for the ordinary conflicts
-      for (int k = a.first_unfinished; k < Count(a); ++k) {
-        for (int l = b.first_unfinished; l < Count(b); ++l) {
-          if (!a.action_cells[k].Intersects(b.action_cells[l])) continue;
-          const Node x{r, k};
-          const Node y{s, l};
-          if (forced.count({x, y}) || forced.count({y, x})) continue;
-          if (key(r, k) < key(s, l)) {
-            g.deps[y].push_back({r, k, -1});
-          } else {
-            g.deps[x].push_back({s, l, -1});
+      for (const Block& block : Blocks(a, b)) {
+        const bool a_cleared = block.k1 <= a.cleared_up_to;
+        const bool b_cleared = block.l1 <= b.cleared_up_to;
+        bool a_first;
+        if (a_cleared != b_cleared) {
+          a_first = a_cleared;
+        } else {
+          // A robot standing in the block cannot make way; one whose route ends in it stays.
+          const bool a_stands = block.k1 == a.first_unfinished && !a_cleared &&
+                                Meets(Standing(a), b, block.l1, block.l2);
+          const bool b_stands = block.l1 == b.first_unfinished && !b_cleared &&
+                                Meets(Standing(b), a, block.k1, block.k2);
+          const bool a_ends = block.k2 == Count(a) - 1 &&
+                              Meets(a.action_end_cells.back(), b, block.l1, block.l2);
+          const bool b_ends = block.l2 == Count(b) - 1 &&
+                              Meets(b.action_end_cells.back(), a, block.k1, block.k2);
+          const bool a_must = a_stands || b_ends;
+          const bool b_must = b_stands || a_ends;
+          if (a_must && b_must && !a_cleared) {
+            out.infeasible_route = Newer(routes, r, s);
+            return out;
           }
+          a_first = a_must || (!b_must && key(r, block.k1) < key(s, block.l1));
+        }
+        if (a_first) {
+          g.deps[{s, block.l1}].push_back({r, block.k2, -1});
+        } else {
+          g.deps[{r, block.k1}].push_back({s, block.l2, -1});
         }
       }
     }
   }
-  return g;
+  return out;
 }
 
 /// A route on a cycle of the graph (intra-route edges k → k+1 plus the dependencies), or -1.
@@ -151,11 +222,17 @@ int RouteOnCycle(const std::vector<ScheduledRoute>& routes, const std::vector<bo
 std::vector<TrafficClearanceDecision> DecideClearances(const std::vector<ScheduledRoute>& routes,
                                                        const std::vector<ParkedRobot>& parked) {
   std::vector<bool> held(routes.size(), false);
-  Graph g = Build(routes, held, parked);
-  for (int cycle = RouteOnCycle(routes, held, g); cycle >= 0;
-       cycle = RouteOnCycle(routes, held, g)) {
+  Graph g;
+  while (true) {
+    BuildResult built = Build(routes, held, parked);
+    if (built.infeasible_route >= 0) {
+      held[built.infeasible_route] = true;
+      continue;
+    }
+    g = std::move(built.graph);
+    const int cycle = RouteOnCycle(routes, held, g);
+    if (cycle < 0) break;
     held[cycle] = true;
-    g = Build(routes, held, parked);
   }
   std::vector<TrafficClearanceDecision> out;
   for (int r = 0; r < static_cast<int>(routes.size()); ++r) {

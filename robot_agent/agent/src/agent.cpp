@@ -33,6 +33,7 @@ Agent::Agent(RouteContext context, AgentPorts ports, std::optional<Route> route,
 void Agent::StartRoute(Route route) {
   executor_.emplace(std::move(route), context_, params_.modes);
   reported_action_ = -1;
+  finished_action_ = -1;
   paused_ = false;
   end_reported_ = false;
   safety_.Reset();
@@ -51,10 +52,18 @@ void Agent::Report(JobEventType type, int action_index, NavigationMode mode,
 }
 
 void Agent::ReportProgress(const ExecutorOutput& output, AgentResult* result) {
-  if (output.action_index >= 0 && output.action_index != reported_action_) {
-    if (reported_action_ >= 0) {
-      Report(JobEventType::kActionFinished, reported_action_, output.mode, "", result);
+  // An action is reported finished once: when the next starts, or at once when the next waits
+  // for traffic (the robots waiting for this one may go).
+  auto finish = [&](int index) {
+    if (index >= 0 && index != finished_action_) {
+      Report(JobEventType::kActionFinished, index, output.mode, "", result);
+      finished_action_ = index;
     }
+  };
+  if (output.waiting) {
+    finish(output.action_index);
+  } else if (output.action_index >= 0 && output.action_index != reported_action_) {
+    finish(reported_action_);
     Report(JobEventType::kActionStarted, output.action_index, output.mode, "", result);
     reported_action_ = output.action_index;
   }
@@ -65,9 +74,17 @@ void Agent::ReportProgress(const ExecutorOutput& output, AgentResult* result) {
 
 void Agent::ServeJobs(const ExecutorOutput& output, AgentResult* result) {
   for (const JobCommand& command : ports_.jobs->TakeCommands()) {
+    if (command.type == JobCommandType::kClearance) {
+      // Kept, for a clearance may come before the agent takes its job's assignment.
+      clearance_ = command;
+    }
     if (command.job_id != current_job_id_ || current_job_id_.empty()) continue;
     if (command.type == JobCommandType::kPause) paused_ = true;
     if (command.type == JobCommandType::kResume) paused_ = false;
+    if (command.type == JobCommandType::kClearance && executor_) {
+      // The action under way stays cleared whatever a new session says.
+      executor_->SetClearedUpTo(std::max(command.cleared_up_to_action, executor_->action_index()));
+    }
     if (command.type == JobCommandType::kCancel) {
       Report(JobEventType::kCancelled, output.action_index, NavigationMode::kIdle, command.reason,
              result);
@@ -94,6 +111,10 @@ void Agent::ServeJobs(const ExecutorOutput& output, AgentResult* result) {
         return;
       }
       StartRoute(std::move(assignment->route));
+      // A job from the server waits for its traffic clearance.
+      executor_->SetClearedUpTo(clearance_.job_id == current_job_id_
+                                    ? clearance_.cleared_up_to_action
+                                    : -1);
     }
   }
 }

@@ -36,6 +36,17 @@ ExecutorOutput RouteExecutor::Fail(absl::Status status) {
   return out;
 }
 
+ExecutorOutput RouteExecutor::Waiting() const {
+  ExecutorOutput out;
+  out.state = state_;
+  out.mode = NavigationMode::kIdle;
+  out.action_index = index_;
+  out.waiting = true;
+  out.progress_fraction =
+      static_cast<double>(index_ + 1) / static_cast<double>(route_.actions.size());
+  return out;
+}
+
 void RouteExecutor::Abort(const absl::Status& reason) {
   if (state_ != ExecutionState::kRunning) return;
   const int index = std::max(index_, 0);
@@ -65,7 +76,11 @@ ExecutorOutput RouteExecutor::Step(const ControlInput& input,
       out.progress_fraction = 1.0;
       return out;
     }
-    if (absl::Status s = StartAction(0); !s.ok()) return Fail(s);
+  }
+  if (index_ < 0 || waiting_) {
+    if (index_ + 1 > cleared_up_to_) return Waiting();
+    waiting_ = false;
+    if (absl::Status s = StartAction(index_ + 1); !s.ok()) return Fail(s);
   }
   while (true) {
     const RouteAction& action = route_.actions[index_];
@@ -103,6 +118,11 @@ ExecutorOutput RouteExecutor::Step(const ControlInput& input,
       out.progress_fraction = 1.0;
       out.command = Twist2{};
       return out;
+    }
+    if (index_ + 1 > cleared_up_to_) {
+      controller_.reset();
+      waiting_ = true;
+      return Waiting();
     }
     if (absl::Status s = StartAction(index_ + 1); !s.ok()) return Fail(s);
   }

@@ -77,6 +77,10 @@ void ServerLink::OnServerMessage(const v1::ServerMessage& message) {
                                     ? JobCommandType::kResume
                                     : JobCommandType::kCancel;
     commands_.push_back(JobCommand{type, command.job_id(), command.reason()});
+  } else if (message.has_clearance()) {
+    const v1::TrafficClearance& clearance = message.clearance();
+    commands_.push_back(JobCommand{JobCommandType::kClearance, clearance.job_id(),
+                                   clearance.wait_reason(), clearance.cleared_up_to_action()});
   }
 }
 
@@ -118,6 +122,11 @@ void ServerLink::RunSession() {
   {
     absl::MutexLock lock(&mutex_);
     hello.mutable_hello()->set_resume_job_id(current_job_id_);
+    // A new session (perhaps a restarted server) clears afresh: until it says otherwise the
+    // robot finishes the action it is in and stands.
+    if (!current_job_id_.empty()) {
+      commands_.push_back(JobCommand{JobCommandType::kClearance, current_job_id_, "", -1});
+    }
   }
   bool ok = stream->Write(hello);
   connections_.fetch_add(ok ? 1 : 0);

@@ -99,6 +99,14 @@ void FleetRegistry::SetCurrentJob(const std::string& robot_id, const std::string
   entry->record.revision = ++revision_;
 }
 
+void FleetRegistry::SetTrafficWait(const std::string& robot_id, const std::string& reason) {
+  absl::MutexLock lock(&mutex_);
+  Entry* entry = Find(robot_id);
+  if (entry == nullptr || entry->record.traffic_wait == reason) return;
+  entry->record.traffic_wait = reason;
+  entry->record.revision = ++revision_;
+}
+
 absl::StatusOr<RobotRecord> FleetRegistry::Get(const std::string& robot_id) const {
   absl::ReaderMutexLock lock(&mutex_);
   const Entry* entry = Find(robot_id);

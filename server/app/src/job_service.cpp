@@ -42,7 +42,8 @@ absl::Status JobServiceParams::Validate() const {
 JobService::JobService(storage::JobRepository* jobs, storage::RobotRepository* robots,
                        storage::MapRepository* maps, storage::MarkerSetRepository* markers,
                        SiteCatalog* site, FleetRegistry* registry, RobotMailbox* mailbox,
-                       const Clock* clock, JobServiceParams params)
+                       const Clock* clock, JobServiceParams params,
+                       TrafficCoordinator* traffic)
     : jobs_(jobs),
       robots_(robots),
       maps_(maps),
@@ -51,7 +52,23 @@ JobService::JobService(storage::JobRepository* jobs, storage::RobotRepository* r
       registry_(registry),
       mailbox_(mailbox),
       clock_(clock),
-      params_(params) {}
+      params_(params),
+      traffic_(traffic) {}
+
+void JobService::EndTraffic(const std::string& job_id) {
+  if (traffic_ != nullptr) traffic_->End(job_id);
+}
+
+void JobService::UpdateTraffic() {
+  if (traffic_ == nullptr) return;
+  for (const TrafficWaitChange& change : traffic_->Update()) {
+    if (change.reason.empty()) continue;
+    absl::StatusOr<Job> job = jobs_->GetJob(change.job_id);
+    if (!job.ok() || IsTerminal(job->state)) continue;
+    (void)jobs_->UpdateJob(*job, MakeEvent(*job, JobEventType::kWaitingForTraffic, change.reason,
+                                           change.robot_id));
+  }
+}
 
 absl::Status JobService::Transition(Job& job, JobState state, JobEventType type,
                                     const std::string& reason, const std::string& robot_id) {
@@ -150,6 +167,7 @@ absl::StatusOr<Job> JobService::Cancel(const std::string& job_id, const std::str
   const std::string why = reason.empty() ? "cancelled by operator" : reason;
   RETURN_IF_ERROR(Transition(job, JobState::kCancelled, JobEventType::kCancelled, why, robot));
   lost_since_ns_.erase(job_id);
+  EndTraffic(job_id);
   if (!robot.empty()) {
     mailbox_->SendCommand(robot, RobotCommandType::kCancel, job_id, why);
     registry_->SetCurrentJob(robot, "");
@@ -180,12 +198,22 @@ void JobService::OnRobotConnected(const RobotIdentity& identity, const std::stri
       (void)Transition(job, JobState::kRunning, JobEventType::kResumed, "robot reconnected",
                        identity.robot_id);
       registry_->SetCurrentJob(identity.robot_id, job.job_id);
+      if (traffic_ != nullptr) {
+        if (traffic_->Tracks(job.job_id)) {
+          traffic_->Resend(identity.robot_id);
+        } else if (absl::StatusOr<Assignment> resumed = Resolve(job); resumed.ok()) {
+          // The server restarted: coordinate the job again from where the robot reports.
+          traffic_->Begin(identity.robot_id, *resumed, TrafficCoordinator::kResumeWhereReported);
+        }
+      }
     } else if (job.on_robot_lost == RequeuePolicy::kRequeue) {
       job.assigned_robot_id.clear();
+      EndTraffic(job.job_id);
       (void)Transition(job, JobState::kQueued, JobEventType::kQueued,
                        "robot reconnected without the job; re-queued", identity.robot_id);
       registry_->SetCurrentJob(identity.robot_id, "");
     } else {
+      EndTraffic(job.job_id);
       (void)Transition(job, JobState::kFailed, JobEventType::kFailed,
                        "robot reconnected without the job", identity.robot_id);
       registry_->SetCurrentJob(identity.robot_id, "");
@@ -213,10 +241,14 @@ void JobService::OnRobotEvent(const std::string& robot_id, const JobEvent& event
       job.progress_fraction = 1.0;
       (void)Transition(job, JobState::kSucceeded, JobEventType::kSucceeded, event.reason, robot_id);
       registry_->SetCurrentJob(robot_id, "");
+      EndTraffic(job.job_id);
+      UpdateTraffic();
       return;
     case JobEventType::kFailed:
       (void)Transition(job, JobState::kFailed, JobEventType::kFailed, event.reason, robot_id);
       registry_->SetCurrentJob(robot_id, "");
+      EndTraffic(job.job_id);
+      UpdateTraffic();
       return;
     case JobEventType::kActionStarted:
     case JobEventType::kActionFinished:
@@ -232,6 +264,10 @@ void JobService::OnRobotEvent(const std::string& robot_id, const JobEvent& event
       stored.action_index = event.action_index;
       stored.mode = event.mode;
       (void)jobs_->UpdateJob(job, stored);
+      if (event.type == JobEventType::kActionFinished && traffic_ != nullptr) {
+        traffic_->OnActionFinished(robot_id, job.job_id, event.action_index);
+        UpdateTraffic();
+      }
       return;
     }
     default:
@@ -268,6 +304,7 @@ void JobService::HandleLostRobots() {
     if (!job.ok() || job->state != JobState::kPaused) continue;
     const std::string robot = job->assigned_robot_id;
     registry_->SetCurrentJob(robot, "");
+    EndTraffic(job->job_id);
     if (job->on_robot_lost == RequeuePolicy::kRequeue) {
       job->assigned_robot_id.clear();
       (void)Transition(*job, JobState::kQueued, JobEventType::kQueued,
@@ -310,6 +347,13 @@ absl::StatusOr<Assignment> JobService::Resolve(const Job& job) {
                      site_->GetRoute(job.route_name, job.route_version));
     assignment.route = route.route;
     assignment.route_version = route.version;
+  } else if (job.goal) {
+    // A go-to-goal job is a route of one free-navigation action.
+    assignment.route.name = "goal";
+    assignment.route.map_id = job.map_id;
+    FreeNavigationAction go;
+    go.goal = *job.goal;
+    assignment.route.actions.push_back({go, {EndConditionKind::kGoalReached}});
   }
   ASSIGN_OR_RETURN(storage::StoredMap map, maps_->GetMap(job.map_id, 0));
   assignment.map_version = map.info.version;
@@ -321,6 +365,12 @@ absl::StatusOr<Assignment> JobService::Resolve(const Job& job) {
 int JobService::DispatchOnce() {
   absl::MutexLock lock(&mutex_);
   HandleLostRobots();
+  const int assigned = AssignQueued();
+  UpdateTraffic();
+  return assigned;
+}
+
+int JobService::AssignQueued() {
   storage::JobFilter queued_filter;
   queued_filter.states = {JobState::kQueued};
   queued_filter.page_size = params_.max_page_size;
@@ -422,6 +472,7 @@ int JobService::DispatchOnce() {
       continue;
     }
     registry_->SetCurrentJob(robot, job.job_id);
+    if (traffic_ != nullptr) traffic_->Begin(robot, *assignment);
     idle.erase(best);
     ++assigned;
   }

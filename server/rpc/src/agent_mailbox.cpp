@@ -1,5 +1,7 @@
 #include "fleetnav/server/rpc/agent_mailbox.hpp"
 
+#include <algorithm>
+
 #include <vector>
 
 #include "fleetnav/proto/job_convert.hpp"
@@ -85,6 +87,22 @@ bool AgentMailbox::SendCommand(const std::string& robot_id, RobotCommandType typ
                                                         : v1::Command::TYPE_CANCEL);
   command->set_job_id(job_id);
   command->set_reason(reason);
+  return Send(robot_id, std::move(message));
+}
+
+bool AgentMailbox::SendClearance(const std::string& robot_id, const ClearanceNotice& clearance) {
+  v1::ServerMessage message;
+  v1::TrafficClearance* wire = message.mutable_clearance();
+  wire->set_job_id(clearance.job_id);
+  wire->set_cleared_up_to_action(clearance.cleared_up_to_action);
+  for (const planner::TrafficWait& wait : clearance.waits) {
+    v1::DependencyEdge* edge = wire->add_waits_for();
+    edge->set_from_robot_id(wait.blocker_robot_id);
+    edge->set_from_action(static_cast<uint32_t>(std::max(wait.blocker_action, 0)));
+    edge->set_to_robot_id(wait.robot_id);
+    edge->set_to_action(static_cast<uint32_t>(wait.action));
+  }
+  wire->set_wait_reason(clearance.wait_reason);
   return Send(robot_id, std::move(message));
 }
 

@@ -30,6 +30,7 @@ absl::Status FleetServerParams::Validate() const {
         absl::StrCat("agent_stream_threads: must be in [1, 64], got ", agent_stream_threads));
   }
   RETURN_IF_ERROR(jobs.Validate());
+  RETURN_IF_ERROR(traffic.Validate());
   RETURN_IF_ERROR(pose_history.Validate());
   return registry.Validate();
 }
@@ -54,9 +55,13 @@ absl::StatusOr<int> FleetServer::Start() {
   maps_ = std::make_unique<MapCatalog>(map_repository_.get());
   site_ = std::make_unique<SiteCatalog>(map_repository_.get(), marker_repository_.get(),
                                         route_repository_.get(), job_repository_.get());
+  coordinator_ = std::make_unique<TrafficCoordinator>(map_repository_.get(),
+                                                      marker_repository_.get(), &registry_,
+                                                      &mailbox_, &clock_, params_.traffic);
   jobs_ = std::make_unique<JobService>(job_repository_.get(), robot_repository_.get(),
                                        map_repository_.get(), marker_repository_.get(), site_.get(),
-                                       &registry_, &mailbox_, &clock_, params_.jobs);
+                                       &registry_, &mailbox_, &clock_, params_.jobs,
+                                       coordinator_.get());
   RETURN_IF_ERROR(jobs_->Recover());
   traffic_ = std::make_unique<TrafficPlanner>(map_repository_.get());
   fleet_service_ = std::make_unique<FleetServiceImpl>(

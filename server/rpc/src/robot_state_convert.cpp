@@ -19,6 +19,7 @@ v1::RobotState ToProto(const RobotRecord& record) {
     *out.mutable_last_telemetry() = fleetnav::ToProto(*record.last_telemetry);
   out.set_last_seen_ns(record.last_seen_ns);
   out.set_current_job_id(record.current_job_id);
+  out.set_traffic_wait(record.traffic_wait);
   return out;
 }
 

@@ -273,18 +273,35 @@ TEST(AgentTest, StallWithoutBumperFailsAfterTwoSeconds) {
   EXPECT_EQ(hal.commands().back().vx_mps, 0.0);
 }
 
-/// A JobChannel with one assignment and a record of the events.
+/// A JobChannel with one assignment and a record of the events. Traffic clearance: the first
+/// poll clears up to `first_cleared`; poll `clear_all_at` clears every action.
 class OneJobChannel : public JobChannel {
  public:
-  explicit OneJobChannel(JobAssignment assignment) : assignment_(std::move(assignment)) {}
+  explicit OneJobChannel(JobAssignment assignment, int first_cleared = 1000, int clear_all_at = 0)
+      : assignment_(std::move(assignment)),
+        first_cleared_(first_cleared),
+        clear_all_at_(clear_all_at) {}
   std::optional<JobAssignment> TakeAssignment() override { return std::exchange(assignment_, {}); }
-  std::vector<JobCommand> TakeCommands() override { return {}; }
-  void ReportEvent(const JobEvent& event) override { events.push_back(event); }
+  std::vector<JobCommand> TakeCommands() override {
+    ++polls;
+    const std::string job_id = "job-1";
+    if (polls == 1) return {JobCommand{JobCommandType::kClearance, job_id, "", first_cleared_}};
+    if (polls == clear_all_at_) return {JobCommand{JobCommandType::kClearance, job_id, "", 1000}};
+    return {};
+  }
+  void ReportEvent(const JobEvent& event) override {
+    events.push_back(event);
+    event_polls.push_back(polls);
+  }
   void SetCurrentJob(const std::string&) override {}
   std::vector<JobEvent> events;
+  std::vector<int> event_polls;  ///< the poll count when each event came
+  int polls = 0;
 
  private:
   std::optional<JobAssignment> assignment_;
+  int first_cleared_;
+  int clear_all_at_;
 };
 
 /// A SiteSource that has map "barn" v3 with marker set v2 only.
@@ -349,6 +366,39 @@ TEST(AgentTest, JobBringsItsSiteAndTheAgentLocalizesOnIt) {
   EXPECT_EQ(jobs.events.back().type, JobEventType::kSucceeded) << jobs.events.back().reason;
   EXPECT_TRUE(
       result->final_pose_in_map.IsNear(start * Pose2(2.0, 1.0, DegToRad(90)), 0.02, DegToRad(1)));
+}
+
+// Traffic coordination: an action starts only once cleared. Cleared up to action 0, the robot
+// drives it, reports it finished at once and stands until the rest is cleared.
+TEST(AgentTest, JobActionsWaitForTheirTrafficClearance) {
+  const RobotModel model = LelyVectorModel();
+  KinematicHal hal(model, 10000);
+  RecordingSink sink;
+  OneJobChannel jobs(FeedJob(3), /*first_cleared=*/0, /*clear_all_at=*/2000);
+  OneSite sites;
+  localization::DeadReckoningLocalizer initial = Odometry(model, Pose2());
+  AgentPorts ports{&hal, &initial, &sink, &jobs, &sites,
+                   [&](const SiteData&, const Pose2& from)
+                       -> absl::StatusOr<std::unique_ptr<localization::Localizer>> {
+                     return std::make_unique<localization::DeadReckoningLocalizer>(
+                         Odometry(model, from));
+                   }};
+  Agent agent(RouteContext{model, std::nullopt, nullptr}, ports, std::nullopt,
+              AgentParams{.max_jobs = 1});
+  absl::StatusOr<AgentResult> result = agent.Run();
+  ASSERT_TRUE(result.ok()) << result.status();
+  int finished0_poll = -1;
+  int started1_poll = -1;
+  for (size_t i = 0; i < jobs.events.size(); ++i) {
+    const JobEvent& e = jobs.events[i];
+    if (e.type == JobEventType::kActionFinished && e.action_index == 0) finished0_poll = jobs.event_polls[i];
+    if (e.type == JobEventType::kActionStarted && e.action_index == 1) started1_poll = jobs.event_polls[i];
+  }
+  ASSERT_GT(finished0_poll, 0);
+  EXPECT_LT(finished0_poll, 2000);  // finished before the clearance, not when the next started
+  EXPECT_GE(started1_poll, 2000);   // action 1 began only once cleared
+  EXPECT_EQ(jobs.events.back().type, JobEventType::kSucceeded) << jobs.events.back().reason;
+  EXPECT_TRUE(result->final_pose_in_map.IsNear(Pose2(2.0, 1.0, DegToRad(90)), 0.02, DegToRad(1)));
 }
 
 TEST(AgentTest, JobWhoseSiteCannotBeLoadedFailsBeforeMoving) {

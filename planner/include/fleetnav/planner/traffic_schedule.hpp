@@ -13,9 +13,9 @@ struct ScheduledRoute {
   std::string robot_id;
   std::string job_id;
   std::vector<CellSet> action_cells;
+  std::vector<CellSet> action_end_cells;  ///< where the robot stands after each action
   std::vector<double> action_start_s;
   CellSet start_cells;  ///< where the robot stands before its first action
-  CellSet end_cells;    ///< where it stays after its last action
   int first_unfinished = 0;  ///< actions before it have finished
   int cleared_up_to = -1;    ///< actions up to it were cleared earlier (never taken back)
 };
@@ -46,15 +46,17 @@ struct TrafficClearanceDecision {
 
 /// Traffic coordination over swept regions with an action dependency graph (Hönig, Kiesel,
 /// Tinka, Durham and Ayanian, "Persistent and Robust Execution of MAPF Schedules in
-/// Warehouses", RA-L 2019): two actions of different robots whose swept cells intersect are
-/// ordered, and the later one depends on the earlier one finishing. Order: actions already
-/// cleared first; then by expected start time, robot index and action index — a total order
-/// that is monotone along each route, so the graph is acyclic and no delay of any size can
-/// deadlock it. Two constraints come first: an action crossing where a robot stands before
-/// its first action waits for that first action, and an action crossing where a robot will
-/// stay after its route runs before that robot's last action. A route whose constraints close
-/// a cycle is held whole (deadlocked, newest route first) and stands as parked. Actions that
-/// cross a parked robot are never cleared. Clearances only grow. Pure function.
+/// Warehouses", RA-L 2019). For two routes A and B, the pairs of unfinished actions whose swept
+/// cells intersect form blocks (4-connected components in the grid of action pairs): a block
+/// is one place the two robots share, A through actions k1..k2 and B through l1..l2, where a
+/// robot standing between two of them is still in the other's way. One robot passes the whole
+/// block first: B's l1 waits for A's k2 to finish (or A's k1 for B's l2); once k2 is done, A
+/// stands outside every region of B in the block. Who goes first: a robot already cleared into
+/// the block; else the one that stands in the block before it starts (it cannot make way);
+/// else not the one whose route ends in the block (it would stay there); else the earlier
+/// expected start (robot index breaks ties). Orders that close a cycle hold the newest route
+/// whole (deadlocked; its robot stands as parked). Actions that cross a parked robot are never
+/// cleared. Clearances only grow. Pure function.
 std::vector<TrafficClearanceDecision> DecideClearances(const std::vector<ScheduledRoute>& routes,
                                                        const std::vector<ParkedRobot>& parked);
 

@@ -112,6 +112,8 @@ class Agent {
   uint64_t sequence_ = 0;
   std::string current_job_id_;
   int reported_action_ = -1;
+  int finished_action_ = -1;  ///< the last action reported finished
+  JobCommand clearance_;      ///< the latest traffic clearance, of any job
   bool paused_ = false;
   bool end_reported_ = false;
   double battery_fraction_ = 1.0;  ///< as the robot last reported it

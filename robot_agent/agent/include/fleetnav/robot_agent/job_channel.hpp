@@ -20,12 +20,16 @@ struct JobAssignment {
   uint32_t marker_set_version = 0;
 };
 
-enum class JobCommandType { kPause, kResume, kCancel };
+/// kClearance: traffic coordination lets the robot start the job's actions up to
+/// cleared_up_to_action (-1 after a reconnect: nothing beyond the action it is in until the
+/// server says again).
+enum class JobCommandType { kPause, kResume, kCancel, kClearance };
 
 struct JobCommand {
   JobCommandType type = JobCommandType::kCancel;
   std::string job_id;
   std::string reason;
+  int cleared_up_to_action = -1;
 };
 
 /// The agent's side of job dispatch: assignments and commands in, job events out. The server

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,6 +23,9 @@ struct ExecutorOutput {
   ExecutionState state = ExecutionState::kRunning;
   /// Set on the tick the mode switched between reactive and map-based: why.
   std::string mode_reason;
+  /// Action action_index is done (or none has started) and the next one is not cleared by
+  /// traffic coordination: the robot stands.
+  bool waiting = false;
 };
 
 /// Runs a route's actions one after another (Lely thesis §6.3): each action gets its
@@ -29,7 +33,9 @@ struct ExecutorOutput {
 /// condition holds — its own distance or angle, or a calibration marker that the localizer
 /// detected (never the simulator's truth). The whole route is checked before the first tick
 /// moves the robot: an action this agent cannot run fails the route at once, naming its index,
-/// so nothing is half-executed. Abort() stops it (safety stop). Not thread-safe.
+/// so nothing is half-executed. Abort() stops it (safety stop). Traffic coordination gates it:
+/// an action starts only when its index is at most SetClearedUpTo's (no gate by default); until
+/// then the robot stands and Step reports `waiting`. Not thread-safe.
 class RouteExecutor {
  public:
   RouteExecutor(Route route, RouteContext context, ModeParams params = {});
@@ -39,6 +45,8 @@ class RouteExecutor {
   ExecutorOutput Step(const ControlInput& input, const std::vector<int>& detected_markers = {});
   /// Fails the current action with `reason` (prefixed with its index); the robot is told to stop.
   void Abort(const absl::Status& reason);
+  /// Actions up to `index` may start (-1: none).
+  void SetClearedUpTo(int index) { cleared_up_to_ = index; }
   ExecutionState state() const { return state_; }
   /// Why the route failed (OK while running or after success).
   const absl::Status& failure() const { return failure_; }
@@ -48,11 +56,14 @@ class RouteExecutor {
  private:
   absl::Status StartAction(int index);
   ExecutorOutput Fail(absl::Status status);
+  ExecutorOutput Waiting() const;
 
   Route route_;
   RouteContext context_;
   ModeParams params_;
   int index_ = -1;
+  int cleared_up_to_ = std::numeric_limits<int>::max();
+  bool waiting_ = false;  ///< action index_ is done; index_ + 1 is not cleared yet
   std::unique_ptr<MotionController> controller_;
   ExecutionState state_ = ExecutionState::kRunning;
   absl::Status failure_;

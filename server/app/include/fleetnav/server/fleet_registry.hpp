@@ -24,6 +24,7 @@ struct RobotRecord {
   int64_t last_seen_ns = 0;      ///< server clock
   uint64_t telemetry_count = 0;  ///< messages accepted since the server started
   std::string current_job_id;
+  std::string traffic_wait;  ///< why traffic coordination holds the robot; empty when not
   uint64_t revision = 0;  ///< grows on every change; lets watchers send only what changed
 };
 
@@ -54,6 +55,8 @@ class FleetRegistry {
   void RestoreOffline(const RobotIdentity& identity);
   /// Records the job a robot is working on (empty: idle).
   void SetCurrentJob(const std::string& robot_id, const std::string& job_id);
+  /// Records why traffic coordination holds the robot (empty: not held).
+  void SetTrafficWait(const std::string& robot_id, const std::string& reason);
 
   absl::StatusOr<RobotRecord> Get(const std::string& robot_id) const;
   /// Every robot, ordered by id, with stale state computed at the current time.

@@ -12,6 +12,7 @@
 #include "fleetnav/server/fleet_registry.hpp"
 #include "fleetnav/server/robot_mailbox.hpp"
 #include "fleetnav/server/site_catalog.hpp"
+#include "fleetnav/server/traffic_coordinator.hpp"
 #include "fleetnav/storage/job_repository.hpp"
 #include "fleetnav/storage/map_repository.hpp"
 #include "fleetnav/storage/robot_repository.hpp"
@@ -41,13 +42,14 @@ struct SubmitJobRequest {
 /// action type of the route (go-to-goal jobs need "free_navigation"), the nearest robot to the
 /// job's first known point first. A robot that drops holds its job paused; when it returns
 /// with the job it resumes, and after lost_robot_timeout_s the job is failed or re-queued by
-/// its policy. Thread-safe: transitions are serialised by one mutex.
+/// its policy. With a TrafficCoordinator every running job is coordinated (traffic
+/// clearances, waits recorded as WAITING_FOR_TRAFFIC events). Thread-safe: transitions are serialised by one mutex.
 class JobService {
  public:
   JobService(storage::JobRepository* jobs, storage::RobotRepository* robots,
              storage::MapRepository* maps, storage::MarkerSetRepository* markers, SiteCatalog* site,
              FleetRegistry* registry, RobotMailbox* mailbox, const Clock* clock,
-             JobServiceParams params);
+             JobServiceParams params, TrafficCoordinator* traffic = nullptr);
 
   /// Restores robots (offline) and pauses jobs that were assigned or running when the server
   /// stopped. Call once before serving.
@@ -66,7 +68,8 @@ class JobService {
   void OnRobotEvent(const std::string& robot_id, const JobEvent& event);
   void OnTelemetry(const std::string& robot_id, const Telemetry& telemetry);
 
-  /// One dispatcher pass: lost-robot timeouts, then assignments. Returns jobs assigned.
+  /// One dispatcher pass: lost-robot timeouts, assignments, then traffic clearances. Returns
+  /// jobs assigned.
   int DispatchOnce();
 
  private:
@@ -76,6 +79,10 @@ class JobService {
   std::vector<std::string> RequiredCapabilities(const Job& job);
   std::optional<Eigen::Vector2d> StartPoint(const Job& job);
   void HandleLostRobots() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  int AssignQueued() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Decides traffic clearances and stores a waiting event for each job whose wait changed.
+  void UpdateTraffic() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  void EndTraffic(const std::string& job_id);
 
   storage::JobRepository* jobs_;
   storage::RobotRepository* robots_;
@@ -86,6 +93,7 @@ class JobService {
   RobotMailbox* mailbox_;
   const Clock* clock_;
   JobServiceParams params_;
+  TrafficCoordinator* traffic_;  ///< null: robots are not coordinated
   absl::Mutex mutex_;
   std::map<std::string, int64_t> lost_since_ns_ ABSL_GUARDED_BY(mutex_);  ///< by job id
   std::map<std::string, int> progress_decile_ ABSL_GUARDED_BY(mutex_);    ///< by job id

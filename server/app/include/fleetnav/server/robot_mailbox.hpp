@@ -2,9 +2,11 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "fleetnav/core/job.hpp"
 #include "fleetnav/core/route.hpp"
+#include "fleetnav/planner/traffic_schedule.hpp"
 
 namespace fleetnav::server {
 
@@ -17,6 +19,14 @@ struct Assignment {
   uint32_t marker_set_version = 0;  ///< 0: the map has no marker set
 };
 
+/// Which actions of its job a robot may enter (traffic coordination) and what holds the next.
+struct ClearanceNotice {
+  std::string job_id;
+  int cleared_up_to_action = -1;
+  std::vector<planner::TrafficWait> waits;
+  std::string wait_reason;  ///< empty when nothing holds the robot
+};
+
 enum class RobotCommandType { kPause, kResume, kCancel };
 
 /// The way from the use cases to connected robots (implemented by the AgentService edge).
@@ -27,6 +37,7 @@ class RobotMailbox {
   virtual bool SendAssignment(const std::string& robot_id, const Assignment& assignment) = 0;
   virtual bool SendCommand(const std::string& robot_id, RobotCommandType type,
                            const std::string& job_id, const std::string& reason) = 0;
+  virtual bool SendClearance(const std::string& robot_id, const ClearanceNotice& clearance) = 0;
   /// Tells every connected robot that a map or its marker set has a new version.
   virtual void BroadcastMapUpdate(const std::string& map_id, uint32_t map_version,
                                   uint32_t marker_set_version) = 0;

@@ -45,6 +45,7 @@ class AgentMailbox final : public RobotMailbox {
   bool SendAssignment(const std::string& robot_id, const Assignment& assignment) override;
   bool SendCommand(const std::string& robot_id, RobotCommandType type, const std::string& job_id,
                    const std::string& reason) override;
+  bool SendClearance(const std::string& robot_id, const ClearanceNotice& clearance) override;
   void BroadcastMapUpdate(const std::string& map_id, uint32_t map_version,
                           uint32_t marker_set_version) override;
 

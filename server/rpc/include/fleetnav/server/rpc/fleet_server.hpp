@@ -17,6 +17,7 @@
 #include "fleetnav/server/rpc/agent_service.hpp"
 #include "fleetnav/server/rpc/fleet_service.hpp"
 #include "fleetnav/server/site_catalog.hpp"
+#include "fleetnav/server/traffic_coordinator.hpp"
 #include "fleetnav/server/traffic_planner.hpp"
 #include "fleetnav/storage/sqlite/sqlite_database.hpp"
 #include "fleetnav/storage/sqlite/sqlite_fleet_repositories.hpp"
@@ -29,6 +30,7 @@ struct FleetServerParams {
   std::string db_path = "fleetnav.db";             ///< SQLite file, created if missing
   FleetRegistryParams registry;
   JobServiceParams jobs;
+  TrafficCoordinatorParams traffic;
   PoseHistoryParams pose_history;
   double dispatch_period_s = 0.2;    ///< how often queued jobs are matched to idle robots
   int max_message_bytes = 64 << 20;  ///< largest request accepted (a 8k×8k map fits)
@@ -71,6 +73,7 @@ class FleetServer {
   std::unique_ptr<MapCatalog> maps_;
   std::unique_ptr<SiteCatalog> site_;
   AgentMailbox mailbox_;
+  std::unique_ptr<TrafficCoordinator> coordinator_;
   std::unique_ptr<JobService> jobs_;
   std::unique_ptr<TrafficPlanner> traffic_;
   std::thread dispatcher_;

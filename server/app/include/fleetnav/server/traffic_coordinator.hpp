@@ -1,0 +1,110 @@
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/synchronization/mutex.h"
+#include "fleetnav/core/clock.hpp"
+#include "fleetnav/planner/costmap.hpp"
+#include "fleetnav/planner/route_prediction.hpp"
+#include "fleetnav/planner/single_robot_planner.hpp"
+#include "fleetnav/planner/traffic_schedule.hpp"
+#include "fleetnav/server/fleet_registry.hpp"
+#include "fleetnav/server/robot_mailbox.hpp"
+#include "fleetnav/storage/map_repository.hpp"
+#include "fleetnav/storage/marker_set_repository.hpp"
+
+namespace fleetnav::server {
+
+struct TrafficCoordinatorParams {
+  /// Grown around each swept footprint: the estimate's error plus the reactive controllers'
+  /// deviation from the nominal path (the Lely's estimate is within 0.5 m at p95).
+  double margin_m = 0.5;
+  double cell_m = 0.2;
+  planner::RoutePredictionParams prediction;
+  absl::Status Validate() const;
+};
+
+/// A change of why a robot's job is held, for the job's events.
+struct TrafficWaitChange {
+  std::string robot_id;
+  std::string job_id;
+  std::string reason;  ///< empty: no longer held
+};
+
+/// Executes traffic coordination for every job a robot runs (issue: fleet in the loop). When a
+/// job starts, the route is predicted from the robot's pose (planner::PredictRoute; free
+/// navigation planned as the agent plans it) and each action's swept footprint, grown by
+/// margin_m, becomes a cell set; Update() orders the actions of all jobs that share floor with
+/// planner::DecideClearances and sends each robot a TrafficClearance whenever the last action it
+/// may enter grows. Robots without a job that are online stand where they are and are never
+/// driven through; a robot whose job is paused keeps its region. Thread-safe (one mutex; it
+/// calls the registry and the mailbox, which never block).
+class TrafficCoordinator {
+ public:
+  TrafficCoordinator(storage::MapRepository* maps, storage::MarkerSetRepository* markers,
+                     FleetRegistry* registry, RobotMailbox* mailbox, const Clock* clock,
+                     TrafficCoordinatorParams params);
+
+  /// Begin's resume_action for a job resumed after a server restart: the robot is in the
+  /// action its telemetry reports.
+  static constexpr int kResumeWhereReported = -2;
+  /// Starts coordinating a job the robot was given (resume_action -1), or one it is already
+  /// running in action `resume_action` (or kResumeWhereReported).
+  void Begin(const std::string& robot_id, const Assignment& assignment, int resume_action = -1);
+  /// Whether the job is coordinated.
+  bool Tracks(const std::string& job_id);
+  /// The robot finished `action_index` of `job_id`.
+  void OnActionFinished(const std::string& robot_id, const std::string& job_id,
+                        int action_index);
+  /// The job ended (succeeded, failed, cancelled or taken away): its robot stands where it is.
+  void End(const std::string& job_id);
+  /// The robot opened a new stream: its clearance is sent again on the next Update.
+  void Resend(const std::string& robot_id);
+  /// Predicts routes that wait for a pose, decides clearances, sends those that changed, and
+  /// returns the robots whose wait reason changed.
+  std::vector<TrafficWaitChange> Update();
+
+ private:
+  struct Tracked {
+    std::string robot_id;
+    Assignment assignment;
+    RobotModel model;
+    double assigned_s = 0.0;
+    int start_action = 0;  ///< actions before it had run before coordination began
+    bool resume_from_telemetry = false;
+    std::optional<planner::ScheduledRoute> schedule;
+    int sent_cleared = -2;  ///< the clearance last sent; -2: none
+    std::string reason;
+  };
+  struct PlannerCache {
+    std::unique_ptr<planner::Costmap> costmap;
+    std::unique_ptr<planner::SingleRobotPlanner> planner;
+    Pose2 map_origin;
+  };
+
+  void Predict(Tracked& tracked, const Pose2& pose) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  planner::SingleRobotPlanner* PlannerFor(const Tracked& tracked, Pose2* map_origin)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  std::string Describe(const Tracked& tracked, const planner::TrafficClearanceDecision& d) const
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+
+  storage::MapRepository* maps_;
+  storage::MarkerSetRepository* markers_;
+  FleetRegistry* registry_;
+  RobotMailbox* mailbox_;
+  const Clock* clock_;
+  TrafficCoordinatorParams params_;
+  absl::Mutex mutex_;
+  std::map<std::string, Tracked> jobs_ ABSL_GUARDED_BY(mutex_);  ///< by job id
+  /// Costmap and planner per (map id, map version, robot kind).
+  std::map<std::tuple<std::string, uint32_t, std::string>, PlannerCache> planners_
+      ABSL_GUARDED_BY(mutex_);
+};
+
+}  // namespace fleetnav::server

@@ -1,0 +1,267 @@
+#include "fleetnav/server/traffic_coordinator.hpp"
+
+#include <cmath>
+#include <set>
+
+#include "absl/strings/str_cat.h"
+#include "fleetnav/planner/planner_factory.hpp"
+
+namespace fleetnav::server {
+
+absl::Status TrafficCoordinatorParams::Validate() const {
+  if (!std::isfinite(margin_m) || margin_m < 0.0) {
+    return absl::InvalidArgumentError(absl::StrCat("margin_m: must be >= 0, got ", margin_m));
+  }
+  if (!std::isfinite(cell_m) || cell_m <= 0.0) {
+    return absl::InvalidArgumentError(absl::StrCat("cell_m: must be > 0, got ", cell_m));
+  }
+  return absl::OkStatus();
+}
+
+TrafficCoordinator::TrafficCoordinator(storage::MapRepository* maps,
+                                       storage::MarkerSetRepository* markers,
+                                       FleetRegistry* registry, RobotMailbox* mailbox,
+                                       const Clock* clock, TrafficCoordinatorParams params)
+    : maps_(maps),
+      markers_(markers),
+      registry_(registry),
+      mailbox_(mailbox),
+      clock_(clock),
+      params_(params) {}
+
+void TrafficCoordinator::Begin(const std::string& robot_id, const Assignment& assignment,
+                               int resume_action) {
+  absl::StatusOr<RobotRecord> record = registry_->Get(robot_id);
+  absl::MutexLock lock(&mutex_);
+  Tracked tracked;
+  tracked.robot_id = robot_id;
+  tracked.assignment = assignment;
+  if (record.ok()) tracked.model = record->identity.model;
+  tracked.assigned_s = static_cast<double>(clock_->NowNs()) * 1e-9;
+  tracked.start_action = std::max(resume_action, 0);
+  tracked.resume_from_telemetry = resume_action == kResumeWhereReported;
+  jobs_[assignment.job.job_id] = std::move(tracked);
+}
+
+bool TrafficCoordinator::Tracks(const std::string& job_id) {
+  absl::MutexLock lock(&mutex_);
+  return jobs_.count(job_id) > 0;
+}
+
+void TrafficCoordinator::OnActionFinished(const std::string& robot_id, const std::string& job_id,
+                                          int action_index) {
+  absl::MutexLock lock(&mutex_);
+  auto it = jobs_.find(job_id);
+  if (it == jobs_.end() || it->second.robot_id != robot_id) return;
+  Tracked& tracked = it->second;
+  tracked.start_action = std::max(tracked.start_action, action_index + 1);
+  if (tracked.schedule) {
+    tracked.schedule->first_unfinished =
+        std::max(tracked.schedule->first_unfinished, action_index + 1);
+  }
+}
+
+void TrafficCoordinator::End(const std::string& job_id) {
+  std::string robot_id;
+  {
+    absl::MutexLock lock(&mutex_);
+    auto it = jobs_.find(job_id);
+    if (it == jobs_.end()) return;
+    robot_id = it->second.robot_id;
+    jobs_.erase(it);
+  }
+  registry_->SetTrafficWait(robot_id, "");
+}
+
+void TrafficCoordinator::Resend(const std::string& robot_id) {
+  absl::MutexLock lock(&mutex_);
+  for (auto& [job_id, tracked] : jobs_) {
+    if (tracked.robot_id == robot_id) tracked.sent_cleared = -2;
+  }
+}
+
+planner::SingleRobotPlanner* TrafficCoordinator::PlannerFor(const Tracked& tracked,
+                                                            Pose2* map_origin) {
+  const auto key = std::make_tuple(tracked.assignment.job.map_id, tracked.assignment.map_version,
+                                   tracked.model.kind_name);
+  auto it = planners_.find(key);
+  if (it == planners_.end()) {
+    PlannerCache cache;
+    absl::StatusOr<storage::StoredMap> map =
+        maps_->GetMap(tracked.assignment.job.map_id, tracked.assignment.map_version);
+    if (map.ok()) {
+      // The agent's free navigation plans with 0.1 m of padding (FreeNavigationParams).
+      planner::CostmapParams costmap_params;
+      costmap_params.padding_m = 0.1;
+      absl::StatusOr<planner::Costmap> costmap =
+          planner::Costmap::Build(map->grid, tracked.model.footprint_m, costmap_params);
+      if (costmap.ok()) {
+        cache.costmap = std::make_unique<planner::Costmap>(*std::move(costmap));
+        absl::StatusOr<std::unique_ptr<planner::SingleRobotPlanner>> planner =
+            planner::MakeSingleRobotPlanner(cache.costmap.get(), tracked.model,
+                                            planner::SingleRobotPlannerParams{});
+        if (planner.ok()) cache.planner = *std::move(planner);
+      }
+      cache.map_origin = map->grid.origin();
+    }
+    it = planners_.emplace(key, std::move(cache)).first;
+  }
+  *map_origin = it->second.map_origin;
+  return it->second.planner.get();
+}
+
+void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose) {
+  std::optional<MarkerSet> markers;
+  if (tracked.assignment.marker_set_version > 0) {
+    absl::StatusOr<storage::StoredMarkerSet> stored = markers_->GetMarkerSet(
+        tracked.assignment.job.map_id, tracked.assignment.marker_set_version);
+    if (stored.ok()) markers = stored->markers;
+  }
+  Route remaining = tracked.assignment.route;
+  const int skipped = std::min<int>(tracked.start_action, remaining.actions.size());
+  remaining.actions.erase(remaining.actions.begin(), remaining.actions.begin() + skipped);
+  Pose2 map_origin;
+  planner::SingleRobotPlanner* planner = PlannerFor(tracked, &map_origin);
+  const MarkerSet* marker_set = markers ? &*markers : nullptr;
+  absl::StatusOr<std::vector<planner::PredictedAction>> predicted =
+      planner::PredictRoute(remaining, pose, marker_set, planner, map_origin, params_.prediction);
+  if (!predicted.ok() && planner != nullptr) {
+    // The agent will say why it cannot plan; the straight lines still reserve its way there.
+    predicted = planner::PredictRoute(remaining, pose, marker_set, nullptr, map_origin,
+                                      params_.prediction);
+  }
+  planner::ScheduledRoute schedule;
+  schedule.robot_id = tracked.robot_id;
+  schedule.job_id = tracked.assignment.job.job_id;
+  const auto sweep = [&](const std::vector<Pose2>& poses) {
+    return planner::CellSet::Sweep(poses, tracked.model.footprint_m, params_.margin_m,
+                                   params_.cell_m);
+  };
+  schedule.start_cells = sweep({pose});
+  schedule.action_cells.resize(skipped);
+  schedule.action_end_cells.assign(skipped, schedule.start_cells);
+  schedule.action_start_s.assign(skipped, tracked.assigned_s);
+  double t_s = tracked.assigned_s;
+  for (size_t i = 0; i < remaining.actions.size(); ++i) {
+    if (predicted.ok()) {
+      const planner::PredictedAction& action = predicted->at(i);
+      schedule.action_cells.push_back(sweep(action.poses));
+      schedule.action_end_cells.push_back(sweep({action.poses.back()}));
+      schedule.action_start_s.push_back(t_s);
+      t_s += action.duration_s;
+    } else {
+      // Unpredictable (a stripe the marker set lacks): reserve where it stands.
+      schedule.action_cells.push_back(schedule.start_cells);
+      schedule.action_end_cells.push_back(schedule.start_cells);
+      schedule.action_start_s.push_back(t_s);
+    }
+  }
+  schedule.first_unfinished = skipped;
+  schedule.cleared_up_to = skipped > 0 || tracked.resume_from_telemetry ? skipped : -1;
+  if (skipped >= static_cast<int>(tracked.assignment.route.actions.size())) {
+    schedule.cleared_up_to = skipped - 1;
+  }
+  tracked.schedule = std::move(schedule);
+}
+
+std::string TrafficCoordinator::Describe(const Tracked& tracked,
+                                         const planner::TrafficClearanceDecision& d) const {
+  if (d.waits.empty()) return "";
+  const planner::TrafficWait& wait = d.waits.front();
+  std::string action_name = "its last action";
+  for (const auto& [job_id, other] : jobs_) {
+    if (other.robot_id == wait.blocker_robot_id && wait.blocker_action >= 0 &&
+        wait.blocker_action < static_cast<int>(other.assignment.route.actions.size())) {
+      action_name = absl::StrCat(
+          "action ", wait.blocker_action, " (",
+          std::string(ActionTypeName(other.assignment.route.actions[wait.blocker_action].params)), ")");
+    }
+  }
+  const std::string next = absl::StrCat("action ", wait.action, " waits for ");
+  if (d.deadlocked) {
+    return absl::StrCat(next, wait.blocker_robot_id,
+                        ": the routes block each other; it runs when that job ends");
+  }
+  if (wait.blocker_action < 0) {
+    return absl::StrCat(next, wait.blocker_robot_id, ", which stands in its way");
+  }
+  (void)tracked;
+  return absl::StrCat(next, wait.blocker_robot_id, " to finish ", action_name);
+}
+
+std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
+  // Who stands where: online robots without a coordinated job are obstacles on every site (the
+  // server does not know the site of a robot that has had no job).
+  std::vector<RobotRecord> robots = registry_->Snapshot();
+  std::vector<TrafficWaitChange> changes;
+  std::vector<std::pair<std::string, ClearanceNotice>> sends;
+  {
+    absl::MutexLock lock(&mutex_);
+    std::map<std::string, const RobotRecord*> by_id;
+    for (const RobotRecord& r : robots) by_id[r.identity.robot_id] = &r;
+    std::set<std::string> coordinated;
+    for (auto& [job_id, tracked] : jobs_) {
+      coordinated.insert(tracked.robot_id);
+      if (tracked.schedule) continue;
+      auto it = by_id.find(tracked.robot_id);
+      if (it == by_id.end() || !it->second->last_telemetry) continue;
+      const Telemetry& telemetry = *it->second->last_telemetry;
+      if (tracked.resume_from_telemetry) {
+        // After a server restart: the robot is in the action it reports.
+        if (telemetry.job_id != job_id) continue;
+        tracked.start_action = std::max(tracked.start_action, telemetry.action_index);
+      }
+      Predict(tracked, telemetry.pose_in_map);
+    }
+    std::vector<planner::ParkedRobot> parked;
+    for (const RobotRecord& r : robots) {
+      if (coordinated.count(r.identity.robot_id) || !r.last_telemetry ||
+          r.connection == ConnectionState::kOffline) {
+        continue;
+      }
+      parked.push_back({r.identity.robot_id,
+                        planner::CellSet::Sweep({r.last_telemetry->pose_in_map},
+                                                r.identity.model.footprint_m, params_.margin_m,
+                                                params_.cell_m)});
+    }
+    std::map<std::string, std::vector<Tracked*>> by_map;
+    for (auto& [job_id, tracked] : jobs_) {
+      if (tracked.schedule) by_map[tracked.assignment.job.map_id].push_back(&tracked);
+    }
+    for (auto& [map_id, tracked_jobs] : by_map) {
+      std::vector<planner::ScheduledRoute> routes;
+      for (const Tracked* t : tracked_jobs) routes.push_back(*t->schedule);
+      const std::vector<planner::TrafficClearanceDecision> decisions =
+          planner::DecideClearances(routes, parked);
+      for (size_t i = 0; i < decisions.size(); ++i) {
+        Tracked& t = *tracked_jobs[i];
+        t.schedule->cleared_up_to = decisions[i].cleared_up_to;
+        const std::string reason = Describe(t, decisions[i]);
+        const bool reason_changed = reason != t.reason;
+        if (reason_changed) {
+          t.reason = reason;
+          changes.push_back({t.robot_id, t.assignment.job.job_id, reason});
+        }
+        if (decisions[i].cleared_up_to != t.sent_cleared || reason_changed) {
+          t.sent_cleared = decisions[i].cleared_up_to;
+          sends.push_back({t.robot_id, ClearanceNotice{t.assignment.job.job_id,
+                                                       decisions[i].cleared_up_to,
+                                                       decisions[i].waits, reason}});
+        }
+      }
+    }
+  }
+  for (const auto& [robot_id, notice] : sends) {
+    if (!mailbox_->SendClearance(robot_id, notice)) {
+      absl::MutexLock lock(&mutex_);
+      auto it = jobs_.find(notice.job_id);
+      if (it != jobs_.end()) it->second.sent_cleared = -2;  // try again on the next update
+    }
+  }
+  for (const TrafficWaitChange& change : changes) {
+    registry_->SetTrafficWait(change.robot_id, change.reason);
+  }
+  return changes;
+}
+
+}  // namespace fleetnav::server
