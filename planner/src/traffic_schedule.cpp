@@ -138,6 +138,18 @@ BuildResult Build(const std::vector<ScheduledRoute>& routes, const std::vector<b
         const bool b_cleared = block.l1 <= b.cleared_up_to;
         bool a_first;
         if (a_cleared != b_cleared) {
+          // The robot already cleared into the block goes on, unless the other stands where
+          // it has still to go: then nothing can be ordered, and the other is held.
+          const ScheduledRoute& in = a_cleared ? a : b;
+          const ScheduledRoute& waiting = a_cleared ? b : a;
+          const int in_first = a_cleared ? block.k1 : block.l1;
+          const int in_last = a_cleared ? block.k2 : block.l2;
+          const int waiting_first = a_cleared ? block.l1 : block.k1;
+          if (waiting_first == waiting.first_unfinished &&
+              Meets(Standing(waiting), in, std::max(in_first, in.cleared_up_to + 1), in_last)) {
+            out.infeasible_route = a_cleared ? s : r;
+            return out;
+          }
           a_first = a_cleared;
         } else {
           // A robot standing in the block cannot make way; one whose route ends in it stays.

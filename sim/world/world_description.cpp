@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -201,6 +202,12 @@ absl::StatusOr<WorldDescription> ParseRoot(const YAML::Node& root) {
       return absl::InvalidArgumentError(absl::StrCat(field, ".pose: expected [x, y, yaw_deg]"));
     }
     spawn.pose = Pose2(pose[0].as<double>(), pose[1].as<double>(), DegToRad(pose[2].as<double>()));
+    for (const RobotSpawn& other : world.robots) {
+      if (other.robot_id == spawn.robot_id) {
+        return absl::InvalidArgumentError(
+            absl::StrCat(field, ".id: '", spawn.robot_id, "' is already a robot of this world"));
+      }
+    }
     world.robots.push_back(spawn);
   }
   return world;
@@ -314,12 +321,58 @@ absl::StatusOr<WorldDescription> ParseWorldYaml(std::string_view yaml_text) {
   }
 }
 
-absl::StatusOr<WorldDescription> LoadWorld(const std::string& path) {
+namespace {
+
+/// The world file's YAML with its `extends` chain resolved: the base file (relative to this
+/// one) first, then this file's keys — lists appended to the base's, other keys replacing.
+absl::StatusOr<YAML::Node> LoadWorldNode(const std::filesystem::path& path, int depth) {
+  if (depth > 8) {
+    return absl::InvalidArgumentError(absl::StrCat("extends: more than 8 files deep at ",
+                                                   path.string()));
+  }
   std::ifstream in(path);
-  if (!in) return absl::NotFoundError(absl::StrCat("cannot open world file '", path, "'"));
+  if (!in) {
+    return absl::NotFoundError(absl::StrCat("cannot open world file '", path.string(), "'"));
+  }
   std::stringstream text;
   text << in.rdbuf();
-  absl::StatusOr<WorldDescription> world = ParseWorldYaml(text.str());
+  YAML::Node node;
+  try {
+    node = YAML::Load(text.str());
+  } catch (const YAML::Exception& e) {
+    return absl::InvalidArgumentError(absl::StrCat(path.string(), ": world YAML: ", e.what()));
+  }
+  if (!node.IsMap() || !node["extends"]) return node;
+  if (!node["extends"].IsScalar()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(path.string(), ": extends: expected the path of a world file"));
+  }
+  ASSIGN_OR_RETURN(YAML::Node merged,
+                   LoadWorldNode(path.parent_path() / node["extends"].as<std::string>(),
+                                 depth + 1));
+  for (const auto& entry : node) {
+    const std::string key = entry.first.as<std::string>();
+    if (key == "extends") continue;
+    if (entry.second.IsSequence() && merged[key] && merged[key].IsSequence()) {
+      for (const YAML::Node& item : entry.second) merged[key].push_back(item);
+    } else {
+      merged[key] = entry.second;
+    }
+  }
+  return merged;
+}
+
+}  // namespace
+
+absl::StatusOr<WorldDescription> LoadWorld(const std::string& path) {
+  absl::StatusOr<YAML::Node> node = LoadWorldNode(path, 0);
+  if (!node.ok()) return node.status();
+  absl::StatusOr<WorldDescription> world;
+  try {
+    world = ParseRoot(*node);
+  } catch (const YAML::Exception& e) {
+    world = absl::InvalidArgumentError(absl::StrCat("world YAML: ", e.what()));
+  }
   if (!world.ok()) {
     return absl::Status(world.status().code(), absl::StrCat(path, ": ", world.status().message()));
   }

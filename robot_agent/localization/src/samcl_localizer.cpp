@@ -51,6 +51,9 @@ absl::Status SamclLocalizerParams::Validate() const {
     return absl::InvalidArgumentError("ultrasonic_range_max_m: must be finite and > 0");
   }
   if (laser_max_beams < 0) return absl::InvalidArgumentError("laser_max_beams: must be >= 0");
+  if (!(std::isfinite(unmapped_obstacle_margin_m) && unmapped_obstacle_margin_m >= 0.0)) {
+    return absl::InvalidArgumentError("unmapped_obstacle_margin_m: must be finite and >= 0");
+  }
   if (!start_stddev.allFinite() || (start_stddev.array() < 0.0).any()) {
     return absl::InvalidArgumentError("start_stddev: must be finite and >= 0");
   }
@@ -80,15 +83,18 @@ absl::StatusOr<SamclLocalizer> SamclLocalizer::Create(const RobotModel& model,
   absl::StatusOr<Samcl> samcl =
       Samcl::Create(*std::move(amcl), std::move(markers), model, params.samcl);
   if (!samcl.ok()) return samcl.status();
-  return SamclLocalizer(model, *std::move(odometry), *std::move(samcl), std::move(stripes),
+  return SamclLocalizer(model, std::make_shared<const OccupancyGrid>(map), *std::move(odometry),
+                        *std::move(samcl), std::move(stripes),
                         std::move(calibration_markers), start_in_map, params);
 }
 
-SamclLocalizer::SamclLocalizer(const RobotModel& model, OdometryFrontEnd odometry, Samcl samcl,
+SamclLocalizer::SamclLocalizer(const RobotModel& model, std::shared_ptr<const OccupancyGrid> map,
+                               OdometryFrontEnd odometry, Samcl samcl,
                                std::vector<Line2> stripe_pieces,
                                std::vector<StripeMarker> calibration_markers,
                                const Pose2& start_in_map, const SamclLocalizerParams& params)
     : model_(model),
+      map_(std::move(map)),
       odometry_(std::move(odometry)),
       samcl_(std::move(samcl)),
       markers_(std::move(calibration_markers)),
@@ -215,6 +221,16 @@ absl::Status SamclLocalizer::Update(const SensorFrame& frame) {
   }
   absl::StatusOr<RangeObservation> observation = Observe(frame);
   if (!observation.ok()) return observation.status();
+  if (params_.unmapped_obstacle_margin_m > 0.0) {
+    const Pose2 estimate = samcl_.amcl().PoseInMap(odom);
+    std::erase_if(observation->beams, [&](const RangeBeam& beam) {
+      if (beam.no_echo) return false;
+      const double expected_m =
+          CastRay(*map_, estimate.TransformPoint(beam.origin_in_base),
+                  estimate.yaw_rad() + beam.angle_in_base_rad, beam.range_max_m);
+      return beam.range_m < expected_m - params_.unmapped_obstacle_margin_m;
+    });
+  }
   if (!observation->beams.empty()) {
     if (absl::StatusOr<bool> updated = samcl_.Update(odom, *observation, frame.stamp_ns);
         !updated.ok()) {

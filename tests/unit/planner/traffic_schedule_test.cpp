@@ -122,6 +122,21 @@ TEST(TrafficScheduleTest, ARobotStandingAtItsStartIsPassedOnlyAfterItLeaves) {
   EXPECT_EQ(d[1].cleared_up_to, 0);
 }
 
+TEST(TrafficScheduleTest, ACrossingAlreadyEnteredIsNotDrivenOnThroughARobotThatStandsInIt) {
+  // a was cleared into the place where b stands (its first action), before b's route was
+  // known: a may not go on through b, and b cannot make way first (a is in its way): b is held
+  // and a waits for it — both stand, nobody is driven into.
+  ScheduledRoute a = Route("a", {{-5, 0}, {2.2, 0}, {8, 0}}, 0.0);
+  a.cleared_up_to = 0;
+  ScheduledRoute b = Route("b", {{3.5, 0}, {3.5, 5}}, 1.0);
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
+  EXPECT_EQ(d[0].cleared_up_to, 0);
+  ASSERT_FALSE(d[0].waits.empty());
+  EXPECT_EQ(d[0].waits[0].blocker_robot_id, "b");
+  EXPECT_TRUE(d[1].deadlocked);
+  EXPECT_EQ(d[1].cleared_up_to, -1);
+}
+
 TEST(TrafficScheduleTest, ParkedRobotsAreNeverDrivenThrough) {
   ScheduledRoute a = Route("a", {{-5, 0}, {-2, 0}, {5, 0}}, 0.0);
   std::vector<TrafficClearanceDecision> d =

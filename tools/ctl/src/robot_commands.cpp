@@ -47,7 +47,8 @@ nlohmann::json RobotJson(const v1::RobotState& robot) {
           {"mode", ModeName(t.mode())},
           {"stamp_ns", t.stamp_ns()},
           {"progress", t.job_progress_fraction()},
-          {"job_id", robot.current_job_id()}};
+          {"job_id", robot.current_job_id()},
+          {"traffic_wait", robot.traffic_wait()}};
 }
 
 std::string PoseCell(const v1::RobotState& robot) {
@@ -69,11 +70,13 @@ absl::Status ListRobots(const CommandContext& context) {
     *context.out << robots.dump() << '\n';
     return absl::OkStatus();
   }
-  Table table({"ROBOT", "KIND", "CONNECTION", "POSE IN MAP (x, y, yaw)", "MODE", "SIM TIME"});
+  Table table({"ROBOT", "KIND", "CONNECTION", "POSE IN MAP (x, y, yaw)", "MODE", "SIM TIME",
+               "WAITS FOR"});
   for (const v1::RobotState& robot : response.robots()) {
     table.AddRow({robot.robot_id(), robot.kind_name(), ConnectionName(robot.connection()),
                   PoseCell(robot), ModeName(robot.last_telemetry().mode()),
-                  absl::StrFormat("%.2f s", robot.last_telemetry().stamp_ns() * 1e-9)});
+                  absl::StrFormat("%.2f s", robot.last_telemetry().stamp_ns() * 1e-9),
+                  robot.traffic_wait()});
   }
   table.Print(*context.out);
   return absl::OkStatus();

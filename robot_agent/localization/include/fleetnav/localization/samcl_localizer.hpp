@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,10 @@ struct SamclLocalizerParams {
   double stripe_update_distance_m = 0.05;
   /// Readings whose nearest stripe is further than this from every particle are not used.
   double stripe_association_m = 0.3;
+  /// A range beam shorter by more than this than the map's range along it from the current
+  /// estimate sees something the map does not hold (another robot, a person, a cow) and is
+  /// left out of the update, as AMCL's beam skipping does. 0 keeps every beam.
+  double unmapped_obstacle_margin_m = 0.5;
   absl::Status Validate() const;
 };
 
@@ -67,7 +72,8 @@ class SamclLocalizer : public Localizer {
   const Amcl& amcl() const { return samcl_.amcl(); }
 
  private:
-  SamclLocalizer(const RobotModel& model, OdometryFrontEnd odometry, Samcl samcl,
+  SamclLocalizer(const RobotModel& model, std::shared_ptr<const OccupancyGrid> map,
+                 OdometryFrontEnd odometry, Samcl samcl,
                  std::vector<Line2> stripe_pieces_start_end,
                  std::vector<StripeMarker> calibration_markers, const Pose2& start_in_map,
                  const SamclLocalizerParams& params);
@@ -76,6 +82,7 @@ class SamclLocalizer : public Localizer {
   absl::StatusOr<bool> WeighByStripes(const SensorFrame& frame, const Pose2& odom);
 
   RobotModel model_;
+  std::shared_ptr<const OccupancyGrid> map_;  ///< for unmapped_obstacle_margin_m
   OdometryFrontEnd odometry_;
   Samcl samcl_;
   std::vector<StripeMarker> markers_;  ///< the calibration markers
