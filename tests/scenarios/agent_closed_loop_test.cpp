@@ -15,12 +15,12 @@
 #include <vector>
 
 #include "fleetnav/v1/sim_service.grpc.pb.h"
-#include "testing/child_process.hpp"
+#include "fleetnav/scenario/child_process.hpp"
 
 namespace fleetnav {
 namespace {
 
-using testing::ChildProcess;
+using scenario::ChildProcess;
 using ::testing::HasSubstr;
 
 constexpr char kHall[] = R"(name: fence-hall
@@ -80,7 +80,7 @@ class ClosedLoop : public ::testing::Test {
         std::vector<std::string>{FLEETNAV_SIM_PATH, "--world", world, "--listen", "127.0.0.1:0",
                                  "--port-file", Path("sim.port"), "--seed", std::to_string(seed)},
         Path("sim.out"), Path("sim.err"));
-    const int port = testing::WaitForPortFile(Path("sim.port"));
+    const int port = scenario::WaitForPortFile(Path("sim.port"));
     ASSERT_GT(port, 0) << sim_->Stderr();
     sim_address_ = "127.0.0.1:" + std::to_string(port);
   }

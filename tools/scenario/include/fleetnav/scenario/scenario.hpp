@@ -1,0 +1,80 @@
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "fleetnav/core/pose2.hpp"
+
+namespace fleetnav::scenario {
+
+/// A robot of the world that the scenario runs an agent for.
+struct ScenarioRobot {
+  std::string robot_id;
+  std::string kind_name;  ///< from the world
+  Pose2 initial_pose;     ///< the agent's --initial-pose (default: the world's spawn pose)
+  int particles = 2000;
+};
+
+/// A job submitted at a sim time: a route by name, or a goal on the scenario's map.
+struct ScenarioJob {
+  std::string name;  ///< the scenario's name for it (expectations use it)
+  std::string route;
+  std::optional<Pose2> goal;
+  std::string robot_id;  ///< empty: any capable robot
+  int priority = 0;
+  double at_s = 0.0;
+};
+
+enum class ScenarioFaultType {
+  kKillAgent,   ///< SIGKILL the robot's agent; restarted restart_after_s later (wall time)
+  kKillServer,  ///< SIGKILL fleetnavd; restarted on the same database and port
+  kSimFault,    ///< a simulator fault (SimService.InjectFault)
+};
+
+struct ScenarioFault {
+  ScenarioFaultType type = ScenarioFaultType::kSimFault;
+  std::string sim_type;  ///< for kSimFault: slow_down, wheel_slip, sensor_dropout, ...
+  double at_s = 0.0;
+  std::string robot_id;
+  double restart_after_s = 1.0;
+  double duration_s = 0.0;
+  double factor = 1.0;
+  std::string sensor;
+  std::optional<std::pair<Pose2, Pose2>> region;  ///< min and max corners (yaw unused)
+};
+
+/// What must hold at the end for the run to pass.
+struct ScenarioExpectations {
+  std::string all_jobs = "succeeded";               ///< every job's end state …
+  std::map<std::string, std::string> job_states;  ///< … unless named here
+  int max_contacts = 0;
+  std::optional<double> min_separation_m;
+  double deadline_s = 600.0;  ///< sim time by which every job has ended
+};
+
+/// A multi-robot scenario (docs/scenarios.md). Paths are resolved against the file's folder.
+struct Scenario {
+  std::string name;
+  std::string path;        ///< the scenario file
+  std::string world_path;  ///< the world YAML
+  std::string map_id;      ///< the world's name: its exported map is uploaded under it
+  std::vector<std::string> route_paths;
+  unsigned seed = 1;
+  double real_time_factor = 0.0;
+  std::vector<ScenarioRobot> robots;
+  std::vector<ScenarioJob> jobs;
+  std::vector<ScenarioFault> faults;
+  ScenarioExpectations expect;
+};
+
+/// Parses a scenario file and checks it against its world: unknown keys, impossible times
+/// (negative, or after the deadline), robots the world does not hold, routes or jobs named
+/// twice are InvalidArgument naming the file and the key (e.g. "s.yaml: jobs[2].robot:
+/// 'lely9' is not a robot of world barn").
+absl::StatusOr<Scenario> LoadScenario(const std::string& path);
+
+}  // namespace fleetnav::scenario

@@ -1,0 +1,81 @@
+#pragma once
+
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "fleetnav/scenario/scenario.hpp"
+
+namespace fleetnav::scenario {
+
+/// Where the fleetnav binaries are.
+struct Binaries {
+  std::string server;  ///< fleetnavd
+  std::string sim;     ///< fleetnav-sim
+  std::string agent;   ///< fleetnav-agent
+  std::string ctl;     ///< fleetnavctl
+  /// Next to `self` (an installed bin folder) or in a build tree's server/, sim/,
+  /// robot_agent/ and tools/ folders beside self's folder. NotFound names the missing one.
+  static absl::StatusOr<Binaries> Find(const std::string& self);
+};
+
+struct RunOptions {
+  std::optional<unsigned> seed;  ///< overrides the scenario's
+  std::string keep_dir;          ///< keep logs, database and recordings here ("": a temp folder, removed)
+  std::string picture_path;      ///< draw the run to this .png/.svg ("": none)
+  std::ostream* progress = nullptr;  ///< live progress (bars on a terminal, lines otherwise)
+  bool progress_is_terminal = false;
+  double wall_timeout_s = 3600.0;
+};
+
+struct JobOutcome {
+  std::string name;
+  std::string job_id;
+  std::string robot_id;
+  std::string state;     ///< queued … succeeded / failed / cancelled
+  std::string expected;  ///< the end state it had to reach
+  std::string reason;
+  double end_sim_s = -1.0;
+};
+
+struct RobotFigures {
+  std::string robot_id;
+  int jobs = 0;                  ///< jobs it ran to an end
+  double distance_m = 0.0;       ///< true path length
+  double waiting_s = 0.0;        ///< sim time held by traffic coordination
+  double max_loc_error_m = 0.0;  ///< truth vs the agent's estimate, at equal sim times
+  int contacts = 0;              ///< contact episodes (world and robots)
+};
+
+/// The outcome of one run: figures, and each expectation that failed.
+struct ScenarioReport {
+  std::string name;
+  unsigned seed = 0;
+  bool passed = false;
+  std::vector<std::string> failures;
+  std::vector<JobOutcome> jobs;
+  std::vector<RobotFigures> robots;
+  int contacts = 0;
+  double min_separation_m = 0.0;  ///< between footprints; large with one robot
+  double sim_time_s = 0.0;
+  double wall_time_s = 0.0;
+  double real_time_factor = 0.0;
+  std::string work_dir;  ///< kept only with RunOptions::keep_dir
+};
+
+/// Runs a scenario with the real binaries as processes (docs/scenarios.md): fleetnavd on a
+/// fresh database, fleetnav-sim with the world (lockstep with every agent), one fleetnav-agent
+/// per robot in job mode; uploads the world's map and markers and the routes with fleetnavctl;
+/// submits the jobs and injects the faults at their sim times; ends when every job has ended or
+/// at the deadline; judges by the simulator's ground truth. Errors are for the run itself (a
+/// program that does not start); expectations that fail are in the report.
+absl::StatusOr<ScenarioReport> RunScenario(const Scenario& scenario, const Binaries& binaries,
+                                           const RunOptions& options);
+
+/// The report as a table for people, and as one JSON object.
+void PrintReport(const ScenarioReport& report, std::ostream& out);
+std::string ReportJson(const ScenarioReport& report);
+
+}  // namespace fleetnav::scenario

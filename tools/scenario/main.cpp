@@ -1,0 +1,70 @@
+// fleetnav-scenario: runs a multi-robot scenario file with the real binaries and judges it by
+// the simulator's ground truth (docs/scenarios.md).
+//
+// Exit codes: 0 every expectation held; 1 an expectation failed; 2 bad usage or a bad scenario
+// file; 3 the run itself failed (a program did not start).
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "fleetnav/scenario/scenario.hpp"
+#include "fleetnav/scenario/scenario_runner.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"fleetnav-scenario: run a multi-robot scenario in the simulator and check it"};
+  app.require_subcommand(1);
+  CLI::App* run = app.add_subcommand("run", "run a scenario file");
+  std::string file;
+  run->add_option("FILE", file, "scenario YAML (docs/scenarios.md)")->required();
+  unsigned seed = 0;
+  CLI::Option* seed_option = run->add_option("--seed", seed, "overrides the scenario's seed");
+  bool json = false;
+  run->add_flag("--json", json, "print one JSON object instead of the tables");
+  std::string picture;
+  run->add_option("--picture", picture, "draw the map and the true and estimated paths (.png/.svg)");
+  std::string keep;
+  run->add_option("--keep", keep, "keep logs, database and recordings in this folder");
+  double timeout_s = 3600.0;
+  run->add_option("--wall-timeout-s", timeout_s, "give up after this much wall time")
+      ->capture_default_str();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  }
+  absl::StatusOr<fleetnav::scenario::Scenario> scenario = fleetnav::scenario::LoadScenario(file);
+  if (!scenario.ok()) {
+    std::cerr << "fleetnav-scenario: " << scenario.status().message() << "\n";
+    return 2;
+  }
+  absl::StatusOr<fleetnav::scenario::Binaries> binaries =
+      fleetnav::scenario::Binaries::Find(argv[0]);
+  if (!binaries.ok()) {
+    std::cerr << "fleetnav-scenario: " << binaries.status().message() << "\n";
+    return 3;
+  }
+  fleetnav::scenario::RunOptions options;
+  if (*seed_option) options.seed = seed;
+  options.keep_dir = keep;
+  options.picture_path = picture;
+  options.wall_timeout_s = timeout_s;
+  options.progress = &std::cerr;
+  options.progress_is_terminal = isatty(STDERR_FILENO) != 0;
+  absl::StatusOr<fleetnav::scenario::ScenarioReport> report =
+      fleetnav::scenario::RunScenario(*scenario, *binaries, options);
+  if (!report.ok()) {
+    std::cerr << "fleetnav-scenario: " << report.status().message() << "\n";
+    return 3;
+  }
+  if (json) {
+    std::cout << fleetnav::scenario::ReportJson(*report) << "\n";
+  } else {
+    fleetnav::scenario::PrintReport(*report, std::cout);
+  }
+  return report->passed ? 0 : 1;
+}

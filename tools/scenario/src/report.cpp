@@ -1,0 +1,70 @@
+#include <nlohmann/json.hpp>
+
+#include <ostream>
+
+#include "absl/strings/str_format.h"
+#include "fleetnav/scenario/scenario_runner.hpp"
+
+namespace fleetnav::scenario {
+
+void PrintReport(const ScenarioReport& report, std::ostream& out) {
+  out << absl::StrFormat("scenario %s, seed %u: %s\n", report.name, report.seed,
+                         report.passed ? "PASSED" : "FAILED");
+  out << absl::StrFormat("%-16s %-10s %-8s %-10s %-10s %s\n", "JOB", "ID", "ROBOT", "STATE",
+                         "EXPECTED", "REASON");
+  for (const JobOutcome& job : report.jobs) {
+    out << absl::StrFormat("%-16s %-10s %-8s %-10s %-10s %s\n", job.name, job.job_id,
+                           job.robot_id, job.state, job.expected, job.reason);
+  }
+  out << absl::StrFormat("%-8s %5s %11s %10s %15s %9s\n", "ROBOT", "JOBS", "DISTANCE_M",
+                         "WAITING_S", "MAX_LOC_ERR_M", "CONTACTS");
+  for (const RobotFigures& robot : report.robots) {
+    out << absl::StrFormat("%-8s %5d %11.2f %10.1f %15.3f %9d\n", robot.robot_id, robot.jobs,
+                           robot.distance_m, robot.waiting_s, robot.max_loc_error_m,
+                           robot.contacts);
+  }
+  out << absl::StrFormat(
+      "contacts %d, min separation %.3f m, sim time %.1f s, wall time %.1f s, real-time factor "
+      "%.1f\n",
+      report.contacts, report.min_separation_m, report.sim_time_s, report.wall_time_s,
+      report.real_time_factor);
+  for (const std::string& failure : report.failures) out << "FAILED: " << failure << "\n";
+  if (!report.work_dir.empty()) out << "logs and recordings kept in " << report.work_dir << "\n";
+}
+
+std::string ReportJson(const ScenarioReport& report) {
+  nlohmann::json jobs = nlohmann::json::array();
+  for (const JobOutcome& job : report.jobs) {
+    jobs.push_back({{"name", job.name},
+                    {"job_id", job.job_id},
+                    {"robot_id", job.robot_id},
+                    {"state", job.state},
+                    {"expected", job.expected},
+                    {"reason", job.reason},
+                    {"end_sim_s", job.end_sim_s}});
+  }
+  nlohmann::json robots = nlohmann::json::array();
+  for (const RobotFigures& robot : report.robots) {
+    robots.push_back({{"robot_id", robot.robot_id},
+                      {"jobs", robot.jobs},
+                      {"distance_m", robot.distance_m},
+                      {"waiting_s", robot.waiting_s},
+                      {"max_loc_error_m", robot.max_loc_error_m},
+                      {"contacts", robot.contacts}});
+  }
+  nlohmann::json out = {{"name", report.name},
+                        {"seed", report.seed},
+                        {"passed", report.passed},
+                        {"failures", report.failures},
+                        {"jobs", jobs},
+                        {"robots", robots},
+                        {"contacts", report.contacts},
+                        {"min_separation_m", report.min_separation_m},
+                        {"sim_time_s", report.sim_time_s},
+                        {"wall_time_s", report.wall_time_s},
+                        {"real_time_factor", report.real_time_factor}};
+  if (!report.work_dir.empty()) out["work_dir"] = report.work_dir;
+  return out.dump();
+}
+
+}  // namespace fleetnav::scenario

@@ -1,0 +1,584 @@
+#include "fleetnav/scenario/scenario_runner.hpp"
+
+#include <grpcpp/grpcpp.h>
+#include <signal.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <thread>
+
+#include "absl/strings/ascii.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_split.h"
+#include "fleetnav/core/angles.hpp"
+#include "fleetnav/proto/geometry_convert.hpp"
+#include "fleetnav/scenario/child_process.hpp"
+#include "fleetnav/v1/fleet_service.grpc.pb.h"
+#include "fleetnav/v1/sim_service.grpc.pb.h"
+
+namespace fleetnav::scenario {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::string StateName(v1::JobState state) {
+  std::string name = v1::JobState_Name(state);
+  absl::AsciiStrToLower(&name);
+  return name.rfind("job_state_", 0) == 0 ? name.substr(10) : name;
+}
+
+bool IsEnd(const std::string& state) {
+  return state == "succeeded" || state == "failed" || state == "cancelled";
+}
+
+v1::FaultType SimFaultType(const std::string& name) {
+  if (name == "hide_ultrasonic") return v1::FAULT_TYPE_HIDE_ULTRASONIC_REGION;
+  if (name == "remove_fence") return v1::FAULT_TYPE_REMOVE_FENCE_SEGMENT;
+  if (name == "remove_stripe") return v1::FAULT_TYPE_REMOVE_STRIPE_SEGMENT;
+  if (name == "wheel_slip") return v1::FAULT_TYPE_WHEEL_SLIP_REGION;
+  if (name == "sensor_dropout") return v1::FAULT_TYPE_SENSOR_DROPOUT;
+  if (name == "slow_down") return v1::FAULT_TYPE_SLOW_DOWN;
+  return v1::FAULT_TYPE_UNSPECIFIED;
+}
+
+void WithDeadline(grpc::ClientContext* context, double seconds = 2.0) {
+  context->set_deadline(std::chrono::system_clock::now() +
+                        std::chrono::milliseconds(static_cast<int64_t>(seconds * 1000)));
+}
+
+/// Rows "robot_id,kind,x,y,t_s" of a trajectory CSV, per robot, in file order.
+struct Sample {
+  double t_s, x, y;
+};
+std::map<std::string, std::vector<Sample>> ReadTrajectories(const std::string& path) {
+  std::map<std::string, std::vector<Sample>> out;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> f = absl::StrSplit(line, ',');
+    if (f.size() < 5) continue;
+    try {
+      out[f[0]].push_back({std::stod(f[4]), std::stod(f[2]), std::stod(f[3])});
+    } catch (const std::exception&) {
+      continue;  // a header or a line cut by a kill
+    }
+  }
+  return out;
+}
+
+/// One run: the processes, the clients and what has been seen.
+class Run {
+ public:
+  Run(const Scenario& scenario, const Binaries& binaries, const RunOptions& options)
+      : s_(scenario), bin_(binaries), opt_(options) {}
+  ~Run() {
+    for (auto& [id, agent] : agents_) agent.reset();
+    sim_.reset();
+    server_.reset();
+    if (!keep_ && !work_.empty()) {
+      std::error_code ignored;
+      fs::remove_all(work_, ignored);
+    }
+  }
+
+  absl::StatusOr<ScenarioReport> Execute();
+
+ private:
+  std::string Path(const std::string& name) const { return (fs::path(work_) / name).string(); }
+  absl::Status Ctl(const std::vector<std::string>& args);
+  absl::Status StartServer();
+  absl::Status StartAgent(const ScenarioRobot& robot, const Pose2& pose);
+  void Submit(size_t index);
+  void Inject(const ScenarioFault& fault);
+  void Poll(double sim_s);
+  void DrawProgress(double sim_s);
+  void Finish(ScenarioReport* report);
+
+  const Scenario& s_;
+  const Binaries& bin_;
+  const RunOptions& opt_;
+  unsigned seed_ = 1;
+  bool keep_ = false;
+  std::string work_;
+  int server_port_ = 0;
+  int sim_port_ = 0;
+  int server_starts_ = 0;
+  std::unique_ptr<ChildProcess> server_;
+  std::unique_ptr<ChildProcess> sim_;
+  std::map<std::string, std::unique_ptr<ChildProcess>> agents_;
+  std::map<std::string, int> agent_starts_;
+  std::unique_ptr<v1::FleetService::Stub> fleet_;
+  std::unique_ptr<v1::SimService::Stub> simulator_;
+  std::vector<JobOutcome> jobs_;
+  std::vector<bool> submitted_;
+  std::vector<double> progress_;
+  std::vector<bool> injected_;
+  std::map<std::string, RobotFigures> figures_;
+  std::map<std::string, std::string> waits_;
+  std::map<std::string, Pose2> estimates_;
+  double last_sim_s_ = 0.0;
+  int drawn_lines_ = 0;
+  struct Restart {
+    Clock::time_point due;
+    std::string robot_id;  ///< empty: the server
+  };
+  std::vector<Restart> restarts_;
+};
+
+absl::Status Run::Ctl(const std::vector<std::string>& args) {
+  std::vector<std::string> argv{bin_.ctl, "--server", absl::StrCat("127.0.0.1:", server_port_)};
+  argv.insert(argv.end(), args.begin(), args.end());
+  ChildProcess ctl(argv, Path("ctl.out"), Path("ctl.err"));
+  const std::optional<int> code = ctl.Wait(120.0);
+  if (!code || *code != 0) {
+    return absl::InternalError(absl::StrCat("fleetnavctl ", args.front(), " ", args.at(1),
+                                            " failed: ", ctl.Stderr()));
+  }
+  return absl::OkStatus();
+}
+
+absl::Status Run::StartServer() {
+  const std::string port_file = Path("server.port");
+  fs::remove(port_file);
+  ++server_starts_;
+  server_ = std::make_unique<ChildProcess>(
+      std::vector<std::string>{bin_.server, "--listen",
+                               absl::StrCat("127.0.0.1:", server_port_), "--db",
+                               Path("fleet.db"), "--port-file", port_file},
+      Path(absl::StrCat("fleetnavd.", server_starts_, ".out")),
+      Path(absl::StrCat("fleetnavd.", server_starts_, ".log")));
+  const int port = WaitForPortFile(port_file);
+  if (!server_->started() || port == 0) {
+    return absl::UnavailableError(absl::StrCat("fleetnavd did not start: ", server_->Stderr()));
+  }
+  server_port_ = port;
+  fleet_ = v1::FleetService::NewStub(grpc::CreateChannel(absl::StrCat("127.0.0.1:", port),
+                                                         grpc::InsecureChannelCredentials()));
+  return absl::OkStatus();
+}
+
+absl::Status Run::StartAgent(const ScenarioRobot& robot, const Pose2& pose) {
+  const int start = ++agent_starts_[robot.robot_id];
+  const std::string stem = absl::StrCat("agent-", robot.robot_id, ".", start);
+  agents_[robot.robot_id] = std::make_unique<ChildProcess>(
+      std::vector<std::string>{
+          bin_.agent, "--robot-id", robot.robot_id, "--kind", robot.kind_name, "--sim",
+          absl::StrCat("127.0.0.1:", sim_port_), "--server",
+          absl::StrCat("127.0.0.1:", server_port_), "--initial-pose",
+          absl::StrFormat("%.4f", pose.x_m()), absl::StrFormat("%.4f", pose.y_m()),
+          absl::StrFormat("%.3f", RadToDeg(pose.yaw_rad())), "--particles",
+          absl::StrCat(robot.particles), "--seed", absl::StrCat(seed_ + start * 1000),
+          "--record", Path(absl::StrCat("estimate-", robot.robot_id, ".csv"))},
+      Path(stem + ".out"), Path(stem + ".log"));
+  if (!agents_[robot.robot_id]->started()) {
+    return absl::UnavailableError(absl::StrCat("fleetnav-agent for ", robot.robot_id,
+                                               " did not start"));
+  }
+  return absl::OkStatus();
+}
+
+void Run::Submit(size_t index) {
+  const ScenarioJob& job = s_.jobs[index];
+  v1::SubmitJobRequest request;
+  if (job.goal) {
+    request.mutable_goal()->set_map_id(s_.map_id);
+    *request.mutable_goal()->mutable_goal() = fleetnav::ToProto(*job.goal);
+  } else {
+    request.set_route_name(job.route);
+  }
+  request.set_robot_id(job.robot_id);
+  request.set_priority(job.priority);
+  // Submitting again after a server restart names the same job.
+  request.set_idempotency_key(absl::StrCat("scenario/", s_.name, "/", job.name));
+  grpc::ClientContext context;
+  WithDeadline(&context);
+  v1::SubmitJobResponse response;
+  const grpc::Status status = fleet_->SubmitJob(&context, request, &response);
+  if (!status.ok()) {
+    if (status.error_code() != grpc::StatusCode::UNAVAILABLE &&
+        status.error_code() != grpc::StatusCode::DEADLINE_EXCEEDED) {
+      jobs_[index].state = "failed";
+      jobs_[index].reason = absl::StrCat("refused by fleetnavd: ", status.error_message());
+      submitted_[index] = true;
+    }
+    return;  // retried on the next poll while the server is away
+  }
+  jobs_[index].job_id = response.job().job_id();
+  jobs_[index].state = StateName(response.job().state());
+  submitted_[index] = true;
+}
+
+void Run::Inject(const ScenarioFault& fault) {
+  switch (fault.type) {
+    case ScenarioFaultType::kKillAgent:
+      if (auto it = agents_.find(fault.robot_id); it != agents_.end()) {
+        it->second->Stop(SIGKILL, 5.0);
+        restarts_.push_back({Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(
+                                                fault.restart_after_s * 1000)),
+                             fault.robot_id});
+      }
+      return;
+    case ScenarioFaultType::kKillServer:
+      server_->Stop(SIGKILL, 5.0);
+      restarts_.push_back({Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(
+                                              fault.restart_after_s * 1000)),
+                           ""});
+      return;
+    case ScenarioFaultType::kSimFault: {
+      v1::InjectFaultRequest request;
+      request.set_type(SimFaultType(fault.sim_type));
+      request.set_robot_id(fault.robot_id);
+      request.set_sensor_name(fault.sensor);
+      request.set_duration_s(fault.duration_s);
+      request.set_factor(fault.factor);
+      if (fault.region) {
+        request.mutable_region_min()->set_x_m(fault.region->first.x_m());
+        request.mutable_region_min()->set_y_m(fault.region->first.y_m());
+        request.mutable_region_max()->set_x_m(fault.region->second.x_m());
+        request.mutable_region_max()->set_y_m(fault.region->second.y_m());
+      }
+      grpc::ClientContext context;
+      WithDeadline(&context);
+      v1::InjectFaultResponse response;
+      (void)simulator_->InjectFault(&context, request, &response);
+      return;
+    }
+  }
+}
+
+void Run::Poll(double sim_s) {
+  const double dt_s = std::max(0.0, sim_s - last_sim_s_);
+  last_sim_s_ = sim_s;
+  {
+    grpc::ClientContext context;
+    WithDeadline(&context);
+    v1::ListRobotsResponse robots;
+    if (fleet_->ListRobots(&context, v1::ListRobotsRequest{}, &robots).ok()) {
+      for (const v1::RobotState& robot : robots.robots()) {
+        waits_[robot.robot_id()] = robot.traffic_wait();
+        if (!robot.traffic_wait().empty()) figures_[robot.robot_id()].waiting_s += dt_s;
+        absl::StatusOr<Pose2> pose =
+            fleetnav::FromProto(robot.last_telemetry().pose_in_map().pose());
+        if (pose.ok()) estimates_[robot.robot_id()] = *pose;
+      }
+    }
+  }
+  for (size_t i = 0; i < jobs_.size(); ++i) {
+    if (!submitted_[i] || jobs_[i].job_id.empty() || IsEnd(jobs_[i].state)) continue;
+    grpc::ClientContext context;
+    WithDeadline(&context);
+    v1::GetJobRequest request;
+    request.set_job_id(jobs_[i].job_id);
+    v1::GetJobResponse response;
+    if (!fleet_->GetJob(&context, request, &response).ok()) continue;
+    const std::string state = StateName(response.job().state());
+    jobs_[i].robot_id = response.job().assigned_robot_id();
+    jobs_[i].reason = response.job().reason();
+    if (state != jobs_[i].state && opt_.progress != nullptr && !opt_.progress_is_terminal) {
+      *opt_.progress << absl::StrFormat("t=%7.1f s  %-16s %-8s %s%s\n", sim_s, jobs_[i].name,
+                                        jobs_[i].robot_id, state,
+                                        jobs_[i].reason.empty() ? "" : ": " + jobs_[i].reason);
+    }
+    jobs_[i].state = state;
+    progress_[i] = response.job().progress_fraction();
+    if (IsEnd(state)) jobs_[i].end_sim_s = sim_s;
+  }
+}
+
+void Run::DrawProgress(double sim_s) {
+  if (opt_.progress == nullptr || !opt_.progress_is_terminal) return;
+  std::ostream& out = *opt_.progress;
+  if (drawn_lines_ > 0) out << "\033[" << drawn_lines_ << "A";
+  drawn_lines_ = 0;
+  out << absl::StrFormat("\033[2K%s  sim %.1f s\n", s_.name, sim_s);
+  ++drawn_lines_;
+  for (size_t i = 0; i < jobs_.size(); ++i) {
+    const int filled = static_cast<int>(std::lround(std::clamp(progress_[i], 0.0, 1.0) * 30));
+    const std::string bar = std::string(filled, '#') + std::string(30 - filled, '.');
+    const std::string wait = waits_[jobs_[i].robot_id];
+    out << absl::StrFormat("\033[2K%-16s %-8s [%s] %3d%%  %-10s %s\n", jobs_[i].name,
+                           jobs_[i].robot_id, bar, static_cast<int>(progress_[i] * 100),
+                           submitted_[i] ? jobs_[i].state : "waiting",
+                           IsEnd(jobs_[i].state) ? jobs_[i].reason : wait);
+    ++drawn_lines_;
+  }
+  out.flush();
+}
+
+absl::StatusOr<ScenarioReport> Run::Execute() {
+  const Clock::time_point wall_start = Clock::now();
+  seed_ = opt_.seed.value_or(s_.seed);
+  keep_ = !opt_.keep_dir.empty();
+  if (keep_) {
+    work_ = opt_.keep_dir;
+    fs::create_directories(work_);
+  } else {
+    char pattern[] = "/tmp/fleetnav-scenario.XXXXXX";
+    if (mkdtemp(pattern) == nullptr) return absl::InternalError("cannot make a temporary folder");
+    work_ = pattern;
+  }
+  jobs_.resize(s_.jobs.size());
+  submitted_.assign(s_.jobs.size(), false);
+  progress_.assign(s_.jobs.size(), 0.0);
+  injected_.assign(s_.faults.size(), false);
+  for (size_t i = 0; i < s_.jobs.size(); ++i) {
+    jobs_[i].name = s_.jobs[i].name;
+    jobs_[i].robot_id = s_.jobs[i].robot_id;
+    jobs_[i].state = "waiting";
+    const auto expected = s_.expect.job_states.find(s_.jobs[i].name);
+    jobs_[i].expected =
+        expected != s_.expect.job_states.end() ? expected->second : s_.expect.all_jobs;
+  }
+  for (const ScenarioRobot& robot : s_.robots) figures_[robot.robot_id].robot_id = robot.robot_id;
+
+  // The world's map and markers, as an operator would export them.
+  {
+    ChildProcess exporter({bin_.sim, "--world", s_.world_path, "--export-map", Path("map")},
+                          Path("export.out"), Path("export.log"));
+    if (exporter.Wait(120.0) != 0) {
+      return absl::InternalError(absl::StrCat("map export failed: ", exporter.Stderr()));
+    }
+  }
+  if (absl::Status st = StartServer(); !st.ok()) return st;
+  const std::string sim_port_file = Path("sim.port");
+  sim_ = std::make_unique<ChildProcess>(
+      std::vector<std::string>{bin_.sim, "--world", s_.world_path, "--listen", "127.0.0.1:0",
+                               "--port-file", sim_port_file, "--seed", absl::StrCat(seed_),
+                               "--real-time-factor", absl::StrCat(s_.real_time_factor),
+                               "--min-agents", absl::StrCat(s_.robots.size()),
+                               "--record-truth", Path("truth.csv")},
+      Path("sim.out"), Path("sim.log"));
+  sim_port_ = WaitForPortFile(sim_port_file);
+  if (!sim_->started() || sim_port_ == 0) {
+    return absl::UnavailableError(absl::StrCat("fleetnav-sim did not start: ", sim_->Stderr()));
+  }
+  simulator_ = v1::SimService::NewStub(grpc::CreateChannel(
+      absl::StrCat("127.0.0.1:", sim_port_), grpc::InsecureChannelCredentials()));
+  const std::string map_yaml = Path(absl::StrCat("map/", s_.map_id, ".yaml"));
+  const std::string markers_yaml = Path(absl::StrCat("map/", s_.map_id, ".markers.yaml"));
+  if (absl::Status st = Ctl({"map", "import", "--id", s_.map_id, map_yaml}); !st.ok()) return st;
+  if (fs::exists(markers_yaml)) {
+    if (absl::Status st = Ctl({"markers", "put", markers_yaml}); !st.ok()) return st;
+  }
+  for (const std::string& route : s_.route_paths) {
+    if (absl::Status st = Ctl({"routes", "put", route}); !st.ok()) return st;
+  }
+  for (const ScenarioRobot& robot : s_.robots) {
+    if (absl::Status st = StartAgent(robot, robot.initial_pose); !st.ok()) return st;
+  }
+  // Jobs name robots: submit once every agent has said hello.
+  for (size_t online = 0; online < s_.robots.size();) {
+    if (SecondsSince(wall_start) > 60.0) {
+      return absl::DeadlineExceededError(absl::StrCat(
+          "only ", online, " of ", s_.robots.size(), " agents connected to fleetnavd in 60 s"));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    grpc::ClientContext context;
+    WithDeadline(&context);
+    v1::ListRobotsResponse robots;
+    if (!fleet_->ListRobots(&context, v1::ListRobotsRequest{}, &robots).ok()) continue;
+    online = static_cast<size_t>(std::count_if(
+        robots.robots().begin(), robots.robots().end(), [](const v1::RobotState& r) {
+          return r.connection() == v1::CONNECTION_STATE_ONLINE;
+        }));
+  }
+
+  double sim_s = 0.0;
+  while (true) {
+    if (SecondsSince(wall_start) > opt_.wall_timeout_s) break;
+    // Restarts that are due.
+    for (auto it = restarts_.begin(); it != restarts_.end();) {
+      if (Clock::now() < it->due) {
+        ++it;
+        continue;
+      }
+      if (it->robot_id.empty()) {
+        if (absl::Status st = StartServer(); !st.ok()) return st;
+      } else {
+        for (const ScenarioRobot& robot : s_.robots) {
+          if (robot.robot_id != it->robot_id) continue;
+          // Restarted where fleetnavd last saw it, as an operator would.
+          const auto last = estimates_.find(robot.robot_id);
+          if (absl::Status st =
+                  StartAgent(robot, last != estimates_.end() ? last->second : robot.initial_pose);
+              !st.ok()) {
+            return st;
+          }
+        }
+      }
+      it = restarts_.erase(it);
+    }
+    if (!sim_->running()) break;
+    grpc::ClientContext context;
+    WithDeadline(&context);
+    v1::GroundTruth truth;
+    if (simulator_->GetGroundTruth(&context, v1::GetGroundTruthRequest{}, &truth).ok()) {
+      sim_s = truth.sim_time_ns() * 1e-9;
+    }
+    const bool server_up = restarts_.empty() || std::none_of(restarts_.begin(), restarts_.end(),
+                                                             [](const Restart& r) {
+                                                               return r.robot_id.empty();
+                                                             });
+    if (server_up) {
+      for (size_t i = 0; i < s_.jobs.size(); ++i) {
+        if (!submitted_[i] && sim_s >= s_.jobs[i].at_s) Submit(i);
+      }
+      Poll(sim_s);
+    }
+    for (size_t i = 0; i < s_.faults.size(); ++i) {
+      if (!injected_[i] && sim_s >= s_.faults[i].at_s) {
+        injected_[i] = true;
+        Inject(s_.faults[i]);
+      }
+    }
+    DrawProgress(sim_s);
+    const bool all_ended =
+        std::all_of(jobs_.begin(), jobs_.end(), [](const JobOutcome& j) { return IsEnd(j.state); });
+    if (all_ended || sim_s >= s_.expect.deadline_s) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+
+  ScenarioReport report;
+  report.name = s_.name;
+  report.seed = seed_;
+  report.sim_time_s = sim_s;
+  // Ground truth before anything stops.
+  {
+    grpc::ClientContext context;
+    WithDeadline(&context);
+    v1::GroundTruth truth;
+    if (simulator_->GetGroundTruth(&context, v1::GetGroundTruthRequest{}, &truth).ok()) {
+      report.min_separation_m = truth.min_separation_m();
+      for (const v1::RobotGroundTruth& robot : truth.robots()) {
+        if (figures_.count(robot.robot_id())) {
+          figures_[robot.robot_id()].contacts = static_cast<int>(robot.collisions());
+        }
+        report.contacts += static_cast<int>(robot.collisions());
+      }
+    } else {
+      report.failures.push_back("the simulator's ground truth could not be read at the end");
+    }
+  }
+  for (auto& [id, agent] : agents_) agent->Stop(SIGTERM, 10.0);
+  sim_->Stop(SIGTERM, 10.0);
+  server_->Stop(SIGTERM, 10.0);
+  report.wall_time_s = SecondsSince(wall_start);
+  report.real_time_factor = report.wall_time_s > 0 ? report.sim_time_s / report.wall_time_s : 0;
+  Finish(&report);
+  return report;
+}
+
+void Run::Finish(ScenarioReport* report) {
+  // Figures from the recordings: the truth at 10 Hz of sim time, each agent's estimates.
+  const auto truth = ReadTrajectories(Path("truth.csv"));
+  for (auto& [id, f] : figures_) {
+    const auto t = truth.find(id);
+    if (t == truth.end()) continue;
+    for (size_t i = 1; i < t->second.size(); ++i) {
+      f.distance_m += std::hypot(t->second[i].x - t->second[i - 1].x,
+                                 t->second[i].y - t->second[i - 1].y);
+    }
+    const auto estimates = ReadTrajectories(Path(absl::StrCat("estimate-", id, ".csv")));
+    const auto e = estimates.find(id);
+    if (e == estimates.end()) continue;
+    for (const Sample& est : e->second) {
+      const auto near = std::lower_bound(
+          t->second.begin(), t->second.end(), est.t_s,
+          [](const Sample& a, double time_s) { return a.t_s < time_s; });
+      if (near == t->second.end() || std::abs(near->t_s - est.t_s) > 0.1) continue;
+      f.max_loc_error_m = std::max(f.max_loc_error_m, std::hypot(near->x - est.x, near->y - est.y));
+    }
+  }
+  for (const JobOutcome& job : jobs_) {
+    if (IsEnd(job.state) && figures_.count(job.robot_id)) ++figures_[job.robot_id].jobs;
+  }
+  for (auto& [id, f] : figures_) report->robots.push_back(f);
+  report->jobs = jobs_;
+  // Expectations.
+  for (const JobOutcome& job : jobs_) {
+    if (job.state != job.expected) {
+      report->failures.push_back(absl::StrCat("job ", job.name, " ended ", job.state,
+                                              " (expected ", job.expected, ")",
+                                              job.reason.empty() ? "" : ": " + job.reason));
+    }
+  }
+  if (report->contacts > s_.expect.max_contacts) {
+    report->failures.push_back(absl::StrCat(report->contacts, " contact episode(s) (at most ",
+                                            s_.expect.max_contacts, " expected)"));
+  }
+  if (s_.expect.min_separation_m && report->min_separation_m < *s_.expect.min_separation_m) {
+    report->failures.push_back(absl::StrFormat("min separation %.3f m (at least %.3f m expected)",
+                                               report->min_separation_m,
+                                               *s_.expect.min_separation_m));
+  }
+  if (report->sim_time_s >= s_.expect.deadline_s) {
+    report->failures.push_back(
+        absl::StrFormat("deadline of %.0f s of sim time reached", s_.expect.deadline_s));
+  }
+  report->passed = report->failures.empty();
+  // The picture: map, true and estimated paths.
+  if (!opt_.picture_path.empty()) {
+    // Whole lines only: a process stopped mid-write leaves a cut last line.
+    auto whole_lines = [](std::string text) { return text.substr(0, text.rfind('\n') + 1); };
+    std::ofstream all(Path("trajectories.csv"));
+    all << whole_lines(ReadWholeFile(Path("truth.csv")));
+    for (const ScenarioRobot& robot : s_.robots) {
+      all << whole_lines(ReadWholeFile(Path(absl::StrCat("estimate-", robot.robot_id, ".csv"))));
+    }
+    all.close();
+    ChildProcess render({bin_.sim, "--world", s_.world_path, "--render", opt_.picture_path,
+                         "--trajectories", Path("trajectories.csv")},
+                        Path("render.out"), Path("render.log"));
+    if (render.Wait(120.0) != 0) {
+      report->failures.push_back(absl::StrCat("the picture was not drawn: ", render.Stderr()));
+      report->passed = false;
+    }
+  }
+  if (keep_) report->work_dir = work_;
+}
+
+}  // namespace
+
+absl::StatusOr<Binaries> Binaries::Find(const std::string& self) {
+  const fs::path dir = fs::absolute(fs::path(self)).parent_path();
+  Binaries b;
+  const std::pair<std::string*, std::pair<const char*, const char*>> wanted[] = {
+      {&b.server, {"fleetnavd", "server"}},
+      {&b.sim, {"fleetnav-sim", "sim"}},
+      {&b.agent, {"fleetnav-agent", "robot_agent"}},
+      {&b.ctl, {"fleetnavctl", "tools"}}};
+  for (const auto& [slot, names] : wanted) {
+    for (const fs::path& candidate :
+         {dir / names.first, dir.parent_path() / names.second / names.first}) {
+      if (fs::exists(candidate)) {
+        *slot = candidate.string();
+        break;
+      }
+    }
+    if (slot->empty()) {
+      return absl::NotFoundError(absl::StrCat(names.first, " was not found next to ", self,
+                                              " nor in the build tree beside it"));
+    }
+  }
+  return b;
+}
+
+absl::StatusOr<ScenarioReport> RunScenario(const Scenario& scenario, const Binaries& binaries,
+                                           const RunOptions& options) {
+  Run run(scenario, binaries, options);
+  return run.Execute();
+}
+
+}  // namespace fleetnav::scenario
