@@ -23,6 +23,11 @@ void PrintReport(const ScenarioReport& report, std::ostream& out) {
                            robot.distance_m, robot.waiting_s, robot.max_loc_error_m,
                            robot.contacts);
   }
+  for (const RobotFigures& robot : report.robots) {
+    for (const std::string& wait : robot.waits) {
+      out << "  " << robot.robot_id << " waited: " << wait << "\n";
+    }
+  }
   out << absl::StrFormat(
       "contacts %d, min separation %.3f m, sim time %.1f s, wall time %.1f s, real-time factor "
       "%.1f\n",
@@ -50,7 +55,8 @@ std::string ReportJson(const ScenarioReport& report) {
                       {"distance_m", robot.distance_m},
                       {"waiting_s", robot.waiting_s},
                       {"max_loc_error_m", robot.max_loc_error_m},
-                      {"contacts", robot.contacts}});
+                      {"contacts", robot.contacts},
+                      {"waits", robot.waits}});
   }
   nlohmann::json out = {{"name", report.name},
                         {"seed", report.seed},

@@ -268,7 +268,13 @@ void Run::Poll(double sim_s) {
     if (fleet_->ListRobots(&context, v1::ListRobotsRequest{}, &robots).ok()) {
       for (const v1::RobotState& robot : robots.robots()) {
         waits_[robot.robot_id()] = robot.traffic_wait();
-        if (!robot.traffic_wait().empty()) figures_[robot.robot_id()].waiting_s += dt_s;
+        if (!robot.traffic_wait().empty()) {
+          RobotFigures& f = figures_[robot.robot_id()];
+          f.waiting_s += dt_s;
+          if (std::find(f.waits.begin(), f.waits.end(), robot.traffic_wait()) == f.waits.end()) {
+            f.waits.push_back(robot.traffic_wait());
+          }
+        }
         absl::StatusOr<Pose2> pose =
             fleetnav::FromProto(robot.last_telemetry().pose_in_map().pose());
         if (pose.ok()) estimates_[robot.robot_id()] = *pose;

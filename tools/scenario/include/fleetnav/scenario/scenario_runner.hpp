@@ -47,6 +47,7 @@ struct RobotFigures {
   double waiting_s = 0.0;        ///< sim time held by traffic coordination
   double max_loc_error_m = 0.0;  ///< truth vs the agent's estimate, at equal sim times
   int contacts = 0;              ///< contact episodes (world and robots)
+  std::vector<std::string> waits;  ///< each distinct reason traffic coordination held it
 };
 
 /// The outcome of one run: figures, and each expectation that failed.
