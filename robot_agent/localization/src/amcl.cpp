@@ -157,6 +157,18 @@ absl::Status Amcl::Predict(const Pose2& pose_in_odom) {
   return absl::OkStatus();
 }
 
+absl::StatusOr<bool> Amcl::PredictIfMoved(const Pose2& pose_in_odom) {
+  if (!initialized_) return absl::FailedPreconditionError("AMCL is not initialized");
+  const double moved_m = (pose_in_odom.translation() - filter_odom_.translation()).norm();
+  const double turned_rad =
+      std::abs(AngleDifference(pose_in_odom.yaw_rad(), filter_odom_.yaw_rad()));
+  if (moved_m < params_.update_min_distance_m && turned_rad < params_.update_min_angle_rad) {
+    return false;
+  }
+  if (absl::Status s = Predict(pose_in_odom); !s.ok()) return s;
+  return true;
+}
+
 void Amcl::Weigh(const RangeObservation& observation) {
   const size_t n = particles_.size();
   std::fill(particles_.log_likelihood.begin(), particles_.log_likelihood.end(), 0.0f);

@@ -238,6 +238,9 @@ absl::Status SamclLocalizer::Update(const SensorFrame& frame) {
     }
   } else {
     samcl_.RecordOdometry(odom, frame.stamp_ns);
+    const absl::StatusOr<bool> predicted = samcl_.amcl().PredictIfMoved(odom);
+    if (!predicted.ok()) return predicted.status();
+    // The estimate and its health are recomputed at the next range or stripe update.
   }
   for (const InductiveSample& sample : frame.inductive) {
     bool& last = inductive_last_[sample.name];

@@ -105,6 +105,12 @@ class Run {
   void Poll(double sim_s);
   void DrawProgress(double sim_s);
   void Finish(ScenarioReport* report);
+  int RobotIndex(const std::string& robot_id) const {
+    for (size_t i = 0; i < s_.robots.size(); ++i) {
+      if (s_.robots[i].robot_id == robot_id) return static_cast<int>(i);
+    }
+    return 0;
+  }
 
   const Scenario& s_;
   const Binaries& bin_;
@@ -179,7 +185,8 @@ absl::Status Run::StartAgent(const ScenarioRobot& robot, const Pose2& pose) {
           absl::StrCat("127.0.0.1:", server_port_), "--initial-pose",
           absl::StrFormat("%.4f", pose.x_m()), absl::StrFormat("%.4f", pose.y_m()),
           absl::StrFormat("%.3f", RadToDeg(pose.yaw_rad())), "--particles",
-          absl::StrCat(robot.particles), "--seed", absl::StrCat(seed_ + start * 1000),
+          absl::StrCat(robot.particles), "--seed",
+          absl::StrCat(seed_ + 1000 * start + RobotIndex(robot.robot_id)),
           "--record", Path(absl::StrCat("estimate-", robot.robot_id, ".csv"))},
       Path(stem + ".out"), Path(stem + ".log"));
   if (!agents_[robot.robot_id]->started()) {

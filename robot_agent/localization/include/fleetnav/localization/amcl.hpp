@@ -136,6 +136,11 @@ class Amcl {
                               int64_t stamp_ns);
   /// Applies the motion from the last filter pose to pose_in_odom without a sensor update.
   absl::Status Predict(const Pose2& pose_in_odom);
+  /// Predict, once the robot has moved update_min_distance_m or turned update_min_angle_rad
+  /// since the last filter pose; returns whether it did. For stretches without range readings:
+  /// the motion model's noise must be drawn step by step, not once over metres (one draw over
+  /// 13 m spreads the cloud metres sideways).
+  absl::StatusOr<bool> PredictIfMoved(const Pose2& pose_in_odom);
 
   /// Pieces of Update, public for SAMCL and the benchmarks.
   void Weigh(const RangeObservation& observation);
