@@ -33,8 +33,9 @@ void AppendPoses(std::vector<Pose2>& poses, const std::vector<Pose2>& path, doub
     const Pose2& a = path[i - 1];
     const Pose2& b = path[i];
     const double turn_rad = NormalizeAngle(b.yaw_rad() - a.yaw_rad());
-    const int steps = std::max({1, static_cast<int>(std::ceil((b.translation() - a.translation()).norm() / step_m)),
-                                static_cast<int>(std::ceil(std::abs(turn_rad) / yaw_step_rad))});
+    const int steps = std::max(
+        {1, static_cast<int>(std::ceil((b.translation() - a.translation()).norm() / step_m)),
+         static_cast<int>(std::ceil(std::abs(turn_rad) / yaw_step_rad))});
     for (int s = 1; s <= steps; ++s) {
       const double f = static_cast<double>(s) / steps;
       const Eigen::Vector2d p = a.translation() + f * (b.translation() - a.translation());
@@ -168,15 +169,15 @@ absl::StatusOr<std::vector<PredictedAction>> PredictRoute(const Route& route, co
                  params.pose_step_m);
       // A straight keeps the heading even when it reverses.
       for (size_t p = 1; p < predicted.poses.size(); ++p) {
-        predicted.poses[p] = Pose2(predicted.poses[p].x_m(), predicted.poses[p].y_m(),
-                                   pose.yaw_rad());
+        predicted.poses[p] =
+            Pose2(predicted.poses[p].x_m(), predicted.poses[p].y_m(), pose.yaw_rad());
       }
       predicted.duration_s = std::abs(distance_m) / std::max(speed_mps, 1e-3);
     };
     auto follow = [&](const std::vector<const StripeMarker*>& pieces, double distance_m,
                       double speed_mps) {
-      const double length_m = AppendPolyline(predicted.poses, StripePath(pieces, pose), distance_m,
-                                             params.pose_step_m);
+      const double length_m =
+          AppendPolyline(predicted.poses, StripePath(pieces, pose), distance_m, params.pose_step_m);
       predicted.duration_s = length_m / std::max(speed_mps, 1e-3);
     };
     if (const auto* turn = std::get_if<TurnAction>(&action.params)) {
@@ -195,9 +196,9 @@ absl::StatusOr<std::vector<PredictedAction>> PredictRoute(const Route& route, co
       std::vector<const StripeMarker*> pieces =
           Pieces(markers, MarkerKind::kFollowStripe, stripe->stripe_id);
       if (pieces.empty()) {
-        return absl::InvalidArgumentError(absl::StrCat(
-            "actions[", i, "] (stripe_navigation): stripe ", stripe->stripe_id,
-            " is not in the marker set"));
+        return absl::InvalidArgumentError(
+            absl::StrCat("actions[", i, "] (stripe_navigation): stripe ", stripe->stripe_id,
+                         " is not in the marker set"));
       }
       const bool by_distance = action.end.kind == EndConditionKind::kDistance;
       follow(pieces, by_distance ? stripe->distance_m : 0.0, stripe->speed_mps);
@@ -213,9 +214,9 @@ absl::StatusOr<std::vector<PredictedAction>> PredictRoute(const Route& route, co
         absl::StatusOr<WaypointPath> path = PlanThroughWaypoints(
             *planner, map_origin, pose, nav->waypoints_m, nav->goal, params.plan_time_limit_s);
         if (!path.ok()) {
-          return absl::Status(path.status().code(),
-                              absl::StrCat("actions[", i, "] (free_navigation): ",
-                                           path.status().message()));
+          return absl::Status(
+              path.status().code(),
+              absl::StrCat("actions[", i, "] (free_navigation): ", path.status().message()));
         }
         std::vector<Pose2> poses{pose};
         poses.insert(poses.end(), path->poses.begin(), path->poses.end());

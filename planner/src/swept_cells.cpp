@@ -8,8 +8,7 @@ namespace fleetnav::planner {
 namespace {
 
 uint64_t Key(int64_t ix, int64_t iy) {
-  return (static_cast<uint64_t>(static_cast<uint32_t>(ix)) << 32) |
-         static_cast<uint32_t>(iy);
+  return (static_cast<uint64_t>(static_cast<uint32_t>(ix)) << 32) | static_cast<uint32_t>(iy);
 }
 
 /// Distance from `p` to the polygon: 0 inside, else to the nearest edge.

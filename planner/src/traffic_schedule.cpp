@@ -118,7 +118,7 @@ BuildResult Build(const std::vector<ScheduledRoute>& routes, const std::vector<b
   }
   auto key = [&](int r, int k) {
     const double t = k <= routes[r].cleared_up_to ? -std::numeric_limits<double>::infinity()
-                                                 : routes[r].action_start_s[k];
+                                                  : routes[r].action_start_s[k];
     return std::make_tuple(t, r, k);
   };
   const int n = static_cast<int>(routes.size());
@@ -157,10 +157,10 @@ BuildResult Build(const std::vector<ScheduledRoute>& routes, const std::vector<b
                                 Meets(Standing(a), b, block.l1, block.l2);
           const bool b_stands = block.l1 == b.first_unfinished && !b_cleared &&
                                 Meets(Standing(b), a, block.k1, block.k2);
-          const bool a_ends = block.k2 == Count(a) - 1 &&
-                              Meets(a.action_end_cells.back(), b, block.l1, block.l2);
-          const bool b_ends = block.l2 == Count(b) - 1 &&
-                              Meets(b.action_end_cells.back(), a, block.k1, block.k2);
+          const bool a_ends =
+              block.k2 == Count(a) - 1 && Meets(a.action_end_cells.back(), b, block.l1, block.l2);
+          const bool b_ends =
+              block.l2 == Count(b) - 1 && Meets(b.action_end_cells.back(), a, block.k1, block.k2);
           const bool a_must = a_stands || b_ends;
           const bool b_must = b_stands || a_ends;
           if (a_must && b_must && !a_cleared) {
@@ -200,7 +200,8 @@ int RouteOnCycle(const std::vector<ScheduledRoute>& routes, const std::vector<bo
       while (!stack.empty()) {
         auto& [node, child] = stack.back();
         std::vector<Node> succ = next[node];
-        if (node.second + 1 < Count(routes[node.first])) succ.push_back({node.first, node.second + 1});
+        if (node.second + 1 < Count(routes[node.first]))
+          succ.push_back({node.first, node.second + 1});
         if (child >= succ.size()) {
           color[node] = 2;
           stack.pop_back();
@@ -213,7 +214,8 @@ int RouteOnCycle(const std::vector<ScheduledRoute>& routes, const std::vector<bo
           for (auto it = stack.rbegin(); it != stack.rend() && it->first != to; ++it) {
             const int q = it->first.first;
             if (routes[q].action_start_s.front() > routes[newest].action_start_s.front() ||
-                (routes[q].action_start_s.front() == routes[newest].action_start_s.front() && q > newest)) {
+                (routes[q].action_start_s.front() == routes[newest].action_start_s.front() &&
+                 q > newest)) {
               newest = q;
             }
           }
@@ -249,12 +251,16 @@ std::vector<TrafficClearanceDecision> DecideClearances(const std::vector<Schedul
   std::vector<TrafficClearanceDecision> out;
   for (int r = 0; r < static_cast<int>(routes.size()); ++r) {
     const ScheduledRoute& route = routes[r];
-    TrafficClearanceDecision decision{route.robot_id, route.job_id,
+    TrafficClearanceDecision decision{route.robot_id,
+                                      route.job_id,
                                       std::max(route.cleared_up_to, route.first_unfinished - 1),
-                                      {}, static_cast<bool>(held[r])};
+                                      {},
+                                      static_cast<bool>(held[r])};
     if (held[r]) {
       for (int s = 0; s < static_cast<int>(routes.size()); ++s) {
-        if (s != r && !held[s]) decision.waits.push_back({route.robot_id, decision.cleared_up_to + 1, routes[s].robot_id, Count(routes[s]) - 1});
+        if (s != r && !held[s])
+          decision.waits.push_back({route.robot_id, decision.cleared_up_to + 1, routes[s].robot_id,
+                                    Count(routes[s]) - 1});
       }
       out.push_back(std::move(decision));
       continue;
@@ -265,11 +271,11 @@ std::vector<TrafficClearanceDecision> DecideClearances(const std::vector<Schedul
         for (const Dependency& d : it->second) {
           if (d.blocker_route == kParked) {
             const bool parked_robot = d.parked_index < static_cast<int>(parked.size());
-            decision.waits.push_back(
-                {route.robot_id, k,
-                 parked_robot ? parked[d.parked_index].robot_id
-                              : routes[d.parked_index - parked.size()].robot_id,
-                 -1});
+            decision.waits.push_back({route.robot_id, k,
+                                      parked_robot
+                                          ? parked[d.parked_index].robot_id
+                                          : routes[d.parked_index - parked.size()].robot_id,
+                                      -1});
           } else if (routes[d.blocker_route].first_unfinished <= d.blocker_action) {
             decision.waits.push_back(
                 {route.robot_id, k, routes[d.blocker_route].robot_id, d.blocker_action});

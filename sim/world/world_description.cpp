@@ -327,8 +327,8 @@ namespace {
 /// one) first, then this file's keys — lists appended to the base's, other keys replacing.
 absl::StatusOr<YAML::Node> LoadWorldNode(const std::filesystem::path& path, int depth) {
   if (depth > 8) {
-    return absl::InvalidArgumentError(absl::StrCat("extends: more than 8 files deep at ",
-                                                   path.string()));
+    return absl::InvalidArgumentError(
+        absl::StrCat("extends: more than 8 files deep at ", path.string()));
   }
   std::ifstream in(path);
   if (!in) {
@@ -347,9 +347,9 @@ absl::StatusOr<YAML::Node> LoadWorldNode(const std::filesystem::path& path, int 
     return absl::InvalidArgumentError(
         absl::StrCat(path.string(), ": extends: expected the path of a world file"));
   }
-  ASSIGN_OR_RETURN(YAML::Node merged,
-                   LoadWorldNode(path.parent_path() / node["extends"].as<std::string>(),
-                                 depth + 1));
+  ASSIGN_OR_RETURN(
+      YAML::Node merged,
+      LoadWorldNode(path.parent_path() / node["extends"].as<std::string>(), depth + 1));
   for (const auto& entry : node) {
     const std::string key = entry.first.as<std::string>();
     if (key == "extends") continue;

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "fleetnav/v1/sim_service.grpc.pb.h"
 #include "fleetnav/scenario/child_process.hpp"
+#include "fleetnav/v1/sim_service.grpc.pb.h"
 
 namespace fleetnav {
 namespace {

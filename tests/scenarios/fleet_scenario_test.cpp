@@ -26,10 +26,10 @@ std::string TempPath(const std::string& name) {
 TEST(FleetScenario, TwoLelyRobotsShareTheBarnWithoutContact) {
   const std::string keep = TempPath("barn-two-lely");
   std::filesystem::remove_all(keep);
-  ChildProcess run({FLEETNAV_SCENARIO_PATH, "run", FLEETNAV_SCENARIOS_DIR "/barn_two_lely.yaml",
-                    "--json", "--keep", keep, "--picture",
-                    std::string(FLEETNAV_SCENARIO_OUT_DIR) + "/barn_two_lely.png"},
-                   TempPath("two.out"), TempPath("two.err"));
+  ChildProcess run(
+      {FLEETNAV_SCENARIO_PATH, "run", FLEETNAV_SCENARIOS_DIR "/barn_two_lely.yaml", "--json",
+       "--keep", keep, "--picture", std::string(FLEETNAV_SCENARIO_OUT_DIR) + "/barn_two_lely.png"},
+      TempPath("two.out"), TempPath("two.err"));
   const std::optional<int> code = run.Wait(900.0);
   ASSERT_TRUE(code.has_value()) << "the scenario did not end in 15 min";
   const std::string out = run.Stdout();

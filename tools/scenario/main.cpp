@@ -23,7 +23,8 @@ int main(int argc, char** argv) {
   bool json = false;
   run->add_flag("--json", json, "print one JSON object instead of the tables");
   std::string picture;
-  run->add_option("--picture", picture, "draw the map and the true and estimated paths (.png/.svg)");
+  run->add_option("--picture", picture,
+                  "draw the map and the true and estimated paths (.png/.svg)");
   std::string keep;
   run->add_option("--keep", keep, "keep logs, database and recordings in this folder");
   double timeout_s = 3600.0;

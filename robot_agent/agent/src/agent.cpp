@@ -112,9 +112,8 @@ void Agent::ServeJobs(const ExecutorOutput& output, AgentResult* result) {
       }
       StartRoute(std::move(assignment->route));
       // A job from the server waits for its traffic clearance.
-      executor_->SetClearedUpTo(clearance_.job_id == current_job_id_
-                                    ? clearance_.cleared_up_to_action
-                                    : -1);
+      executor_->SetClearedUpTo(
+          clearance_.job_id == current_job_id_ ? clearance_.cleared_up_to_action : -1);
     }
   }
 }

@@ -84,8 +84,8 @@ absl::StatusOr<SamclLocalizer> SamclLocalizer::Create(const RobotModel& model,
       Samcl::Create(*std::move(amcl), std::move(markers), model, params.samcl);
   if (!samcl.ok()) return samcl.status();
   return SamclLocalizer(model, std::make_shared<const OccupancyGrid>(map), *std::move(odometry),
-                        *std::move(samcl), std::move(stripes),
-                        std::move(calibration_markers), start_in_map, params);
+                        *std::move(samcl), std::move(stripes), std::move(calibration_markers),
+                        start_in_map, params);
 }
 
 SamclLocalizer::SamclLocalizer(const RobotModel& model, std::shared_ptr<const OccupancyGrid> map,

@@ -42,8 +42,7 @@ absl::Status JobServiceParams::Validate() const {
 JobService::JobService(storage::JobRepository* jobs, storage::RobotRepository* robots,
                        storage::MapRepository* maps, storage::MarkerSetRepository* markers,
                        SiteCatalog* site, FleetRegistry* registry, RobotMailbox* mailbox,
-                       const Clock* clock, JobServiceParams params,
-                       TrafficCoordinator* traffic)
+                       const Clock* clock, JobServiceParams params, TrafficCoordinator* traffic)
     : jobs_(jobs),
       robots_(robots),
       maps_(maps),
@@ -65,8 +64,8 @@ void JobService::UpdateTraffic() {
     if (change.reason.empty()) continue;
     absl::StatusOr<Job> job = jobs_->GetJob(change.job_id);
     if (!job.ok() || IsTerminal(job->state)) continue;
-    (void)jobs_->UpdateJob(*job, MakeEvent(*job, JobEventType::kWaitingForTraffic, change.reason,
-                                           change.robot_id));
+    (void)jobs_->UpdateJob(
+        *job, MakeEvent(*job, JobEventType::kWaitingForTraffic, change.reason, change.robot_id));
   }
 }
 

@@ -127,8 +127,8 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose) {
       planner::PredictRoute(remaining, pose, marker_set, planner, map_origin, params_.prediction);
   if (!predicted.ok() && planner != nullptr) {
     // The agent will say why it cannot plan; the straight lines still reserve its way there.
-    predicted = planner::PredictRoute(remaining, pose, marker_set, nullptr, map_origin,
-                                      params_.prediction);
+    predicted =
+        planner::PredictRoute(remaining, pose, marker_set, nullptr, map_origin, params_.prediction);
   }
   planner::ScheduledRoute schedule;
   schedule.robot_id = tracked.robot_id;
@@ -164,8 +164,7 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose) {
   tracked.schedule = std::move(schedule);
 }
 
-std::string TrafficCoordinator::Describe(const Tracked& tracked,
-                                         const planner::TrafficClearanceDecision& d) const {
+std::string TrafficCoordinator::Describe(const planner::TrafficClearanceDecision& d) const {
   if (d.waits.empty()) return "";
   const planner::TrafficWait& wait = d.waits.front();
   std::string action_name = "its last action";
@@ -174,7 +173,8 @@ std::string TrafficCoordinator::Describe(const Tracked& tracked,
         wait.blocker_action < static_cast<int>(other.assignment.route.actions.size())) {
       action_name = absl::StrCat(
           "action ", wait.blocker_action, " (",
-          std::string(ActionTypeName(other.assignment.route.actions[wait.blocker_action].params)), ")");
+          std::string(ActionTypeName(other.assignment.route.actions[wait.blocker_action].params)),
+          ")");
     }
   }
   const std::string next = absl::StrCat("action ", wait.action, " waits for ");
@@ -185,7 +185,6 @@ std::string TrafficCoordinator::Describe(const Tracked& tracked,
   if (wait.blocker_action < 0) {
     return absl::StrCat(next, wait.blocker_robot_id, ", which stands in its way");
   }
-  (void)tracked;
   return absl::StrCat(next, wait.blocker_robot_id, " to finish ", action_name);
 }
 
@@ -219,10 +218,10 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
           r.connection == ConnectionState::kOffline) {
         continue;
       }
-      parked.push_back({r.identity.robot_id,
-                        planner::CellSet::Sweep({r.last_telemetry->pose_in_map},
-                                                r.identity.model.footprint_m, params_.margin_m,
-                                                params_.cell_m)});
+      parked.push_back(
+          {r.identity.robot_id,
+           planner::CellSet::Sweep({r.last_telemetry->pose_in_map}, r.identity.model.footprint_m,
+                                   params_.margin_m, params_.cell_m)});
     }
     std::map<std::string, std::vector<Tracked*>> by_map;
     for (auto& [job_id, tracked] : jobs_) {
@@ -236,7 +235,7 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
       for (size_t i = 0; i < decisions.size(); ++i) {
         Tracked& t = *tracked_jobs[i];
         t.schedule->cleared_up_to = decisions[i].cleared_up_to;
-        const std::string reason = Describe(t, decisions[i]);
+        const std::string reason = Describe(decisions[i]);
         const bool reason_changed = reason != t.reason;
         if (reason_changed) {
           t.reason = reason;
@@ -244,9 +243,9 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
         }
         if (decisions[i].cleared_up_to != t.sent_cleared || reason_changed) {
           t.sent_cleared = decisions[i].cleared_up_to;
-          sends.push_back({t.robot_id, ClearanceNotice{t.assignment.job.job_id,
-                                                       decisions[i].cleared_up_to,
-                                                       decisions[i].waits, reason}});
+          sends.push_back(
+              {t.robot_id, ClearanceNotice{t.assignment.job.job_id, decisions[i].cleared_up_to,
+                                           decisions[i].waits, reason}});
         }
       }
     }

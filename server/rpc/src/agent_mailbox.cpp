@@ -1,7 +1,6 @@
 #include "fleetnav/server/rpc/agent_mailbox.hpp"
 
 #include <algorithm>
-
 #include <vector>
 
 #include "fleetnav/proto/job_convert.hpp"

@@ -55,9 +55,9 @@ absl::StatusOr<int> FleetServer::Start() {
   maps_ = std::make_unique<MapCatalog>(map_repository_.get());
   site_ = std::make_unique<SiteCatalog>(map_repository_.get(), marker_repository_.get(),
                                         route_repository_.get(), job_repository_.get());
-  coordinator_ = std::make_unique<TrafficCoordinator>(map_repository_.get(),
-                                                      marker_repository_.get(), &registry_,
-                                                      &mailbox_, &clock_, params_.traffic);
+  coordinator_ =
+      std::make_unique<TrafficCoordinator>(map_repository_.get(), marker_repository_.get(),
+                                           &registry_, &mailbox_, &clock_, params_.traffic);
   jobs_ = std::make_unique<JobService>(job_repository_.get(), robot_repository_.get(),
                                        map_repository_.get(), marker_repository_.get(), site_.get(),
                                        &registry_, &mailbox_, &clock_, params_.jobs,

@@ -170,7 +170,9 @@ TEST(TrafficScheduleTest, RandomDelaysNeverCollideOrDeadlock) {
     std::vector<ScheduledRoute> routes;
     for (int i = 0; i < 4; ++i) {
       routes.push_back(Route(std::string(1, static_cast<char>('a' + i)),
-                             {{0.0, 3.0 * i}, {mid(rng), mid(rng) - 5.0}, {mid(rng), mid(rng) - 5.0},
+                             {{0.0, 3.0 * i},
+                              {mid(rng), mid(rng) - 5.0},
+                              {mid(rng), mid(rng) - 5.0},
                               {20.0, 3.0 * exits[i]}},
                              0.5 * i));
     }
@@ -256,7 +258,8 @@ TEST(RoutePredictionTest, LegsChainFromTheStartAlongStripesAndTurns) {
   EXPECT_NEAR(predicted->at(4).duration_s, 6.0 / 0.25, 1e-6);
   for (const PredictedAction& action : *predicted) {
     for (size_t i = 1; i < action.poses.size(); ++i) {
-      EXPECT_LE((action.poses[i].translation() - action.poses[i - 1].translation()).norm(), 0.1 + 1e-9);
+      EXPECT_LE((action.poses[i].translation() - action.poses[i - 1].translation()).norm(),
+                0.1 + 1e-9);
     }
   }
   route.actions.back().params = StripeNavigationAction{4, 0.0, 0.25};

@@ -377,12 +377,16 @@ TEST(AgentTest, JobActionsWaitForTheirTrafficClearance) {
   OneJobChannel jobs(FeedJob(3), /*first_cleared=*/0, /*clear_all_at=*/2000);
   OneSite sites;
   localization::DeadReckoningLocalizer initial = Odometry(model, Pose2());
-  AgentPorts ports{&hal, &initial, &sink, &jobs, &sites,
-                   [&](const SiteData&, const Pose2& from)
-                       -> absl::StatusOr<std::unique_ptr<localization::Localizer>> {
-                     return std::make_unique<localization::DeadReckoningLocalizer>(
-                         Odometry(model, from));
-                   }};
+  AgentPorts ports{
+      &hal,
+      &initial,
+      &sink,
+      &jobs,
+      &sites,
+      [&](const SiteData&,
+          const Pose2& from) -> absl::StatusOr<std::unique_ptr<localization::Localizer>> {
+        return std::make_unique<localization::DeadReckoningLocalizer>(Odometry(model, from));
+      }};
   Agent agent(RouteContext{model, std::nullopt, nullptr}, ports, std::nullopt,
               AgentParams{.max_jobs = 1});
   absl::StatusOr<AgentResult> result = agent.Run();
@@ -391,8 +395,10 @@ TEST(AgentTest, JobActionsWaitForTheirTrafficClearance) {
   int started1_poll = -1;
   for (size_t i = 0; i < jobs.events.size(); ++i) {
     const JobEvent& e = jobs.events[i];
-    if (e.type == JobEventType::kActionFinished && e.action_index == 0) finished0_poll = jobs.event_polls[i];
-    if (e.type == JobEventType::kActionStarted && e.action_index == 1) started1_poll = jobs.event_polls[i];
+    if (e.type == JobEventType::kActionFinished && e.action_index == 0)
+      finished0_poll = jobs.event_polls[i];
+    if (e.type == JobEventType::kActionStarted && e.action_index == 1)
+      started1_poll = jobs.event_polls[i];
   }
   ASSERT_GT(finished0_poll, 0);
   EXPECT_LT(finished0_poll, 2000);  // finished before the clearance, not when the next started

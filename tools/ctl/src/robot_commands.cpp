@@ -70,8 +70,8 @@ absl::Status ListRobots(const CommandContext& context) {
     *context.out << robots.dump() << '\n';
     return absl::OkStatus();
   }
-  Table table({"ROBOT", "KIND", "CONNECTION", "POSE IN MAP (x, y, yaw)", "MODE", "SIM TIME",
-               "WAITS FOR"});
+  Table table(
+      {"ROBOT", "KIND", "CONNECTION", "POSE IN MAP (x, y, yaw)", "MODE", "SIM TIME", "WAITS FOR"});
   for (const v1::RobotState& robot : response.robots()) {
     table.AddRow({robot.robot_id(), robot.kind_name(), ConnectionName(robot.connection()),
                   PoseCell(robot), ModeName(robot.last_telemetry().mode()),

@@ -1,5 +1,4 @@
 #include <nlohmann/json.hpp>
-
 #include <ostream>
 
 #include "absl/strings/str_format.h"
@@ -13,8 +12,8 @@ void PrintReport(const ScenarioReport& report, std::ostream& out) {
   out << absl::StrFormat("%-16s %-10s %-8s %-10s %-10s %s\n", "JOB", "ID", "ROBOT", "STATE",
                          "EXPECTED", "REASON");
   for (const JobOutcome& job : report.jobs) {
-    out << absl::StrFormat("%-16s %-10s %-8s %-10s %-10s %s\n", job.name, job.job_id,
-                           job.robot_id, job.state, job.expected, job.reason);
+    out << absl::StrFormat("%-16s %-10s %-8s %-10s %-10s %s\n", job.name, job.job_id, job.robot_id,
+                           job.state, job.expected, job.reason);
   }
   out << absl::StrFormat("%-8s %5s %11s %10s %15s %9s\n", "ROBOT", "JOBS", "DISTANCE_M",
                          "WAITING_S", "MAX_LOC_ERR_M", "CONTACTS");

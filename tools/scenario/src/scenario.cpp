@@ -23,9 +23,9 @@ absl::Status CheckKeys(const YAML::Node& node, const std::string& where,
   for (const auto& entry : node) {
     const std::string key = entry.first.as<std::string>();
     if (!known.count(key)) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          where.empty() ? key : absl::StrCat(where, ".", key), ": unknown key (known: ",
-          absl::StrJoin(known, ", "), ")"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(where.empty() ? key : absl::StrCat(where, ".", key),
+                       ": unknown key (known: ", absl::StrJoin(known, ", "), ")"));
     }
   }
   return absl::OkStatus();
@@ -76,12 +76,13 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
   auto resolve = [&](const std::string& p) {
     return std::filesystem::path(p).is_absolute() ? p : (dir / p).lexically_normal().string();
   };
-  RETURN_IF_ERROR(CheckKeys(root, "", {"name", "world", "routes", "seed",
-                                       "real_time_factor", "robots", "jobs", "faults", "expect"}));
+  RETURN_IF_ERROR(CheckKeys(root, "",
+                            {"name", "world", "routes", "seed", "real_time_factor", "robots",
+                             "jobs", "faults", "expect"}));
   Scenario s;
   s.path = path;
-  s.name = root["name"] ? root["name"].as<std::string>()
-                        : std::filesystem::path(path).stem().string();
+  s.name =
+      root["name"] ? root["name"].as<std::string>() : std::filesystem::path(path).stem().string();
   if (!root["world"]) return absl::InvalidArgumentError("world: missing (the world YAML file)");
   s.world_path = resolve(root["world"].as<std::string>());
   absl::StatusOr<sim::WorldDescription> world = sim::LoadWorld(s.world_path);
@@ -175,9 +176,9 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
     if (e["jobs"] && e["jobs"].IsScalar()) {
       s.expect.all_jobs = e["jobs"].as<std::string>();
       if (!IsJobState(s.expect.all_jobs)) {
-        return absl::InvalidArgumentError(absl::StrCat(
-            "expect.jobs: '", s.expect.all_jobs, "' is not an end state (succeeded, failed, "
-            "cancelled)"));
+        return absl::InvalidArgumentError(absl::StrCat("expect.jobs: '", s.expect.all_jobs,
+                                                       "' is not an end state (succeeded, failed, "
+                                                       "cancelled)"));
       }
     } else if (e["jobs"]) {
       for (const auto& entry : e["jobs"]) {
@@ -191,12 +192,13 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
       }
     }
   }
-  auto check_time = [&](const YAML::Node& node, const std::string& where) -> absl::StatusOr<double> {
+  auto check_time = [&](const YAML::Node& node,
+                        const std::string& where) -> absl::StatusOr<double> {
     if (!node) return 0.0;
     ASSIGN_OR_RETURN(double t, Number(node, where, 0));
     if (t >= s.expect.deadline_s) {
-      return absl::InvalidArgumentError(absl::StrCat(where, ": ", t, " s is not before the deadline ",
-                                                     s.expect.deadline_s, " s"));
+      return absl::InvalidArgumentError(absl::StrCat(
+          where, ": ", t, " s is not before the deadline ", s.expect.deadline_s, " s"));
     }
     return t;
   };
@@ -215,22 +217,23 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
     if (j["route"]) {
       job.route = j["route"].as<std::string>();
       if (!route_names.count(job.route)) {
-        return absl::InvalidArgumentError(absl::StrCat(where, ".route: '", job.route,
-                                                       "' is not in the scenario's routes"));
+        return absl::InvalidArgumentError(
+            absl::StrCat(where, ".route: '", job.route, "' is not in the scenario's routes"));
       }
     } else {
       ASSIGN_OR_RETURN(job.goal, PoseDeg(j["goal"], where + ".goal"));
     }
     job.robot_id = Text(j["robot"]);
     if (!job.robot_id.empty() && !known_robot(job.robot_id)) {
-      return absl::InvalidArgumentError(absl::StrCat(where, ".robot: '", job.robot_id,
-                                                     "' is not a robot of the scenario"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(where, ".robot: '", job.robot_id, "' is not a robot of the scenario"));
     }
     if (j["priority"]) job.priority = j["priority"].as<int>();
     ASSIGN_OR_RETURN(job.at_s, check_time(j["at_s"], where + ".at_s"));
     for (const ScenarioJob& other : s.jobs) {
       if (other.name == job.name) {
-        return absl::InvalidArgumentError(absl::StrCat(where, ".id: '", job.name, "' is used twice"));
+        return absl::InvalidArgumentError(
+            absl::StrCat(where, ".id: '", job.name, "' is used twice"));
       }
     }
     s.jobs.push_back(job);
@@ -247,8 +250,9 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
     for (size_t i = 0; i < root["faults"].size(); ++i) {
       const YAML::Node f = root["faults"][i];
       const std::string where = absl::StrCat("faults[", i, "]");
-      RETURN_IF_ERROR(CheckKeys(f, where, {"type", "at_s", "robot", "restart_after_s",
-                                           "duration_s", "factor", "sensor", "region"}));
+      RETURN_IF_ERROR(CheckKeys(f, where,
+                                {"type", "at_s", "robot", "restart_after_s", "duration_s", "factor",
+                                 "sensor", "region"}));
       ScenarioFault fault;
       const std::string type = Text(f["type"]);
       if (type == "kill_agent") {
@@ -267,8 +271,8 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
       ASSIGN_OR_RETURN(fault.at_s, check_time(f["at_s"], where + ".at_s"));
       fault.robot_id = Text(f["robot"]);
       if (!fault.robot_id.empty() && !known_robot(fault.robot_id)) {
-        return absl::InvalidArgumentError(absl::StrCat(where, ".robot: '", fault.robot_id,
-                                                       "' is not a robot of the scenario"));
+        return absl::InvalidArgumentError(
+            absl::StrCat(where, ".robot: '", fault.robot_id, "' is not a robot of the scenario"));
       }
       if (fault.type == ScenarioFaultType::kKillAgent && fault.robot_id.empty()) {
         return absl::InvalidArgumentError(absl::StrCat(where, ".robot: kill_agent needs a robot"));

@@ -149,8 +149,8 @@ absl::Status Run::Ctl(const std::vector<std::string>& args) {
   ChildProcess ctl(argv, Path("ctl.out"), Path("ctl.err"));
   const std::optional<int> code = ctl.Wait(120.0);
   if (!code || *code != 0) {
-    return absl::InternalError(absl::StrCat("fleetnavctl ", args.front(), " ", args.at(1),
-                                            " failed: ", ctl.Stderr()));
+    return absl::InternalError(
+        absl::StrCat("fleetnavctl ", args.front(), " ", args.at(1), " failed: ", ctl.Stderr()));
   }
   return absl::OkStatus();
 }
@@ -160,9 +160,8 @@ absl::Status Run::StartServer() {
   fs::remove(port_file);
   ++server_starts_;
   server_ = std::make_unique<ChildProcess>(
-      std::vector<std::string>{bin_.server, "--listen",
-                               absl::StrCat("127.0.0.1:", server_port_), "--db",
-                               Path("fleet.db"), "--port-file", port_file},
+      std::vector<std::string>{bin_.server, "--listen", absl::StrCat("127.0.0.1:", server_port_),
+                               "--db", Path("fleet.db"), "--port-file", port_file},
       Path(absl::StrCat("fleetnavd.", server_starts_, ".out")),
       Path(absl::StrCat("fleetnavd.", server_starts_, ".log")));
   const int port = WaitForPortFile(port_file);
@@ -170,8 +169,8 @@ absl::Status Run::StartServer() {
     return absl::UnavailableError(absl::StrCat("fleetnavd did not start: ", server_->Stderr()));
   }
   server_port_ = port;
-  fleet_ = v1::FleetService::NewStub(grpc::CreateChannel(absl::StrCat("127.0.0.1:", port),
-                                                         grpc::InsecureChannelCredentials()));
+  fleet_ = v1::FleetService::NewStub(
+      grpc::CreateChannel(absl::StrCat("127.0.0.1:", port), grpc::InsecureChannelCredentials()));
   return absl::OkStatus();
 }
 
@@ -179,19 +178,19 @@ absl::Status Run::StartAgent(const ScenarioRobot& robot, const Pose2& pose) {
   const int start = ++agent_starts_[robot.robot_id];
   const std::string stem = absl::StrCat("agent-", robot.robot_id, ".", start);
   agents_[robot.robot_id] = std::make_unique<ChildProcess>(
-      std::vector<std::string>{
-          bin_.agent, "--robot-id", robot.robot_id, "--kind", robot.kind_name, "--sim",
-          absl::StrCat("127.0.0.1:", sim_port_), "--server",
-          absl::StrCat("127.0.0.1:", server_port_), "--initial-pose",
-          absl::StrFormat("%.4f", pose.x_m()), absl::StrFormat("%.4f", pose.y_m()),
-          absl::StrFormat("%.3f", RadToDeg(pose.yaw_rad())), "--particles",
-          absl::StrCat(robot.particles), "--seed",
-          absl::StrCat(seed_ + 1000 * start + RobotIndex(robot.robot_id)),
-          "--record", Path(absl::StrCat("estimate-", robot.robot_id, ".csv"))},
+      std::vector<std::string>{bin_.agent, "--robot-id", robot.robot_id, "--kind", robot.kind_name,
+                               "--sim", absl::StrCat("127.0.0.1:", sim_port_), "--server",
+                               absl::StrCat("127.0.0.1:", server_port_), "--initial-pose",
+                               absl::StrFormat("%.4f", pose.x_m()),
+                               absl::StrFormat("%.4f", pose.y_m()),
+                               absl::StrFormat("%.3f", RadToDeg(pose.yaw_rad())), "--particles",
+                               absl::StrCat(robot.particles), "--seed",
+                               absl::StrCat(seed_ + 1000 * start + RobotIndex(robot.robot_id)),
+                               "--record", Path(absl::StrCat("estimate-", robot.robot_id, ".csv"))},
       Path(stem + ".out"), Path(stem + ".log"));
   if (!agents_[robot.robot_id]->started()) {
-    return absl::UnavailableError(absl::StrCat("fleetnav-agent for ", robot.robot_id,
-                                               " did not start"));
+    return absl::UnavailableError(
+        absl::StrCat("fleetnav-agent for ", robot.robot_id, " did not start"));
   }
   return absl::OkStatus();
 }
@@ -232,15 +231,15 @@ void Run::Inject(const ScenarioFault& fault) {
     case ScenarioFaultType::kKillAgent:
       if (auto it = agents_.find(fault.robot_id); it != agents_.end()) {
         it->second->Stop(SIGKILL, 5.0);
-        restarts_.push_back({Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(
-                                                fault.restart_after_s * 1000)),
+        restarts_.push_back({Clock::now() + std::chrono::milliseconds(
+                                                static_cast<int64_t>(fault.restart_after_s * 1000)),
                              fault.robot_id});
       }
       return;
     case ScenarioFaultType::kKillServer:
       server_->Stop(SIGKILL, 5.0);
-      restarts_.push_back({Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(
-                                              fault.restart_after_s * 1000)),
+      restarts_.push_back({Clock::now() + std::chrono::milliseconds(
+                                              static_cast<int64_t>(fault.restart_after_s * 1000)),
                            ""});
       return;
     case ScenarioFaultType::kSimFault: {
@@ -370,15 +369,15 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
       std::vector<std::string>{bin_.sim, "--world", s_.world_path, "--listen", "127.0.0.1:0",
                                "--port-file", sim_port_file, "--seed", absl::StrCat(seed_),
                                "--real-time-factor", absl::StrCat(s_.real_time_factor),
-                               "--min-agents", absl::StrCat(s_.robots.size()),
-                               "--record-truth", Path("truth.csv")},
+                               "--min-agents", absl::StrCat(s_.robots.size()), "--record-truth",
+                               Path("truth.csv")},
       Path("sim.out"), Path("sim.log"));
   sim_port_ = WaitForPortFile(sim_port_file);
   if (!sim_->started() || sim_port_ == 0) {
     return absl::UnavailableError(absl::StrCat("fleetnav-sim did not start: ", sim_->Stderr()));
   }
-  simulator_ = v1::SimService::NewStub(grpc::CreateChannel(
-      absl::StrCat("127.0.0.1:", sim_port_), grpc::InsecureChannelCredentials()));
+  simulator_ = v1::SimService::NewStub(grpc::CreateChannel(absl::StrCat("127.0.0.1:", sim_port_),
+                                                           grpc::InsecureChannelCredentials()));
   const std::string map_yaml = Path(absl::StrCat("map/", s_.map_id, ".yaml"));
   const std::string markers_yaml = Path(absl::StrCat("map/", s_.map_id, ".markers.yaml"));
   if (absl::Status st = Ctl({"map", "import", "--id", s_.map_id, map_yaml}); !st.ok()) return st;
@@ -394,8 +393,8 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   // Jobs name robots: submit once every agent has said hello.
   for (size_t online = 0; online < s_.robots.size();) {
     if (SecondsSince(wall_start) > 60.0) {
-      return absl::DeadlineExceededError(absl::StrCat(
-          "only ", online, " of ", s_.robots.size(), " agents connected to fleetnavd in 60 s"));
+      return absl::DeadlineExceededError(absl::StrCat("only ", online, " of ", s_.robots.size(),
+                                                      " agents connected to fleetnavd in 60 s"));
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
     grpc::ClientContext context;
@@ -403,9 +402,8 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
     v1::ListRobotsResponse robots;
     if (!fleet_->ListRobots(&context, v1::ListRobotsRequest{}, &robots).ok()) continue;
     online = static_cast<size_t>(std::count_if(
-        robots.robots().begin(), robots.robots().end(), [](const v1::RobotState& r) {
-          return r.connection() == v1::CONNECTION_STATE_ONLINE;
-        }));
+        robots.robots().begin(), robots.robots().end(),
+        [](const v1::RobotState& r) { return r.connection() == v1::CONNECTION_STATE_ONLINE; }));
   }
 
   double sim_s = 0.0;
@@ -440,10 +438,9 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
     if (simulator_->GetGroundTruth(&context, v1::GetGroundTruthRequest{}, &truth).ok()) {
       sim_s = truth.sim_time_ns() * 1e-9;
     }
-    const bool server_up = restarts_.empty() || std::none_of(restarts_.begin(), restarts_.end(),
-                                                             [](const Restart& r) {
-                                                               return r.robot_id.empty();
-                                                             });
+    const bool server_up =
+        restarts_.empty() || std::none_of(restarts_.begin(), restarts_.end(),
+                                          [](const Restart& r) { return r.robot_id.empty(); });
     if (server_up) {
       for (size_t i = 0; i < s_.jobs.size(); ++i) {
         if (!submitted_[i] && sim_s >= s_.jobs[i].at_s) Submit(i);
@@ -500,16 +497,16 @@ void Run::Finish(ScenarioReport* report) {
     const auto t = truth.find(id);
     if (t == truth.end()) continue;
     for (size_t i = 1; i < t->second.size(); ++i) {
-      f.distance_m += std::hypot(t->second[i].x - t->second[i - 1].x,
-                                 t->second[i].y - t->second[i - 1].y);
+      f.distance_m +=
+          std::hypot(t->second[i].x - t->second[i - 1].x, t->second[i].y - t->second[i - 1].y);
     }
     const auto estimates = ReadTrajectories(Path(absl::StrCat("estimate-", id, ".csv")));
     const auto e = estimates.find(id);
     if (e == estimates.end()) continue;
     for (const Sample& est : e->second) {
-      const auto near = std::lower_bound(
-          t->second.begin(), t->second.end(), est.t_s,
-          [](const Sample& a, double time_s) { return a.t_s < time_s; });
+      const auto near =
+          std::lower_bound(t->second.begin(), t->second.end(), est.t_s,
+                           [](const Sample& a, double time_s) { return a.t_s < time_s; });
       if (near == t->second.end() || std::abs(near->t_s - est.t_s) > 0.1) continue;
       f.max_loc_error_m = std::max(f.max_loc_error_m, std::hypot(near->x - est.x, near->y - est.y));
     }
@@ -522,8 +519,8 @@ void Run::Finish(ScenarioReport* report) {
   // Expectations.
   for (const JobOutcome& job : jobs_) {
     if (job.state != job.expected) {
-      report->failures.push_back(absl::StrCat("job ", job.name, " ended ", job.state,
-                                              " (expected ", job.expected, ")",
+      report->failures.push_back(absl::StrCat("job ", job.name, " ended ", job.state, " (expected ",
+                                              job.expected, ")",
                                               job.reason.empty() ? "" : ": " + job.reason));
     }
   }

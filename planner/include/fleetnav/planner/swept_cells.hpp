@@ -15,8 +15,9 @@ class CellSet {
   CellSet() = default;
   /// Every cell that a footprint (base_link polygon) placed at any of `poses` and grown by
   /// `margin_m` touches (cells whose centre lies within margin_m + half a cell diagonal).
-  static CellSet Sweep(const std::vector<Pose2>& poses, const std::vector<Eigen::Vector2d>& footprint,
-                       double margin_m, double cell_m);
+  static CellSet Sweep(const std::vector<Pose2>& poses,
+                       const std::vector<Eigen::Vector2d>& footprint, double margin_m,
+                       double cell_m);
 
   bool Intersects(const CellSet& other) const;
   bool empty() const { return keys_.empty(); }

@@ -15,7 +15,7 @@ struct ScheduledRoute {
   std::vector<CellSet> action_cells;
   std::vector<CellSet> action_end_cells;  ///< where the robot stands after each action
   std::vector<double> action_start_s;
-  CellSet start_cells;  ///< where the robot stands before its first action
+  CellSet start_cells;       ///< where the robot stands before its first action
   int first_unfinished = 0;  ///< actions before it have finished
   int cleared_up_to = -1;    ///< actions up to it were cleared earlier (never taken back)
 };
@@ -41,7 +41,7 @@ struct TrafficClearanceDecision {
   std::string job_id;
   int cleared_up_to = -1;
   std::vector<TrafficWait> waits;  ///< of action cleared_up_to + 1; empty when nothing holds it
-  bool deadlocked = false;  ///< the routes block each other at action granularity
+  bool deadlocked = false;         ///< the routes block each other at action granularity
 };
 
 /// Traffic coordination over swept regions with an action dependency graph (Hönig, Kiesel,

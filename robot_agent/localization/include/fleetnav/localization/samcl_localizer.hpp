@@ -73,8 +73,7 @@ class SamclLocalizer : public Localizer {
 
  private:
   SamclLocalizer(const RobotModel& model, std::shared_ptr<const OccupancyGrid> map,
-                 OdometryFrontEnd odometry, Samcl samcl,
-                 std::vector<Line2> stripe_pieces_start_end,
+                 OdometryFrontEnd odometry, Samcl samcl, std::vector<Line2> stripe_pieces_start_end,
                  std::vector<StripeMarker> calibration_markers, const Pose2& start_in_map,
                  const SamclLocalizerParams& params);
   absl::StatusOr<RangeObservation> Observe(const SensorFrame& frame) const;

@@ -25,7 +25,7 @@ struct RobotRecord {
   uint64_t telemetry_count = 0;  ///< messages accepted since the server started
   std::string current_job_id;
   std::string traffic_wait;  ///< why traffic coordination holds the robot; empty when not
-  uint64_t revision = 0;  ///< grows on every change; lets watchers send only what changed
+  uint64_t revision = 0;     ///< grows on every change; lets watchers send only what changed
 };
 
 struct FleetRegistryParams {

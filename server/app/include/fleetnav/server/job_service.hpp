@@ -43,7 +43,8 @@ struct SubmitJobRequest {
 /// job's first known point first. A robot that drops holds its job paused; when it returns
 /// with the job it resumes, and after lost_robot_timeout_s the job is failed or re-queued by
 /// its policy. With a TrafficCoordinator every running job is coordinated (traffic
-/// clearances, waits recorded as WAITING_FOR_TRAFFIC events). Thread-safe: transitions are serialised by one mutex.
+/// clearances, waits recorded as WAITING_FOR_TRAFFIC events). Thread-safe: transitions are
+/// serialised by one mutex.
 class JobService {
  public:
   JobService(storage::JobRepository* jobs, storage::RobotRepository* robots,

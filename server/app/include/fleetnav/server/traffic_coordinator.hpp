@@ -60,8 +60,7 @@ class TrafficCoordinator {
   /// Whether the job is coordinated.
   bool Tracks(const std::string& job_id);
   /// The robot finished `action_index` of `job_id`.
-  void OnActionFinished(const std::string& robot_id, const std::string& job_id,
-                        int action_index);
+  void OnActionFinished(const std::string& robot_id, const std::string& job_id, int action_index);
   /// The job ended (succeeded, failed, cancelled or taken away): its robot stands where it is.
   void End(const std::string& job_id);
   /// The robot opened a new stream: its clearance is sent again on the next Update.
@@ -91,7 +90,8 @@ class TrafficCoordinator {
   void Predict(Tracked& tracked, const Pose2& pose) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   planner::SingleRobotPlanner* PlannerFor(const Tracked& tracked, Pose2* map_origin)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
-  std::string Describe(const Tracked& tracked, const planner::TrafficClearanceDecision& d) const
+  /// Why the decision holds the robot, for people ("" when it does not).
+  std::string Describe(const planner::TrafficClearanceDecision& d) const
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
 
   storage::MapRepository* maps_;

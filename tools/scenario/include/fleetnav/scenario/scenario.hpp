@@ -49,7 +49,7 @@ struct ScenarioFault {
 
 /// What must hold at the end for the run to pass.
 struct ScenarioExpectations {
-  std::string all_jobs = "succeeded";               ///< every job's end state …
+  std::string all_jobs = "succeeded";             ///< every job's end state …
   std::map<std::string, std::string> job_states;  ///< … unless named here
   int max_contacts = 0;
   std::optional<double> min_separation_m;

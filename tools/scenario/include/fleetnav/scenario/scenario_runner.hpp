@@ -23,8 +23,8 @@ struct Binaries {
 
 struct RunOptions {
   std::optional<unsigned> seed;  ///< overrides the scenario's
-  std::string keep_dir;          ///< keep logs, database and recordings here ("": a temp folder, removed)
-  std::string picture_path;      ///< draw the run to this .png/.svg ("": none)
+  std::string keep_dir;  ///< keep logs, database and recordings here ("": a temp folder, removed)
+  std::string picture_path;          ///< draw the run to this .png/.svg ("": none)
   std::ostream* progress = nullptr;  ///< live progress (bars on a terminal, lines otherwise)
   bool progress_is_terminal = false;
   double wall_timeout_s = 3600.0;
@@ -42,11 +42,11 @@ struct JobOutcome {
 
 struct RobotFigures {
   std::string robot_id;
-  int jobs = 0;                  ///< jobs it ran to an end
-  double distance_m = 0.0;       ///< true path length
-  double waiting_s = 0.0;        ///< sim time held by traffic coordination
-  double max_loc_error_m = 0.0;  ///< truth vs the agent's estimate, at equal sim times
-  int contacts = 0;              ///< contact episodes (world and robots)
+  int jobs = 0;                    ///< jobs it ran to an end
+  double distance_m = 0.0;         ///< true path length
+  double waiting_s = 0.0;          ///< sim time held by traffic coordination
+  double max_loc_error_m = 0.0;    ///< truth vs the agent's estimate, at equal sim times
+  int contacts = 0;                ///< contact episodes (world and robots)
   std::vector<std::string> waits;  ///< each distinct reason traffic coordination held it
 };
 

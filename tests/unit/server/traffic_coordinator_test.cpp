@@ -1,0 +1,132 @@
+#include "fleetnav/server/traffic_coordinator.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <map>
+#include <vector>
+
+#include "fleetnav/core/angles.hpp"
+#include "fleetnav/storage/memory/memory_fleet_repositories.hpp"
+#include "fleetnav/storage/memory/memory_map_repository.hpp"
+
+namespace fleetnav::server {
+namespace {
+
+using ::testing::HasSubstr;
+
+/// Records what would be sent to the robots.
+class RecordingMailbox : public RobotMailbox {
+ public:
+  bool SendAssignment(const std::string&, const Assignment&) override { return true; }
+  bool SendCommand(const std::string&, RobotCommandType, const std::string&,
+                   const std::string&) override {
+    return true;
+  }
+  bool SendClearance(const std::string& robot_id, const ClearanceNotice& clearance) override {
+    sent[robot_id].push_back(clearance);
+    return true;
+  }
+  void BroadcastMapUpdate(const std::string&, uint32_t, uint32_t) override {}
+  std::map<std::string, std::vector<ClearanceNotice>> sent;
+};
+
+/// Two Lely robots on an empty 30 × 10 m hall; routes of straights and turns.
+class TrafficCoordinatorTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(maps_
+                    .PutMap("hall",
+                            OccupancyGrid::Filled(600, 200, 0.05, Pose2(-15, -5, 0),
+                                                  OccupancyGrid::kFreeValue)
+                                .value(),
+                            "", 0)
+                    .ok());
+  }
+
+  /// Connects a robot standing at `pose` (telemetry in map).
+  void Connect(const std::string& robot_id, const Pose2& pose) {
+    RobotIdentity identity;
+    identity.robot_id = robot_id;
+    identity.model = LelyVectorModel();
+    const uint64_t session = registry_.Connect(identity);
+    Telemetry telemetry;
+    telemetry.pose_in_map = pose;
+    ASSERT_TRUE(registry_.RecordTelemetry(robot_id, session, telemetry).ok());
+  }
+
+  Assignment Job(const std::string& job_id, std::vector<RouteAction> actions) {
+    Assignment a;
+    a.job.job_id = job_id;
+    a.job.map_id = "hall";
+    a.route.name = job_id;
+    a.route.map_id = "hall";
+    a.route.actions = std::move(actions);
+    a.map_version = 1;
+    return a;
+  }
+
+  storage::MemoryMapRepository maps_;
+  storage::MemoryMarkerSetRepository markers_;
+  ManualClock clock_{1'000'000'000};
+  FleetRegistry registry_{&clock_, FleetRegistryParams{}};
+  RecordingMailbox mailbox_;
+  TrafficCoordinator coordinator_{&maps_, &markers_, &registry_, &mailbox_, &clock_,
+                                  TrafficCoordinatorParams{}};
+};
+
+TEST_F(TrafficCoordinatorTest, CrossingRobotsAreClearedOneAfterTheOtherAndToldWhy) {
+  // a drives 12 m east along y = 0 through x = 0; b waits north of it and then drives 8 m
+  // south across the same place, expected later.
+  Connect("a", Pose2(-8, 0, 0));
+  Connect("b", Pose2(0, 4.5, -M_PI / 2));
+  coordinator_.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
+  clock_.AdvanceNs(5'000'000'000);
+  coordinator_.Begin("b", Job("job-b", {{StraightAction{8.0, 0.5}, {}}}));
+  const std::vector<TrafficWaitChange> changes = coordinator_.Update();
+  ASSERT_EQ(mailbox_.sent["a"].size(), 1u);
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+  ASSERT_EQ(mailbox_.sent["b"].size(), 1u);
+  EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, -1);
+  EXPECT_THAT(mailbox_.sent["b"].back().wait_reason, HasSubstr("waits for a to finish action 0"));
+  ASSERT_EQ(changes.size(), 1u);
+  EXPECT_EQ(changes[0].job_id, "job-b");
+  EXPECT_EQ(registry_.Get("b")->traffic_wait, changes[0].reason);
+
+  // Nothing changed: nothing is sent again.
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["b"].size(), 1u);
+
+  // a finished its action and its job: b may go, and is no longer held.
+  coordinator_.OnActionFinished("a", "job-a", 0);
+  coordinator_.End("job-a");
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, 0);
+  EXPECT_EQ(registry_.Get("b")->traffic_wait, "");
+}
+
+TEST_F(TrafficCoordinatorTest, AnIdleRobotInTheWayIsNeverDrivenThrough) {
+  Connect("a", Pose2(-8, 0, 0));
+  Connect("idle", Pose2(0, 0, M_PI / 2));  // no job: it stands on a's way
+  coordinator_.Begin("a", Job("job-a", {{StraightAction{4.0, 0.5}, {}},
+                                        {StraightAction{8.0, 0.5}, {}}}));
+  coordinator_.Update();
+  ASSERT_FALSE(mailbox_.sent["a"].empty());
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+  EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("idle, which stands in its way"));
+}
+
+TEST_F(TrafficCoordinatorTest, AReconnectedRobotIsSentItsClearanceAgain) {
+  Connect("a", Pose2(-8, 0, 0));
+  coordinator_.Begin("a", Job("job-a", {{TurnAction{DegToRad(90), 0.3}, {}}}));
+  coordinator_.Update();
+  ASSERT_EQ(mailbox_.sent["a"].size(), 1u);
+  coordinator_.Resend("a");
+  coordinator_.Update();
+  ASSERT_EQ(mailbox_.sent["a"].size(), 2u);
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+  EXPECT_EQ(mailbox_.sent["a"].back().job_id, "job-a");
+}
+
+}  // namespace
+}  // namespace fleetnav::server
