@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
   // Flags override the config file, which overrides the defaults.
   fleetnav::server::FleetServerConfig defaults;
   CLI::App app{"fleetnavd: fleet navigation server (FleetService + AgentService)"};
-  std::string config_path, listen, db, log_level, port_file;
+  std::string config_path, listen, db, log_level, port_file, clock = "system", sim_address;
   double stale_after_s = 0, lost_robot_timeout_s = 0;
   int max_message_bytes = 0, agent_threads = 0;
   app.add_option("--config", config_path, "YAML configuration file (see docs/server.md)");
@@ -42,7 +42,16 @@ int main(int argc, char** argv) {
                  "threads serving robot streams, each with its own completion queue [2]");
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error [info]");
   app.add_option("--port-file", port_file, "write the bound port to this file once serving");
+  app.add_option("--clock", clock,
+                 "time source of timeouts and pose history: system, or sim (the simulator's "
+                 "time, read from --sim) [system]")
+      ->check(CLI::IsMember({"system", "sim"}));
+  app.add_option("--sim", sim_address, "the simulator's SimService address, for --clock sim");
   CLI11_PARSE(app, argc, argv);
+  if ((clock == "sim") != !sim_address.empty()) {
+    spdlog::error("fleetnavd: --clock sim needs --sim ADDR, and --sim is only used with --clock sim");
+    return 2;
+  }
 
   absl::StatusOr<fleetnav::server::FleetServerConfig> config =
       config_path.empty() ? absl::StatusOr<fleetnav::server::FleetServerConfig>(defaults)
@@ -58,6 +67,7 @@ int main(int argc, char** argv) {
   if (lost_robot_timeout_s > 0) params.jobs.lost_robot_timeout_s = lost_robot_timeout_s;
   if (max_message_bytes > 0) params.max_message_bytes = max_message_bytes;
   if (agent_threads > 0) params.agent_stream_threads = agent_threads;
+  params.sim_clock_address = sim_address;
   if (!log_level.empty()) config->log_level = log_level;
   spdlog::set_level(spdlog::level::from_str(config->log_level));
 

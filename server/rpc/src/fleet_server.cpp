@@ -36,12 +36,19 @@ absl::Status FleetServerParams::Validate() const {
 }
 
 FleetServer::FleetServer(FleetServerParams params)
-    : params_(std::move(params)), registry_(&clock_, params_.registry) {}
+    : params_(std::move(params)),
+      clock_(params_.sim_clock_address.empty() ? static_cast<const Clock*>(&system_clock_)
+                                               : &sim_clock_),
+      registry_(clock_, params_.registry) {}
 
 FleetServer::~FleetServer() { Shutdown(); }
 
 absl::StatusOr<int> FleetServer::Start() {
   RETURN_IF_ERROR(params_.Validate());
+  if (!params_.sim_clock_address.empty()) {
+    sim_clock_feed_ = std::make_unique<SimClockFeed>(params_.sim_clock_address, &sim_clock_);
+    RETURN_IF_ERROR(sim_clock_feed_->Start());
+  }
   ASSIGN_OR_RETURN(
       db_, storage::SqliteDatabase::Open(params_.db_path, storage::FleetSchemaMigrations()));
   map_repository_ = std::make_unique<storage::SqliteMapRepository>(db_.get());
@@ -57,10 +64,10 @@ absl::StatusOr<int> FleetServer::Start() {
                                         route_repository_.get(), job_repository_.get());
   coordinator_ =
       std::make_unique<TrafficCoordinator>(map_repository_.get(), marker_repository_.get(),
-                                           &registry_, &mailbox_, &clock_, params_.traffic);
+                                           &registry_, &mailbox_, clock_, params_.traffic);
   jobs_ = std::make_unique<JobService>(job_repository_.get(), robot_repository_.get(),
                                        map_repository_.get(), marker_repository_.get(), site_.get(),
-                                       &registry_, &mailbox_, &clock_, params_.jobs,
+                                       &registry_, &mailbox_, clock_, params_.jobs,
                                        coordinator_.get());
   RETURN_IF_ERROR(jobs_->Recover());
   traffic_ = std::make_unique<TrafficPlanner>(map_repository_.get());
@@ -112,6 +119,7 @@ void FleetServer::Shutdown() {
   server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
   agent_service_->Shutdown();
   if (dispatcher_.joinable()) dispatcher_.join();
+  if (sim_clock_feed_ != nullptr) sim_clock_feed_->Stop();
 }
 
 void FleetServer::Wait() {

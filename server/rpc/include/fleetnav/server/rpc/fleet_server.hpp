@@ -17,6 +17,7 @@
 #include "fleetnav/server/rpc/agent_service.hpp"
 #include "fleetnav/server/rpc/fleet_service.hpp"
 #include "fleetnav/server/site_catalog.hpp"
+#include "fleetnav/server/rpc/sim_clock_feed.hpp"
 #include "fleetnav/server/traffic_coordinator.hpp"
 #include "fleetnav/server/traffic_planner.hpp"
 #include "fleetnav/storage/sqlite/sqlite_database.hpp"
@@ -36,6 +37,9 @@ struct FleetServerParams {
   int max_message_bytes = 64 << 20;  ///< largest request accepted (a 8k×8k map fits)
   /// Threads (each with its own completion queue) serving the robots' streams.
   int agent_stream_threads = 2;
+  /// A SimService address: take time from the simulator (fleetnavd --clock sim); "": the
+  /// system clock.
+  std::string sim_clock_address;
   absl::Status Validate() const;
 };
 
@@ -59,7 +63,10 @@ class FleetServer {
 
  private:
   FleetServerParams params_;
-  SystemClock clock_;
+  SystemClock system_clock_;
+  ManualClock sim_clock_;
+  const Clock* clock_;  ///< the system clock, or the simulator's with sim_clock_address
+  std::unique_ptr<SimClockFeed> sim_clock_feed_;
   std::atomic<bool> stopping_{false};
   FleetRegistry registry_;
   std::unique_ptr<storage::SqliteDatabase> db_;
