@@ -49,7 +49,8 @@ int main(int argc, char** argv) {
   app.add_option("--sim", sim_address, "the simulator's SimService address, for --clock sim");
   CLI11_PARSE(app, argc, argv);
   if ((clock == "sim") != !sim_address.empty()) {
-    spdlog::error("fleetnavd: --clock sim needs --sim ADDR, and --sim is only used with --clock sim");
+    spdlog::error(
+        "fleetnavd: --clock sim needs --sim ADDR, and --sim is only used with --clock sim");
     return 2;
   }
 

@@ -65,10 +65,10 @@ absl::StatusOr<int> FleetServer::Start() {
   coordinator_ =
       std::make_unique<TrafficCoordinator>(map_repository_.get(), marker_repository_.get(),
                                            &registry_, &mailbox_, clock_, params_.traffic);
-  jobs_ = std::make_unique<JobService>(job_repository_.get(), robot_repository_.get(),
-                                       map_repository_.get(), marker_repository_.get(), site_.get(),
-                                       &registry_, &mailbox_, clock_, params_.jobs,
-                                       coordinator_.get());
+  jobs_ =
+      std::make_unique<JobService>(job_repository_.get(), robot_repository_.get(),
+                                   map_repository_.get(), marker_repository_.get(), site_.get(),
+                                   &registry_, &mailbox_, clock_, params_.jobs, coordinator_.get());
   RETURN_IF_ERROR(jobs_->Recover());
   traffic_ = std::make_unique<TrafficPlanner>(map_repository_.get());
   fleet_service_ = std::make_unique<FleetServiceImpl>(

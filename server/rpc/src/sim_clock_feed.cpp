@@ -8,8 +8,7 @@
 
 namespace fleetnav::server {
 
-SimClockFeed::SimClockFeed(const std::string& sim_address, ManualClock* clock,
-                           double poll_period_s)
+SimClockFeed::SimClockFeed(const std::string& sim_address, ManualClock* clock, double poll_period_s)
     : address_(sim_address),
       clock_(clock),
       poll_period_s_(poll_period_s),

@@ -71,8 +71,8 @@ class TrafficCoordinatorTest : public ::testing::Test {
   ManualClock clock_{1'000'000'000};
   FleetRegistry registry_{&clock_, FleetRegistryParams{}};
   RecordingMailbox mailbox_;
-  TrafficCoordinator coordinator_{&maps_, &markers_, &registry_, &mailbox_, &clock_,
-                                  TrafficCoordinatorParams{}};
+  TrafficCoordinator coordinator_{&maps_,    &markers_, &registry_,
+                                  &mailbox_, &clock_,   TrafficCoordinatorParams{}};
 };
 
 TEST_F(TrafficCoordinatorTest, CrossingRobotsAreClearedOneAfterTheOtherAndToldWhy) {
@@ -108,8 +108,8 @@ TEST_F(TrafficCoordinatorTest, CrossingRobotsAreClearedOneAfterTheOtherAndToldWh
 TEST_F(TrafficCoordinatorTest, AnIdleRobotInTheWayIsNeverDrivenThrough) {
   Connect("a", Pose2(-8, 0, 0));
   Connect("idle", Pose2(0, 0, M_PI / 2));  // no job: it stands on a's way
-  coordinator_.Begin("a", Job("job-a", {{StraightAction{4.0, 0.5}, {}},
-                                        {StraightAction{8.0, 0.5}, {}}}));
+  coordinator_.Begin(
+      "a", Job("job-a", {{StraightAction{4.0, 0.5}, {}}, {StraightAction{8.0, 0.5}, {}}}));
   coordinator_.Update();
   ASSERT_FALSE(mailbox_.sent["a"].empty());
   EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
