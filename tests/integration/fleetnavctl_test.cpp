@@ -59,6 +59,25 @@ TEST_F(FleetnavctlTest, ImportsAMapStoresARouteAndSubmitsAJob) {
   EXPECT_EQ(*id, "job-000001");
   EXPECT_EQ(*ctl::SubmitJob(Context(), submit), "job-000001");  // same key, same job
   Take();
+  // A go-to-goal on the map (job submit --goal X Y YAW_DEG --map ID).
+  ctl::SubmitOptions go;
+  go.goal = {1.0, 0.5, 90.0};
+  go.goal_map_id = "barn";
+  absl::StatusOr<std::string> goal_id = ctl::SubmitJob(Context(), go);
+  ASSERT_TRUE(goal_id.ok()) << goal_id.status();
+  {
+    grpc::ClientContext rpc;
+    v1::GetJobRequest request;
+    request.set_job_id(*goal_id);
+    v1::GetJobResponse response;
+    ASSERT_TRUE(fleet_->GetJob(&rpc, request, &response).ok());
+    EXPECT_EQ(response.job().goal().map_id(), "barn");
+    EXPECT_NEAR(response.job().goal().goal().x_m(), 1.0, 1e-9);
+    EXPECT_NEAR(response.job().goal().goal().yaw_rad(), M_PI / 2, 1e-9);
+  }
+  go.goal_map_id = "nowhere";
+  EXPECT_EQ(ctl::SubmitJob(Context(), go).status().code(), absl::StatusCode::kNotFound);
+  Take();
   ASSERT_TRUE(ctl::ListJobs(Context(), "queued", "", 10).ok());
   const std::string table = Take();
   EXPECT_THAT(table, HasSubstr("JOB"));

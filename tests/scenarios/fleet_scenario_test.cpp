@@ -4,6 +4,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -51,6 +52,23 @@ TEST(FleetScenario, TwoLelyRobotsShareTheBarnWithoutContact) {
   }
   EXPECT_GT(waited_s, 5.0);
   EXPECT_TRUE(std::filesystem::exists(keep + "/truth.csv"));
+}
+
+// `job submit --goal`'s job as a robot runs it: one free-navigation action to the goal.
+TEST(FleetScenario, AGoalJobEndsAtTheGoal) {
+  ChildProcess run({FLEETNAV_SCENARIO_PATH, "run", FLEETNAV_SCENARIOS_DIR "/barn_goal.yaml", "--json"},
+                   TempPath("goal.out"), TempPath("goal.err"));
+  const std::optional<int> code = run.Wait(300.0);
+  ASSERT_TRUE(code.has_value());
+  ASSERT_FALSE(run.Stdout().empty()) << run.Stderr();
+  const nlohmann::json report = nlohmann::json::parse(run.Stdout());
+  EXPECT_EQ(*code, 0) << run.Stdout();
+  ASSERT_EQ(report["robots"].size(), 1u);
+  const nlohmann::json& end = report["robots"][0]["final_pose"];
+  EXPECT_NEAR(end["x_m"].get<double>(), -3.0, 0.3) << end.dump();
+  EXPECT_NEAR(end["y_m"].get<double>(), 2.0, 0.3) << end.dump();
+  EXPECT_NEAR(end["yaw_rad"].get<double>(), M_PI / 2, 0.15) << end.dump();
+  EXPECT_EQ(report["contacts"].get<int>(), 0);
 }
 
 /// Runs fleetnav-scenario on a scenario text and returns its exit code and its stderr.

@@ -60,7 +60,15 @@ int main(int argc, char** argv) {
   uint32_t page_size = 100;
   bool wait = false;
   CLI::App* job_submit = jobs->add_subcommand("submit", "run a route with a robot");
-  job_submit->add_option("--route", submit.route_name, "route name")->required();
+  CLI::Option* route_option = job_submit->add_option("--route", submit.route_name, "route name");
+  CLI::Option* goal_option =
+      job_submit->add_option("--goal", submit.goal, "go to X Y YAW_DEG instead (needs --map)")
+          ->expected(3);
+  CLI::Option* map_option =
+      job_submit->add_option("--map", submit.goal_map_id, "the map of --goal");
+  route_option->excludes(goal_option);
+  goal_option->needs(map_option);
+  map_option->needs(goal_option);
   job_submit->add_option("--robot", submit.robot_id, "a given robot (default: any capable one)");
   job_submit->add_option("--priority", submit.priority, "higher first")->capture_default_str();
   job_submit->add_option("--key", submit.idempotency_key,
@@ -121,6 +129,9 @@ int main(int argc, char** argv) {
     status = fleetnav::ctl::GetRoute(context, route_name);
   } else if (routes_list->parsed()) {
     status = fleetnav::ctl::ListRoutes(context, marker_map);
+  } else if (job_submit->parsed() && submit.route_name.empty() && submit.goal.empty()) {
+    status = absl::InvalidArgumentError(
+        "job submit: give --route NAME, or --goal X Y YAW_DEG with --map ID");
   } else if (job_submit->parsed()) {
     absl::StatusOr<std::string> id = fleetnav::ctl::SubmitJob(context, submit);
     status = id.status();

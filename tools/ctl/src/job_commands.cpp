@@ -13,6 +13,8 @@
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
 #include "fleetnav/ctl/commands.hpp"
+
+#include <cmath>
 #include "fleetnav/ctl/table.hpp"
 #include "fleetnav/proto/grpc_status.hpp"
 #include "fleetnav/proto/map_convert.hpp"
@@ -157,7 +159,17 @@ absl::StatusOr<std::string> SubmitJob(const CommandContext& context, const Submi
   grpc::ClientContext rpc;
   SetDeadline(context, &rpc);
   v1::SubmitJobRequest request;
-  request.set_route_name(options.route_name);
+  if (options.goal.empty()) {
+    request.set_route_name(options.route_name);
+  } else {
+    // A go-to-goal: the server sends it as one free-navigation action (robots that advertise
+    // free_navigation run it).
+    request.mutable_goal()->set_map_id(options.goal_map_id);
+    v1::Pose2* goal = request.mutable_goal()->mutable_goal();
+    goal->set_x_m(options.goal[0]);
+    goal->set_y_m(options.goal[1]);
+    goal->set_yaw_rad(options.goal[2] * M_PI / 180.0);
+  }
   request.set_robot_id(options.robot_id);
   request.set_priority(options.priority);
   request.set_idempotency_key(options.idempotency_key);

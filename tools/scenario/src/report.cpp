@@ -1,4 +1,5 @@
 #include <nlohmann/json.hpp>
+#include <cmath>
 #include <ostream>
 
 #include "absl/strings/str_format.h"
@@ -15,12 +16,13 @@ void PrintReport(const ScenarioReport& report, std::ostream& out) {
     out << absl::StrFormat("%-16s %-10s %-8s %-10s %-10s %s\n", job.name, job.job_id, job.robot_id,
                            job.state, job.expected, job.reason);
   }
-  out << absl::StrFormat("%-8s %5s %11s %10s %15s %9s\n", "ROBOT", "JOBS", "DISTANCE_M",
-                         "WAITING_S", "MAX_LOC_ERR_M", "CONTACTS");
+  out << absl::StrFormat("%-8s %5s %11s %10s %15s %9s  %s\n", "ROBOT", "JOBS", "DISTANCE_M",
+                         "WAITING_S", "MAX_LOC_ERR_M", "CONTACTS", "TRUE END POSE");
   for (const RobotFigures& robot : report.robots) {
-    out << absl::StrFormat("%-8s %5d %11.2f %10.1f %15.3f %9d\n", robot.robot_id, robot.jobs,
-                           robot.distance_m, robot.waiting_s, robot.max_loc_error_m,
-                           robot.contacts);
+    out << absl::StrFormat("%-8s %5d %11.2f %10.1f %15.3f %9d  (%.2f, %.2f, %.1f°)\n",
+                           robot.robot_id, robot.jobs, robot.distance_m, robot.waiting_s,
+                           robot.max_loc_error_m, robot.contacts, robot.final_pose.x_m(),
+                           robot.final_pose.y_m(), robot.final_pose.yaw_rad() * 180.0 / M_PI);
   }
   for (const RobotFigures& robot : report.robots) {
     for (const std::string& wait : robot.waits) {
@@ -55,6 +57,9 @@ std::string ReportJson(const ScenarioReport& report) {
                       {"waiting_s", robot.waiting_s},
                       {"max_loc_error_m", robot.max_loc_error_m},
                       {"contacts", robot.contacts},
+                      {"final_pose", {{"x_m", robot.final_pose.x_m()},
+                                      {"y_m", robot.final_pose.y_m()},
+                                      {"yaw_rad", robot.final_pose.yaw_rad()}}},
                       {"waits", robot.waits}});
   }
   nlohmann::json out = {{"name", report.name},

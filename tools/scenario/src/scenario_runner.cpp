@@ -474,7 +474,10 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
       report.min_separation_m = truth.min_separation_m();
       for (const v1::RobotGroundTruth& robot : truth.robots()) {
         if (figures_.count(robot.robot_id())) {
-          figures_[robot.robot_id()].contacts = static_cast<int>(robot.collisions());
+          RobotFigures& f = figures_[robot.robot_id()];
+          f.contacts = static_cast<int>(robot.collisions());
+          absl::StatusOr<Pose2> pose = fleetnav::FromProto(robot.pose());
+          if (pose.ok()) f.final_pose = *pose;
         }
         report.contacts += static_cast<int>(robot.collisions());
       }

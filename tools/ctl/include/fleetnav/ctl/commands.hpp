@@ -6,6 +6,7 @@
 #include <memory>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
@@ -52,7 +53,9 @@ absl::Status GetRoute(const CommandContext& context, const std::string& name);
 absl::Status ListRoutes(const CommandContext& context, const std::string& map_id);
 
 struct SubmitOptions {
-  std::string route_name;
+  std::string route_name;            ///< either a route …
+  std::vector<double> goal;          ///< … or a goal x, y, yaw_deg on goal_map_id
+  std::string goal_map_id;
   std::string robot_id;
   int priority = 0;
   std::string idempotency_key;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "fleetnav/core/pose2.hpp"
 #include "fleetnav/scenario/scenario.hpp"
 
 namespace fleetnav::scenario {
@@ -47,6 +48,7 @@ struct RobotFigures {
   double waiting_s = 0.0;          ///< sim time held by traffic coordination
   double max_loc_error_m = 0.0;    ///< truth vs the agent's estimate, at equal sim times
   int contacts = 0;                ///< contact episodes (world and robots)
+  Pose2 final_pose;                ///< the true pose at the end
   std::vector<std::string> waits;  ///< each distinct reason traffic coordination held it
 };
 
