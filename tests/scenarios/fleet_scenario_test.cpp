@@ -56,8 +56,9 @@ TEST(FleetScenario, TwoLelyRobotsShareTheBarnWithoutContact) {
 
 // `job submit --goal`'s job as a robot runs it: one free-navigation action to the goal.
 TEST(FleetScenario, AGoalJobEndsAtTheGoal) {
-  ChildProcess run({FLEETNAV_SCENARIO_PATH, "run", FLEETNAV_SCENARIOS_DIR "/barn_goal.yaml", "--json"},
-                   TempPath("goal.out"), TempPath("goal.err"));
+  ChildProcess run(
+      {FLEETNAV_SCENARIO_PATH, "run", FLEETNAV_SCENARIOS_DIR "/barn_goal.yaml", "--json"},
+      TempPath("goal.out"), TempPath("goal.err"));
   const std::optional<int> code = run.Wait(300.0);
   ASSERT_TRUE(code.has_value());
   ASSERT_FALSE(run.Stdout().empty()) << run.Stderr();

@@ -1,6 +1,7 @@
 #include <grpcpp/client_context.h>
 
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -13,8 +14,6 @@
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
 #include "fleetnav/ctl/commands.hpp"
-
-#include <cmath>
 #include "fleetnav/ctl/table.hpp"
 #include "fleetnav/proto/grpc_status.hpp"
 #include "fleetnav/proto/map_convert.hpp"

@@ -1,5 +1,5 @@
-#include <nlohmann/json.hpp>
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <ostream>
 
 #include "absl/strings/str_format.h"
@@ -57,9 +57,10 @@ std::string ReportJson(const ScenarioReport& report) {
                       {"waiting_s", robot.waiting_s},
                       {"max_loc_error_m", robot.max_loc_error_m},
                       {"contacts", robot.contacts},
-                      {"final_pose", {{"x_m", robot.final_pose.x_m()},
-                                      {"y_m", robot.final_pose.y_m()},
-                                      {"yaw_rad", robot.final_pose.yaw_rad()}}},
+                      {"final_pose",
+                       {{"x_m", robot.final_pose.x_m()},
+                        {"y_m", robot.final_pose.y_m()},
+                        {"yaw_rad", robot.final_pose.yaw_rad()}}},
                       {"waits", robot.waits}});
   }
   nlohmann::json out = {{"name", report.name},

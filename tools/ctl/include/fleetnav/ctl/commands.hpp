@@ -53,8 +53,8 @@ absl::Status GetRoute(const CommandContext& context, const std::string& name);
 absl::Status ListRoutes(const CommandContext& context, const std::string& map_id);
 
 struct SubmitOptions {
-  std::string route_name;            ///< either a route …
-  std::vector<double> goal;          ///< … or a goal x, y, yaw_deg on goal_map_id
+  std::string route_name;    ///< either a route …
+  std::vector<double> goal;  ///< … or a goal x, y, yaw_deg on goal_map_id
   std::string goal_map_id;
   std::string robot_id;
   int priority = 0;
