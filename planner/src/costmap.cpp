@@ -6,19 +6,12 @@
 
 #include "absl/strings/str_cat.h"
 #include "fleetnav/core/distance_transform.hpp"
+#include "fleetnav/core/segment_distance.hpp"
 
 namespace fleetnav::planner {
 namespace {
 
 constexpr double kInf = 1e20;
-
-double PointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                            const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
-}
 
 bool InsidePolygon(const Eigen::Vector2d& p, const std::vector<Eigen::Vector2d>& poly) {
   bool inside = false;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "fleetnav/core/segment_distance.hpp"
+
 namespace fleetnav::planner {
 namespace {
 
@@ -23,9 +25,7 @@ double DistanceToPolygon(const Eigen::Vector2d& p, const std::vector<Eigen::Vect
         p.x() < (a.x() - b.x()) * (p.y() - b.y()) / (a.y() - b.y()) + b.x()) {
       inside = !inside;
     }
-    const Eigen::Vector2d ab = b - a;
-    const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-12), 0.0, 1.0);
-    best = std::min(best, (a + t * ab - p).norm());
+    best = std::min(best, PointSegmentDistance(p, a, b));
   }
   return inside ? 0.0 : best;
 }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "fleetnav/core/segment_distance.hpp"
+
 namespace fleetnav::sim {
 namespace {
 
@@ -42,14 +44,6 @@ bool SeparatedByEdges(const Shape2& polygon, const Shape2& other) {
     if (SeparatedOn(polygon, other, axis)) return true;
   }
   return false;
-}
-
-double PointSegmentDistance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
-                            const Eigen::Vector2d& b) {
-  const Eigen::Vector2d ab = b - a;
-  const double length_sq = ab.squaredNorm();
-  const double t = length_sq > 0.0 ? std::clamp((p - a).dot(ab) / length_sq, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
 }
 
 /// The smallest distance from any vertex of `from` to any edge of `to`.
