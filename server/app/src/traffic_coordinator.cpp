@@ -189,6 +189,12 @@ std::string TrafficCoordinator::Describe(const planner::TrafficClearanceDecision
 }
 
 std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
+  {
+    // The dispatcher calls this on every pass: with no job there is nothing to order, and the
+    // fleet is not copied or swept.
+    absl::MutexLock lock(&mutex_);
+    if (jobs_.empty()) return {};
+  }
   // Who stands where: online robots without a coordinated job are obstacles on every site (the
   // server does not know the site of a robot that has had no job).
   std::vector<RobotRecord> robots = registry_->Snapshot();
@@ -212,8 +218,14 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
       }
       Predict(tracked, telemetry.pose_in_map);
     }
+    std::map<std::string, std::vector<Tracked*>> by_map;
+    for (auto& [job_id, tracked] : jobs_) {
+      if (tracked.schedule) by_map[tracked.assignment.job.map_id].push_back(&tracked);
+    }
+    // Sweeping every idle robot is only worth it when some job is to be ordered.
     std::vector<planner::ParkedRobot> parked;
-    for (const RobotRecord& r : robots) {
+    for (size_t i = 0; !by_map.empty() && i < robots.size(); ++i) {
+      const RobotRecord& r = robots[i];
       if (coordinated.count(r.identity.robot_id) || !r.last_telemetry ||
           r.connection == ConnectionState::kOffline) {
         continue;
@@ -222,10 +234,6 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
           {r.identity.robot_id,
            planner::CellSet::Sweep({r.last_telemetry->pose_in_map}, r.identity.model.footprint_m,
                                    params_.margin_m, params_.cell_m)});
-    }
-    std::map<std::string, std::vector<Tracked*>> by_map;
-    for (auto& [job_id, tracked] : jobs_) {
-      if (tracked.schedule) by_map[tracked.assignment.job.map_id].push_back(&tracked);
     }
     for (auto& [map_id, tracked_jobs] : by_map) {
       std::vector<planner::ScheduledRoute> routes;
