@@ -282,6 +282,81 @@ TEST_F(ClosedLoop, InitialPoseIsRequired) {
   EXPECT_THAT(agent.Stderr() + agent.Stdout(), HasSubstr("--initial-pose"));
 }
 
+// A fence leg where no fence is near (lely2 on the stripe, the fence 7 m north of it) is refused
+// before the robot moves, naming the action and where it would have looked.
+TEST_F(ClosedLoop, FenceLegWithNoFenceNearIsRefusedBeforeTheRobotMoves) {
+  StartSim(/*with_gap=*/false);
+  const std::string route = WriteRoute(
+      "  - straight: {distance: 1, speed: 0.25}\n"
+      "  - fence_navigation: {side: left, fence_distance: 0.9, distance: 5, speed: 0.25}\n");
+  EXPECT_EQ(RunAgent(route, {}, "lely-vector", {-10.01, -5.02, -0.5}, "lely2"), 1);
+  EXPECT_THAT(AgentLog(), HasSubstr("actions[1] (fence_navigation): no fence within 1.90 m"));
+  const v1::RobotGroundTruth& lely = Robot(Truth(), "lely2");
+  EXPECT_NEAR(lely.pose().x_m(), -10.0, 0.01);
+  EXPECT_NEAR(lely.pose().y_m(), -5.0, 0.01);
+}
+
+// A goal that is free on the map but closed off (the strip north of the fence, fenced at both
+// ends here) is refused before the robot moves.
+TEST_F(ClosedLoop, UnreachableGoalIsRefusedBeforeTheRobotMoves) {
+  std::string world = kHall;
+  const std::string fences = "fences:\n";
+  world.replace(world.find(fences), fences.size(),
+                fences +
+                    "  - {from: [12, 2.0], to: [14.9, 2.0], thickness: 0.1, height: 1.2}\n"
+                    "  - {from: [-14.9, 2.0], to: [-12, 2.0], thickness: 0.1, height: 1.2}\n");
+  const std::string file = (std::filesystem::path(::testing::TempDir()) /
+                            ("closed-hall-" + std::to_string(getpid()) + ".yaml"))
+                               .string();
+  std::ofstream(file) << world;
+  StartSim(false, 3, file);
+  const std::string route =
+      WriteRoute("  - free_navigation: {goal: {x: 0, y: 3.5, yaw_deg: 0}, speed: 0.3}\n");
+  EXPECT_EQ(RunAgent(route), 1);
+  EXPECT_THAT(AgentLog(),
+              HasSubstr("actions[0] (free_navigation): (0.00, 3.50) cannot be reached"));
+  EXPECT_NEAR(Robot(Truth(), "lely1").pose().x_m(), -10.0, 0.01);
+}
+
+// Wheels that cannot turn (the drive slowed to nothing): commanded motion, none measured — the
+// stall stops the robot after 2 s and the action fails naming it; the route is not "done".
+TEST_F(ClosedLoop, StalledDriveFailsTheAction) {
+  StartSim(/*with_gap=*/false);
+  {
+    auto stub = v1::SimService::NewStub(
+        grpc::CreateChannel(sim_address_, grpc::InsecureChannelCredentials()));
+    grpc::ClientContext context;
+    v1::InjectFaultRequest request;
+    request.set_type(v1::FAULT_TYPE_SLOW_DOWN);
+    request.set_robot_id("lely1");
+    request.set_factor(0.0);
+    v1::InjectFaultResponse response;
+    ASSERT_TRUE(stub->InjectFault(&context, request, &response).ok());
+  }
+  const std::string route = WriteRoute("  - straight: {distance: 5, speed: 0.3}\n");
+  EXPECT_EQ(RunAgent(route), 1) << AgentLog();
+  EXPECT_THAT(AgentLog(), HasSubstr("actions[0] (straight): stalled"));
+  const v1::RobotGroundTruth& lely = Robot(Truth(), "lely1");
+  EXPECT_NEAR(lely.pose().x_m(), -10.0, 0.05);
+  EXPECT_EQ(lely.collisions(), 0u);
+}
+
+// Started with a heading 45 deg off: the estimate drives off through the fence and out of the
+// hall while the robot goes straight along the fence. Beams that contradict the map that way are
+// left out (short readings are taken for unmapped robots), but an estimate off the map is no
+// place for a robot: the localizer declares itself lost and the robot stops in a controlled way
+// long before the end of its 16 m straight, touching nothing.
+TEST_F(ClosedLoop, LostLocalizationStopsTheRobot) {
+  StartSim(/*with_gap=*/false);
+  const std::string route = WriteRoute("  - straight: {distance: 16, speed: 0.3}\n");
+  EXPECT_EQ(RunAgent(route, {}, "lely-vector", {-10.0, 0.8, 45.0}), 1) << AgentLog();
+  EXPECT_THAT(AgentLog(), HasSubstr("actions[0] (straight): localization lost"));
+  const v1::RobotGroundTruth& lely = Robot(Truth(), "lely1");
+  EXPECT_LT(lely.pose().x_m(), -10.0 + 16.0 - 3.0) << AgentLog();
+  EXPECT_NEAR(lely.velocity().vx_mps(), 0.0, 0.02);
+  EXPECT_EQ(lely.collisions(), 0u);
+}
+
 // A watch at 0 Hz would flood the terminal: refused before anything is asked of a server.
 TEST(FleetnavctlProcess, WatchRateMustBePositive) {
   const std::string dir = ::testing::TempDir();

@@ -31,7 +31,7 @@ Agent::Agent(RouteContext context, AgentPorts ports, std::optional<Route> route,
 }
 
 void Agent::StartRoute(Route route) {
-  executor_.emplace(std::move(route), context_, params_.modes);
+  executor_.emplace(std::move(route), context_, params_.modes, localizer().estimate().pose_in_map);
   reported_action_ = -1;
   finished_action_ = -1;
   paused_ = false;

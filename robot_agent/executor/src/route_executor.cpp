@@ -3,15 +3,20 @@
 #include <algorithm>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/robot_agent/route_site_check.hpp"
 
 namespace fleetnav::agent {
 
-RouteExecutor::RouteExecutor(Route route, RouteContext context, ModeParams params)
+RouteExecutor::RouteExecutor(Route route, RouteContext context, ModeParams params,
+                             std::optional<Pose2> start_in_map)
     : route_(std::move(route)), context_(std::move(context)), params_(params) {
   if (absl::Status s = params_.Validate(); !s.ok()) {
     failure_ = absl::InvalidArgumentError(absl::StrCat("mode parameters: ", s.message()));
   } else {
     failure_ = CheckRoute(route_, context_, params_);
+  }
+  if (failure_.ok() && start_in_map.has_value()) {
+    failure_ = CheckRouteOnSite(route_, context_, *start_in_map);
   }
   if (!failure_.ok()) state_ = ExecutionState::kFailed;
 }

@@ -43,6 +43,7 @@ absl::Status AmclParams::Validate() const {
       {cluster_bin_yaw_rad, 1e-3, 2.0 * kPi, "cluster_bin_yaw_rad"},
       {lost_likelihood_score, 0.0, 1.0, "lost_likelihood_score"},
       {lost_position_stddev_m, 0.0, 1e4, "lost_position_stddev_m"},
+      {lost_obstacle_distance_m, 0.0, 1e4, "lost_obstacle_distance_m"},
       {confidence_stddev_m, 1e-6, 1e4, "confidence_stddev_m"},
       {tempering_min_ess_ratio, 0.0, 1.0, "tempering_min_ess_ratio"},
       {reference_likelihood_score, 0.0, 1.0, "reference_likelihood_score"},
@@ -124,6 +125,7 @@ absl::Status Amcl::InitializePose(const Pose2& pose_in_map, const Eigen::Vector3
   force_update_ = true;
   w_slow_ = w_fast_ = 0.0;
   low_score_updates_ = 0;
+  impossible_place_updates_ = 0;
   RecomputeEstimate(stamp_ns);
   return absl::OkStatus();
 }
@@ -144,6 +146,7 @@ absl::Status Amcl::InitializeGlobal(const Pose2& pose_in_odom, int64_t stamp_ns)
   force_update_ = true;
   w_slow_ = w_fast_ = 0.0;
   low_score_updates_ = 0;
+  impossible_place_updates_ = 0;
   RecomputeEstimate(stamp_ns);
   return absl::OkStatus();
 }
@@ -166,6 +169,8 @@ absl::StatusOr<bool> Amcl::PredictIfMoved(const Pose2& pose_in_odom) {
     return false;
   }
   if (absl::Status s = Predict(pose_in_odom); !s.ok()) return s;
+  // No range reading to weigh by: the estimate's place alone can still show it wrong.
+  CountPlace(PoseInMap(pose_in_odom));
   return true;
 }
 
@@ -341,7 +346,17 @@ void Amcl::UpdateHealth(int64_t /*stamp_ns*/) {
   const double spread = std::exp(-health_.position_stddev_m / params_.confidence_stddev_m);
   health_.confidence =
       std::clamp(health_.likelihood_score * spread * estimate_.cluster_weight, 0.0, 1.0);
+  CountPlace(estimate_.pose_in_map);
+}
+
+void Amcl::CountPlace(const Pose2& pose_in_map) {
+  const auto x = static_cast<float>(pose_in_map.x_m());
+  const auto y = static_cast<float>(pose_in_map.y_m());
+  const bool impossible_place =
+      !field_->Contains(x, y) || field_->DistanceM(x, y) < params_.lost_obstacle_distance_m;
+  impossible_place_updates_ = impossible_place ? impossible_place_updates_ + 1 : 0;
   health_.lost = low_score_updates_ >= params_.lost_min_updates ||
+                 impossible_place_updates_ >= params_.lost_min_updates ||
                  health_.position_stddev_m > params_.lost_position_stddev_m;
 }
 

@@ -2,6 +2,7 @@
 
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,12 +34,15 @@ struct ExecutorOutput {
 /// condition holds — its own distance or angle, or a calibration marker that the localizer
 /// detected (never the simulator's truth). The whole route is checked before the first tick
 /// moves the robot: an action this agent cannot run fails the route at once, naming its index,
-/// so nothing is half-executed. Abort() stops it (safety stop). Traffic coordination gates it:
+/// and so does, given the pose the robot starts at, an action the site does not allow
+/// (CheckRouteOnSite: a fence leg with no fence near, an unreachable goal), so nothing is
+/// half-executed. Abort() stops it (safety stop). Traffic coordination gates it:
 /// an action starts only when its index is at most SetClearedUpTo's (no gate by default); until
 /// then the robot stands and Step reports `waiting`. Not thread-safe.
 class RouteExecutor {
  public:
-  RouteExecutor(Route route, RouteContext context, ModeParams params = {});
+  RouteExecutor(Route route, RouteContext context, ModeParams params = {},
+                std::optional<Pose2> start_in_map = std::nullopt);
 
   /// One control tick. `detected_markers` are the calibration markers the localizer associated
   /// with an inductive edge this tick.

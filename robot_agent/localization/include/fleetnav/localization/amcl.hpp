@@ -63,11 +63,15 @@ struct AmclParams {
   double cluster_bin_xy_m = 0.5;
   double cluster_bin_yaw_rad = DegToRad(30.0);
   /// Health: the filter is lost when the per-beam likelihood score stays below
-  /// lost_likelihood_score for lost_min_updates updates, or when the best cluster's position
-  /// standard deviation exceeds lost_position_stddev_m.
+  /// lost_likelihood_score for lost_min_updates updates, when the estimate stays off the map or
+  /// within lost_obstacle_distance_m of an occupied cell (inside a wall: no robot is there) for
+  /// lost_min_updates updates, or when the best cluster's position standard deviation exceeds
+  /// lost_position_stddev_m. Beams that the likelihood field leaves out (short readings of
+  /// unmapped obstacles, silent sensors) never show a wrong estimate; its place does.
   double lost_likelihood_score = 0.1;
   int lost_min_updates = 3;
   double lost_position_stddev_m = 1.0;
+  double lost_obstacle_distance_m = 0.05;
   /// Position spread at which the spread factor of the confidence score falls to 1/e.
   double confidence_stddev_m = 0.25;
   MotionModelParams motion;
@@ -167,6 +171,9 @@ class Amcl {
   Amcl(const AmclParams& params, std::unique_ptr<LikelihoodField> field,
        std::unique_ptr<BeamModel> beam, const OccupancyGrid& map);
   void UpdateHealth(int64_t stamp_ns);
+  /// Counts an update whose estimate is off the map or inside an obstacle, and sets
+  /// health_.lost.
+  void CountPlace(const Pose2& pose_in_map);
   bool GloballyUncertain() const;
 
   AmclParams params_;
@@ -187,6 +194,7 @@ class Amcl {
   double w_fast_ = 0.0;
   double last_score_ = 1.0;
   int low_score_updates_ = 0;
+  int impossible_place_updates_ = 0;
   AmclEstimate estimate_;
   LocalizationHealth health_;
   AmclUpdateStats stats_;

@@ -79,6 +79,8 @@ class LikelihoodField {
   float LogFree(float x_m, float y_m) const { return log_free_[CellOf(x_m, y_m)]; }
   /// Distance to the nearest occupied cell (capped at max_distance_m).
   float DistanceM(float x_m, float y_m) const { return distance_m_[CellOf(x_m, y_m)]; }
+  /// True when (x, y) lies on the map.
+  bool Contains(float x_m, float y_m) const { return CellOf(x_m, y_m) != outside_; }
   /// The best value a beam can score (end point on an obstacle).
   float max_log_hit() const { return max_log_hit_; }
   const LikelihoodFieldParams& params() const { return params_; }
