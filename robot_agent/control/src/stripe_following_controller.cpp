@@ -22,13 +22,17 @@ Eigen::Vector2d PieceEnd(const StripeMarker& piece, double sign) {
 
 absl::Status StripeFollowingParams::Validate() const {
   for (double v : {gain_radps_per_m, max_yaw_rate_radps, line_memory_m, end_tolerance_m,
-                   unknown_end_after_m, max_interruption_m, search_m}) {
+                   unknown_end_after_m, max_interruption_m, search_m, curve_lookahead_m,
+                   straight_curvature_per_m, straight_heading_rad}) {
     if (!(std::isfinite(v) && v > 0.0)) {
       return absl::InvalidArgumentError("stripe following parameters: must be finite and > 0");
     }
   }
   if (lost_after_ticks < 1 || found_after_ticks < 1) {
     return absl::InvalidArgumentError("lost_after_ticks, found_after_ticks: must be >= 1");
+  }
+  if (!(curve_yaw_share > 0.0 && curve_yaw_share <= 1.0)) {
+    return absl::InvalidArgumentError("curve_yaw_share: must be in (0, 1]");
   }
   return absl::OkStatus();
 }
@@ -45,6 +49,17 @@ StripeFollowingController::StripeFollowingController(
       reactive_mode_(reactive_mode),
       map_based_mode_(map_based_mode),
       line_(params.line_memory_m) {
+  path_ = StripePath::Build(pieces_, action_.stripe_id);
+  if (path_) {
+    ends_ = {path_->front(), path_->back()};
+    return;
+  }
+  // No chain: the pieces of the action's stripe, or all of them when none is named.
+  std::vector<StripeMarker> own;
+  for (const StripeMarker& piece : pieces_) {
+    if (piece.stripe_id == action_.stripe_id) own.push_back(piece);
+  }
+  if (!own.empty()) pieces_ = std::move(own);
   // The stripe's ends: piece ends that no other piece of the stripe shares.
   for (size_t i = 0; i < pieces_.size(); ++i) {
     for (double sign : {-1.0, 1.0}) {
@@ -63,6 +78,14 @@ StripeFollowingController::StripeFollowingController(
 double StripeFollowingController::DistanceToStripeEnd(const Eigen::Vector2d& point) const {
   double best = std::numeric_limits<double>::infinity();
   for (const Eigen::Vector2d& end : ends_) best = std::min(best, (end - point).norm());
+  if (path_) {
+    // Past an end (its foot is an end): the stripe has ended, however far the estimate ran on.
+    StripePath probe = *path_;
+    const StripePath::Foot foot = probe.Project(point);
+    return foot.s_m <= kDistanceToleranceM || foot.s_m >= path_->length_m() - kDistanceToleranceM
+               ? 0.0
+               : best;
+  }
   // Past an end (the nearest point of the stripe is that end): the stripe has ended, however far
   // the estimate has run on (wheel slip makes odometry run ahead).
   double nearest = std::numeric_limits<double>::infinity();
@@ -85,6 +108,11 @@ double StripeFollowingController::DistanceToStripeEnd(const Eigen::Vector2d& poi
 
 void StripeFollowingController::FallbackLine(const Eigen::Vector2d& point, Eigen::Vector2d* on_line,
                                              Eigen::Vector2d* direction) const {
+  if (foot_) {
+    *on_line = foot_->point;
+    *direction = foot_->tangent;
+    return;
+  }
   double best = std::numeric_limits<double>::infinity();
   for (const StripeMarker& piece : pieces_) {
     const Line2 line = piece.AsLine();
@@ -112,7 +140,9 @@ ControlOutput StripeFollowingController::Step(const ControlInput& input) {
     started_ = true;
     last_odom_ = input.pose_in_odom;
     line_.Assume(sensor_in_map.translation(), heading);
+    if (path_) path_->OrientAlong(sensor_in_map.translation(), heading);
   }
+  if (path_) foot_ = path_->Project(sensor_in_map.translation());
   const Pose2 moved = Between(last_odom_, input.pose_in_odom);
   const double step_m = std::hypot(moved.x_m(), moved.y_m());
   travelled_m_ += step_m;
@@ -190,11 +220,45 @@ ControlOutput StripeFollowingController::Step(const ControlInput& input) {
     const Eigen::Vector2d normal(-direction.y(), direction.x());
     error_m = -(sensor_in_map.translation() - on_line).dot(normal);
   }
-  const double yaw_rate = std::clamp(params_.gain_radps_per_m * error_m,
-                                     -params_.max_yaw_rate_radps, params_.max_yaw_rate_radps);
-  const double speed =
-      profile_.NextSpeed(action_.speed_mps, last_speed_mps_, remaining_m, input.dt_s);
-  last_speed_mps_ = speed;
+  // The sensor's speed along the stripe, slowed for the sharpest curve just ahead.
+  double target_mps = action_.speed_mps;
+  if (foot_) {
+    const double ahead = path_->MaxCurvatureAhead(foot_->s_m, params_.curve_lookahead_m);
+    if (ahead > 1e-6) {
+      target_mps =
+          std::min(target_mps, params_.curve_yaw_share * params_.max_yaw_rate_radps / ahead);
+    }
+  }
+  const double sensor_mps =
+      profile_.NextSpeed(target_mps, last_speed_mps_, remaining_m, input.dt_s);
+  last_speed_mps_ = sensor_mps;
+  const double lead_m = input.perception.stripe_sensor_x_m;
+  double speed = sensor_mps;
+  double yaw_rate = params_.gain_radps_per_m * error_m;
+  if (foot_ && lead_m > 1e-3) {
+    // Near a curve, or still turned from one, the sensor point is steered along the known
+    // stripe (feedback linearization of the point L ahead of the axle): its velocity is the
+    // stripe's tangent at the sensor's speed plus the lateral correction, which the robot
+    // produces with v = ṡ·h and ω = ṡ·h⊥ / L. On straight stripes the P law alone, which needs
+    // no estimated heading.
+    const Eigen::Vector2d& tangent = foot_->tangent;
+    const Eigen::Vector2d left(-heading.y(), heading.x());
+    const bool turned = tangent.dot(heading) < std::cos(params_.straight_heading_rad);
+    const bool near_curve =
+        path_->MaxCurvatureAhead(foot_->s_m - lead_m, lead_m + params_.curve_lookahead_m) >
+        params_.straight_curvature_per_m;
+    if (turned || near_curve) {
+      const Eigen::Vector2d normal(-tangent.y(), tangent.x());
+      const Eigen::Vector2d sensor_velocity =
+          sensor_mps * tangent + params_.gain_radps_per_m * lead_m * error_m * normal;
+      speed = std::max(0.0, sensor_velocity.dot(heading));
+      yaw_rate = sensor_velocity.dot(left) / lead_m;
+      if (std::abs(yaw_rate) > params_.max_yaw_rate_radps) {
+        speed *= params_.max_yaw_rate_radps / std::abs(yaw_rate);
+      }
+    }
+  }
+  yaw_rate = std::clamp(yaw_rate, -params_.max_yaw_rate_radps, params_.max_yaw_rate_radps);
   out.command = Twist2{speed, 0.0, yaw_rate};
   return out;
 }

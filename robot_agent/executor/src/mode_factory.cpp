@@ -173,9 +173,8 @@ absl::StatusOr<std::unique_ptr<MotionController>> MakeController(const RouteActi
   }
   if (const auto* stripe = std::get_if<StripeNavigationAction>(&action.params)) {
     return std::make_unique<StripeFollowingController>(
-        *stripe, action.end.kind,
-        StripePieces(context, stripe->stripe_id, MarkerKind::kFollowStripe), params.profile,
-        params.stripe);
+        *stripe, action.end.kind, StripePieces(context, 0, MarkerKind::kFollowStripe),
+        params.profile, params.stripe);
   }
   return std::make_unique<ChargerDockingController>(
       StripePieces(context, 0, MarkerKind::kChargerStripe), params.profile, params.stripe,

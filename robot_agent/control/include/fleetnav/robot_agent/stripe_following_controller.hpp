@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 #include "fleetnav/robot_agent/line_memory.hpp"
 #include "fleetnav/robot_agent/motion_controller.hpp"
 #include "fleetnav/robot_agent/motion_controllers.hpp"
+#include "fleetnav/robot_agent/stripe_path.hpp"
 
 namespace fleetnav::agent {
 
@@ -34,20 +36,36 @@ struct StripeFollowingParams {
   /// A leg may start this far before its stripe (a straight before it came up short on a
   /// slippery floor); no reading by then fails the leg.
   double search_m = 1.0;
+  /// On curves the sensor's speed along the stripe is held to this share of max_yaw_rate_radps
+  /// times the radius (the rest is left to the lateral correction), from this far ahead.
+  double curve_yaw_share = 0.7;
+  double curve_lookahead_m = 0.3;
+  /// The sensor point is steered along the known stripe (not by the P law alone) where the
+  /// stripe within a sensor lead behind and curve_lookahead_m ahead curves more than this, or
+  /// while the robot's heading is further than straight_heading_rad off the stripe.
+  double straight_curvature_per_m = 0.05;
+  double straight_heading_rad = 0.06;
   absl::Status Validate() const;
 };
 
 /// Stripe navigation (Lely thesis §6.6.4, Fig. 6.14): a P law on the lateral offset that the
-/// inductive sensors read of the stripe under them. Where the reading is lost, the pieces of the
-/// stripe in the marker set (kind follow_stripe / charger_stripe, joined by stripe_id) tell an
-/// end from an interruption: near one of the stripe's ends the stripe has ended (the action is
-/// done when it ends on stripe_end); elsewhere the robot goes on map-based, on the estimated
-/// pose, along the known stripe piece nearest to it (or, without a marker set, along the line
-/// fitted through the stripe points it measured), until the stripe answers again. A distance of
-/// 0 runs until the end condition. Not thread-safe.
+/// inductive sensors read of the stripe under them. The marker set's pieces (kind follow_stripe /
+/// charger_stripe, joined by stripe_id) are chained with the stripes joined to them end to end
+/// (StripePath): the sensor cannot tell where one stripe ends and the arc joined to it begins,
+/// so the leg follows through joints. Near a curve the sensor point (L = 0.485 m ahead of the
+/// axle on the Lely) is steered along the known stripe by feedback linearization — its velocity
+/// the stripe's tangent at speed s plus the lateral correction, made with v = ṡ·h and
+/// ω = ṡ·h⊥ / L — so it stays on a 0.5 m arc while the robot turns almost in place (s slowed
+/// ahead of the curve so the turn stays within the yaw-rate limit). Where the reading is lost, the
+/// chained pieces tell an end from an interruption: near one of the path's ends the stripe has
+/// ended (the action is done when it ends on stripe_end); elsewhere the robot goes on map-based, on
+/// the estimated pose, along the known path (or, without a marker set, along the line fitted
+/// through the stripe points it measured), until the stripe answers again. A distance of 0 runs
+/// until the end condition. Not thread-safe.
 class StripeFollowingController : public MotionController {
  public:
-  /// `stripe_pieces`: the marker set's pieces of this stripe (may be empty).
+  /// `stripe_pieces`: the marker set's pieces of this kind (may be empty); those of the action's
+  /// stripe and of the stripes joined to it are followed.
   StripeFollowingController(const StripeNavigationAction& action, EndConditionKind end,
                             std::vector<StripeMarker> stripe_pieces, MotionProfile profile,
                             StripeFollowingParams params = {},
@@ -65,6 +83,8 @@ class StripeFollowingController : public MotionController {
   StripeNavigationAction action_;
   EndConditionKind end_;
   std::vector<StripeMarker> pieces_;
+  std::optional<StripePath> path_;
+  std::optional<StripePath::Foot> foot_;  ///< of the sensor's estimate this tick
   std::vector<Eigen::Vector2d> ends_;
   MotionProfile profile_;
   StripeFollowingParams params_;
