@@ -203,7 +203,8 @@ absl::StatusOr<AgentResult> Agent::Run() {
     const std::string job_for_telemetry = current_job_id_;
     if (executor_ && executor_->state() == ExecutionState::kRunning) {
       const SafetyVerdict& verdict =
-          safety_.Check(input.perception, last_command_, estimate.velocity, estimate.lost, dt_s);
+          safety_.Check(input.perception, last_command_, estimate.velocity, estimate.lost, dt_s,
+                        estimate.lost_reason);
       if (verdict.stop != SafetyStop::kNone) {
         result.safety_stop = verdict.stop;
         if (verdict.stop == SafetyStop::kBumper) {

@@ -25,7 +25,7 @@ void SafetyMonitor::Reset() {
 
 const SafetyVerdict& SafetyMonitor::Check(const Perception& perception, const Twist2& commanded,
                                           const Twist2& measured, bool localization_lost,
-                                          double dt_s) {
+                                          double dt_s, std::string_view lost_reason) {
   if (verdict_.stop != SafetyStop::kNone) return verdict_;
   if (perception.bumper) {
     verdict_ = {SafetyStop::kBumper, "bumper pressed: the robot touched something and stopped"};
@@ -46,8 +46,11 @@ const SafetyVerdict& SafetyMonitor::Check(const Perception& perception, const Tw
   }
   lost_s_ = localization_lost ? lost_s_ + dt_s : 0.0;
   if (localization_lost && lost_s_ >= params_.lost_after_s) {
-    verdict_ = {SafetyStop::kLocalizationLost,
-                absl::StrFormat("localization lost for %.1f s: the robot stopped", lost_s_)};
+    verdict_ = {
+        SafetyStop::kLocalizationLost,
+        absl::StrFormat("localization lost for %.1f s%s: the robot stopped", lost_s_,
+                        lost_reason.empty() ? std::string()
+                                            : absl::StrCat(" (", std::string(lost_reason), ")"))};
   }
   return verdict_;
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 
 namespace fleetnav::localization {
 namespace {
@@ -44,6 +45,9 @@ absl::Status AmclParams::Validate() const {
       {lost_likelihood_score, 0.0, 1.0, "lost_likelihood_score"},
       {lost_position_stddev_m, 0.0, 1e4, "lost_position_stddev_m"},
       {lost_obstacle_distance_m, 0.0, 1e4, "lost_obstacle_distance_m"},
+      {roughening_stddev_m, 0.0, 10.0, "roughening_stddev_m"},
+      {roughening_stddev_rad, 0.0, kPi, "roughening_stddev_rad"},
+      {roughening_below_score, 0.0, 1.0, "roughening_below_score"},
       {confidence_stddev_m, 1e-6, 1e4, "confidence_stddev_m"},
       {tempering_min_ess_ratio, 0.0, 1.0, "tempering_min_ess_ratio"},
       {reference_likelihood_score, 0.0, 1.0, "reference_likelihood_score"},
@@ -355,9 +359,20 @@ void Amcl::CountPlace(const Pose2& pose_in_map) {
   const bool impossible_place =
       !field_->Contains(x, y) || field_->DistanceM(x, y) < params_.lost_obstacle_distance_m;
   impossible_place_updates_ = impossible_place ? impossible_place_updates_ + 1 : 0;
-  health_.lost = low_score_updates_ >= params_.lost_min_updates ||
-                 impossible_place_updates_ >= params_.lost_min_updates ||
-                 health_.position_stddev_m > params_.lost_position_stddev_m;
+  health_.lost_reason.clear();
+  if (low_score_updates_ >= params_.lost_min_updates) {
+    health_.lost_reason = absl::StrFormat("the map has explained no range reading for %d updates",
+                                          low_score_updates_);
+  } else if (impossible_place_updates_ >= params_.lost_min_updates) {
+    health_.lost_reason = absl::StrFormat(
+        "the estimate (%.2f, %.2f) has been off the map or inside an obstacle for %d updates",
+        pose_in_map.x_m(), pose_in_map.y_m(), impossible_place_updates_);
+  } else if (health_.position_stddev_m > params_.lost_position_stddev_m) {
+    health_.lost_reason =
+        absl::StrFormat("the particle cloud is %.2f m wide (limit %.2f m)",
+                        health_.position_stddev_m, params_.lost_position_stddev_m);
+  }
+  health_.lost = !health_.lost_reason.empty();
 }
 
 absl::StatusOr<bool> Amcl::Update(const Pose2& pose_in_odom, const RangeObservation& observation,
@@ -384,8 +399,23 @@ absl::StatusOr<bool> Amcl::Update(const Pose2& pose_in_odom, const RangeObservat
     low_score_updates_ = 0;
   }
   Resample();
+  // Only after travel: turning in place, two beams sweep across surfaces at grazing angles and
+  // fit badly for a while without the position being in doubt.
+  if (last_score_ < params_.roughening_below_score && moved_m >= params_.update_min_distance_m) {
+    Roughen();
+  }
   RecomputeEstimate(stamp_ns);
   return true;
+}
+
+void Amcl::Roughen() {
+  if (params_.roughening_stddev_m <= 0.0 && params_.roughening_stddev_rad <= 0.0) return;
+  ParticleSet& p = particles_;
+  for (size_t i = 0; i < p.size(); ++i) {
+    p.x_m[i] += static_cast<float>(params_.roughening_stddev_m * rng_.Normal());
+    p.y_m[i] += static_cast<float>(params_.roughening_stddev_m * rng_.Normal());
+    p.yaw_rad[i] += static_cast<float>(params_.roughening_stddev_rad * rng_.Normal());
+  }
 }
 
 }  // namespace fleetnav::localization

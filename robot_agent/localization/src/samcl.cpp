@@ -1,6 +1,8 @@
 #include "fleetnav/localization/samcl.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "absl/strings/str_cat.h"
 #include "fleetnav/core/angles.hpp"
@@ -23,7 +25,45 @@ absl::Status SamclParams::Validate() const {
   if (!(std::isfinite(odometry_history_s) && odometry_history_s > 0.0)) {
     return absl::InvalidArgumentError("odometry_history_s must be finite and > 0");
   }
+  if (!(std::isfinite(far_association_radius_m) && far_association_radius_m >= 0.0)) {
+    return absl::InvalidArgumentError("far_association_radius_m must be finite and >= 0");
+  }
   return absl::OkStatus();
+}
+
+const StripeMarker* Samcl::FarMarker(const Eigen::Vector2d& sensor_estimate,
+                                     const Eigen::Vector2d& heading) const {
+  const StripeMarker* nearest = nullptr;
+  double nearest_m = std::numeric_limits<double>::infinity();
+  double second_m = std::numeric_limits<double>::infinity();
+  for (const StripeMarker& m : markers_.markers) {
+    const Eigen::Vector2d along(std::cos(m.yaw_rad), std::sin(m.yaw_rad));
+    const bool crosses_travel =
+        std::abs(heading.dot(along)) <= std::cos(params_.min_crossing_angle_rad);
+    if (m.kind != MarkerKind::kCalibration) {
+      // A stripe crossed nearby may be what the sensor felt: then nothing is associated.
+      const Line2 line = m.AsLine();
+      const double t = std::clamp((sensor_estimate - line.point).dot(line.direction),
+                                  -0.5 * m.length_m, 0.5 * m.length_m);
+      const double distance_m = (line.point + t * line.direction - sensor_estimate).norm();
+      if (crosses_travel && distance_m < params_.far_association_radius_m) return nullptr;
+      continue;
+    }
+    if (!crosses_travel) continue;
+    const double distance_m = (m.position_m - sensor_estimate).norm();
+    if (distance_m < nearest_m) {
+      second_m = nearest_m;
+      nearest_m = distance_m;
+      nearest = &m;
+    } else {
+      second_m = std::min(second_m, distance_m);
+    }
+  }
+  if (nearest == nullptr || nearest_m >= params_.far_association_radius_m ||
+      second_m < 2.0 * nearest_m) {
+    return nullptr;
+  }
+  return nearest;
 }
 
 absl::StatusOr<Samcl> Samcl::Create(Amcl amcl, MarkerSet markers, RobotModel model,
@@ -97,6 +137,11 @@ absl::StatusOr<CalibrationResult> Samcl::OnInductiveEdge(const InductiveEdge& ed
       marker = &m;
       ++candidates;
     }
+  }
+  if (candidates == 0 && params_.far_association_radius_m > params_.association_radius_m) {
+    marker = FarMarker(sensor_estimate, heading);
+    if (marker == nullptr) return result;
+    candidates = 1;
   }
   if (candidates == 0) return result;
   if (candidates > 1) {

@@ -40,6 +40,11 @@ AmclParams DefaultAgentAmclParams() {
   p.lost_position_stddev_m = 0.5;
   p.lost_likelihood_score = 0.05;
   p.lost_min_updates = 40;
+  // The small motion noise above makes the cloud a few centimetres wide: where the ranges stop
+  // fitting (an along-track error turned across by a turn), jitter it so it can move.
+  p.roughening_stddev_m = 0.02;
+  p.roughening_stddev_rad = DegToRad(0.3);
+  p.roughening_below_score = 0.3;
   return p;
 }
 
@@ -284,6 +289,7 @@ absl::Status SamclLocalizer::Update(const SensorFrame& frame) {
   estimate_.covariance = amcl.estimate().covariance;
   estimate_.confidence = amcl.health().confidence;
   estimate_.lost = amcl.health().lost;
+  estimate_.lost_reason = amcl.health().lost_reason;
   return absl::OkStatus();
 }
 

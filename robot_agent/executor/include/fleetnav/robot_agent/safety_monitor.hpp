@@ -1,6 +1,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 
 #include "absl/status/status.h"
 #include "fleetnav/core/robot_state.hpp"
@@ -34,9 +35,11 @@ struct SafetyVerdict {
 class SafetyMonitor {
  public:
   explicit SafetyMonitor(SafetyParams params = {}) : params_(params) {}
-  /// `commanded` is the twist sent on the previous tick; `measured` the odometry's twist.
+  /// `commanded` is the twist sent on the previous tick; `measured` the odometry's twist;
+  /// `lost_reason` says why the localizer counts itself lost (may be empty).
   const SafetyVerdict& Check(const Perception& perception, const Twist2& commanded,
-                             const Twist2& measured, bool localization_lost, double dt_s);
+                             const Twist2& measured, bool localization_lost, double dt_s,
+                             std::string_view lost_reason = {});
   const SafetyVerdict& verdict() const { return verdict_; }
   void Reset();
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "absl/status/status.h"
@@ -72,6 +73,15 @@ struct AmclParams {
   int lost_min_updates = 3;
   double lost_position_stddev_m = 1.0;
   double lost_obstacle_distance_m = 0.05;
+  /// Roughening (Gordon, Salmond and Smith 1993): after an update that followed travel (not a
+  /// turn in place) and whose likelihood score is below roughening_below_score, every particle
+  /// is jittered by a zero-mean Gaussian of this
+  /// standard deviation in x and y (and roughening_stddev_rad in yaw), so that a cloud made
+  /// over-confident by a small motion noise can still reach the truth a few decimetres away
+  /// instead of declaring itself lost. 0 disables.
+  double roughening_stddev_m = 0.0;
+  double roughening_stddev_rad = 0.0;
+  double roughening_below_score = 0.3;
   /// Position spread at which the spread factor of the confidence score falls to 1/e.
   double confidence_stddev_m = 0.25;
   MotionModelParams motion;
@@ -100,6 +110,7 @@ struct AmclEstimate {
 struct LocalizationHealth {
   double confidence = 0.0;
   bool lost = true;
+  std::string lost_reason;        ///< why it is lost, for people
   double likelihood_score = 0.0;  ///< per-beam geometric mean likelihood / its best value
   double position_stddev_m = 0.0;
   double yaw_stddev_rad = 0.0;
@@ -171,6 +182,8 @@ class Amcl {
   Amcl(const AmclParams& params, std::unique_ptr<LikelihoodField> field,
        std::unique_ptr<BeamModel> beam, const OccupancyGrid& map);
   void UpdateHealth(int64_t stamp_ns);
+  /// Jitters every particle (AmclParams::roughening_stddev_m / _rad).
+  void Roughen();
   /// Counts an update whose estimate is off the map or inside an obstacle, and sets
   /// health_.lost.
   void CountPlace(const Pose2& pose_in_map);

@@ -22,6 +22,7 @@ struct LocalizerEstimate {
   double confidence = 0.0;
   /// The estimate has diverged: the robot must stop.
   bool lost = false;
+  std::string lost_reason;  ///< why, for people (empty while not lost)
   /// Path length driven (m), forward and backward both counted positive.
   double distance_travelled_m = 0.0;
   int64_t stamp_ns = 0;

@@ -25,6 +25,11 @@ struct SamclParams {
   /// h of Algorithm 4: a marker is associated when the estimated sensor point is within this
   /// distance of the marker's position.
   double association_radius_m = 1.0;
+  /// With no marker within association_radius_m (wheel slip ran the estimate further along),
+  /// the nearest marker within this distance is still associated when it is unambiguous: every
+  /// other marker at least twice as far, and no stripe crossing the travel (whose edge the
+  /// sensor may have felt) that near. 0 disables.
+  double far_association_radius_m = 0.0;
   /// A marker is associated only when the robot crosses it at least this steeply (markers lie
   /// across the travel; a stripe crossed near one is not the marker).
   double min_crossing_angle_rad = 0.5;
@@ -89,6 +94,11 @@ class Samcl {
         markers_(std::move(markers)),
         model_(std::move(model)),
         params_(params) {}
+
+  /// The marker far association picks for an edge felt at `sensor_estimate` (see
+  /// SamclParams::far_association_radius_m), or nullptr.
+  const StripeMarker* FarMarker(const Eigen::Vector2d& sensor_estimate,
+                                const Eigen::Vector2d& heading) const;
 
   Amcl amcl_;
   MarkerSet markers_;
