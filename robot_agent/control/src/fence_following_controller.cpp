@@ -24,6 +24,10 @@ absl::Status FenceFollowingParams::Validate() const {
   if (!(std::isfinite(outlier_m) && outlier_m > 0.0)) {
     return absl::InvalidArgumentError("outlier_m: must be finite and > 0");
   }
+  if (!(std::isfinite(start_offset_m) && start_offset_m >= 0.0 && std::isfinite(start_search_m) &&
+        start_search_m >= 0.0)) {
+    return absl::InvalidArgumentError("start_offset_m, start_search_m: must be finite and >= 0");
+  }
   if (lost_after_ticks < 1 || found_after_ticks < 1) {
     return absl::InvalidArgumentError("lost_after_ticks, found_after_ticks: must be >= 1");
   }
@@ -53,18 +57,27 @@ ControlOutput FenceFollowingController::Step(const ControlInput& input) {
   const Pose2 sensor_in_map = input.pose_in_map * ultrasonic_.pose_in_base;
   const Eigen::Vector2d heading(std::cos(input.pose_in_map.yaw_rad()),
                                 std::sin(input.pose_in_map.yaw_rad()));
+  const Eigen::Vector2d beam(std::cos(sensor_in_map.yaw_rad()), std::sin(sensor_in_map.yaw_rad()));
   if (!started_) {
     started_ = true;
     last_odom_ = input.pose_in_odom;
     // Until the fence has been measured, assume it runs along the start heading at the set
     // distance from the sensor.
-    const Eigen::Vector2d beam(std::cos(sensor_in_map.yaw_rad()),
-                               std::sin(sensor_in_map.yaw_rad()));
     line_.Assume(sensor_in_map.translation() + action_.fence_distance_m * beam, heading);
   }
   const Pose2 moved = Between(last_odom_, input.pose_in_odom);
   travelled_m_ += std::hypot(moved.x_m(), moved.y_m());
   last_odom_ = input.pose_in_odom;
+  // A leg may start off its distance and close in: over its first metre the first echo within
+  // start_offset_m of the set distance places the fence (a single dropout on the first tick
+  // must not leave the robot steering on the assumed line).
+  const std::optional<double>& echo =
+      action_.side == Side::kLeft ? input.perception.fence_left_m : input.perception.fence_right_m;
+  if (!fence_placed_ && travelled_m_ <= params_.start_search_m && echo.has_value() &&
+      std::abs(*echo - action_.fence_distance_m) <= params_.start_offset_m) {
+    line_.Assume(sensor_in_map.translation() + *echo * beam, heading);
+    fence_placed_ = true;
+  }
 
   ControlOutput out;
   // distance_m = 0: until the end condition (a marker) says so.

@@ -104,6 +104,17 @@ TEST(FenceFollowingControllerTest, GapIsBridgedMapBasedAndReactiveResumes) {
   EXPECT_NE(run.reasons[0].find("no echo from the left fence"), std::string::npos);
 }
 
+// Started 0.7 m further from the fence than its distance (where a robot that must turn in place
+// can stand): the first echo places the fence, the robot closes in reactively and holds the
+// line — it does not take the real fence for an outlier and steer on an imagined one.
+TEST(FenceFollowingControllerTest, StartOffTheDistanceClosesInReactively) {
+  const FenceRun run = Drive(Pose2(0.0, -0.7, 0.0), 1e9, 1e9, 12.0);
+  ASSERT_TRUE(run.done);
+  EXPECT_LT(run.max_error_after_settling_m, 0.03);
+  ASSERT_EQ(run.modes.size(), 1u);
+  EXPECT_EQ(run.modes[0], NavigationMode::kFenceReactive);
+}
+
 TEST(FenceFollowingControllerTest, ParamsAreValidated) {
   FenceFollowingParams params;
   EXPECT_TRUE(params.Validate().ok());
@@ -111,6 +122,9 @@ TEST(FenceFollowingControllerTest, ParamsAreValidated) {
   EXPECT_EQ(params.Validate().code(), absl::StatusCode::kInvalidArgument);
   params = {};
   params.lost_after_ticks = 0;
+  EXPECT_EQ(params.Validate().code(), absl::StatusCode::kInvalidArgument);
+  params = {};
+  params.start_offset_m = -1.0;
   EXPECT_EQ(params.Validate().code(), absl::StatusCode::kInvalidArgument);
 }
 

@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "fleetnav/core/pose2.hpp"
@@ -25,6 +26,9 @@ enum class NavigationMode {
   kPaused,
   kFault,
 };
+
+/// The mode's name in logs and recordings: "fence_map_based", "stripe_reactive", ...
+std::string_view NavigationModeName(NavigationMode mode);
 
 enum class ConnectionState { kOnline, kStale, kOffline };
 

@@ -9,8 +9,9 @@
 namespace fleetnav::agent {
 
 /// A TelemetrySink that writes each message's estimated position as a CSV line
-/// "robot_id,estimate,x,y,t_s" (the trajectory format of fleetnav-sim --render, t_s the robot's
-/// clock: sim time in a simulated run) and passes the message on to the next sink. The stream
+/// "robot_id,estimate,x,y,t_s,mode,action_index" (the trajectory format of fleetnav-sim
+/// --render, which reads the first four fields; t_s the robot's clock: sim time in a simulated
+/// run; mode as NavigationModeName) and passes the message on to the next sink. The stream
 /// must outlive it. Not thread-safe.
 class TelemetryRecorder : public TelemetrySink {
  public:

@@ -19,6 +19,10 @@ struct FenceFollowingParams {
   double max_yaw_rate_radps = 0.25;
   /// A reading further than this from the expected distance is a post, a cow or noise.
   double outlier_m = 0.5;
+  /// A leg may start up to this far off its fence distance: the first echo within the first
+  /// start_search_m of travel places the fence.
+  double start_offset_m = 1.0;
+  double start_search_m = 1.0;
   /// Ticks without a usable echo before map-based fallback, and ticks with echoes before the
   /// reactive law takes over again (hysteresis against single dropouts).
   int lost_after_ticks = 5;
@@ -51,6 +55,7 @@ class FenceFollowingController : public MotionController {
   FenceFollowingParams params_;
   double side_sign_;  ///< +1 when the fence is on the left
   bool started_ = false;
+  bool fence_placed_ = false;  ///< an echo placed the fence line at the leg's start
   Pose2 last_odom_;
   double travelled_m_ = 0.0;
   double last_speed_mps_ = 0.0;
