@@ -142,6 +142,22 @@ class ClosedLoop : public ::testing::Test {
 
   std::string AgentLog() const { return agent_ ? agent_->Stderr() + agent_->Stdout() : ""; }
 
+  /// Runs a shipped route for lely1 from the middle of a shipped barn world and expects it
+  /// docked by the truth: no contact, heading west on the charger stripe, the contact 5 cm short
+  /// of the pole's face.
+  void RunBarnRouteAndExpectDocked(const std::string& world, const std::string& route) {
+    StartSim(false, 5, std::string(FLEETNAV_WORLDS_DIR) + "/" + world);
+    ASSERT_EQ(RunAgent(std::string(FLEETNAV_ROUTES_DIR) + "/" + route, {}, "lely-vector",
+                       {-5.48, 0.02, 0.5}),
+              0)
+        << AgentLog();
+    const v1::RobotGroundTruth& lely = Robot(Truth(), "lely1");
+    EXPECT_EQ(lely.collisions(), 0u) << AgentLog();
+    EXPECT_NEAR(lely.pose().x_m(), -9.91, 0.05) << AgentLog();
+    EXPECT_NEAR(lely.pose().y_m(), 0.0, 0.03) << AgentLog();
+    EXPECT_GT(std::abs(lely.pose().yaw_rad()), 3.1);
+  }
+
   void TearDown() override {
     if (sim_) sim_->Stop();
   }
@@ -248,17 +264,7 @@ TEST_F(ClosedLoop, StripeLegAcrossAnInterruptionThenDocksAtTheCharger) {
 class BarnFeedingRound : public ClosedLoop, public ::testing::WithParamInterface<const char*> {};
 
 TEST_P(BarnFeedingRound, CompletesWithoutContactAndDocks) {
-  StartSim(false, 5, std::string(FLEETNAV_WORLDS_DIR) + "/" + GetParam());
-  ASSERT_EQ(RunAgent(std::string(FLEETNAV_ROUTES_DIR) + "/barn_feeding.yaml", {}, "lely-vector",
-                     {-5.48, 0.02, 0.5}),
-            0)
-      << AgentLog();
-  const v1::RobotGroundTruth& lely = Robot(Truth(), "lely1");
-  EXPECT_EQ(lely.collisions(), 0u) << AgentLog();
-  // Docked: heading west on the charger stripe, the contact 5 cm short of the pole's face.
-  EXPECT_NEAR(lely.pose().x_m(), -9.91, 0.05) << AgentLog();
-  EXPECT_NEAR(lely.pose().y_m(), 0.0, 0.03) << AgentLog();
-  EXPECT_GT(std::abs(lely.pose().yaw_rad()), 3.1);
+  RunBarnRouteAndExpectDocked(GetParam(), "barn_feeding.yaml");
 }
 
 INSTANTIATE_TEST_SUITE_P(Worlds, BarnFeedingRound,
@@ -272,16 +278,7 @@ class BarnExperiment3 : public ClosedLoop, public ::testing::WithParamInterface<
 
 TEST_P(BarnExperiment3, CompletesWithoutContactAndDocks) {
   const std::string world = GetParam();
-  StartSim(false, 5, std::string(FLEETNAV_WORLDS_DIR) + "/" + world);
-  ASSERT_EQ(RunAgent(std::string(FLEETNAV_ROUTES_DIR) + "/barn_exp3.yaml", {}, "lely-vector",
-                     {-5.48, 0.02, 0.5}),
-            0)
-      << AgentLog();
-  const v1::RobotGroundTruth& lely = Robot(Truth(), "lely1");
-  EXPECT_EQ(lely.collisions(), 0u) << AgentLog();
-  EXPECT_NEAR(lely.pose().x_m(), -9.91, 0.05) << AgentLog();
-  EXPECT_NEAR(lely.pose().y_m(), 0.0, 0.03) << AgentLog();
-  EXPECT_GT(std::abs(lely.pose().yaw_rad()), 3.1);
+  RunBarnRouteAndExpectDocked(world, "barn_exp3.yaml");
   EXPECT_THAT(AgentLog(), HasSubstr("calibrated on marker 1"));
   if (world == "barn_errors.yaml") {
     EXPECT_THAT(AgentLog(), HasSubstr("action 3: no echo from the right fence"));
