@@ -93,6 +93,20 @@ TEST(RouteSiteCheckTest, FenceLegIsJudgedWhereThePreviousActionsLeaveTheRobot) {
   EXPECT_NE(s.message().find("actions[1]"), std::string::npos) << s;
 }
 
+// A straight that ends on a marker stops wherever the marker is: the fence leg after it is not
+// judged from the straight's full distance (30 m would put it through the east wall).
+TEST(RouteSiteCheckTest, NothingIsJudgedAfterAnEndWhosePlaceIsUnknown) {
+  RouteAction straight;
+  straight.params = StraightAction{30.0, 0.25};
+  straight.end.kind = EndConditionKind::kMarkerDetected;
+  straight.end.marker_id = 1;
+  EXPECT_TRUE(
+      CheckRouteOnSite(RouteOf({straight, Fence(Side::kRight, 5.0)}), Context(), kStart).ok());
+  straight.end.kind = EndConditionKind::kDistance;
+  EXPECT_FALSE(
+      CheckRouteOnSite(RouteOf({straight, Fence(Side::kRight, 5.0)}), Context(), kStart).ok());
+}
+
 TEST(RouteSiteCheckTest, ReachableGoalPasses) {
   EXPECT_TRUE(CheckRouteOnSite(RouteOf({GoTo(10.0, 2.0)}), Context(), kStart).ok());
   // Round the end of the long wall into the north strip.
