@@ -28,10 +28,14 @@ absl::StatusOr<int> SimServer::Start() {
   grpc::ServerBuilder builder;
   int port = 0;
   builder.AddListeningPort(params_.listen_address, grpc::InsecureServerCredentials(), &port);
+  // gRPC binds with SO_REUSEPORT by default: a second server on a bound port would start and
+  // the kernel would split the clients between the two. The port must be this server's alone.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.RegisterService(service_.get());
   server_ = builder.BuildAndStart();
   if (server_ == nullptr || port == 0) {
-    return absl::UnavailableError(absl::StrCat("cannot listen on '", params_.listen_address, "'"));
+    return absl::UnavailableError(absl::StrCat("cannot listen on '", params_.listen_address,
+                                               "': address already in use or not available"));
   }
   loop_ = std::thread([this] { lockstep_->Run(); });
   return port;

@@ -87,6 +87,9 @@ absl::StatusOr<int> FleetServer::Start() {
   grpc::ServerBuilder builder;
   int port = 0;
   builder.AddListeningPort(params_.listen_address, grpc::InsecureServerCredentials(), &port);
+  // gRPC binds with SO_REUSEPORT by default: a second server on a bound port would start and
+  // the kernel would split the clients between the two. The port must be this server's alone.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.SetMaxReceiveMessageSize(params_.max_message_bytes);
   builder.SetMaxSendMessageSize(params_.max_message_bytes);
   builder.RegisterService(health_service_.get());
@@ -94,7 +97,8 @@ absl::StatusOr<int> FleetServer::Start() {
   agent_service_->Register(&builder);
   server_ = builder.BuildAndStart();
   if (server_ == nullptr || port == 0) {
-    return absl::UnavailableError(absl::StrCat("cannot listen on '", params_.listen_address, "'"));
+    return absl::UnavailableError(absl::StrCat("cannot listen on '", params_.listen_address,
+                                               "': address already in use or not available"));
   }
   agent_service_->Start();
   dispatcher_ = std::thread([this] {
