@@ -175,6 +175,31 @@ TEST_F(AgentServiceTest, SecondConnectionWithSameIdReplacesTheFirst) {
   EXPECT_TRUE(second->Finish().ok());
 }
 
+// A replaced stream cannot end the robot's job either: its event is refused like its telemetry
+// (before, an event went straight through and a job could be marked failed from the old stream).
+TEST_F(AgentServiceTest, ReplacedStreamsEventIsRefused) {
+  grpc::ClientContext first_context;
+  std::unique_ptr<AgentStream> first = ConnectAs("lely1", &first_context);
+  grpc::ClientContext second_context;
+  std::unique_ptr<AgentStream> second = ConnectAs("lely1", &second_context);
+
+  v1::AgentMessage event;
+  event.mutable_event()->set_type(v1::AgentEvent::TYPE_JOB_FAILED);
+  event.mutable_event()->set_job_id("job-of-lely1");
+  event.mutable_event()->set_reason("sent on the old stream");
+  first->Write(event);
+  first->WritesDone();
+  v1::ServerMessage ignored;
+  while (first->Read(&ignored)) {
+  }
+  const grpc::Status first_status = first->Finish();
+  EXPECT_EQ(first_status.error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+  EXPECT_THAT(first_status.error_message(), HasSubstr("replaced"));
+  EXPECT_EQ(server_->registry().Get("lely1")->connection, ConnectionState::kOnline);
+  second->WritesDone();
+  EXPECT_TRUE(second->Finish().ok());
+}
+
 TEST_F(AgentServiceTest, WatchFleetStartsWithSnapshotThenSendsUpdates) {
   grpc::ClientContext agent_context;
   std::unique_ptr<AgentStream> agent = ConnectAs("lely1", &agent_context);

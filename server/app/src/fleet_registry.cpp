@@ -44,18 +44,29 @@ uint64_t FleetRegistry::Connect(const RobotIdentity& identity) {
   return entry.session;
 }
 
-absl::Status FleetRegistry::RecordTelemetry(const std::string& robot_id, uint64_t session,
-                                            const Telemetry& telemetry) {
-  absl::MutexLock lock(&mutex_);
-  Entry* found = Find(robot_id);
+absl::Status FleetRegistry::CheckSessionLocked(const std::string& robot_id,
+                                               uint64_t session) const {
+  const Entry* found = Find(robot_id);
   if (found == nullptr) {
     return absl::NotFoundError(absl::StrCat("robot '", robot_id, "' is not registered"));
   }
-  Entry& entry = *found;
-  if (entry.session != session) {
+  if (found->session != session) {
     return absl::FailedPreconditionError(
         absl::StrCat("robot '", robot_id, "' connected again; this stream was replaced"));
   }
+  return absl::OkStatus();
+}
+
+absl::Status FleetRegistry::CheckSession(const std::string& robot_id, uint64_t session) const {
+  absl::MutexLock lock(&mutex_);
+  return CheckSessionLocked(robot_id, session);
+}
+
+absl::Status FleetRegistry::RecordTelemetry(const std::string& robot_id, uint64_t session,
+                                            const Telemetry& telemetry) {
+  absl::MutexLock lock(&mutex_);
+  if (absl::Status s = CheckSessionLocked(robot_id, session); !s.ok()) return s;
+  Entry& entry = *Find(robot_id);
   entry.record.last_telemetry = telemetry;
   entry.record.last_seen_ns = clock_->NowNs();
   entry.record.connection = ConnectionState::kOnline;

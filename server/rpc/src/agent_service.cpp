@@ -145,6 +145,8 @@ class AgentConnection final {
         return recorded;
       }
       case v1::AgentMessage::kEvent: {
+        // A replaced stream must not end the job its robot now drives on its new stream.
+        if (absl::Status s = registry_->CheckSession(robot_id_, session_); !s.ok()) return s;
         absl::StatusOr<JobEvent> event = JobEventFromAgentEvent(message.event());
         if (event.ok()) {
           jobs_->OnRobotEvent(robot_id_, *event);

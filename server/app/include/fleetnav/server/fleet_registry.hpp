@@ -48,6 +48,9 @@ class FleetRegistry {
   /// FailedPrecondition for a replaced session.
   absl::Status RecordTelemetry(const std::string& robot_id, uint64_t session,
                                const Telemetry& telemetry);
+  /// OK when `session` is the robot's current stream: NotFound for an unknown robot,
+  /// FailedPrecondition for a replaced session. Every message of an agent stream is checked.
+  absl::Status CheckSession(const std::string& robot_id, uint64_t session) const;
   /// Marks the robot offline if `session` is still its current one; returns whether it was.
   bool Disconnect(const std::string& robot_id, uint64_t session);
 
@@ -76,6 +79,8 @@ class FleetRegistry {
   RobotRecord WithConnectionState(const Entry& entry) const ABSL_SHARED_LOCKS_REQUIRED(mutex_);
   Entry* Find(const std::string& robot_id) ABSL_SHARED_LOCKS_REQUIRED(mutex_);
   const Entry* Find(const std::string& robot_id) const ABSL_SHARED_LOCKS_REQUIRED(mutex_);
+  absl::Status CheckSessionLocked(const std::string& robot_id, uint64_t session) const
+      ABSL_SHARED_LOCKS_REQUIRED(mutex_);
   Entry& Insert(const std::string& robot_id) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
 
   const Clock* clock_;
