@@ -78,11 +78,11 @@ StripeFollowingController::StripeFollowingController(
 double StripeFollowingController::DistanceToStripeEnd(const Eigen::Vector2d& point) const {
   double best = std::numeric_limits<double>::infinity();
   for (const Eigen::Vector2d& end : ends_) best = std::min(best, (end - point).norm());
-  if (path_) {
-    // Past an end (its foot is an end): the stripe has ended, however far the estimate ran on.
-    StripePath probe = *path_;
-    const StripePath::Foot foot = probe.Project(point);
-    return foot.s_m <= kDistanceToleranceM || foot.s_m >= path_->length_m() - kDistanceToleranceM
+  if (foot_) {
+    // Past an end (the sensor's foot this tick is an end): the stripe has ended, however far
+    // the estimate ran on.
+    return foot_->s_m <= kDistanceToleranceM ||
+                   foot_->s_m >= path_->length_m() - kDistanceToleranceM
                ? 0.0
                : best;
   }

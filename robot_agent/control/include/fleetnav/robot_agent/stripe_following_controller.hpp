@@ -74,7 +74,8 @@ class StripeFollowingController : public MotionController {
   ControlOutput Step(const ControlInput& input) override;
 
  private:
-  /// Distance from `point` to the nearest end of the stripe (infinity when unknown).
+  /// Distance from `point` (the sensor this tick) to the nearest end of the stripe (infinity
+  /// when unknown); 0 once the sensor's foot on the chained stripe is an end.
   double DistanceToStripeEnd(const Eigen::Vector2d& point) const;
   /// The line map-based fallback steers on near `point`.
   void FallbackLine(const Eigen::Vector2d& point, Eigen::Vector2d* on_line,

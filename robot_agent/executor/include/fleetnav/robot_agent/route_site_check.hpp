@@ -18,12 +18,13 @@ struct RouteSiteCheckParams {
 /// (CheckRoute asks whether this robot can run each action; this asks whether the site lets
 /// it). The poses of the actions are predicted one after another (planner::PredictRoute, free
 /// navigation drawn straight to its goal); where one cannot be predicted (a stripe the marker
-/// set does not hold, an end on a marker or on the charger contact) the check stops there. Every fence leg must pass a fence: an obstacle on
-/// the map that the leg's ultrasonic beam meets within the fence distance plus a margin at some
-/// pose along it. Every free-navigation goal (and waypoint) must be connected to where its leg
-/// starts through cells at least the footprint's inscribed radius from any obstacle — a
-/// necessary condition of every collision-free path, so a reachable goal is never refused.
-/// Without a map there is nothing to check. FailedPrecondition naming the action's index.
+/// set does not hold, an end on a marker or on the charger contact) the check stops there. Every
+/// fence leg must pass a fence: an obstacle on the map that the leg's ultrasonic beam meets within
+/// the fence distance plus a margin at some pose along it. Every free-navigation goal (and
+/// waypoint) must be connected to where its leg starts through cells at least the footprint's
+/// inscribed radius from any obstacle — a necessary condition of every collision-free path, so a
+/// reachable goal is never refused. Without a map there is nothing to check. FailedPrecondition
+/// naming the action's index.
 absl::Status CheckRouteOnSite(const Route& route, const RouteContext& context,
                               const Pose2& start_in_map, const RouteSiteCheckParams& params = {});
 
