@@ -7,9 +7,36 @@
 #include <csignal>
 #include <cstdio>
 
+#include "absl/strings/str_cat.h"
 #include "absl/synchronization/mutex.h"
 #include "fleetnav/server/rpc/fleet_server.hpp"
 #include "fleetnav/server/rpc/fleet_server_config.hpp"
+#include "fleetnav/storage/sqlite/schema.hpp"
+#include "fleetnav/storage/sqlite/sqlite_database.hpp"
+
+namespace {
+
+/// `fleetnavd --check-db`: reads the database without writing to it and prints what it found.
+int CheckDatabase(const std::string& path) {
+  absl::StatusOr<fleetnav::storage::SqliteCheckReport> report =
+      fleetnav::storage::SqliteDatabase::Check(path, fleetnav::storage::FleetDatabaseOptions());
+  if (!report.ok()) {
+    std::fprintf(stderr, "fleetnavd: %s\n", report.status().ToString().c_str());
+    return 2;
+  }
+  const int binary_version = static_cast<int>(fleetnav::storage::FleetSchemaMigrations().size());
+  if (report->schema_version > binary_version) {
+    report->problems.push_back(absl::StrCat("schema version ", report->schema_version,
+                                            " is newer than this binary's ", binary_version));
+  }
+  std::printf("database '%s': schema version %d (this binary %d)\n", path.c_str(),
+              report->schema_version, binary_version);
+  for (const std::string& problem : report->problems) std::printf("  problem: %s\n", problem.c_str());
+  std::printf("%s\n", report->ok() ? "ok" : "damaged or not a fleetnav database");
+  return report->ok() ? 0 : 1;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   // Debian's abseil is built with assertions on, so every absl::Mutex acquisition would also
@@ -28,6 +55,7 @@ int main(int argc, char** argv) {
   CLI::App app{"fleetnavd: fleet navigation server (FleetService + AgentService)"};
   std::string config_path, listen, db, log_level, port_file, clock = "system", sim_address;
   double stale_after_s = 0, lost_robot_timeout_s = 0;
+  bool check_db = false;
   int max_message_bytes = 0, agent_threads = 0;
   app.add_option("--config", config_path, "YAML configuration file (see docs/server.md)");
   app.add_option("--listen", listen,
@@ -47,6 +75,10 @@ int main(int argc, char** argv) {
                  "time, read from --sim) [system]")
       ->check(CLI::IsMember({"system", "sim"}));
   app.add_option("--sim", sim_address, "the simulator's SimService address, for --clock sim");
+  app.add_flag("--check-db", check_db,
+               "check the database file (ownership, PRAGMA integrity_check, schema version) "
+               "without writing to it, print the findings and exit: 0 sound, 1 problems found, "
+               "2 unreadable");
   CLI11_PARSE(app, argc, argv);
   if ((clock == "sim") != !sim_address.empty()) {
     spdlog::error(
@@ -70,6 +102,7 @@ int main(int argc, char** argv) {
   if (agent_threads > 0) params.agent_stream_threads = agent_threads;
   params.sim_clock_address = sim_address;
   if (!log_level.empty()) config->log_level = log_level;
+  if (check_db) return CheckDatabase(params.db_path);
   spdlog::set_level(spdlog::level::from_str(config->log_level));
 
   fleetnav::server::FleetServer server(params);

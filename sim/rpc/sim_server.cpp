@@ -34,8 +34,8 @@ absl::StatusOr<int> SimServer::Start() {
   builder.RegisterService(service_.get());
   server_ = builder.BuildAndStart();
   if (server_ == nullptr || port == 0) {
-    return absl::UnavailableError(absl::StrCat("cannot listen on '", params_.listen_address,
-                                               "': address already in use or not available"));
+    return absl::UnavailableError(absl::StrCat("cannot listen: address ", params_.listen_address,
+                                               " already in use or not available"));
   }
   loop_ = std::thread([this] { lockstep_->Run(); });
   return port;

@@ -39,7 +39,7 @@ void ExpectSecondOnThePortRefused(std::vector<std::string> first, std::vector<st
   ASSERT_TRUE(code.has_value()) << "the second " << name << " is serving " << address;
   EXPECT_NE(*code, 0);
   EXPECT_THAT(two.Stderr() + two.Stdout(),
-              HasSubstr("cannot listen on '" + address + "': address already in use"));
+              HasSubstr("address " + address + " already in use"));
   EXPECT_TRUE(one.running());
   one.Stop();
 }

@@ -50,7 +50,8 @@ absl::StatusOr<int> FleetServer::Start() {
     RETURN_IF_ERROR(sim_clock_feed_->Start());
   }
   ASSIGN_OR_RETURN(
-      db_, storage::SqliteDatabase::Open(params_.db_path, storage::FleetSchemaMigrations()));
+      db_, storage::SqliteDatabase::Open(params_.db_path, storage::FleetSchemaMigrations(),
+                                         storage::FleetDatabaseOptions()));
   map_repository_ = std::make_unique<storage::SqliteMapRepository>(db_.get());
   marker_repository_ = std::make_unique<storage::SqliteMarkerSetRepository>(db_.get());
   route_repository_ = std::make_unique<storage::SqliteRouteRepository>(db_.get());
@@ -97,8 +98,8 @@ absl::StatusOr<int> FleetServer::Start() {
   agent_service_->Register(&builder);
   server_ = builder.BuildAndStart();
   if (server_ == nullptr || port == 0) {
-    return absl::UnavailableError(absl::StrCat("cannot listen on '", params_.listen_address,
-                                               "': address already in use or not available"));
+    return absl::UnavailableError(absl::StrCat("cannot listen: address ", params_.listen_address,
+                                               " already in use or not available"));
   }
   agent_service_->Start();
   dispatcher_ = std::thread([this] {

@@ -100,4 +100,12 @@ const std::vector<std::string>& FleetSchemaMigrations() {
   return kMigrations;
 }
 
+SqliteOpenOptions FleetDatabaseOptions(Durability durability) {
+  SqliteOpenOptions options;
+  options.durability = durability;
+  options.application_id = kFleetApplicationId;
+  options.legacy_table = "maps";
+  return options;
+}
+
 }  // namespace fleetnav::storage

@@ -5,6 +5,7 @@
 #include <mutex>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "fleetnav/core/status_macros.hpp"
 
 namespace fleetnav::storage {
@@ -16,7 +17,11 @@ absl::Status SqliteError(sqlite3* db, int code, const std::string& what) {
     case SQLITE_LOCKED:
       return absl::UnavailableError(message);
     case SQLITE_CONSTRAINT:
+    case SQLITE_READONLY:
       return absl::FailedPreconditionError(message);
+    case SQLITE_CORRUPT:
+    case SQLITE_NOTADB:
+      return absl::DataLossError(message);
     case SQLITE_FULL:
     case SQLITE_IOERR:
     case SQLITE_CANTOPEN:
@@ -101,22 +106,110 @@ bool SqliteStatement::ColumnIsNull(int column) const {
   return sqlite3_column_type(stmt_, column) == SQLITE_NULL;
 }
 
+namespace {
+
+/// Prefixes every error about a file with its name, so that a start-up error says which file.
+absl::Status NamingFile(const std::string& path, const absl::Status& status) {
+  if (status.ok()) return status;
+  return absl::Status(status.code(), absl::StrCat("database '", path, "': ", status.message()));
+}
+
+}  // namespace
+
+absl::StatusOr<int64_t> SqliteDatabase::QueryInt(std::string_view sql) {
+  ASSIGN_OR_RETURN(SqliteStatement stmt, Prepare(sql));
+  ASSIGN_OR_RETURN(bool row, stmt.Step());
+  if (!row) return absl::InternalError(absl::StrCat("'", std::string(sql), "' returned no row"));
+  return stmt.ColumnInt(0);
+}
+
+absl::StatusOr<std::string> SqliteDatabase::OwnershipProblem(const SqliteOpenOptions& options) {
+  if (options.application_id == 0) return std::string();
+  // Reading the header also tells a file that is no SQLite database (SQLITE_NOTADB).
+  ASSIGN_OR_RETURN(const int64_t id, QueryInt("PRAGMA application_id"));
+  if (static_cast<uint32_t>(id) == options.application_id) return std::string();
+  ASSIGN_OR_RETURN(const int64_t tables, QueryInt("SELECT COUNT(*) FROM sqlite_master"));
+  ASSIGN_OR_RETURN(const int64_t version, QueryInt("PRAGMA user_version"));
+  if (id == 0 && tables == 0 && version == 0) return std::string();  // a new, empty file
+  if (id == 0 && !options.legacy_table.empty()) {
+    ASSIGN_OR_RETURN(SqliteStatement legacy,
+                     Prepare("SELECT COUNT(*) FROM sqlite_master WHERE type = 'table' AND "
+                             "name = ?1"));
+    legacy.Bind(1, options.legacy_table);
+    ASSIGN_OR_RETURN(bool row, legacy.Step());
+    if (row && legacy.ColumnInt(0) == 1 && version > 0) return std::string();
+  }
+  return absl::StrFormat(
+      "not a fleetnav database (application_id 0x%08x, %d tables, user_version %d); refusing to "
+      "write to it",
+      static_cast<uint32_t>(id), tables, version);
+}
+
 absl::StatusOr<std::unique_ptr<SqliteDatabase>> SqliteDatabase::Open(
-    const std::string& path, const std::vector<std::string>& migrations, Durability durability) {
+    const std::string& path, const std::vector<std::string>& migrations,
+    const SqliteOpenOptions& options) {
   sqlite3* raw = nullptr;
   const int flags = SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX;
   const int code = sqlite3_open_v2(path.c_str(), &raw, flags, nullptr);
   std::unique_ptr<SqliteDatabase> db(new SqliteDatabase(raw));
-  if (code != SQLITE_OK) {
-    return SqliteError(raw, code, absl::StrCat("cannot open database '", path, "'"));
-  }
+  if (code != SQLITE_OK) return NamingFile(path, SqliteError(raw, code, "cannot open"));
   sqlite3_busy_timeout(raw, 5000);
-  RETURN_IF_ERROR(db->Execute("PRAGMA journal_mode=WAL"));
-  RETURN_IF_ERROR(db->Execute(durability == Durability::kFull ? "PRAGMA synchronous=FULL"
-                                                              : "PRAGMA synchronous=NORMAL"));
-  RETURN_IF_ERROR(db->Execute("PRAGMA foreign_keys=ON"));
-  RETURN_IF_ERROR(db->Migrate(migrations));
+  if (sqlite3_db_readonly(raw, "main") == 1) {
+    return NamingFile(path, absl::FailedPreconditionError(
+                                "the file is read-only (no write permission to it); fleetnavd "
+                                "must write its database: fix the permissions or give another "
+                                "file"));
+  }
+  absl::StatusOr<std::string> foreign = db->OwnershipProblem(options);
+  if (!foreign.ok()) return NamingFile(path, foreign.status());
+  if (!foreign->empty()) return NamingFile(path, absl::FailedPreconditionError(*foreign));
+  {
+    ASSIGN_OR_RETURN(SqliteStatement check, db->Prepare("PRAGMA quick_check(5)"));
+    absl::StatusOr<bool> row = check.Step();
+    if (!row.ok()) return NamingFile(path, row.status());
+    if (*row && check.ColumnText(0) != "ok") {
+      return NamingFile(path, absl::DataLossError(absl::StrCat(
+                                  "damaged (PRAGMA quick_check: ", check.ColumnText(0),
+                                  "); restore a backup or check it with fleetnavd --check-db")));
+    }
+  }
+  absl::Status status = db->Execute("PRAGMA journal_mode=WAL");
+  if (status.ok()) {
+    status = db->Execute(options.durability == Durability::kFull ? "PRAGMA synchronous=FULL"
+                                                                 : "PRAGMA synchronous=NORMAL");
+  }
+  if (status.ok()) status = db->Execute("PRAGMA foreign_keys=ON");
+  if (status.ok() && options.application_id != 0) {
+    status = db->Execute(absl::StrCat("PRAGMA application_id=",
+                                      static_cast<int32_t>(options.application_id)));
+  }
+  if (status.ok()) status = db->Migrate(migrations);
+  if (!status.ok()) return NamingFile(path, status);
   return db;
+}
+
+absl::StatusOr<SqliteCheckReport> SqliteDatabase::Check(const std::string& path,
+                                                        const SqliteOpenOptions& options) {
+  sqlite3* raw = nullptr;
+  const int code = sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr);
+  std::unique_ptr<SqliteDatabase> db(new SqliteDatabase(raw));
+  if (code != SQLITE_OK) return NamingFile(path, SqliteError(raw, code, "cannot open"));
+  SqliteCheckReport report;
+  absl::StatusOr<std::string> foreign = db->OwnershipProblem(options);
+  if (!foreign.ok()) return NamingFile(path, foreign.status());
+  if (!foreign->empty()) report.problems.push_back(*foreign);
+  absl::StatusOr<int64_t> version = db->QueryInt("PRAGMA user_version");
+  if (!version.ok()) return NamingFile(path, version.status());
+  report.schema_version = static_cast<int>(*version);
+  absl::StatusOr<SqliteStatement> check = db->Prepare("PRAGMA integrity_check(20)");
+  if (!check.ok()) return NamingFile(path, check.status());
+  while (true) {
+    absl::StatusOr<bool> row = check->Step();
+    if (!row.ok()) return NamingFile(path, row.status());
+    if (!*row) break;
+    if (check->ColumnText(0) != "ok") report.problems.push_back(check->ColumnText(0));
+  }
+  return report;
 }
 
 SqliteDatabase::~SqliteDatabase() { sqlite3_close_v2(db_); }

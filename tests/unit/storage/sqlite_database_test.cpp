@@ -159,7 +159,8 @@ TEST(SqliteDatabaseTest, JournalModeIsWal) {
 TEST(SqliteDatabaseTest, NormalDurabilityUsesSynchronousNormal) {
   testing::TempDbPath path;
   absl::StatusOr<std::unique_ptr<SqliteDatabase>> db =
-      SqliteDatabase::Open(path.path(), FleetSchemaMigrations(), Durability::kNormal);
+      SqliteDatabase::Open(path.path(), FleetSchemaMigrations(),
+                           FleetDatabaseOptions(Durability::kNormal));
   ASSERT_TRUE(db.ok()) << db.status();
   EXPECT_EQ(QueryInt(**db, "PRAGMA synchronous"), 1);  // NORMAL
   EXPECT_EQ(QueryText(**db, "PRAGMA journal_mode"), "wal");

@@ -53,16 +53,43 @@ class SqliteStatement {
 /// only after the WAL is fsynced.
 enum class Durability { kFull, kNormal };
 
+/// How a database file is opened: its durability, and which files the schema may take as its
+/// own. With a non-zero `application_id`, a file is taken only when it carries that
+/// `PRAGMA application_id`, is empty (it is then stamped with it), or carries no id but holds
+/// `legacy_table` (a file of this schema written before ids were stamped). Any other file is
+/// refused before anything is written to it.
+struct SqliteOpenOptions {
+  Durability durability = Durability::kFull;
+  uint32_t application_id = 0;
+  std::string legacy_table;
+};
+
+/// What `SqliteDatabase::Check` found in a file, read without writing to it.
+struct SqliteCheckReport {
+  int schema_version = 0;
+  /// `PRAGMA integrity_check` lines other than "ok" (at most 20), and ownership problems.
+  std::vector<std::string> problems;
+  bool ok() const { return problems.empty(); }
+};
+
 /// An open SQLite database file owned by RAII: WAL journal, foreign keys on, a busy timeout,
 /// and schema migrations applied in order by `PRAGMA user_version`. Thread-safe: one
 /// connection serialised by an internal mutex (SQLite's serialized mode), so each use case
 /// runs as one transaction through Transaction().
 class SqliteDatabase {
  public:
-  /// Opens (creating if needed) and migrates. `migrations[i]` takes user_version i to i+1.
+  /// Opens (creating if needed), checks and migrates. `migrations[i]` takes user_version i to
+  /// i+1. Refused, naming the file, before anything is written: a file the options do not
+  /// take as their own (FailedPrecondition), a read-only file (FailedPrecondition), a file that
+  /// fails `PRAGMA quick_check` or is no SQLite database (DataLoss), a schema newer than
+  /// `migrations` (FailedPrecondition).
   static absl::StatusOr<std::unique_ptr<SqliteDatabase>> Open(
       const std::string& path, const std::vector<std::string>& migrations,
-      Durability durability = Durability::kFull);
+      const SqliteOpenOptions& options = {});
+  /// Reads an existing file without writing to it: its ownership as Open judges it and
+  /// `PRAGMA integrity_check`. An error only when the file cannot be read at all.
+  static absl::StatusOr<SqliteCheckReport> Check(const std::string& path,
+                                                 const SqliteOpenOptions& options);
   ~SqliteDatabase();
   SqliteDatabase(const SqliteDatabase&) = delete;
   SqliteDatabase& operator=(const SqliteDatabase&) = delete;
@@ -75,6 +102,9 @@ class SqliteDatabase {
 
  private:
   explicit SqliteDatabase(sqlite3* db) : db_(db) {}
+  /// Empty when `options` take this file as their own, else why not. Reads only.
+  absl::StatusOr<std::string> OwnershipProblem(const SqliteOpenOptions& options);
+  absl::StatusOr<int64_t> QueryInt(std::string_view sql);
   absl::Status Migrate(const std::vector<std::string>& migrations);
 
   sqlite3* db_;
