@@ -23,6 +23,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/string_view.h"
 #include "strings_internal.hpp"
+#include "fleetnav/core/echo_input.hpp"
 
 namespace fleetnav::internal {
 
@@ -98,7 +99,7 @@ inline absl::StatusOr<double> AsDouble(const YAML::Node& node, absl::string_view
     return node.as<double>();
   } catch (const YAML::Exception&) {
     return absl::InvalidArgumentError(
-        absl::StrCat(field, ": expected a number, got '", node.Scalar(), "'"));
+        absl::StrCat(field, ": expected a number, got '", EchoInput(node.Scalar()), "'"));
   }
 }
 
@@ -111,7 +112,7 @@ inline absl::StatusOr<int> AsInt(const YAML::Node& node, absl::string_view field
     return node.as<int>();
   } catch (const YAML::Exception&) {
     return absl::InvalidArgumentError(
-        absl::StrCat(field, ": expected an integer, got '", node.Scalar(), "'"));
+        absl::StrCat(field, ": expected an integer, got '", EchoInput(node.Scalar()), "'"));
   }
 }
 
@@ -146,7 +147,7 @@ inline absl::Status CheckKnownKeys(const YAML::Node& node,
     bool known = false;
     for (absl::string_view name : allowed) known = known || key == name;
     if (!known) {
-      return absl::InvalidArgumentError(absl::StrCat(field, ": unknown key '", key, "'"));
+      return absl::InvalidArgumentError(absl::StrCat(field, ": unknown key '", EchoInput(key), "'"));
     }
   }
   return absl::OkStatus();

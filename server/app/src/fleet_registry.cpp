@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/echo_input.hpp"
 
 namespace fleetnav::server {
 
@@ -48,11 +49,11 @@ absl::Status FleetRegistry::CheckSessionLocked(const std::string& robot_id,
                                                uint64_t session) const {
   const Entry* found = Find(robot_id);
   if (found == nullptr) {
-    return absl::NotFoundError(absl::StrCat("robot '", robot_id, "' is not registered"));
+    return absl::NotFoundError(absl::StrCat("robot '", EchoInput(robot_id), "' is not registered"));
   }
   if (found->session != session) {
     return absl::FailedPreconditionError(
-        absl::StrCat("robot '", robot_id, "' connected again; this stream was replaced"));
+        absl::StrCat("robot '", EchoInput(robot_id), "' connected again; this stream was replaced"));
   }
   return absl::OkStatus();
 }
@@ -122,7 +123,7 @@ absl::StatusOr<RobotRecord> FleetRegistry::Get(const std::string& robot_id) cons
   absl::ReaderMutexLock lock(&mutex_);
   const Entry* entry = Find(robot_id);
   if (entry == nullptr)
-    return absl::NotFoundError(absl::StrCat("robot '", robot_id, "' not found"));
+    return absl::NotFoundError(absl::StrCat("robot '", EchoInput(robot_id), "' not found"));
   return WithConnectionState(*entry);
 }
 

@@ -13,6 +13,7 @@
 #include "fleetnav/planner/mapf_planner.hpp"
 #include "kinematic_traffic.hpp"
 #include "traffic_dependencies.hpp"
+#include "fleetnav/core/echo_input.hpp"
 
 namespace fleetnav::server {
 
@@ -33,7 +34,7 @@ absl::StatusOr<TrafficPlan> TrafficPlanner::Plan(const std::string& map_id, uint
     absl::StatusOr<RobotModel> model = RobotModelByKind(agents[i].kind_name);
     if (!model.ok()) {
       return absl::InvalidArgumentError(
-          absl::StrCat(field, ".kind_name: unknown kind '", agents[i].kind_name, "'"));
+          absl::StrCat(field, ".kind_name: unknown kind '", EchoInput(agents[i].kind_name), "'"));
     }
     if (!ids.insert(agents[i].robot_id).second || agents[i].robot_id.empty()) {
       return absl::InvalidArgumentError(absl::StrCat(field, ".robot_id: empty or repeated"));
@@ -45,7 +46,9 @@ absl::StatusOr<TrafficPlan> TrafficPlanner::Plan(const std::string& map_id, uint
     speed_mps = std::min(speed_mps, model->limits.max_speed_mps);
     models.push_back(*std::move(model));
   }
-  ASSIGN_OR_RETURN(storage::StoredMap stored, maps_->GetMap(map_id, map_version));
+  ASSIGN_OR_RETURN(std::shared_ptr<const storage::StoredMap> shared,
+                   site_data_->Map(map_id, map_version));
+  const storage::StoredMap& stored = *shared;
   auto elapsed_ms = [&] {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started)
         .count();

@@ -5,6 +5,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "fleetnav/core/echo_input.hpp"
 
 namespace fleetnav::storage {
 namespace {
@@ -46,7 +47,7 @@ absl::StatusOr<uint32_t> MemoryMarkerSetRepository::PutMarkerSet(const MarkerSet
 absl::StatusOr<StoredMarkerSet> MemoryMarkerSetRepository::GetMarkerSet(const std::string& map_id,
                                                                         uint32_t version) {
   absl::MutexLock lock(&mutex_);
-  return PickVersion(sets_[map_id], version, absl::StrCat("marker set of map '", map_id, "'"));
+  return PickVersion(sets_[map_id], version, absl::StrCat("marker set of map '", EchoInput(map_id), "'"));
 }
 
 absl::StatusOr<uint32_t> MemoryRouteRepository::PutRoute(const Route& route,
@@ -61,7 +62,7 @@ absl::StatusOr<uint32_t> MemoryRouteRepository::PutRoute(const Route& route,
 absl::StatusOr<StoredRoute> MemoryRouteRepository::GetRoute(const std::string& name,
                                                             uint32_t version) {
   absl::MutexLock lock(&mutex_);
-  return PickVersion(routes_[name], version, absl::StrCat("route '", name, "'"));
+  return PickVersion(routes_[name], version, absl::StrCat("route '", EchoInput(name), "'"));
 }
 
 absl::StatusOr<std::vector<StoredRoute>> MemoryRouteRepository::ListRoutes(
@@ -119,7 +120,7 @@ absl::StatusOr<Job> MemoryJobRepository::GetJob(const std::string& job_id) {
   for (const Job& job : jobs_) {
     if (job.job_id == job_id) return job;
   }
-  return absl::NotFoundError(absl::StrCat("job '", job_id, "' not found"));
+  return absl::NotFoundError(absl::StrCat("job '", EchoInput(job_id), "' not found"));
 }
 
 absl::StatusOr<JobPage> MemoryJobRepository::ListJobs(const JobFilter& filter) {
@@ -129,7 +130,7 @@ absl::StatusOr<JobPage> MemoryJobRepository::ListJobs(const JobFilter& filter) {
     after_seq = std::strtoll(filter.page_token.c_str(), &end, 10);
     if (end == filter.page_token.c_str() || *end != '\0' || after_seq < 0) {
       return absl::InvalidArgumentError(
-          absl::StrCat("page_token: not a token this server issued: '", filter.page_token, "'"));
+          absl::StrCat("page_token: not a token this server issued: '", EchoInput(filter.page_token), "'"));
     }
   }
   absl::MutexLock lock(&mutex_);

@@ -1,6 +1,7 @@
 #include "fleetnav/storage/memory/memory_map_repository.hpp"
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/echo_input.hpp"
 
 namespace fleetnav::storage {
 
@@ -25,11 +26,11 @@ absl::StatusOr<StoredMap> MemoryMapRepository::GetMap(const std::string& map_id,
   absl::MutexLock lock(&mutex_);
   auto it = maps_.find(map_id);
   if (it == maps_.end() || it->second.empty()) {
-    return absl::NotFoundError(absl::StrCat("map '", map_id, "' not found"));
+    return absl::NotFoundError(absl::StrCat("map '", EchoInput(map_id), "' not found"));
   }
   if (version == 0) return it->second.back();
   if (version > it->second.size()) {
-    return absl::NotFoundError(absl::StrCat("map '", map_id, "' has no version ", version));
+    return absl::NotFoundError(absl::StrCat("map '", EchoInput(map_id), "' has no version ", version));
   }
   return it->second[version - 1];
 }
@@ -46,7 +47,7 @@ absl::StatusOr<std::vector<MapInfo>> MemoryMapRepository::ListMaps() {
 absl::Status MemoryMapRepository::DeleteMap(const std::string& map_id) {
   absl::MutexLock lock(&mutex_);
   if (maps_.erase(map_id) == 0) {
-    return absl::NotFoundError(absl::StrCat("map '", map_id, "' not found"));
+    return absl::NotFoundError(absl::StrCat("map '", EchoInput(map_id), "' not found"));
   }
   return absl::OkStatus();
 }

@@ -2,6 +2,7 @@
 #include "absl/strings/str_format.h"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/storage/sqlite/sqlite_fleet_repositories.hpp"
+#include "fleetnav/core/echo_input.hpp"
 
 namespace fleetnav::storage {
 namespace {
@@ -134,7 +135,7 @@ absl::StatusOr<Job> SqliteJobRepository::GetJob(const std::string& job_id) {
     if (has_row) found = JobFromRow(query);
     return absl::OkStatus();
   }));
-  if (!found) return absl::NotFoundError(absl::StrCat("job '", job_id, "' not found"));
+  if (!found) return absl::NotFoundError(absl::StrCat("job '", EchoInput(job_id), "' not found"));
   return *std::move(found);
 }
 
@@ -145,7 +146,7 @@ absl::StatusOr<JobPage> SqliteJobRepository::ListJobs(const JobFilter& filter) {
     after_seq = std::strtoll(filter.page_token.c_str(), &end, 10);
     if (end == filter.page_token.c_str() || *end != '\0' || after_seq < 0) {
       return absl::InvalidArgumentError(
-          absl::StrCat("page_token: not a token this server issued: '", filter.page_token, "'"));
+          absl::StrCat("page_token: not a token this server issued: '", EchoInput(filter.page_token), "'"));
     }
   }
   std::string where = "seq > ?";

@@ -2,6 +2,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "fleetnav/core/status_macros.hpp"
+#include "fleetnav/core/echo_input.hpp"
 
 namespace fleetnav::storage {
 namespace {
@@ -81,8 +82,8 @@ absl::StatusOr<StoredMap> SqliteMapRepository::GetMap(const std::string& map_id,
   }));
   if (!found) {
     return absl::NotFoundError(version == 0
-                                   ? absl::StrCat("map '", map_id, "' not found")
-                                   : absl::StrCat("map '", map_id, "' has no version ", version));
+                                   ? absl::StrCat("map '", EchoInput(map_id), "' not found")
+                                   : absl::StrCat("map '", EchoInput(map_id), "' has no version ", version));
   }
   return *std::move(found);
 }
@@ -113,7 +114,7 @@ absl::Status SqliteMapRepository::DeleteMap(const std::string& map_id) {
     ASSIGN_OR_RETURN(SqliteStatement changes, db_->Prepare("SELECT changes()"));
     ASSIGN_OR_RETURN(bool has_row, changes.Step());
     if (!has_row || changes.ColumnInt(0) == 0) {
-      return absl::NotFoundError(absl::StrCat("map '", map_id, "' not found"));
+      return absl::NotFoundError(absl::StrCat("map '", EchoInput(map_id), "' not found"));
     }
     return absl::OkStatus();
   });

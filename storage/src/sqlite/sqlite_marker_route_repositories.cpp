@@ -1,6 +1,7 @@
 #include "absl/strings/str_cat.h"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/storage/sqlite/sqlite_fleet_repositories.hpp"
+#include "fleetnav/core/echo_input.hpp"
 
 namespace fleetnav::storage {
 namespace {
@@ -60,7 +61,7 @@ absl::StatusOr<StoredMarkerSet> SqliteMarkerSetRepository::GetMarkerSet(const st
     return absl::OkStatus();
   }));
   if (!found) {
-    return absl::NotFoundError(absl::StrCat("marker set of map '", map_id, "'",
+    return absl::NotFoundError(absl::StrCat("marker set of map '", EchoInput(map_id), "'",
                                             version == 0 ? " not found" : "",
                                             VersionText(version)));
   }
@@ -106,7 +107,7 @@ absl::StatusOr<StoredRoute> SqliteRouteRepository::GetRoute(const std::string& n
   }));
   if (!found) {
     return absl::NotFoundError(
-        absl::StrCat("route '", name, "'", version == 0 ? " not found" : "", VersionText(version)));
+        absl::StrCat("route '", EchoInput(name), "'", version == 0 ? " not found" : "", VersionText(version)));
   }
   return *std::move(found);
 }
