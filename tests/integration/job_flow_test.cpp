@@ -329,5 +329,78 @@ TEST_F(JobFlowTest, ARobotThatReconnectsWithItsJobResumesIt) {
   (void)stream->Finish();
 }
 
+// A robot whose job was re-queued after the lost-robot timeout and given to another robot is told
+// to cancel it, with the reason, before it is handed a new job: otherwise it would drive the old
+// job and the new one at once.
+TEST_F(JobFlowTest, ARobotThatLostItsJobIsToldCancelBeforeItsNextJob) {
+  PutBarn();
+  ASSERT_TRUE(PutRoute(StraightRoute("long", 8.0)).ok());
+  v1::SubmitJobResponse first;
+  {
+    grpc::ClientContext context;
+    v1::SubmitJobRequest request;
+    request.set_route_name("long");
+    request.set_robot_id("");
+    request.set_on_robot_lost(v1::REQUEUE_POLICY_REQUEUE);
+    ASSERT_TRUE(fleet_->SubmitJob(&context, request, &first).ok());
+  }
+  const std::string old_job = first.job().job_id();
+  auto agents = v1::AgentService::NewStub(channel_);
+  auto job_of = [&](const std::string& job_id) {
+    grpc::ClientContext context;
+    v1::GetJobRequest get;
+    get.set_job_id(job_id);
+    v1::GetJobResponse job;
+    EXPECT_TRUE(fleet_->GetJob(&context, get, &job).ok());
+    return job.job();
+  };
+  {
+    grpc::ClientContext context;
+    std::unique_ptr<AgentStream> ra = agents->Connect(&context);
+    ASSERT_TRUE(ra->Write(HelloFor("ra", "")));
+    v1::ServerMessage message;
+    ASSERT_TRUE(ra->Read(&message));  // welcome
+    ASSERT_TRUE(ra->Read(&message));
+    ASSERT_EQ(message.assignment().job().job_id(), old_job);
+    ASSERT_TRUE(ra->Write(EventFor(old_job, v1::AgentEvent::TYPE_ACTION_STARTED)));
+    ra->WritesDone();
+    (void)ra->Finish();
+  }
+  // ra stays away past the lost-robot timeout (0.5 s): the job is re-queued and rb takes it.
+  for (int i = 0; i < 300 && job_of(old_job).state() != v1::JOB_STATE_QUEUED; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_EQ(job_of(old_job).state(), v1::JOB_STATE_QUEUED);
+  grpc::ClientContext rb_context;
+  std::unique_ptr<AgentStream> rb = agents->Connect(&rb_context);
+  ASSERT_TRUE(rb->Write(HelloFor("rb", "")));
+  v1::ServerMessage message;
+  ASSERT_TRUE(rb->Read(&message));  // welcome
+  ASSERT_TRUE(rb->Read(&message));
+  ASSERT_EQ(message.assignment().job().job_id(), old_job);
+
+  v1::SubmitJobResponse second;
+  ASSERT_TRUE(Submit("long", "", &second).ok());
+  // ra comes back still driving the old job: first it hears that the job is no longer its own.
+  grpc::ClientContext ra_context;
+  std::unique_ptr<AgentStream> ra = agents->Connect(&ra_context);
+  ASSERT_TRUE(ra->Write(HelloFor("ra", old_job)));
+  ASSERT_TRUE(ra->Read(&message));
+  ASSERT_TRUE(message.has_welcome());
+  ASSERT_TRUE(ra->Read(&message));
+  ASSERT_TRUE(message.has_command()) << message.DebugString();
+  EXPECT_EQ(message.command().type(), v1::Command::TYPE_CANCEL);
+  EXPECT_EQ(message.command().job_id(), old_job);
+  EXPECT_THAT(message.command().reason(), ::testing::HasSubstr("rb"));
+  ASSERT_TRUE(ra->Read(&message));
+  ASSERT_TRUE(message.has_assignment());
+  EXPECT_EQ(message.assignment().job().job_id(), second.job().job_id());
+  EXPECT_EQ(job_of(old_job).assigned_robot_id(), "rb");  // the old job stays rb's
+  ra->WritesDone();
+  (void)ra->Finish();
+  rb->WritesDone();
+  (void)rb->Finish();
+}
+
 }  // namespace
 }  // namespace fleetnav

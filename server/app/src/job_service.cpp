@@ -9,6 +9,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/time/clock.h"
 #include "fleetnav/core/status_macros.hpp"
+#include "fleetnav/server/map_catalog.hpp"
 
 namespace fleetnav::server {
 namespace {
@@ -40,13 +41,12 @@ absl::Status JobServiceParams::Validate() const {
 }
 
 JobService::JobService(storage::JobRepository* jobs, storage::RobotRepository* robots,
-                       storage::MapRepository* maps, storage::MarkerSetRepository* markers,
-                       SiteCatalog* site, FleetRegistry* registry, RobotMailbox* mailbox,
+                       SiteCache* site_data, SiteCatalog* site, FleetRegistry* registry,
+                       RobotMailbox* mailbox,
                        const Clock* clock, JobServiceParams params, TrafficCoordinator* traffic)
     : jobs_(jobs),
       robots_(robots),
-      maps_(maps),
-      markers_(markers),
+      site_data_(site_data),
       site_(site),
       registry_(registry),
       mailbox_(mailbox),
@@ -75,6 +75,7 @@ absl::Status JobService::Transition(Job& job, JobState state, JobEventType type,
   job.updated_unix_ms = NowUnixMs();
   if (!reason.empty()) job.reason = reason;
   if (IsTerminal(state)) progress_decile_.erase(job.job_id);
+  if (state != JobState::kQueued) goal_facts_.erase(job.job_id);
   return jobs_->UpdateJob(job, MakeEvent(job, type, reason, robot_id)).status();
 }
 
@@ -118,15 +119,20 @@ absl::StatusOr<storage::CreatedJob> JobService::Submit(const SubmitJobRequest& r
     return absl::InvalidArgumentError("target: give either `route_name` or `goal`");
   }
   if (has_route) {
-    ASSIGN_OR_RETURN(storage::StoredRoute route, site_->GetRoute(request.route_name, 0));
-    job.route_name = route.route.name;
-    job.route_version = route.version;
-    job.map_id = route.route.map_id;
+    ASSIGN_OR_RETURN(std::shared_ptr<const storage::StoredRoute> route,
+                     site_->GetRoute(request.route_name, 0));
+    job.route_name = route->route.name;
+    job.route_version = route->version;
+    job.map_id = route->route.map_id;
   } else {
     if (!request.goal->IsFinite()) return absl::InvalidArgumentError("goal.goal: must be finite");
-    ASSIGN_OR_RETURN(storage::StoredMap map, maps_->GetMap(request.goal_map_id, 0));
-    if (!map.grid.ContainsWorld(request.goal->translation())) {
-      return absl::InvalidArgumentError("goal.goal: outside the map");
+    RETURN_IF_ERROR(MapCatalog::ValidateMapId(request.goal_map_id));
+    ASSIGN_OR_RETURN(std::shared_ptr<const storage::StoredMap> map,
+                     site_data_->Map(request.goal_map_id, 0));
+    const std::optional<CellIndex> cell = map->grid.WorldToCell(request.goal->translation());
+    if (!cell) return absl::InvalidArgumentError("goal.goal: outside the map");
+    if (map->grid.State(*cell) != CellState::kFree) {
+      return absl::InvalidArgumentError("goal.goal: not on a free cell of the map");
     }
     job.map_id = request.goal_map_id;
     job.goal = request.goal;
@@ -218,6 +224,27 @@ void JobService::OnRobotConnected(const RobotIdentity& identity, const std::stri
       registry_->SetCurrentJob(identity.robot_id, "");
     }
   }
+  // The robot may still drive a job that ended or went elsewhere while it was away: it is told
+  // before it can be handed another (its outbox delivers in order).
+  if (!resume_job_id.empty()) CancelJobNoLongerHeld(identity.robot_id, resume_job_id);
+}
+
+void JobService::CancelJobNoLongerHeld(const std::string& robot_id, const std::string& job_id) {
+  absl::StatusOr<Job> job = jobs_->GetJob(job_id);
+  if (job.ok() && job->assigned_robot_id == robot_id && !IsTerminal(job->state)) return;
+  std::string why;
+  if (!job.ok()) {
+    why = "the server does not know this job";
+  } else if (IsTerminal(job->state)) {
+    why = absl::StrCat("the job ", std::string(JobStateName(job->state)),
+                       " while the robot was away", job->reason.empty() ? "" : ": ", job->reason);
+  } else if (!job->assigned_robot_id.empty()) {
+    why = absl::StrCat("the job was given to robot ", job->assigned_robot_id,
+                       " while this robot was away");
+  } else {
+    why = "the job was re-queued while this robot was away";
+  }
+  mailbox_->SendCommand(robot_id, RobotCommandType::kCancel, job_id, why);
 }
 
 void JobService::OnRobotDisconnected(const std::string& robot_id) {
@@ -314,38 +341,43 @@ void JobService::HandleLostRobots() {
   }
 }
 
-std::vector<std::string> JobService::RequiredCapabilities(const Job& job) {
-  if (job.goal) return {"free_navigation"};
-  std::set<std::string> needed;
-  absl::StatusOr<storage::StoredRoute> route = site_->GetRoute(job.route_name, job.route_version);
+const JobService::RouteFacts& JobService::FactsOf(const Job& job) {
+  if (job.goal) {
+    RouteFacts& facts = goal_facts_[job.job_id];
+    if (facts.needed.empty()) {
+      facts.needed = {"free_navigation"};
+      facts.start = job.goal->translation();
+    }
+    return facts;
+  }
+  const auto key = std::make_pair(job.route_name, job.route_version);
+  auto known = route_facts_.find(key);
+  if (known != route_facts_.end()) return known->second;
+  RouteFacts facts;
+  absl::StatusOr<std::shared_ptr<const storage::StoredRoute>> route =
+      site_->GetRoute(job.route_name, job.route_version);
   if (route.ok()) {
-    for (const RouteAction& action : route->route.actions) {
+    std::set<std::string> needed;
+    for (const RouteAction& action : (*route)->route.actions) {
       needed.insert(std::string(ActionTypeName(action.params)));
+      const auto* nav = std::get_if<FreeNavigationAction>(&action.params);
+      if (nav != nullptr && !facts.start) {
+        facts.start = nav->waypoints_m.empty() ? nav->goal.translation() : nav->waypoints_m.front();
+      }
     }
+    facts.needed.assign(needed.begin(), needed.end());
   }
-  return {needed.begin(), needed.end()};
-}
-
-std::optional<Eigen::Vector2d> JobService::StartPoint(const Job& job) {
-  if (job.goal) return job.goal->translation();
-  absl::StatusOr<storage::StoredRoute> route = site_->GetRoute(job.route_name, job.route_version);
-  if (!route.ok()) return std::nullopt;
-  for (const RouteAction& action : route->route.actions) {
-    if (const auto* nav = std::get_if<FreeNavigationAction>(&action.params)) {
-      return nav->waypoints_m.empty() ? nav->goal.translation() : nav->waypoints_m.front();
-    }
-  }
-  return std::nullopt;
+  return route_facts_.emplace(key, std::move(facts)).first->second;
 }
 
 absl::StatusOr<Assignment> JobService::Resolve(const Job& job) {
   Assignment assignment;
   assignment.job = job;
   if (!job.route_name.empty()) {
-    ASSIGN_OR_RETURN(storage::StoredRoute route,
+    ASSIGN_OR_RETURN(std::shared_ptr<const storage::StoredRoute> route,
                      site_->GetRoute(job.route_name, job.route_version));
-    assignment.route = route.route;
-    assignment.route_version = route.version;
+    assignment.route = route->route;
+    assignment.route_version = route->version;
   } else if (job.goal) {
     // A go-to-goal job is a route of one free-navigation action.
     assignment.route.name = "goal";
@@ -354,10 +386,8 @@ absl::StatusOr<Assignment> JobService::Resolve(const Job& job) {
     go.goal = *job.goal;
     assignment.route.actions.push_back({go, {EndConditionKind::kGoalReached}});
   }
-  ASSIGN_OR_RETURN(storage::StoredMap map, maps_->GetMap(job.map_id, 0));
-  assignment.map_version = map.info.version;
-  absl::StatusOr<storage::StoredMarkerSet> markers = markers_->GetMarkerSet(job.map_id, 0);
-  assignment.marker_set_version = markers.ok() ? markers->version : 0;
+  ASSIGN_OR_RETURN(assignment.map_version, site_data_->LatestMapVersion(job.map_id));
+  assignment.marker_set_version = site_data_->LatestMarkerSetVersion(job.map_id);
   return assignment;
 }
 
@@ -380,29 +410,9 @@ int JobService::AssignQueued() {
     return a.priority != b.priority ? a.priority > b.priority
                                     : a.created_unix_ms < b.created_unix_ms;
   });
-  // Routes are read once per pass, however many jobs share them.
-  struct RouteFacts {
-    std::vector<std::string> needed;
-    std::optional<Eigen::Vector2d> start;
-  };
-  std::map<std::pair<std::string, uint32_t>, RouteFacts> facts;
-  std::vector<RouteFacts> goal_facts;
-  goal_facts.reserve(queued.size());  // job_facts points into it
   std::vector<const RouteFacts*> job_facts;
   job_facts.reserve(queued.size());
-  for (const Job& job : queued) {
-    if (job.goal) {
-      goal_facts.push_back(RouteFacts{RequiredCapabilities(job), StartPoint(job)});
-      job_facts.push_back(&goal_facts.back());
-      continue;
-    }
-    auto key = std::make_pair(job.route_name, job.route_version);
-    auto known = facts.find(key);
-    if (known == facts.end()) {
-      known = facts.emplace(key, RouteFacts{RequiredCapabilities(job), StartPoint(job)}).first;
-    }
-    job_facts.push_back(&known->second);
-  }
+  for (const Job& job : queued) job_facts.push_back(&FactsOf(job));
   // What the queued jobs ask for: a robot (or any) with capabilities. Only robots that can serve
   // one of these demands are copied out of the registry, so jobs no robot can drive cost nothing
   // per robot, however large the fleet.

@@ -3,6 +3,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/time/clock.h"
 #include "fleetnav/core/status_macros.hpp"
+#include "fleetnav/core/echo_input.hpp"
 
 namespace fleetnav::server {
 
@@ -13,7 +14,7 @@ absl::Status MapCatalog::ValidateMapId(const std::string& map_id) {
   }
   if (!ok) {
     return absl::InvalidArgumentError(
-        absl::StrCat("map_id: must be 1-64 characters of [a-z0-9_-], got '", map_id, "'"));
+        absl::StrCat("map_id: must be 1-64 characters of [a-z0-9_-], got '", EchoInput(map_id), "'"));
   }
   return absl::OkStatus();
 }
@@ -23,19 +24,25 @@ absl::StatusOr<storage::MapInfo> MapCatalog::Put(const std::string& map_id,
                                                  const std::string& description) {
   RETURN_IF_ERROR(ValidateMapId(map_id));
   const int64_t now_ms = absl::ToUnixMillis(absl::Now());
-  return repository_->PutMap(map_id, grid, description, now_ms);
+  return site_data_->PutMap(map_id, grid, description, now_ms);
 }
 
-absl::StatusOr<storage::StoredMap> MapCatalog::Get(const std::string& map_id, uint32_t version) {
+absl::StatusOr<std::shared_ptr<const storage::StoredMap>> MapCatalog::Get(
+    const std::string& map_id, uint32_t version) {
   RETURN_IF_ERROR(ValidateMapId(map_id));
-  return repository_->GetMap(map_id, version);
+  return site_data_->Map(map_id, version);
 }
 
-absl::StatusOr<std::vector<storage::MapInfo>> MapCatalog::List() { return repository_->ListMaps(); }
+absl::StatusOr<uint32_t> MapCatalog::LatestVersion(const std::string& map_id) {
+  RETURN_IF_ERROR(ValidateMapId(map_id));
+  return site_data_->LatestMapVersion(map_id);
+}
+
+absl::StatusOr<std::vector<storage::MapInfo>> MapCatalog::List() { return site_data_->ListMaps(); }
 
 absl::Status MapCatalog::Delete(const std::string& map_id) {
   RETURN_IF_ERROR(ValidateMapId(map_id));
-  return repository_->DeleteMap(map_id);
+  return site_data_->DeleteMap(map_id);
 }
 
 }  // namespace fleetnav::server

@@ -1,10 +1,12 @@
 #include "fleetnav/server/site_catalog.hpp"
 
+#include "absl/container/flat_hash_set.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/time/clock.h"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/server/map_catalog.hpp"
+#include "fleetnav/core/echo_input.hpp"
 
 namespace fleetnav::server {
 namespace {
@@ -33,7 +35,7 @@ absl::Status SiteCatalog::ValidateRouteName(const std::string& name) {
   }
   if (!ok) {
     return absl::InvalidArgumentError(
-        absl::StrCat("route.name: must be 1-64 characters of [A-Za-z0-9_.-], got '", name, "'"));
+        absl::StrCat("route.name: must be 1-64 characters of [A-Za-z0-9_.-], got '", EchoInput(name), "'"));
   }
   return absl::OkStatus();
 }
@@ -41,34 +43,44 @@ absl::Status SiteCatalog::ValidateRouteName(const std::string& name) {
 absl::StatusOr<uint32_t> SiteCatalog::PutMarkerSet(const MarkerSet& markers) {
   RETURN_IF_ERROR(MapCatalog::ValidateMapId(markers.map_id));
   RETURN_IF_ERROR(markers.Validate());
-  RETURN_IF_ERROR(maps_->GetMap(markers.map_id, 0).status());
-  return markers_->PutMarkerSet(markers, NowUnixMs());
+  RETURN_IF_ERROR(site_data_->LatestMapVersion(markers.map_id).status());
+  return site_data_->PutMarkerSet(markers, NowUnixMs());
 }
 
-absl::StatusOr<storage::StoredMarkerSet> SiteCatalog::GetMarkerSet(const std::string& map_id,
-                                                                   uint32_t version) {
+absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> SiteCatalog::GetMarkerSet(
+    const std::string& map_id, uint32_t version) {
   RETURN_IF_ERROR(MapCatalog::ValidateMapId(map_id));
-  return markers_->GetMarkerSet(map_id, version);
+  return site_data_->MarkerSetVersion(map_id, version);
+}
+
+uint32_t SiteCatalog::LatestMarkerSetVersion(const std::string& map_id) {
+  return site_data_->LatestMarkerSetVersion(map_id);
 }
 
 absl::Status SiteCatalog::CheckRouteAgainstSite(const Route& route) {
-  ASSIGN_OR_RETURN(storage::StoredMap map, maps_->GetMap(route.map_id, 0));
-  absl::StatusOr<storage::StoredMarkerSet> markers = markers_->GetMarkerSet(route.map_id, 0);
+  ASSIGN_OR_RETURN(std::shared_ptr<const storage::StoredMap> map, site_data_->Map(route.map_id, 0));
+  // Marker ids of the latest set, hashed once: a route may name many of a large set.
+  absl::flat_hash_set<int> marker_ids;
+  if (absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> markers =
+          site_data_->MarkerSetVersion(route.map_id, 0);
+      markers.ok()) {
+    for (const StripeMarker& marker : (*markers)->markers.markers) marker_ids.insert(marker.id);
+  }
   for (size_t i = 0; i < route.actions.size(); ++i) {
     const RouteAction& action = route.actions[i];
     const std::string type(ActionTypeName(action.params));
     const int index = static_cast<int>(i);
     if (action.end.kind == EndConditionKind::kMarkerDetected &&
-        (!markers.ok() || markers->markers.Find(action.end.marker_id) == nullptr)) {
+        !marker_ids.contains(action.end.marker_id)) {
       return absl::InvalidArgumentError(absl::StrCat("actions[", index, "] (", type,
                                                      "): unknown marker ", action.end.marker_id,
                                                      " on map '", route.map_id, "'"));
     }
     if (const auto* nav = std::get_if<FreeNavigationAction>(&action.params)) {
       for (const Eigen::Vector2d& waypoint : nav->waypoints_m) {
-        RETURN_IF_ERROR(CheckPointFree(map.grid, waypoint, index, type, "waypoint"));
+        RETURN_IF_ERROR(CheckPointFree(map->grid, waypoint, index, type, "waypoint"));
       }
-      RETURN_IF_ERROR(CheckPointFree(map.grid, nav->goal.translation(), index, type, "goal"));
+      RETURN_IF_ERROR(CheckPointFree(map->grid, nav->goal.translation(), index, type, "goal"));
     }
   }
   return absl::OkStatus();
@@ -79,24 +91,24 @@ absl::StatusOr<uint32_t> SiteCatalog::PutRoute(const Route& route) {
   RETURN_IF_ERROR(MapCatalog::ValidateMapId(route.map_id));
   RETURN_IF_ERROR(route.Validate());
   RETURN_IF_ERROR(CheckRouteAgainstSite(route));
-  return routes_->PutRoute(route, NowUnixMs());
+  return site_data_->PutRoute(route, NowUnixMs());
 }
 
-absl::StatusOr<storage::StoredRoute> SiteCatalog::GetRoute(const std::string& name,
-                                                           uint32_t version) {
+absl::StatusOr<std::shared_ptr<const storage::StoredRoute>> SiteCatalog::GetRoute(
+    const std::string& name, uint32_t version) {
   RETURN_IF_ERROR(ValidateRouteName(name));
-  return routes_->GetRoute(name, version);
+  return site_data_->RouteVersion(name, version);
 }
 
 absl::StatusOr<std::vector<storage::StoredRoute>> SiteCatalog::ListRoutes(
     const std::string& map_id) {
   if (!map_id.empty()) RETURN_IF_ERROR(MapCatalog::ValidateMapId(map_id));
-  return routes_->ListRoutes(map_id);
+  return site_data_->ListRoutes(map_id);
 }
 
 absl::Status SiteCatalog::DeleteMap(const std::string& map_id) {
   RETURN_IF_ERROR(MapCatalog::ValidateMapId(map_id));
-  ASSIGN_OR_RETURN(int routes, routes_->CountRoutesOnMap(map_id));
+  ASSIGN_OR_RETURN(int routes, site_data_->CountRoutesOnMap(map_id));
   if (routes > 0) {
     return absl::FailedPreconditionError(
         absl::StrCat("map '", map_id, "' is used by ", routes, " route(s)"));
@@ -110,7 +122,7 @@ absl::Status SiteCatalog::DeleteMap(const std::string& map_id) {
     return absl::FailedPreconditionError(
         absl::StrCat("map '", map_id, "' is used by unfinished job ", page.jobs[0].job_id));
   }
-  return maps_->DeleteMap(map_id);
+  return site_data_->DeleteMap(map_id);
 }
 
 }  // namespace fleetnav::server

@@ -18,12 +18,9 @@ absl::Status TrafficCoordinatorParams::Validate() const {
   return absl::OkStatus();
 }
 
-TrafficCoordinator::TrafficCoordinator(storage::MapRepository* maps,
-                                       storage::MarkerSetRepository* markers,
-                                       FleetRegistry* registry, RobotMailbox* mailbox,
+TrafficCoordinator::TrafficCoordinator(SiteCache* site_data, FleetRegistry* registry, RobotMailbox* mailbox,
                                        const Clock* clock, TrafficCoordinatorParams params)
-    : maps_(maps),
-      markers_(markers),
+    : site_data_(site_data),
       registry_(registry),
       mailbox_(mailbox),
       clock_(clock),
@@ -87,9 +84,10 @@ planner::SingleRobotPlanner* TrafficCoordinator::PlannerFor(const Tracked& track
   auto it = planners_.find(key);
   if (it == planners_.end()) {
     PlannerCache cache;
-    absl::StatusOr<storage::StoredMap> map =
-        maps_->GetMap(tracked.assignment.job.map_id, tracked.assignment.map_version);
-    if (map.ok()) {
+    absl::StatusOr<std::shared_ptr<const storage::StoredMap>> shared =
+        site_data_->Map(tracked.assignment.job.map_id, tracked.assignment.map_version);
+    if (shared.ok()) {
+      const storage::StoredMap* map = shared->get();
       // The agent's free navigation plans with 0.1 m of padding (FreeNavigationParams).
       planner::CostmapParams costmap_params;
       costmap_params.padding_m = 0.1;
@@ -111,18 +109,19 @@ planner::SingleRobotPlanner* TrafficCoordinator::PlannerFor(const Tracked& track
 }
 
 void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose) {
-  std::optional<MarkerSet> markers;
+  std::shared_ptr<const storage::StoredMarkerSet> markers;
   if (tracked.assignment.marker_set_version > 0) {
-    absl::StatusOr<storage::StoredMarkerSet> stored = markers_->GetMarkerSet(
-        tracked.assignment.job.map_id, tracked.assignment.marker_set_version);
-    if (stored.ok()) markers = stored->markers;
+    absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> stored =
+        site_data_->MarkerSetVersion(tracked.assignment.job.map_id,
+                                     tracked.assignment.marker_set_version);
+    if (stored.ok()) markers = *std::move(stored);
   }
   Route remaining = tracked.assignment.route;
   const int skipped = std::min<int>(tracked.start_action, remaining.actions.size());
   remaining.actions.erase(remaining.actions.begin(), remaining.actions.begin() + skipped);
   Pose2 map_origin;
   planner::SingleRobotPlanner* planner = PlannerFor(tracked, &map_origin);
-  const MarkerSet* marker_set = markers ? &*markers : nullptr;
+  const MarkerSet* marker_set = markers ? &markers->markers : nullptr;
   absl::StatusOr<std::vector<planner::PredictedAction>> predicted =
       planner::PredictRoute(remaining, pose, marker_set, planner, map_origin, params_.prediction);
   if (!predicted.ok() && planner != nullptr) {

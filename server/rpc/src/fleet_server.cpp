@@ -60,18 +60,17 @@ absl::StatusOr<int> FleetServer::Start() {
   pose_history_repository_ = std::make_unique<storage::SqlitePoseHistoryRepository>(db_.get());
   pose_recorder_ = std::make_unique<PoseHistoryRecorder>(&registry_, pose_history_repository_.get(),
                                                          params_.pose_history);
-  maps_ = std::make_unique<MapCatalog>(map_repository_.get());
-  site_ = std::make_unique<SiteCatalog>(map_repository_.get(), marker_repository_.get(),
-                                        route_repository_.get(), job_repository_.get());
-  coordinator_ =
-      std::make_unique<TrafficCoordinator>(map_repository_.get(), marker_repository_.get(),
-                                           &registry_, &mailbox_, clock_, params_.traffic);
-  jobs_ =
-      std::make_unique<JobService>(job_repository_.get(), robot_repository_.get(),
-                                   map_repository_.get(), marker_repository_.get(), site_.get(),
-                                   &registry_, &mailbox_, clock_, params_.jobs, coordinator_.get());
+  site_data_ = std::make_unique<SiteCache>(map_repository_.get(), marker_repository_.get(),
+                                           route_repository_.get(), params_.site_cache);
+  maps_ = std::make_unique<MapCatalog>(site_data_.get());
+  site_ = std::make_unique<SiteCatalog>(site_data_.get(), job_repository_.get());
+  coordinator_ = std::make_unique<TrafficCoordinator>(site_data_.get(), &registry_, &mailbox_,
+                                                      clock_, params_.traffic);
+  jobs_ = std::make_unique<JobService>(job_repository_.get(), robot_repository_.get(),
+                                       site_data_.get(), site_.get(), &registry_, &mailbox_,
+                                       clock_, params_.jobs, coordinator_.get());
   RETURN_IF_ERROR(jobs_->Recover());
-  traffic_ = std::make_unique<TrafficPlanner>(map_repository_.get());
+  traffic_ = std::make_unique<TrafficPlanner>(site_data_.get());
   fleet_service_ = std::make_unique<FleetServiceImpl>(
       maps_.get(), site_.get(), jobs_.get(), traffic_.get(), &registry_, &mailbox_, &stopping_);
   agent_service_ = std::make_unique<AgentServiceImpl>(&registry_, jobs_.get(), &mailbox_,

@@ -54,17 +54,18 @@ grpc::Status FleetServiceImpl::PutMap(grpc::ServerContext*, const v1::PutMapRequ
   if (!info.ok()) return ToGrpcStatus(info.status());
   response->set_map_id(info->map_id);
   response->set_version(info->version);
-  absl::StatusOr<storage::StoredMarkerSet> markers = site_->GetMarkerSet(info->map_id, 0);
-  robots_->BroadcastMapUpdate(info->map_id, info->version, markers.ok() ? markers->version : 0);
+  robots_->BroadcastMapUpdate(info->map_id, info->version,
+                              site_->LatestMarkerSetVersion(info->map_id));
   return grpc::Status::OK;
 }
 
 grpc::Status FleetServiceImpl::GetMap(grpc::ServerContext*, const v1::GetMapRequest* request,
                                       v1::GetMapResponse* response) {
-  absl::StatusOr<storage::StoredMap> stored = maps_->Get(request->map_id(), request->version());
+  absl::StatusOr<std::shared_ptr<const storage::StoredMap>> stored =
+      maps_->Get(request->map_id(), request->version());
   if (!stored.ok()) return ToGrpcStatus(stored.status());
-  FillInfo(stored->info, response->mutable_info());
-  *response->mutable_grid() = fleetnav::ToProto(stored->grid);
+  FillInfo((*stored)->info, response->mutable_info());
+  *response->mutable_grid() = fleetnav::ToProto((*stored)->grid);
   return grpc::Status::OK;
 }
 
@@ -140,19 +141,19 @@ grpc::Status FleetServiceImpl::PutMarkerSet(grpc::ServerContext*,
   if (!version.ok()) return ToGrpcStatus(version.status());
   response->set_map_id(markers->map_id);
   response->set_version(*version);
-  absl::StatusOr<storage::StoredMap> map = maps_->Get(markers->map_id, 0);
-  robots_->BroadcastMapUpdate(markers->map_id, map.ok() ? map->info.version : 0, *version);
+  absl::StatusOr<uint32_t> map_version = maps_->LatestVersion(markers->map_id);
+  robots_->BroadcastMapUpdate(markers->map_id, map_version.value_or(0), *version);
   return grpc::Status::OK;
 }
 
 grpc::Status FleetServiceImpl::GetMarkerSet(grpc::ServerContext*,
                                             const v1::GetMarkerSetRequest* request,
                                             v1::GetMarkerSetResponse* response) {
-  absl::StatusOr<storage::StoredMarkerSet> stored =
+  absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> stored =
       site_->GetMarkerSet(request->map_id(), request->version());
   if (!stored.ok()) return ToGrpcStatus(stored.status());
-  *response->mutable_marker_set() = fleetnav::ToProto(stored->markers);
-  response->set_version(stored->version);
+  *response->mutable_marker_set() = fleetnav::ToProto((*stored)->markers);
+  response->set_version((*stored)->version);
   return grpc::Status::OK;
 }
 
@@ -169,10 +170,11 @@ grpc::Status FleetServiceImpl::PutRoute(grpc::ServerContext*, const v1::PutRoute
 
 grpc::Status FleetServiceImpl::GetRoute(grpc::ServerContext*, const v1::GetRouteRequest* request,
                                         v1::GetRouteResponse* response) {
-  absl::StatusOr<storage::StoredRoute> stored = site_->GetRoute(request->name(), 0);
+  absl::StatusOr<std::shared_ptr<const storage::StoredRoute>> stored =
+      site_->GetRoute(request->name(), 0);
   if (!stored.ok()) return ToGrpcStatus(stored.status());
-  *response->mutable_route() = fleetnav::ToProto(stored->route);
-  response->set_version(stored->version);
+  *response->mutable_route() = fleetnav::ToProto((*stored)->route);
+  response->set_version((*stored)->version);
   return grpc::Status::OK;
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "absl/time/clock.h"
+#include "fleetnav/storage/memory/memory_fleet_repositories.hpp"
 #include "fleetnav/storage/memory/memory_map_repository.hpp"
 
 namespace fleetnav::server {
@@ -23,6 +24,14 @@ void ExpectBadMapId(const absl::Status& status) {
   EXPECT_EQ(status.code(), absl::StatusCode::kInvalidArgument) << status;
   EXPECT_THAT(std::string(status.message()), HasSubstr("map_id"));
 }
+
+/// The cache the catalog reads through, over in-memory repositories.
+struct SiteData {
+  explicit SiteData(storage::MapRepository* maps) : cache(maps, &markers, &routes) {}
+  storage::MemoryMarkerSetRepository markers;
+  storage::MemoryRouteRepository routes;
+  SiteCache cache;
+};
 
 TEST(MapCatalogTest, ValidateMapIdAcceptsLowercaseDigitsUnderscoreAndDash) {
   for (const std::string& good : {std::string("barn"), std::string("a"), std::string("0"),
@@ -43,7 +52,8 @@ TEST(MapCatalogTest, ValidateMapIdRejectsBadIdsNamingTheField) {
 
 TEST(MapCatalogTest, PutReturnsVersionOneThenTwo) {
   storage::MemoryMapRepository repository;
-  MapCatalog catalog(&repository);
+  SiteData site(&repository);
+  MapCatalog catalog(&site.cache);
   const int64_t before_ms = absl::ToUnixMillis(absl::Now());
   absl::StatusOr<storage::MapInfo> first = catalog.Put("barn", SampleGrid(0), "empty barn");
   const int64_t after_ms = absl::ToUnixMillis(absl::Now());
@@ -59,18 +69,19 @@ TEST(MapCatalogTest, PutReturnsVersionOneThenTwo) {
   ASSERT_TRUE(second.ok()) << second.status();
   EXPECT_EQ(second->version, 2u);
 
-  absl::StatusOr<storage::StoredMap> latest = catalog.Get("barn", 0);
+  absl::StatusOr<std::shared_ptr<const storage::StoredMap>> latest = catalog.Get("barn", 0);
   ASSERT_TRUE(latest.ok()) << latest.status();
-  EXPECT_EQ(latest->info.version, 2u);
-  EXPECT_EQ(latest->grid, SampleGrid(100));
-  absl::StatusOr<storage::StoredMap> v1 = catalog.Get("barn", 1);
+  EXPECT_EQ((*latest)->info.version, 2u);
+  EXPECT_EQ((*latest)->grid, SampleGrid(100));
+  absl::StatusOr<std::shared_ptr<const storage::StoredMap>> v1 = catalog.Get("barn", 1);
   ASSERT_TRUE(v1.ok()) << v1.status();
-  EXPECT_EQ(v1->grid, SampleGrid(0));
+  EXPECT_EQ((*v1)->grid, SampleGrid(0));
 }
 
 TEST(MapCatalogTest, PutWithBadIdStoresNothing) {
   storage::MemoryMapRepository repository;
-  MapCatalog catalog(&repository);
+  SiteData site(&repository);
+  MapCatalog catalog(&site.cache);
   ExpectBadMapId(catalog.Put("Barn", SampleGrid(0), "").status());
   ExpectBadMapId(catalog.Put("", SampleGrid(0), "").status());
   absl::StatusOr<std::vector<storage::MapInfo>> list = repository.ListMaps();
@@ -80,7 +91,8 @@ TEST(MapCatalogTest, PutWithBadIdStoresNothing) {
 
 TEST(MapCatalogTest, GetAndDeleteCheckTheIdFirst) {
   storage::MemoryMapRepository repository;
-  MapCatalog catalog(&repository);
+  SiteData site(&repository);
+  MapCatalog catalog(&site.cache);
   ASSERT_TRUE(catalog.Put("barn", SampleGrid(0), "").ok());
   ExpectBadMapId(catalog.Get("a/b", 0).status());
   ExpectBadMapId(catalog.Delete("BARN"));
@@ -89,7 +101,8 @@ TEST(MapCatalogTest, GetAndDeleteCheckTheIdFirst) {
 
 TEST(MapCatalogTest, ListAndDeletePassThrough) {
   storage::MemoryMapRepository repository;
-  MapCatalog catalog(&repository);
+  SiteData site(&repository);
+  MapCatalog catalog(&site.cache);
   ASSERT_TRUE(catalog.Put("store", SampleGrid(0), "").ok());
   ASSERT_TRUE(catalog.Put("barn", SampleGrid(0), "").ok());
   absl::StatusOr<std::vector<storage::MapInfo>> list = catalog.List();

@@ -71,8 +71,10 @@ class TrafficCoordinatorTest : public ::testing::Test {
   ManualClock clock_{1'000'000'000};
   FleetRegistry registry_{&clock_, FleetRegistryParams{}};
   RecordingMailbox mailbox_;
-  TrafficCoordinator coordinator_{&maps_,    &markers_, &registry_,
-                                  &mailbox_, &clock_,   TrafficCoordinatorParams{}};
+  storage::MemoryRouteRepository routes_;
+  SiteCache site_data_{&maps_, &markers_, &routes_};
+  TrafficCoordinator coordinator_{&site_data_, &registry_, &mailbox_, &clock_,
+                                  TrafficCoordinatorParams{}};
 };
 
 TEST_F(TrafficCoordinatorTest, CrossingRobotsAreClearedOneAfterTheOtherAndToldWhy) {

@@ -11,10 +11,10 @@
 #include "fleetnav/core/job.hpp"
 #include "fleetnav/server/fleet_registry.hpp"
 #include "fleetnav/server/robot_mailbox.hpp"
+#include "fleetnav/server/site_cache.hpp"
 #include "fleetnav/server/site_catalog.hpp"
 #include "fleetnav/server/traffic_coordinator.hpp"
 #include "fleetnav/storage/job_repository.hpp"
-#include "fleetnav/storage/map_repository.hpp"
 #include "fleetnav/storage/robot_repository.hpp"
 
 namespace fleetnav::server {
@@ -48,8 +48,7 @@ struct SubmitJobRequest {
 class JobService {
  public:
   JobService(storage::JobRepository* jobs, storage::RobotRepository* robots,
-             storage::MapRepository* maps, storage::MarkerSetRepository* markers, SiteCatalog* site,
-             FleetRegistry* registry, RobotMailbox* mailbox, const Clock* clock,
+             SiteCache* site_data, SiteCatalog* site, FleetRegistry* registry, RobotMailbox* mailbox, const Clock* clock,
              JobServiceParams params, TrafficCoordinator* traffic = nullptr);
 
   /// Restores robots (offline) and pauses jobs that were assigned or running when the server
@@ -76,10 +75,20 @@ class JobService {
  private:
   absl::Status Transition(Job& job, JobState state, JobEventType type, const std::string& reason,
                           const std::string& robot_id) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// What dispatching needs to know of a job's route: the action types it needs and its
+  /// first known point.
+  struct RouteFacts {
+    std::vector<std::string> needed;
+    std::optional<Eigen::Vector2d> start;
+  };
   absl::StatusOr<Assignment> Resolve(const Job& job);
-  std::vector<std::string> RequiredCapabilities(const Job& job);
-  std::optional<Eigen::Vector2d> StartPoint(const Job& job);
+  /// Kept by (route, version), which never changes, so a queued job costs nothing per pass
+  /// however long its route.
+  const RouteFacts& FactsOf(const Job& job) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   void HandleLostRobots() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Sends CANCEL with the reason when `job_id` is no longer the robot's running job.
+  void CancelJobNoLongerHeld(const std::string& robot_id, const std::string& job_id)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   int AssignQueued() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Decides traffic clearances and stores a waiting event for each job whose wait changed.
   void UpdateTraffic() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
@@ -87,8 +96,7 @@ class JobService {
 
   storage::JobRepository* jobs_;
   storage::RobotRepository* robots_;
-  storage::MapRepository* maps_;
-  storage::MarkerSetRepository* markers_;
+  SiteCache* site_data_;
   SiteCatalog* site_;
   FleetRegistry* registry_;
   RobotMailbox* mailbox_;
@@ -98,6 +106,8 @@ class JobService {
   absl::Mutex mutex_;
   std::map<std::string, int64_t> lost_since_ns_ ABSL_GUARDED_BY(mutex_);  ///< by job id
   std::map<std::string, int> progress_decile_ ABSL_GUARDED_BY(mutex_);    ///< by job id
+  std::map<std::pair<std::string, uint32_t>, RouteFacts> route_facts_ ABSL_GUARDED_BY(mutex_);
+  std::map<std::string, RouteFacts> goal_facts_ ABSL_GUARDED_BY(mutex_);  ///< by job id
 };
 
 }  // namespace fleetnav::server

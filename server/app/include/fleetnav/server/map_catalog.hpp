@@ -1,10 +1,12 @@
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "absl/status/statusor.h"
 #include "fleetnav/core/occupancy_grid.hpp"
+#include "fleetnav/server/site_cache.hpp"
 #include "fleetnav/storage/map_repository.hpp"
 
 namespace fleetnav::server {
@@ -13,11 +15,15 @@ namespace fleetnav::server {
 /// through a MapRepository. Thread-safe as its repository is.
 class MapCatalog {
  public:
-  explicit MapCatalog(storage::MapRepository* repository) : repository_(repository) {}
+  explicit MapCatalog(SiteCache* site_data) : site_data_(site_data) {}
 
   absl::StatusOr<storage::MapInfo> Put(const std::string& map_id, const OccupancyGrid& grid,
                                        const std::string& description);
-  absl::StatusOr<storage::StoredMap> Get(const std::string& map_id, uint32_t version);
+  /// version 0: the latest. Shared with the cache: never copied.
+  absl::StatusOr<std::shared_ptr<const storage::StoredMap>> Get(const std::string& map_id,
+                                                                uint32_t version);
+  /// NotFound when the map has no version.
+  absl::StatusOr<uint32_t> LatestVersion(const std::string& map_id);
   absl::StatusOr<std::vector<storage::MapInfo>> List();
   absl::Status Delete(const std::string& map_id);
 
@@ -25,7 +31,7 @@ class MapCatalog {
   static absl::Status ValidateMapId(const std::string& map_id);
 
  private:
-  storage::MapRepository* repository_;
+  SiteCache* site_data_;
 };
 
 }  // namespace fleetnav::server

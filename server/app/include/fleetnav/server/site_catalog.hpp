@@ -1,11 +1,13 @@
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "absl/status/statusor.h"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
+#include "fleetnav/server/site_cache.hpp"
 #include "fleetnav/storage/job_repository.hpp"
 #include "fleetnav/storage/map_repository.hpp"
 #include "fleetnav/storage/marker_set_repository.hpp"
@@ -20,15 +22,18 @@ namespace fleetnav::server {
 /// deleting it can be refused. Thread-safe as its repositories are.
 class SiteCatalog {
  public:
-  SiteCatalog(storage::MapRepository* maps, storage::MarkerSetRepository* markers,
-              storage::RouteRepository* routes, storage::JobRepository* jobs)
-      : maps_(maps), markers_(markers), routes_(routes), jobs_(jobs) {}
+  SiteCatalog(SiteCache* site_data, storage::JobRepository* jobs)
+      : site_data_(site_data), jobs_(jobs) {}
 
   absl::StatusOr<uint32_t> PutMarkerSet(const MarkerSet& markers);
-  absl::StatusOr<storage::StoredMarkerSet> GetMarkerSet(const std::string& map_id,
-                                                        uint32_t version);
+  /// version 0: the latest. Shared with the cache: never copied.
+  absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> GetMarkerSet(
+      const std::string& map_id, uint32_t version);
+  /// The latest marker-set version of the map; 0 when it has none.
+  uint32_t LatestMarkerSetVersion(const std::string& map_id);
   absl::StatusOr<uint32_t> PutRoute(const Route& route);
-  absl::StatusOr<storage::StoredRoute> GetRoute(const std::string& name, uint32_t version);
+  absl::StatusOr<std::shared_ptr<const storage::StoredRoute>> GetRoute(const std::string& name,
+                                                                       uint32_t version);
   absl::StatusOr<std::vector<storage::StoredRoute>> ListRoutes(const std::string& map_id);
   /// FailedPrecondition naming what still uses the map (routes, unfinished jobs), else deletes.
   absl::Status DeleteMap(const std::string& map_id);
@@ -39,9 +44,7 @@ class SiteCatalog {
  private:
   absl::Status CheckRouteAgainstSite(const Route& route);
 
-  storage::MapRepository* maps_;
-  storage::MarkerSetRepository* markers_;
-  storage::RouteRepository* routes_;
+  SiteCache* site_data_;
   storage::JobRepository* jobs_;
 };
 

@@ -16,8 +16,7 @@
 #include "fleetnav/planner/traffic_schedule.hpp"
 #include "fleetnav/server/fleet_registry.hpp"
 #include "fleetnav/server/robot_mailbox.hpp"
-#include "fleetnav/storage/map_repository.hpp"
-#include "fleetnav/storage/marker_set_repository.hpp"
+#include "fleetnav/server/site_cache.hpp"
 
 namespace fleetnav::server {
 
@@ -47,9 +46,8 @@ struct TrafficWaitChange {
 /// calls the registry and the mailbox, which never block).
 class TrafficCoordinator {
  public:
-  TrafficCoordinator(storage::MapRepository* maps, storage::MarkerSetRepository* markers,
-                     FleetRegistry* registry, RobotMailbox* mailbox, const Clock* clock,
-                     TrafficCoordinatorParams params);
+  TrafficCoordinator(SiteCache* site_data, FleetRegistry* registry, RobotMailbox* mailbox,
+                     const Clock* clock, TrafficCoordinatorParams params);
 
   /// Begin's resume_action for a job resumed after a server restart: the robot is in the
   /// action its telemetry reports.
@@ -94,8 +92,7 @@ class TrafficCoordinator {
   std::string Describe(const planner::TrafficClearanceDecision& d) const
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
 
-  storage::MapRepository* maps_;
-  storage::MarkerSetRepository* markers_;
+  SiteCache* site_data_;
   FleetRegistry* registry_;
   RobotMailbox* mailbox_;
   const Clock* clock_;

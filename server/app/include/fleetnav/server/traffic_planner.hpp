@@ -5,7 +5,8 @@
 
 #include "absl/status/statusor.h"
 #include "fleetnav/core/pose2.hpp"
-#include "fleetnav/storage/map_repository.hpp"
+
+#include "fleetnav/server/site_cache.hpp"
 
 namespace fleetnav::server {
 
@@ -55,7 +56,7 @@ struct TrafficPlan {
 /// any delay. Thread-safe as its repository is.
 class TrafficPlanner {
  public:
-  explicit TrafficPlanner(storage::MapRepository* maps) : maps_(maps) {}
+  explicit TrafficPlanner(SiteCache* site_data) : site_data_(site_data) {}
 
   /// InvalidArgument names `agents[i]` for an unknown kind, a start or goal off the free grid,
   /// or two robots on one cell; NotFound for the map; DeadlineExceeded when no plan is found
@@ -64,7 +65,7 @@ class TrafficPlanner {
                                    const std::vector<TrafficAgent>& agents, double time_limit_s);
 
  private:
-  storage::MapRepository* maps_;
+  SiteCache* site_data_;
 };
 
 }  // namespace fleetnav::server

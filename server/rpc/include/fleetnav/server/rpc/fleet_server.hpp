@@ -17,6 +17,7 @@
 #include "fleetnav/server/rpc/agent_service.hpp"
 #include "fleetnav/server/rpc/fleet_service.hpp"
 #include "fleetnav/server/rpc/sim_clock_feed.hpp"
+#include "fleetnav/server/site_cache.hpp"
 #include "fleetnav/server/site_catalog.hpp"
 #include "fleetnav/server/traffic_coordinator.hpp"
 #include "fleetnav/server/traffic_planner.hpp"
@@ -33,6 +34,7 @@ struct FleetServerParams {
   JobServiceParams jobs;
   TrafficCoordinatorParams traffic;
   PoseHistoryParams pose_history;
+  SiteCacheParams site_cache;
   double dispatch_period_s = 0.2;    ///< how often queued jobs are matched to idle robots
   int max_message_bytes = 64 << 20;  ///< largest request accepted (a 8k×8k map fits)
   /// Threads (each with its own completion queue) serving the robots' streams.
@@ -77,6 +79,7 @@ class FleetServer {
   std::unique_ptr<storage::SqliteJobRepository> job_repository_;
   std::unique_ptr<storage::SqlitePoseHistoryRepository> pose_history_repository_;
   std::unique_ptr<PoseHistoryRecorder> pose_recorder_;
+  std::unique_ptr<SiteCache> site_data_;  ///< in front of the three repositories above
   std::unique_ptr<MapCatalog> maps_;
   std::unique_ptr<SiteCatalog> site_;
   AgentMailbox mailbox_;
