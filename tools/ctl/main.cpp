@@ -89,7 +89,12 @@ int main(int argc, char** argv) {
   CLI::App* job_watch = jobs->add_subcommand("watch", "follow a job live until it ends");
   job_watch->add_option("job_id", job_id, "job id")->required();
 
-  CLI::App* robots = app.add_subcommand("robots", "list robots with state and pose");
+  CLI::App* robots = app.add_subcommand(
+      "robots", "list robots with state and pose; `robots forget ID` removes an offline one");
+  CLI::App* robots_forget = robots->add_subcommand(
+      "forget", "remove an offline robot that holds no job from the registry and the store");
+  std::string forget_id;
+  robots_forget->add_option("robot_id", forget_id, "robot id")->required();
   CLI::App* watch = app.add_subcommand("watch", "follow the fleet live");
   double rate_hz = 5.0, duration_s = 0.0;
   int count = 0;
@@ -144,6 +149,8 @@ int main(int argc, char** argv) {
     status = fleetnav::ctl::CancelJob(context, job_id, reason);
   } else if (job_watch->parsed()) {
     status = fleetnav::ctl::WatchJob(context, job_id);
+  } else if (robots_forget->parsed()) {
+    status = fleetnav::ctl::ForgetRobot(context, forget_id);
   } else if (robots->parsed()) {
     status = fleetnav::ctl::ListRobots(context);
   } else if (sim_truth->parsed()) {

@@ -21,9 +21,10 @@ std::shared_ptr<grpc::Channel> NewAgentChannel(const std::string& server, int in
   return grpc::CreateCustomChannel(server, grpc::InsecureChannelCredentials(), args);
 }
 
-void FillHello(const std::string& robot_id, v1::AgentMessage* message) {
+void FillHello(const std::string& robot_id, bool capable, v1::AgentMessage* message) {
   v1::AgentHello* hello = message->mutable_hello();
   hello->set_robot_id(robot_id);
+  if (capable) hello->add_capabilities("straight");
   v1::RobotModel* model = hello->mutable_model();
   model->set_kind_name("loadgen");
   model->set_kinematics(v1::KINEMATICS_DIFFERENTIAL);
@@ -107,7 +108,7 @@ int LoadWorker::Connect(int64_t deadline_ns) {
     const int index = params_.indices[k];
     auto agent = std::make_unique<Agent>();
     agent->offset_ns = 0;
-    FillHello("load-" + std::to_string(index), &agent->hello);
+    FillHello("load-" + std::to_string(index), index < params_.capable_agents, &agent->hello);
     FillTelemetry(&agent->out);
     // Neighbours in send order share a connection, so writes falling due together coalesce.
     const size_t channel = k * stubs_.size() / params_.indices.size();

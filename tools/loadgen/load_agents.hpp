@@ -35,6 +35,9 @@ struct WorkerParams {
   std::vector<int> indices;          ///< this worker's agents, ascending
   int streams_per_connection = 250;  ///< agent streams multiplexed on one HTTP/2 connection
   int first_channel_index = 0;       ///< distinguishes this worker's connections
+  /// Agents with an index below this advertise "straight", so jobs on the loadgen routes are
+  /// assigned to them (each keeps its job: it never reports on it).
+  int capable_agents = 0;
 };
 
 /// A set of simulated robots driven by one thread on the async (completion-queue) API: each

@@ -1,5 +1,6 @@
 #include "load_report.hpp"
 
+#include <dirent.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -45,6 +46,52 @@ double ProcessRssMb(pid_t pid) {
     std::getline(in, rest);
   }
   return -1.0;
+}
+
+pid_t ListeningPid(int port) {
+  // The listening socket's inode: state 0A (LISTEN) with our port, in hex after the colon.
+  std::string inode;
+  for (const char* table : {"/proc/net/tcp", "/proc/net/tcp6"}) {
+    std::ifstream in(table);
+    std::string line;
+    std::getline(in, line);  // header
+    while (inode.empty() && std::getline(in, line)) {
+      std::istringstream fields(line);
+      std::string slot, local, remote, state, queues, timer, retransmits, uid, timeout, node;
+      fields >> slot >> local >> remote >> state >> queues >> timer >> retransmits >> uid >>
+          timeout >> node;
+      const size_t colon = local.rfind(':');
+      if (state == "0A" && colon != std::string::npos &&
+          std::stoi(local.substr(colon + 1), nullptr, 16) == port) {
+        inode = node;
+      }
+    }
+  }
+  if (inode.empty()) return -1;
+  const std::string wanted = "socket:[" + inode + "]";
+  DIR* proc = opendir("/proc");
+  if (proc == nullptr) return -1;
+  pid_t found = -1;
+  while (dirent* entry = readdir(proc)) {
+    const std::string pid = entry->d_name;
+    if (pid.empty() || pid.find_first_not_of("0123456789") != std::string::npos) continue;
+    const std::string fd_dir = "/proc/" + pid + "/fd";
+    DIR* fds = opendir(fd_dir.c_str());
+    if (fds == nullptr) continue;
+    while (dirent* fd = readdir(fds)) {
+      char target[64] = {0};
+      const std::string link = fd_dir + "/" + fd->d_name;
+      const ssize_t n = readlink(link.c_str(), target, sizeof(target) - 1);
+      if (n > 0 && wanted == std::string(target, static_cast<size_t>(n))) {
+        found = static_cast<pid_t>(std::stol(pid));
+        break;
+      }
+    }
+    closedir(fds);
+    if (found > 0) break;
+  }
+  closedir(proc);
+  return found;
 }
 
 }  // namespace fleetnav::loadgen

@@ -41,7 +41,7 @@ uint64_t FleetRegistry::Connect(const RobotIdentity& identity) {
   entry.record.identity = identity;
   entry.record.connection = ConnectionState::kOnline;
   entry.record.last_seen_ns = clock_->NowNs();
-  entry.record.revision = ++revision_;
+  entry.record.revision = NextRevision();
   return entry.session;
 }
 
@@ -72,7 +72,7 @@ absl::Status FleetRegistry::RecordTelemetry(const std::string& robot_id, uint64_
   entry.record.last_seen_ns = clock_->NowNs();
   entry.record.connection = ConnectionState::kOnline;
   ++entry.record.telemetry_count;
-  entry.record.revision = ++revision_;
+  entry.record.revision = NextRevision();
   return absl::OkStatus();
 }
 
@@ -81,7 +81,8 @@ bool FleetRegistry::Disconnect(const std::string& robot_id, uint64_t session) {
   Entry* entry = Find(robot_id);
   if (entry == nullptr || entry->session != session) return false;
   entry->record.connection = ConnectionState::kOffline;
-  entry->record.revision = ++revision_;
+  entry->offline_since_ns = clock_->NowNs();
+  entry->record.revision = NextRevision();
   return true;
 }
 
@@ -100,7 +101,80 @@ void FleetRegistry::RestoreOffline(const RobotIdentity& identity) {
   Entry& entry = Insert(identity.robot_id);
   entry.record.identity = identity;
   entry.record.connection = ConnectionState::kOffline;
-  entry.record.revision = ++revision_;
+  entry.offline_since_ns = clock_->NowNs();
+  entry.record.revision = NextRevision();
+}
+
+absl::Status FleetRegistry::Forget(const std::string& robot_id) {
+  absl::MutexLock lock(&mutex_);
+  const Entry* entry = Find(robot_id);
+  if (entry == nullptr) {
+    return absl::NotFoundError(absl::StrCat("robot '", EchoInput(robot_id), "' not found"));
+  }
+  if (entry->record.connection != ConnectionState::kOffline) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("robot '", robot_id, "' is connected; it can be forgotten once offline"));
+  }
+  if (!entry->record.current_job_id.empty()) {
+    return absl::FailedPreconditionError(absl::StrCat("robot '", robot_id, "' holds job ",
+                                                      entry->record.current_job_id,
+                                                      "; cancel it first"));
+  }
+  index_.erase(robot_id);
+  robots_.erase(robot_id);
+  ++removals_;
+  NextRevision();
+  return absl::OkStatus();
+}
+
+std::vector<std::string> FleetRegistry::OfflineLongerThan(double offline_for_s) const {
+  absl::ReaderMutexLock lock(&mutex_);
+  const int64_t now_ns = clock_->NowNs();
+  std::vector<std::string> out;
+  for (const auto& [id, entry] : robots_) {
+    if (entry.record.connection != ConnectionState::kOffline ||
+        !entry.record.current_job_id.empty()) {
+      continue;
+    }
+    if (static_cast<double>(now_ns - entry.offline_since_ns) * 1e-9 > offline_for_s) {
+      out.push_back(id);
+    }
+  }
+  return out;
+}
+
+uint64_t FleetRegistry::NextRevision() {
+  ++revision_;
+  if (listener_) listener_();
+  return revision_;
+}
+
+uint64_t FleetRegistry::revision() const {
+  absl::ReaderMutexLock lock(&mutex_);
+  return revision_;
+}
+
+void FleetRegistry::RefreshStale() {
+  absl::MutexLock lock(&mutex_);
+  const int64_t now_ns = clock_->NowNs();
+  for (auto& [id, entry] : robots_) {
+    const bool stale = entry.record.connection == ConnectionState::kOnline &&
+                       static_cast<double>(now_ns - entry.record.last_seen_ns) * 1e-9 >
+                           params_.stale_after_s;
+    if (stale == entry.shown_stale) continue;
+    entry.shown_stale = stale;
+    entry.record.revision = NextRevision();
+  }
+}
+
+void FleetRegistry::SetChangeListener(std::function<void()> listener) {
+  absl::MutexLock lock(&mutex_);
+  listener_ = std::move(listener);
+}
+
+uint64_t FleetRegistry::removals() const {
+  absl::ReaderMutexLock lock(&mutex_);
+  return removals_;
 }
 
 void FleetRegistry::SetCurrentJob(const std::string& robot_id, const std::string& job_id) {
@@ -108,7 +182,7 @@ void FleetRegistry::SetCurrentJob(const std::string& robot_id, const std::string
   Entry* entry = Find(robot_id);
   if (entry == nullptr) return;
   entry->record.current_job_id = job_id;
-  entry->record.revision = ++revision_;
+  entry->record.revision = NextRevision();
 }
 
 void FleetRegistry::SetTrafficWait(const std::string& robot_id, const std::string& reason) {
@@ -116,7 +190,7 @@ void FleetRegistry::SetTrafficWait(const std::string& robot_id, const std::strin
   Entry* entry = Find(robot_id);
   if (entry == nullptr || entry->record.traffic_wait == reason) return;
   entry->record.traffic_wait = reason;
-  entry->record.revision = ++revision_;
+  entry->record.revision = NextRevision();
 }
 
 absl::StatusOr<RobotRecord> FleetRegistry::Get(const std::string& robot_id) const {

@@ -37,6 +37,10 @@ absl::Status JobServiceParams::Validate() const {
         absl::StrCat("lost_robot_timeout_s: must be finite and > 0, got ", lost_robot_timeout_s));
   }
   if (max_page_size < 1) return absl::InvalidArgumentError("max_page_size: must be >= 1");
+  if (!std::isfinite(evict_offline_robots_after_s) || evict_offline_robots_after_s < 0.0) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "evict_offline_robots_after_s: must be finite and >= 0, got ", evict_offline_robots_after_s));
+  }
   return absl::OkStatus();
 }
 
@@ -147,7 +151,21 @@ absl::StatusOr<storage::CreatedJob> JobService::Submit(const SubmitJobRequest& r
   job.on_robot_lost = request.on_robot_lost;
   job.created_unix_ms = job.updated_unix_ms = NowUnixMs();
   job.state = JobState::kQueued;
-  return jobs_->CreateJob(job, MakeEvent(job, JobEventType::kQueued, "", ""));
+  absl::StatusOr<storage::CreatedJob> created =
+      jobs_->CreateJob(job, MakeEvent(job, JobEventType::kQueued, "", ""));
+  if (created.ok() && !created->deduplicated) WakeDispatcher();
+  return created;
+}
+
+void JobService::WakeDispatcher() {
+  absl::MutexLock lock(&work_mutex_);
+  work_pending_ = true;
+}
+
+void JobService::WaitForWork(absl::Duration timeout) {
+  absl::MutexLock lock(&work_mutex_);
+  work_mutex_.AwaitWithTimeout(absl::Condition(&work_pending_), timeout);
+  work_pending_ = false;
 }
 
 absl::StatusOr<Job> JobService::Get(const std::string& job_id) { return jobs_->GetJob(job_id); }
@@ -176,6 +194,7 @@ absl::StatusOr<Job> JobService::Cancel(const std::string& job_id, const std::str
   if (!robot.empty()) {
     mailbox_->SendCommand(robot, RobotCommandType::kCancel, job_id, why);
     registry_->SetCurrentJob(robot, "");
+    WakeDispatcher();  // the robot is free for the next job
   }
   return job;
 }
@@ -227,6 +246,7 @@ void JobService::OnRobotConnected(const RobotIdentity& identity, const std::stri
   // The robot may still drive a job that ended or went elsewhere while it was away: it is told
   // before it can be handed another (its outbox delivers in order).
   if (!resume_job_id.empty()) CancelJobNoLongerHeld(identity.robot_id, resume_job_id);
+  WakeDispatcher();
 }
 
 void JobService::CancelJobNoLongerHeld(const std::string& robot_id, const std::string& job_id) {
@@ -267,12 +287,14 @@ void JobService::OnRobotEvent(const std::string& robot_id, const JobEvent& event
       job.progress_fraction = 1.0;
       (void)Transition(job, JobState::kSucceeded, JobEventType::kSucceeded, event.reason, robot_id);
       registry_->SetCurrentJob(robot_id, "");
+      WakeDispatcher();
       EndTraffic(job.job_id);
       UpdateTraffic();
       return;
     case JobEventType::kFailed:
       (void)Transition(job, JobState::kFailed, JobEventType::kFailed, event.reason, robot_id);
       registry_->SetCurrentJob(robot_id, "");
+      WakeDispatcher();
       EndTraffic(job.job_id);
       UpdateTraffic();
       return;
@@ -391,9 +413,27 @@ absl::StatusOr<Assignment> JobService::Resolve(const Job& job) {
   return assignment;
 }
 
+absl::Status JobService::ForgetRobot(const std::string& robot_id) {
+  absl::MutexLock lock(&mutex_);
+  return ForgetRobotLocked(robot_id);
+}
+
+absl::Status JobService::ForgetRobotLocked(const std::string& robot_id) {
+  // The registry refuses a connected robot or one with a job; the store follows it.
+  RETURN_IF_ERROR(registry_->Forget(robot_id));
+  absl::Status stored = robots_->DeleteRobot(robot_id);
+  return absl::IsNotFound(stored) ? absl::OkStatus() : stored;
+}
+
 int JobService::DispatchOnce() {
   absl::MutexLock lock(&mutex_);
   HandleLostRobots();
+  if (params_.evict_offline_robots_after_s > 0.0) {
+    for (const std::string& robot_id :
+         registry_->OfflineLongerThan(params_.evict_offline_robots_after_s)) {
+      (void)ForgetRobotLocked(robot_id);
+    }
+  }
   const int assigned = AssignQueued();
   UpdateTraffic();
   return assigned;

@@ -23,6 +23,8 @@ absl::StatusOr<storage::MapInfo> MapCatalog::Put(const std::string& map_id,
                                                  const OccupancyGrid& grid,
                                                  const std::string& description) {
   RETURN_IF_ERROR(ValidateMapId(map_id));
+  RETURN_IF_ERROR(limits_.CheckMap(grid));
+  RETURN_IF_ERROR(limits_.CheckMapDescription(description));
   const int64_t now_ms = absl::ToUnixMillis(absl::Now());
   return site_data_->PutMap(map_id, grid, description, now_ms);
 }

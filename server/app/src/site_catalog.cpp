@@ -42,6 +42,7 @@ absl::Status SiteCatalog::ValidateRouteName(const std::string& name) {
 
 absl::StatusOr<uint32_t> SiteCatalog::PutMarkerSet(const MarkerSet& markers) {
   RETURN_IF_ERROR(MapCatalog::ValidateMapId(markers.map_id));
+  RETURN_IF_ERROR(limits_.CheckMarkers(markers));
   RETURN_IF_ERROR(markers.Validate());
   RETURN_IF_ERROR(site_data_->LatestMapVersion(markers.map_id).status());
   return site_data_->PutMarkerSet(markers, NowUnixMs());
@@ -89,6 +90,7 @@ absl::Status SiteCatalog::CheckRouteAgainstSite(const Route& route) {
 absl::StatusOr<uint32_t> SiteCatalog::PutRoute(const Route& route) {
   RETURN_IF_ERROR(ValidateRouteName(route.name));
   RETURN_IF_ERROR(MapCatalog::ValidateMapId(route.map_id));
+  RETURN_IF_ERROR(limits_.CheckRoute(route));
   RETURN_IF_ERROR(route.Validate());
   RETURN_IF_ERROR(CheckRouteAgainstSite(route));
   return site_data_->PutRoute(route, NowUnixMs());

@@ -112,6 +112,10 @@ class AgentConnection final {
     }
     absl::StatusOr<RobotIdentity> identity = FromProto(message.hello());
     if (!identity.ok()) return identity.status();
+    // Checked before anything of it is kept: the registry holds a hello for good.
+    if (absl::Status limited = service_->limits_.CheckIdentity(*identity); !limited.ok()) {
+      return limited;
+    }
     robot_id_ = identity->robot_id;
     hello_seen_ = true;
     v1::ServerMessage welcome;
@@ -126,6 +130,7 @@ class AgentConnection final {
     outbox_->Push(std::move(welcome));
     jobs_->OnRobotConnected(*identity, message.hello().resume_job_id());
     session_ = registry_->Connect(*identity);
+    jobs_->WakeDispatcher();  // an idle robot: there may be a job for it now
     {
       // Writing starts only now: whoever reads the welcome finds the robot registered.
       absl::MutexLock lock(&mutex_);
@@ -218,8 +223,12 @@ class AgentConnection final {
 };
 
 AgentServiceImpl::AgentServiceImpl(FleetRegistry* registry, JobService* jobs, AgentMailbox* mailbox,
-                                   int threads)
-    : registry_(registry), jobs_(jobs), mailbox_(mailbox), thread_count_(std::max(1, threads)) {}
+                                   int threads, InputLimits limits)
+    : registry_(registry),
+      jobs_(jobs),
+      mailbox_(mailbox),
+      limits_(limits),
+      thread_count_(std::max(1, threads)) {}
 
 AgentServiceImpl::~AgentServiceImpl() { Shutdown(); }
 

@@ -16,6 +16,7 @@ namespace fleetnav::server {
 
 absl::Status FleetServerParams::Validate() const {
   if (listen_address.empty()) return absl::InvalidArgumentError("listen_address: empty");
+  RETURN_IF_ERROR(limits.Validate());
   if (db_path.empty()) return absl::InvalidArgumentError("db_path: empty");
   if (max_message_bytes < 1024) {
     return absl::InvalidArgumentError(
@@ -56,14 +57,15 @@ absl::StatusOr<int> FleetServer::Start() {
   marker_repository_ = std::make_unique<storage::SqliteMarkerSetRepository>(db_.get());
   route_repository_ = std::make_unique<storage::SqliteRouteRepository>(db_.get());
   robot_repository_ = std::make_unique<storage::SqliteRobotRepository>(db_.get());
-  job_repository_ = std::make_unique<storage::SqliteJobRepository>(db_.get());
+  stored_jobs_ = std::make_unique<storage::SqliteJobRepository>(db_.get());
+  job_repository_ = std::make_unique<NotifyingJobRepository>(stored_jobs_.get());
   pose_history_repository_ = std::make_unique<storage::SqlitePoseHistoryRepository>(db_.get());
   pose_recorder_ = std::make_unique<PoseHistoryRecorder>(&registry_, pose_history_repository_.get(),
                                                          params_.pose_history);
   site_data_ = std::make_unique<SiteCache>(map_repository_.get(), marker_repository_.get(),
                                            route_repository_.get(), params_.site_cache);
-  maps_ = std::make_unique<MapCatalog>(site_data_.get());
-  site_ = std::make_unique<SiteCatalog>(site_data_.get(), job_repository_.get());
+  maps_ = std::make_unique<MapCatalog>(site_data_.get(), params_.limits);
+  site_ = std::make_unique<SiteCatalog>(site_data_.get(), job_repository_.get(), params_.limits);
   coordinator_ = std::make_unique<TrafficCoordinator>(site_data_.get(), &registry_, &mailbox_,
                                                       clock_, params_.traffic);
   jobs_ = std::make_unique<JobService>(job_repository_.get(), robot_repository_.get(),
@@ -72,9 +74,14 @@ absl::StatusOr<int> FleetServer::Start() {
   RETURN_IF_ERROR(jobs_->Recover());
   traffic_ = std::make_unique<TrafficPlanner>(site_data_.get());
   fleet_service_ = std::make_unique<FleetServiceImpl>(
-      maps_.get(), site_.get(), jobs_.get(), traffic_.get(), &registry_, &mailbox_, &stopping_);
+      maps_.get(), site_.get(), jobs_.get(), traffic_.get(), &registry_, &mailbox_);
   agent_service_ = std::make_unique<AgentServiceImpl>(&registry_, jobs_.get(), &mailbox_,
-                                                      params_.agent_stream_threads);
+                                                      params_.agent_stream_threads,
+                                                      params_.limits);
+  watch_hub_ = std::make_unique<WatchHub>(fleet_service_.get(), &registry_, jobs_.get());
+  registry_.SetChangeListener([hub = watch_hub_.get()] { hub->OnFleetChanged(); });
+  job_repository_->SetListener(
+      [hub = watch_hub_.get()](const std::string& job_id) { hub->OnJobChanged(job_id); });
 
   // Our own synchronous health service instead of gRPC's default (see health_service.hpp); the
   // default is switched on process-wide, so switch it off for this server explicitly.
@@ -95,24 +102,26 @@ absl::StatusOr<int> FleetServer::Start() {
   builder.RegisterService(health_service_.get());
   builder.RegisterService(fleet_service_.get());
   agent_service_->Register(&builder);
+  watch_hub_->Register(&builder);
   server_ = builder.BuildAndStart();
   if (server_ == nullptr || port == 0) {
     return absl::UnavailableError(absl::StrCat("cannot listen: address ", params_.listen_address,
                                                " already in use or not available"));
   }
   agent_service_->Start();
+  watch_hub_->Start();
   dispatcher_ = std::thread([this] {
-    const auto period = std::chrono::duration<double>(params_.dispatch_period_s);
     const auto history_period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
         std::chrono::duration<double>(params_.pose_history.period_s));
     auto next_history = std::chrono::steady_clock::now() + history_period;
     while (!stopping_.load()) {
       jobs_->DispatchOnce();
+      registry_.RefreshStale();
       if (std::chrono::steady_clock::now() >= next_history) {
         (void)pose_recorder_->RecordOnce(absl::ToUnixMillis(absl::Now()));
         next_history += history_period;
       }
-      std::this_thread::sleep_for(period);
+      jobs_->WaitForWork(absl::Seconds(params_.dispatch_period_s));
     }
   });
   return port;
@@ -121,7 +130,10 @@ absl::StatusOr<int> FleetServer::Start() {
 void FleetServer::Shutdown() {
   if (server_ == nullptr || stopping_.exchange(true)) return;
   server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
+  if (jobs_ != nullptr) jobs_->WakeDispatcher();
   agent_service_->Shutdown();
+  watch_hub_->Shutdown();
+  registry_.SetChangeListener(nullptr);
   if (dispatcher_.joinable()) dispatcher_.join();
   if (sim_clock_feed_ != nullptr) sim_clock_feed_->Stop();
 }

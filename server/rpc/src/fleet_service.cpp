@@ -96,40 +96,10 @@ grpc::Status FleetServiceImpl::GetRobot(grpc::ServerContext*, const v1::GetRobot
   return grpc::Status::OK;
 }
 
-grpc::Status FleetServiceImpl::WatchFleet(grpc::ServerContext* context,
-                                          const v1::WatchFleetRequest* request,
-                                          grpc::ServerWriter<v1::FleetUpdate>* writer) {
-  const double rate_hz = request->rate_hz() == 0.0 ? 10.0 : request->rate_hz();
-  if (!std::isfinite(rate_hz) || rate_hz < 0.0 || rate_hz > 100.0) {
-    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                        absl::StrCat("rate_hz: must be in (0, 100], got ", request->rate_hz()));
-  }
-  const auto period = std::chrono::duration<double>(1.0 / rate_hz);
-  // What this watcher last saw of each robot: its revision and connection state. A robot that
-  // goes stale changes no revision, so the state is compared too.
-  std::map<std::string, std::pair<uint64_t, ConnectionState>> seen;
-  bool first = true;
-  while (!context->IsCancelled() && !stopping_->load()) {
-    v1::FleetUpdate update;
-    update.set_snapshot(first);
-    for (const RobotRecord& record : registry_->Snapshot()) {
-      auto [it, inserted] =
-          seen.try_emplace(record.identity.robot_id, record.revision, record.connection);
-      const bool changed =
-          inserted || it->second.first != record.revision || it->second.second != record.connection;
-      it->second = {record.revision, record.connection};
-      if (first || changed) *update.add_robots() = ToProto(record);
-    }
-    if (first || update.robots_size() > 0) {
-      update.set_server_time_ns(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                    std::chrono::steady_clock::now().time_since_epoch())
-                                    .count());
-      if (!writer->Write(update)) break;
-      first = false;
-    }
-    std::this_thread::sleep_for(period);
-  }
-  return grpc::Status::OK;
+grpc::Status FleetServiceImpl::ForgetRobot(grpc::ServerContext*,
+                                           const v1::ForgetRobotRequest* request,
+                                           v1::ForgetRobotResponse*) {
+  return ToGrpcStatus(jobs_->ForgetRobot(request->robot_id()));
 }
 
 grpc::Status FleetServiceImpl::PutMarkerSet(grpc::ServerContext*,
@@ -247,27 +217,6 @@ grpc::Status FleetServiceImpl::CancelJob(grpc::ServerContext*, const v1::CancelJ
   absl::StatusOr<Job> job = jobs_->Cancel(request->job_id(), request->reason());
   if (!job.ok()) return ToGrpcStatus(job.status());
   *response->mutable_job() = fleetnav::ToProto(*job);
-  return grpc::Status::OK;
-}
-
-grpc::Status FleetServiceImpl::WatchJob(grpc::ServerContext* context,
-                                        const v1::WatchJobRequest* request,
-                                        grpc::ServerWriter<v1::JobEvent>* writer) {
-  absl::StatusOr<Job> job = jobs_->Get(request->job_id());
-  if (!job.ok()) return ToGrpcStatus(job.status());
-  int64_t after = 0;
-  while (!context->IsCancelled() && !stopping_->load()) {
-    absl::StatusOr<std::vector<JobEvent>> events = jobs_->Events(request->job_id(), after);
-    if (!events.ok()) return ToGrpcStatus(events.status());
-    bool ended = false;
-    for (const JobEvent& event : *events) {
-      if (!writer->Write(fleetnav::ToProto(event))) return grpc::Status::OK;
-      after = event.sequence;
-      ended = IsTerminal(event.state);
-    }
-    if (ended) return grpc::Status::OK;  // the job is over: the stream ends with it
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
   return grpc::Status::OK;
 }
 

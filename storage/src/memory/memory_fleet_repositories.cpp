@@ -100,6 +100,14 @@ absl::StatusOr<std::vector<StoredRobot>> MemoryRobotRepository::ListRobots() {
   return out;
 }
 
+absl::Status MemoryRobotRepository::DeleteRobot(const std::string& robot_id) {
+  absl::MutexLock lock(&mutex_);
+  if (robots_.erase(robot_id) == 0) {
+    return absl::NotFoundError(absl::StrCat("robot '", EchoInput(robot_id), "' not found"));
+  }
+  return absl::OkStatus();
+}
+
 absl::StatusOr<CreatedJob> MemoryJobRepository::CreateJob(Job job, JobEvent first_event) {
   absl::MutexLock lock(&mutex_);
   if (!job.idempotency_key.empty()) {

@@ -194,4 +194,19 @@ absl::StatusOr<std::vector<StoredRobot>> SqliteRobotRepository::ListRobots() {
   return out;
 }
 
+absl::Status SqliteRobotRepository::DeleteRobot(const std::string& robot_id) {
+  return db_->Transaction([&]() -> absl::Status {
+    ASSIGN_OR_RETURN(SqliteStatement remove,
+                     db_->Prepare("DELETE FROM robots WHERE robot_id = ?"));
+    remove.Bind(1, robot_id);
+    RETURN_IF_ERROR(remove.Run());
+    ASSIGN_OR_RETURN(SqliteStatement changed, db_->Prepare("SELECT changes()"));
+    ASSIGN_OR_RETURN(bool row, changed.Step());
+    if (!row || changed.ColumnInt(0) == 0) {
+      return absl::NotFoundError(absl::StrCat("robot '", EchoInput(robot_id), "' not found"));
+    }
+    return absl::OkStatus();
+  });
+}
+
 }  // namespace fleetnav::storage

@@ -82,6 +82,24 @@ absl::Status ListRobots(const CommandContext& context) {
   return absl::OkStatus();
 }
 
+absl::Status ForgetRobot(const CommandContext& context, const std::string& robot_id) {
+  auto stub = v1::FleetService::NewStub(context.channel);
+  grpc::ClientContext rpc;
+  SetDeadline(context, &rpc);
+  v1::ForgetRobotRequest request;
+  request.set_robot_id(robot_id);
+  v1::ForgetRobotResponse response;
+  if (absl::Status s = FromGrpcStatus(stub->ForgetRobot(&rpc, request, &response)); !s.ok()) {
+    return s;
+  }
+  if (context.json) {
+    *context.out << nlohmann::json{{"forgotten", robot_id}}.dump() << '\n';
+  } else {
+    *context.out << "forgot robot '" << robot_id << "'\n";
+  }
+  return absl::OkStatus();
+}
+
 absl::Status WatchFleet(const CommandContext& context, double rate_hz, int max_updates,
                         double duration_s) {
   auto stub = v1::FleetService::NewStub(context.channel);
@@ -96,6 +114,13 @@ absl::Status WatchFleet(const CommandContext& context, double rate_hz, int max_u
   v1::FleetUpdate update;
   int received = 0;
   while (reader->Read(&update)) {
+    for (const std::string& removed : update.removed_robot_ids()) {
+      if (context.json) {
+        *context.out << nlohmann::json{{"robot_id", removed}, {"removed", true}}.dump() << '\n';
+      } else {
+        *context.out << absl::StrFormat("%-10s removed\n", removed);
+      }
+    }
     for (const v1::RobotState& robot : update.robots()) {
       if (context.json) {
         *context.out << RobotJson(robot).dump() << '\n';

@@ -25,6 +25,8 @@ class RobotRepository {
   virtual absl::Status UpsertRobot(const StoredRobot& robot) = 0;
   /// Every robot, ordered by id.
   virtual absl::StatusOr<std::vector<StoredRobot>> ListRobots() = 0;
+  /// Forgets the robot; NotFound when it is not stored.
+  virtual absl::Status DeleteRobot(const std::string& robot_id) = 0;
 };
 
 }  // namespace fleetnav::storage

@@ -54,6 +54,21 @@ class FleetRegistry {
   /// Marks the robot offline if `session` is still its current one; returns whether it was.
   bool Disconnect(const std::string& robot_id, uint64_t session);
 
+  /// Removes an offline robot that holds no job. NotFound for an unknown robot,
+  /// FailedPrecondition naming why for one that is connected or holds a job.
+  absl::Status Forget(const std::string& robot_id);
+  /// Ids of robots offline for longer than `offline_for_s` and holding no job, ordered.
+  std::vector<std::string> OfflineLongerThan(double offline_for_s) const;
+  /// Grows whenever a robot is removed; watchers compare it to learn of removals.
+  uint64_t removals() const;
+  /// The revision of the latest change.
+  uint64_t revision() const;
+  /// Bumps the revision of robots that went stale since the last call, so that a robot falling
+  /// silent is a change like any other. The server calls it on every dispatcher pass.
+  void RefreshStale();
+  /// Called after every change (any thread, under the registry's lock: it must only signal).
+  void SetChangeListener(std::function<void()> listener);
+
   /// Adds a robot known from the store as offline (after a restart); no-op if present.
   void RestoreOffline(const RobotIdentity& identity);
   /// Records the job a robot is working on (empty: idle).
@@ -75,7 +90,11 @@ class FleetRegistry {
   struct Entry {
     RobotRecord record;
     uint64_t session = 0;
+    int64_t offline_since_ns = 0;  ///< server clock; when it went (or was restored) offline
+    bool shown_stale = false;      ///< RefreshStale has published this robot as stale
   };
+  /// Increments the revision and tells the listener.
+  uint64_t NextRevision() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   RobotRecord WithConnectionState(const Entry& entry) const ABSL_SHARED_LOCKS_REQUIRED(mutex_);
   Entry* Find(const std::string& robot_id) ABSL_SHARED_LOCKS_REQUIRED(mutex_);
   const Entry* Find(const std::string& robot_id) const ABSL_SHARED_LOCKS_REQUIRED(mutex_);
@@ -88,10 +107,12 @@ class FleetRegistry {
   mutable absl::Mutex mutex_;
   std::map<std::string, Entry> robots_ ABSL_GUARDED_BY(mutex_);  ///< ordered views
   /// The same entries by hash, for the per-message lookups (a std::map lookup by id was 7 % of
-  /// the server's time at 50,000 messages/s). Entries are never erased, so pointers stay valid.
+  /// the server's time at 50,000 messages/s). Forget() erases from both under the lock.
   absl::flat_hash_map<std::string, Entry*> index_ ABSL_GUARDED_BY(mutex_);
   uint64_t next_session_ ABSL_GUARDED_BY(mutex_) = 1;
   uint64_t revision_ ABSL_GUARDED_BY(mutex_) = 0;
+  uint64_t removals_ ABSL_GUARDED_BY(mutex_) = 0;
+  std::function<void()> listener_ ABSL_GUARDED_BY(mutex_);
 };
 
 }  // namespace fleetnav::server

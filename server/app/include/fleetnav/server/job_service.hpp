@@ -7,6 +7,7 @@
 
 #include "absl/status/statusor.h"
 #include "absl/synchronization/mutex.h"
+#include "absl/time/time.h"
 #include "fleetnav/core/clock.hpp"
 #include "fleetnav/core/job.hpp"
 #include "fleetnav/server/fleet_registry.hpp"
@@ -22,6 +23,8 @@ namespace fleetnav::server {
 struct JobServiceParams {
   /// A paused job whose robot stays away this long is failed or re-queued by its policy.
   double lost_robot_timeout_s = 30.0;
+  /// A robot offline this long that holds no job is forgotten (registry and store); 0: never.
+  double evict_offline_robots_after_s = 86400.0;
   int max_page_size = 1000;
   absl::Status Validate() const;
 };
@@ -68,8 +71,18 @@ class JobService {
   void OnRobotEvent(const std::string& robot_id, const JobEvent& event);
   void OnTelemetry(const std::string& robot_id, const Telemetry& telemetry);
 
-  /// One dispatcher pass: lost-robot timeouts, assignments, then traffic clearances. Returns
-  /// jobs assigned.
+  /// Removes an offline robot that holds no job from the registry and the store: NotFound for
+  /// an unknown robot, FailedPrecondition for one that is connected or holds a job.
+  absl::Status ForgetRobot(const std::string& robot_id);
+
+  /// Blocks until there may be work for the dispatcher (a job submitted or cancelled, a robot
+  /// connected, a job ended, WakeDispatcher) or `timeout` passed, so that a job is dispatched
+  /// when it can be rather than at the next period.
+  void WaitForWork(absl::Duration timeout);
+  void WakeDispatcher();
+
+  /// One dispatcher pass: lost-robot timeouts, evictions, assignments, then traffic clearances.
+  /// Returns jobs assigned.
   int DispatchOnce();
 
  private:
@@ -86,6 +99,7 @@ class JobService {
   /// however long its route.
   const RouteFacts& FactsOf(const Job& job) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   void HandleLostRobots() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  absl::Status ForgetRobotLocked(const std::string& robot_id) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Sends CANCEL with the reason when `job_id` is no longer the robot's running job.
   void CancelJobNoLongerHeld(const std::string& robot_id, const std::string& job_id)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
@@ -108,6 +122,8 @@ class JobService {
   std::map<std::string, int> progress_decile_ ABSL_GUARDED_BY(mutex_);    ///< by job id
   std::map<std::pair<std::string, uint32_t>, RouteFacts> route_facts_ ABSL_GUARDED_BY(mutex_);
   std::map<std::string, RouteFacts> goal_facts_ ABSL_GUARDED_BY(mutex_);  ///< by job id
+  absl::Mutex work_mutex_;
+  bool work_pending_ ABSL_GUARDED_BY(work_mutex_) = false;
 };
 
 }  // namespace fleetnav::server

@@ -6,6 +6,7 @@
 
 #include "absl/status/statusor.h"
 #include "fleetnav/core/occupancy_grid.hpp"
+#include "fleetnav/server/input_limits.hpp"
 #include "fleetnav/server/site_cache.hpp"
 #include "fleetnav/storage/map_repository.hpp"
 
@@ -15,7 +16,8 @@ namespace fleetnav::server {
 /// through a MapRepository. Thread-safe as its repository is.
 class MapCatalog {
  public:
-  explicit MapCatalog(SiteCache* site_data) : site_data_(site_data) {}
+  MapCatalog(SiteCache* site_data, InputLimits limits = {})
+      : site_data_(site_data), limits_(limits) {}
 
   absl::StatusOr<storage::MapInfo> Put(const std::string& map_id, const OccupancyGrid& grid,
                                        const std::string& description);
@@ -32,6 +34,7 @@ class MapCatalog {
 
  private:
   SiteCache* site_data_;
+  const InputLimits limits_;
 };
 
 }  // namespace fleetnav::server

@@ -7,6 +7,7 @@
 #include "absl/status/statusor.h"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
+#include "fleetnav/server/input_limits.hpp"
 #include "fleetnav/server/site_cache.hpp"
 #include "fleetnav/storage/job_repository.hpp"
 #include "fleetnav/storage/map_repository.hpp"
@@ -22,8 +23,8 @@ namespace fleetnav::server {
 /// deleting it can be refused. Thread-safe as its repositories are.
 class SiteCatalog {
  public:
-  SiteCatalog(SiteCache* site_data, storage::JobRepository* jobs)
-      : site_data_(site_data), jobs_(jobs) {}
+  SiteCatalog(SiteCache* site_data, storage::JobRepository* jobs, InputLimits limits = {})
+      : site_data_(site_data), jobs_(jobs), limits_(limits) {}
 
   absl::StatusOr<uint32_t> PutMarkerSet(const MarkerSet& markers);
   /// version 0: the latest. Shared with the cache: never copied.
@@ -46,6 +47,7 @@ class SiteCatalog {
 
   SiteCache* site_data_;
   storage::JobRepository* jobs_;
+  const InputLimits limits_;
 };
 
 }  // namespace fleetnav::server

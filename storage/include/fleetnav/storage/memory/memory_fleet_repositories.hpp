@@ -42,6 +42,7 @@ class MemoryRobotRepository final : public RobotRepository {
  public:
   absl::Status UpsertRobot(const StoredRobot& robot) override;
   absl::StatusOr<std::vector<StoredRobot>> ListRobots() override;
+  absl::Status DeleteRobot(const std::string& robot_id) override;
 
  private:
   absl::Mutex mutex_;

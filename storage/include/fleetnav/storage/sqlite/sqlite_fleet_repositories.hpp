@@ -40,6 +40,7 @@ class SqliteRobotRepository final : public RobotRepository {
   explicit SqliteRobotRepository(SqliteDatabase* db) : db_(db) {}
   absl::Status UpsertRobot(const StoredRobot& robot) override;
   absl::StatusOr<std::vector<StoredRobot>> ListRobots() override;
+  absl::Status DeleteRobot(const std::string& robot_id) override;
 
  private:
   SqliteDatabase* db_;

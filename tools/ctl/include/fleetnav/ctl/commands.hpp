@@ -33,6 +33,8 @@ absl::Status DeleteMap(const CommandContext& context, const std::string& map_id)
 
 /// Lists robots with their connection state and last pose.
 absl::Status ListRobots(const CommandContext& context);
+/// Removes an offline robot that holds no job from the server's registry and store.
+absl::Status ForgetRobot(const CommandContext& context, const std::string& robot_id);
 /// Streams WatchFleet and prints one line per robot update; stops after `max_updates`
 /// messages (0 = never) or `duration_s` seconds (0 = never).
 absl::Status WatchFleet(const CommandContext& context, double rate_hz, int max_updates,

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "absl/synchronization/mutex.h"
+#include "fleetnav/server/input_limits.hpp"
 #include "fleetnav/server/fleet_registry.hpp"
 #include "fleetnav/server/job_service.hpp"
 #include "fleetnav/server/rpc/agent_mailbox.hpp"
@@ -35,7 +36,8 @@ class AgentConnection;
 /// server's Shutdown(). Thread-safe.
 class AgentServiceImpl final {
  public:
-  AgentServiceImpl(FleetRegistry* registry, JobService* jobs, AgentMailbox* mailbox, int threads);
+  AgentServiceImpl(FleetRegistry* registry, JobService* jobs, AgentMailbox* mailbox, int threads,
+                   InputLimits limits = {});
   ~AgentServiceImpl();
   AgentServiceImpl(const AgentServiceImpl&) = delete;
   AgentServiceImpl& operator=(const AgentServiceImpl&) = delete;
@@ -58,6 +60,7 @@ class AgentServiceImpl final {
   FleetRegistry* registry_;
   JobService* jobs_;
   AgentMailbox* mailbox_;
+  const InputLimits limits_;  ///< on what a hello may announce
   const int thread_count_;
   v1::AgentService::AsyncService service_;
   std::vector<std::unique_ptr<grpc::ServerCompletionQueue>> cqs_;

@@ -17,6 +17,8 @@
 #include "fleetnav/server/rpc/agent_service.hpp"
 #include "fleetnav/server/rpc/fleet_service.hpp"
 #include "fleetnav/server/rpc/sim_clock_feed.hpp"
+#include "fleetnav/server/notifying_job_repository.hpp"
+#include "fleetnav/server/rpc/watch_hub.hpp"
 #include "fleetnav/server/site_cache.hpp"
 #include "fleetnav/server/site_catalog.hpp"
 #include "fleetnav/server/traffic_coordinator.hpp"
@@ -35,6 +37,7 @@ struct FleetServerParams {
   TrafficCoordinatorParams traffic;
   PoseHistoryParams pose_history;
   SiteCacheParams site_cache;
+  InputLimits limits;
   double dispatch_period_s = 0.2;    ///< how often queued jobs are matched to idle robots
   int max_message_bytes = 64 << 20;  ///< largest request accepted (a 8k×8k map fits)
   /// Threads (each with its own completion queue) serving the robots' streams.
@@ -76,7 +79,8 @@ class FleetServer {
   std::unique_ptr<storage::SqliteMarkerSetRepository> marker_repository_;
   std::unique_ptr<storage::SqliteRouteRepository> route_repository_;
   std::unique_ptr<storage::SqliteRobotRepository> robot_repository_;
-  std::unique_ptr<storage::SqliteJobRepository> job_repository_;
+  std::unique_ptr<storage::SqliteJobRepository> stored_jobs_;
+  std::unique_ptr<NotifyingJobRepository> job_repository_;  ///< tells the watch hub
   std::unique_ptr<storage::SqlitePoseHistoryRepository> pose_history_repository_;
   std::unique_ptr<PoseHistoryRecorder> pose_recorder_;
   std::unique_ptr<SiteCache> site_data_;  ///< in front of the three repositories above
@@ -90,6 +94,7 @@ class FleetServer {
   std::unique_ptr<grpc::Service> health_service_;
   std::unique_ptr<FleetServiceImpl> fleet_service_;
   std::unique_ptr<AgentServiceImpl> agent_service_;
+  std::unique_ptr<WatchHub> watch_hub_;
   std::unique_ptr<grpc::Server> server_;
 };
 

@@ -1,32 +1,29 @@
 #pragma once
 
-#include <atomic>
-
 #include "fleetnav/server/fleet_registry.hpp"
 #include "fleetnav/server/job_service.hpp"
 #include "fleetnav/server/map_catalog.hpp"
 #include "fleetnav/server/robot_mailbox.hpp"
 #include "fleetnav/server/site_catalog.hpp"
+#include "fleetnav/server/rpc/watch_hub.hpp"
 #include "fleetnav/server/traffic_planner.hpp"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
 
 namespace fleetnav::server {
 
 /// gRPC edge of FleetService: converts the request, calls a use case, converts the answer.
-/// Streams (WatchFleet,
-/// WatchJob) poll their source at their own rate, so a slow client only slows itself.
+/// The watch streams (WatchFleet, WatchJob) are served by the WatchHub on the async API.
 /// Thread-safe.
-class FleetServiceImpl final : public v1::FleetService::Service {
+class FleetServiceImpl final : public FleetServiceBase {
  public:
   FleetServiceImpl(MapCatalog* maps, SiteCatalog* site, JobService* jobs, TrafficPlanner* traffic,
-                   FleetRegistry* registry, RobotMailbox* robots, const std::atomic<bool>* stopping)
+                   FleetRegistry* registry, RobotMailbox* robots)
       : maps_(maps),
         site_(site),
         jobs_(jobs),
         traffic_(traffic),
         registry_(registry),
-        robots_(robots),
-        stopping_(stopping) {}
+        robots_(robots) {}
 
   grpc::Status PutMap(grpc::ServerContext* context, const v1::PutMapRequest* request,
                       v1::PutMapResponse* response) override;
@@ -40,8 +37,8 @@ class FleetServiceImpl final : public v1::FleetService::Service {
                           v1::ListRobotsResponse* response) override;
   grpc::Status GetRobot(grpc::ServerContext* context, const v1::GetRobotRequest* request,
                         v1::GetRobotResponse* response) override;
-  grpc::Status WatchFleet(grpc::ServerContext* context, const v1::WatchFleetRequest* request,
-                          grpc::ServerWriter<v1::FleetUpdate>* writer) override;
+  grpc::Status ForgetRobot(grpc::ServerContext* context, const v1::ForgetRobotRequest* request,
+                           v1::ForgetRobotResponse* response) override;
   grpc::Status PutMarkerSet(grpc::ServerContext* context, const v1::PutMarkerSetRequest* request,
                             v1::PutMarkerSetResponse* response) override;
   grpc::Status GetMarkerSet(grpc::ServerContext* context, const v1::GetMarkerSetRequest* request,
@@ -60,8 +57,6 @@ class FleetServiceImpl final : public v1::FleetService::Service {
                         v1::ListJobsResponse* response) override;
   grpc::Status CancelJob(grpc::ServerContext* context, const v1::CancelJobRequest* request,
                          v1::CancelJobResponse* response) override;
-  grpc::Status WatchJob(grpc::ServerContext* context, const v1::WatchJobRequest* request,
-                        grpc::ServerWriter<v1::JobEvent>* writer) override;
   grpc::Status PlanPaths(grpc::ServerContext* context, const v1::PlanPathsRequest* request,
                          v1::PlanPathsResponse* response) override;
 
@@ -72,7 +67,6 @@ class FleetServiceImpl final : public v1::FleetService::Service {
   TrafficPlanner* traffic_;
   FleetRegistry* registry_;
   RobotMailbox* robots_;  ///< told about new map and marker-set versions
-  const std::atomic<bool>* stopping_;
 };
 
 }  // namespace fleetnav::server
