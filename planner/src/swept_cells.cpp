@@ -53,7 +53,16 @@ CellSet CellSet::Sweep(const std::vector<Pose2>& poses,
     for (int64_t ix = x0; ix <= x1; ++ix) {
       for (int64_t iy = y0; iy <= y1; ++iy) {
         const Eigen::Vector2d centre((ix + 0.5) * cell_m, (iy + 0.5) * cell_m);
-        if (DistanceToPolygon(centre, placed) <= reach_m) out.keys_.push_back(Key(ix, iy));
+        if (DistanceToPolygon(centre, placed) > reach_m) continue;
+        out.keys_.push_back(Key(ix, iy));
+        if (out.max_x_ < out.min_x_) {
+          out.min_x_ = out.max_x_ = ix;
+          out.min_y_ = out.max_y_ = iy;
+        }
+        out.min_x_ = std::min(out.min_x_, ix);
+        out.max_x_ = std::max(out.max_x_, ix);
+        out.min_y_ = std::min(out.min_y_, iy);
+        out.max_y_ = std::max(out.max_y_, iy);
       }
     }
   }
@@ -62,7 +71,28 @@ CellSet CellSet::Sweep(const std::vector<Pose2>& poses,
   return out;
 }
 
+void CellSet::GrowBounds(const CellSet& other) {
+  if (other.max_x_ < other.min_x_) return;
+  if (max_x_ < min_x_) {
+    min_x_ = other.min_x_;
+    max_x_ = other.max_x_;
+    min_y_ = other.min_y_;
+    max_y_ = other.max_y_;
+    return;
+  }
+  min_x_ = std::min(min_x_, other.min_x_);
+  max_x_ = std::max(max_x_, other.max_x_);
+  min_y_ = std::min(min_y_, other.min_y_);
+  max_y_ = std::max(max_y_, other.max_y_);
+}
+
+bool CellSet::BoundsOverlap(const CellSet& other) const {
+  return max_x_ >= min_x_ && other.max_x_ >= other.min_x_ && max_x_ >= other.min_x_ &&
+         other.max_x_ >= min_x_ && max_y_ >= other.min_y_ && other.max_y_ >= min_y_;
+}
+
 bool CellSet::Intersects(const CellSet& other) const {
+  if (keys_.empty() || other.keys_.empty() || !BoundsOverlap(other)) return false;
   auto a = keys_.begin();
   auto b = other.keys_.begin();
   while (a != keys_.end() && b != other.keys_.end()) {

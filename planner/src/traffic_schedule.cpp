@@ -122,16 +122,28 @@ BuildResult Build(const std::vector<ScheduledRoute>& routes, const std::vector<b
     return std::make_tuple(t, r, k);
   };
   const int n = static_cast<int>(routes.size());
+  // Each route's bounds over what is left of it: pairs whose bounds do not meet share no cell,
+  // so a large fleet spread over a site costs little more than its routes' lengths.
+  std::vector<CellSet> bounds(n);
+  for (int r = 0; r < n; ++r) {
+    const ScheduledRoute& route = routes[r];
+    bounds[r].GrowBounds(route.start_cells);
+    for (int k = std::max(0, route.first_unfinished - 1); k < Count(route); ++k) {
+      bounds[r].GrowBounds(route.action_cells[k]);
+      bounds[r].GrowBounds(route.action_end_cells[k]);
+    }
+  }
   for (int r = 0; r < n; ++r) {
     if (held[r]) continue;
     const ScheduledRoute& a = routes[r];
-    for (int k = a.first_unfinished; k < Count(a); ++k) {
-      for (const auto& [index, cells] : standing) {
+    for (const auto& [index, cells] : standing) {
+      if (!bounds[r].BoundsOverlap(*cells)) continue;
+      for (int k = a.first_unfinished; k < Count(a); ++k) {
         if (a.action_cells[k].Intersects(*cells)) g.deps[{r, k}].push_back({kParked, -1, index});
       }
     }
     for (int s = r + 1; s < n; ++s) {
-      if (held[s]) continue;
+      if (held[s] || !bounds[r].BoundsOverlap(bounds[s])) continue;
       const ScheduledRoute& b = routes[s];
       for (const Block& block : Blocks(a, b)) {
         const bool a_cleared = block.k1 <= a.cleared_up_to;

@@ -45,11 +45,12 @@ void FillHello(const std::string& robot_id, bool capable, v1::AgentMessage* mess
   hello->set_software_version("loadgen");
 }
 
-void FillTelemetry(v1::AgentMessage* message) {
+/// Each agent stands in an aisle of its own, 3 m apart, facing along it.
+void FillTelemetry(int index, v1::AgentMessage* message) {
   v1::Telemetry* t = message->mutable_telemetry();
   v1::Pose2* pose = t->mutable_pose_in_map()->mutable_pose();
   pose->set_x_m(0.0);
-  pose->set_y_m(1.0);
+  pose->set_y_m(1.0 + 3.0 * index);
   pose->set_yaw_rad(0.5);
   t->mutable_velocity()->set_vx_mps(0.25);
   t->set_mode(v1::NAVIGATION_MODE_STRAIGHT);
@@ -109,7 +110,7 @@ int LoadWorker::Connect(int64_t deadline_ns) {
     auto agent = std::make_unique<Agent>();
     agent->offset_ns = 0;
     FillHello("load-" + std::to_string(index), index < params_.capable_agents, &agent->hello);
-    FillTelemetry(&agent->out);
+    FillTelemetry(index, &agent->out);
     // Neighbours in send order share a connection, so writes falling due together coalesce.
     const size_t channel = k * stubs_.size() / params_.indices.size();
     agent->stream = stubs_[channel]->PrepareAsyncConnect(&agent->context, &cq_);

@@ -398,15 +398,17 @@ absl::StatusOr<Assignment> JobService::Resolve(const Job& job) {
   if (!job.route_name.empty()) {
     ASSIGN_OR_RETURN(std::shared_ptr<const storage::StoredRoute> route,
                      site_->GetRoute(job.route_name, job.route_version));
-    assignment.route = route->route;
+    assignment.route = std::shared_ptr<const Route>(route, &route->route);
     assignment.route_version = route->version;
   } else if (job.goal) {
     // A go-to-goal job is a route of one free-navigation action.
-    assignment.route.name = "goal";
-    assignment.route.map_id = job.map_id;
+    auto goal_route = std::make_shared<Route>();
+    goal_route->name = "goal";
+    goal_route->map_id = job.map_id;
     FreeNavigationAction go;
     go.goal = *job.goal;
-    assignment.route.actions.push_back({go, {EndConditionKind::kGoalReached}});
+    goal_route->actions.push_back({go, {EndConditionKind::kGoalReached}});
+    assignment.route = std::move(goal_route);
   }
   ASSIGN_OR_RETURN(assignment.map_version, site_data_->LatestMapVersion(job.map_id));
   assignment.marker_set_version = site_data_->LatestMarkerSetVersion(job.map_id);

@@ -15,6 +15,10 @@ absl::Status TrafficCoordinatorParams::Validate() const {
   if (!std::isfinite(cell_m) || cell_m <= 0.0) {
     return absl::InvalidArgumentError(absl::StrCat("cell_m: must be > 0, got ", cell_m));
   }
+  if (horizon_actions < 2) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("horizon_actions: must be >= 2, got ", horizon_actions));
+  }
   return absl::OkStatus();
 }
 
@@ -55,6 +59,14 @@ void TrafficCoordinator::OnActionFinished(const std::string& robot_id, const std
   if (tracked.schedule) {
     tracked.schedule->first_unfinished =
         std::max(tracked.schedule->first_unfinished, action_index + 1);
+    const bool more = tracked.predicted_end < static_cast<int>(tracked.assignment.route->actions.size());
+    if (more && tracked.schedule->first_unfinished + params_.horizon_actions / 2 >=
+                    tracked.predicted_end) {
+      // The next window is predicted on the next update, from where the robot then is.
+      tracked.start_action = tracked.schedule->first_unfinished;
+      tracked.schedule.reset();
+      tracked.assigned_s = static_cast<double>(clock_->NowNs()) * 1e-9;
+    }
   }
 }
 
@@ -116,9 +128,15 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose) {
                                      tracked.assignment.marker_set_version);
     if (stored.ok()) markers = *std::move(stored);
   }
-  Route remaining = tracked.assignment.route;
-  const int skipped = std::min<int>(tracked.start_action, remaining.actions.size());
-  remaining.actions.erase(remaining.actions.begin(), remaining.actions.begin() + skipped);
+  // Only the window of actions ahead is predicted (horizon_actions).
+  const std::vector<RouteAction>& all = tracked.assignment.route->actions;
+  const int skipped = std::min<int>(tracked.start_action, all.size());
+  const int end = std::min<int>(all.size(), skipped + params_.horizon_actions);
+  Route remaining;
+  remaining.name = tracked.assignment.route->name;
+  remaining.map_id = tracked.assignment.route->map_id;
+  remaining.actions.assign(all.begin() + skipped, all.begin() + end);
+  tracked.predicted_end = end;
   Pose2 map_origin;
   planner::SingleRobotPlanner* planner = PlannerFor(tracked, &map_origin);
   const MarkerSet* marker_set = markers ? &markers->markers : nullptr;
@@ -157,7 +175,7 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose) {
   }
   schedule.first_unfinished = skipped;
   schedule.cleared_up_to = skipped > 0 || tracked.resume_from_telemetry ? skipped : -1;
-  if (skipped >= static_cast<int>(tracked.assignment.route.actions.size())) {
+  if (skipped >= static_cast<int>(tracked.assignment.route->actions.size())) {
     schedule.cleared_up_to = skipped - 1;
   }
   tracked.schedule = std::move(schedule);
@@ -169,10 +187,10 @@ std::string TrafficCoordinator::Describe(const planner::TrafficClearanceDecision
   std::string action_name = "its last action";
   for (const auto& [job_id, other] : jobs_) {
     if (other.robot_id == wait.blocker_robot_id && wait.blocker_action >= 0 &&
-        wait.blocker_action < static_cast<int>(other.assignment.route.actions.size())) {
+        wait.blocker_action < static_cast<int>(other.assignment.route->actions.size())) {
       action_name = absl::StrCat(
           "action ", wait.blocker_action, " (",
-          std::string(ActionTypeName(other.assignment.route.actions[wait.blocker_action].params)),
+          std::string(ActionTypeName(other.assignment.route->actions[wait.blocker_action].params)),
           ")");
     }
   }

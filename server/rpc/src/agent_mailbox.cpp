@@ -69,7 +69,7 @@ bool AgentMailbox::SendAssignment(const std::string& robot_id, const Assignment&
   v1::ServerMessage message;
   v1::Assignment* wire = message.mutable_assignment();
   *wire->mutable_job() = ToProto(assignment.job);
-  *wire->mutable_route() = ToProto(assignment.route);
+  *wire->mutable_route() = ToProto(*assignment.route);
   wire->set_route_version(assignment.route_version);
   wire->set_map_id(assignment.job.map_id);
   wire->set_map_version(assignment.map_version);

@@ -59,9 +59,11 @@ class TrafficCoordinatorTest : public ::testing::Test {
     Assignment a;
     a.job.job_id = job_id;
     a.job.map_id = "hall";
-    a.route.name = job_id;
-    a.route.map_id = "hall";
-    a.route.actions = std::move(actions);
+    auto route = std::make_shared<Route>();
+    route->name = job_id;
+    route->map_id = "hall";
+    route->actions = std::move(actions);
+    a.route = std::move(route);
     a.map_version = 1;
     return a;
   }
@@ -128,6 +130,40 @@ TEST_F(TrafficCoordinatorTest, AReconnectedRobotIsSentItsClearanceAgain) {
   ASSERT_EQ(mailbox_.sent["a"].size(), 2u);
   EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
   EXPECT_EQ(mailbox_.sent["a"].back().job_id, "job-a");
+}
+
+}  // namespace
+}  // namespace fleetnav::server
+
+namespace fleetnav::server {
+namespace {
+
+// A long route is ordered a window of horizon_actions at a time: clearance never runs past the
+// predicted window, and the next window is predicted once the robot is half way through this one.
+TEST_F(TrafficCoordinatorTest, ALongRouteIsOrderedOneWindowAtATime) {
+  Connect("a", Pose2(-14, 0, 0));
+  std::vector<RouteAction> actions;
+  for (int i = 0; i < 100; ++i) actions.push_back({TurnAction{0.1, 0.3}, {}});
+  coordinator_.Begin("a", Job("job-a", actions));
+  coordinator_.Update();
+  ASSERT_FALSE(mailbox_.sent["a"].empty());
+  const int horizon = TrafficCoordinatorParams{}.horizon_actions;
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, horizon - 1);
+
+  // Not yet half way: the window stays.
+  coordinator_.OnActionFinished("a", "job-a", horizon / 2 - 2);
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, horizon - 1);
+  // Half way: the next window is predicted from where the robot is, and cleared.
+  coordinator_.OnActionFinished("a", "job-a", horizon / 2 - 1);
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, horizon / 2 + horizon - 1);
+  // The last window ends with the route.
+  for (int finished = horizon / 2; finished < 99; ++finished) {
+    coordinator_.OnActionFinished("a", "job-a", finished);
+    coordinator_.Update();
+  }
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 99);
 }
 
 }  // namespace

@@ -20,11 +20,18 @@ class CellSet {
                        double cell_m);
 
   bool Intersects(const CellSet& other) const;
+  /// Grows this set's bounds to cover `other`'s (the cells are not merged): a box to cull
+  /// with before testing the sets it was built from.
+  void GrowBounds(const CellSet& other);
+  /// Whether the bounds of the two sets overlap (a necessary condition for Intersects).
+  bool BoundsOverlap(const CellSet& other) const;
   bool empty() const { return keys_.empty(); }
   size_t size() const { return keys_.size(); }
 
  private:
   std::vector<uint64_t> keys_;
+  /// Bounds of the cells (inclusive), so that far-apart sets are told apart without a merge.
+  int64_t min_x_ = 0, max_x_ = -1, min_y_ = 0, max_y_ = -1;
 };
 
 }  // namespace fleetnav::planner

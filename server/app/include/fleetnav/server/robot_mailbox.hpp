@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -13,7 +14,8 @@ namespace fleetnav::server {
 /// A job as a robot receives it: resolved to fixed versions of its route, map and marker set.
 struct Assignment {
   Job job;
-  Route route;
+  /// Shared with the site cache and traffic coordination: a long route is never copied.
+  std::shared_ptr<const Route> route = std::make_shared<const Route>();
   uint32_t route_version = 0;
   uint32_t map_version = 0;
   uint32_t marker_set_version = 0;  ///< 0: the map has no marker set

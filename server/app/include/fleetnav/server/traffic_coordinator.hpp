@@ -25,6 +25,10 @@ struct TrafficCoordinatorParams {
   /// deviation from the nominal path (the Lely's estimate is within 0.5 m at p95).
   double margin_m = 0.5;
   double cell_m = 0.2;
+  /// Actions predicted and ordered ahead of a robot's first unfinished one. The next window is
+  /// predicted, from where the robot then is, once it is within half a window of the end, so
+  /// the work per dispatcher pass does not grow with the length of routes.
+  int horizon_actions = 32;
   planner::RoutePredictionParams prediction;
   absl::Status Validate() const;
 };
@@ -72,10 +76,11 @@ class TrafficCoordinator {
     std::string robot_id;
     Assignment assignment;
     RobotModel model;
-    double assigned_s = 0.0;
+    double assigned_s = 0.0;  ///< when the current window was predicted
     int start_action = 0;  ///< actions before it had run before coordination began
     bool resume_from_telemetry = false;
     std::optional<planner::ScheduledRoute> schedule;
+    int predicted_end = 0;  ///< actions before it are in the schedule
     int sent_cleared = -2;  ///< the clearance last sent; -2: none
     std::string reason;
   };
