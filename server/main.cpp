@@ -31,7 +31,8 @@ int CheckDatabase(const std::string& path) {
   }
   std::printf("database '%s': schema version %d (this binary %d)\n", path.c_str(),
               report->schema_version, binary_version);
-  for (const std::string& problem : report->problems) std::printf("  problem: %s\n", problem.c_str());
+  for (const std::string& problem : report->problems)
+    std::printf("  problem: %s\n", problem.c_str());
   std::printf("%s\n", report->ok() ? "ok" : "damaged or not a fleetnav database");
   return report->ok() ? 0 : 1;
 }

@@ -22,8 +22,8 @@
 #include "absl/status/statusor.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/string_view.h"
-#include "strings_internal.hpp"
 #include "fleetnav/core/echo_input.hpp"
+#include "strings_internal.hpp"
 
 namespace fleetnav::internal {
 
@@ -147,7 +147,8 @@ inline absl::Status CheckKnownKeys(const YAML::Node& node,
     bool known = false;
     for (absl::string_view name : allowed) known = known || key == name;
     if (!known) {
-      return absl::InvalidArgumentError(absl::StrCat(field, ": unknown key '", EchoInput(key), "'"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(field, ": unknown key '", EchoInput(key), "'"));
     }
   }
   return absl::OkStatus();

@@ -26,6 +26,17 @@ struct Graph {
   std::map<Node, std::vector<Dependency>> deps;  // waiting node → what it waits for
 };
 
+/// The routes being ordered, by index, wherever they are held.
+class RouteList {
+ public:
+  explicit RouteList(const std::vector<const ScheduledRoute*>& routes) : routes_(routes) {}
+  const ScheduledRoute& operator[](size_t i) const { return *routes_[i]; }
+  size_t size() const { return routes_.size(); }
+
+ private:
+  const std::vector<const ScheduledRoute*>& routes_;
+};
+
 int Count(const ScheduledRoute& r) { return static_cast<int>(r.action_cells.size()); }
 
 /// Where the robot stands now: its start before the first action, else the end of the last
@@ -36,7 +47,7 @@ const CellSet& Standing(const ScheduledRoute& r) {
 }
 
 /// The newer of two routes (later expected start; the higher index on a tie).
-int Newer(const std::vector<ScheduledRoute>& routes, int r, int s) {
+int Newer(const RouteList& routes, int r, int s) {
   const double tr = routes[r].action_start_s.empty() ? 0.0 : routes[r].action_start_s.front();
   const double ts = routes[s].action_start_s.empty() ? 0.0 : routes[s].action_start_s.front();
   return ts > tr || (ts == tr && s > r) ? s : r;
@@ -104,7 +115,7 @@ struct BuildResult {
   int infeasible_route = -1;
 };
 
-BuildResult Build(const std::vector<ScheduledRoute>& routes, const std::vector<bool>& held,
+BuildResult Build(const RouteList& routes, const std::vector<bool>& held,
                   const std::vector<ParkedRobot>& parked) {
   BuildResult out;
   Graph& g = out.graph;
@@ -193,8 +204,7 @@ BuildResult Build(const std::vector<ScheduledRoute>& routes, const std::vector<b
 }
 
 /// A route on a cycle of the graph (intra-route edges k → k+1 plus the dependencies), or -1.
-int RouteOnCycle(const std::vector<ScheduledRoute>& routes, const std::vector<bool>& held,
-                 const Graph& g) {
+int RouteOnCycle(const RouteList& routes, const std::vector<bool>& held, const Graph& g) {
   // Successors: blocker → waiter, and k → k+1.
   std::map<Node, std::vector<Node>> next;
   for (const auto& [waiter, deps] : g.deps) {
@@ -247,6 +257,16 @@ int RouteOnCycle(const std::vector<ScheduledRoute>& routes, const std::vector<bo
 
 std::vector<TrafficClearanceDecision> DecideClearances(const std::vector<ScheduledRoute>& routes,
                                                        const std::vector<ParkedRobot>& parked) {
+  std::vector<const ScheduledRoute*> pointers;
+  pointers.reserve(routes.size());
+  for (const ScheduledRoute& route : routes) pointers.push_back(&route);
+  return DecideClearances(pointers, parked);
+}
+
+std::vector<TrafficClearanceDecision> DecideClearances(
+    const std::vector<const ScheduledRoute*>& route_pointers,
+    const std::vector<ParkedRobot>& parked) {
+  const RouteList routes(route_pointers);
   std::vector<bool> held(routes.size(), false);
   Graph g;
   while (true) {

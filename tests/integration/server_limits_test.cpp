@@ -78,8 +78,8 @@ TEST_F(ServerLimitsTest, RoutesOverTheActionOrWaypointLimitAreRefusedAndNotStore
 }
 
 TEST_F(ServerLimitsTest, AMapOverTheCellLimitIsRefusedAndNotStored) {
-  absl::StatusOr<OccupancyGrid> grid = OccupancyGrid::Create(
-      1001, 1000, 0.05, Pose2(), std::vector<int8_t>(1001 * 1000, 0));
+  absl::StatusOr<OccupancyGrid> grid =
+      OccupancyGrid::Create(1001, 1000, 0.05, Pose2(), std::vector<int8_t>(1001 * 1000, 0));
   ASSERT_TRUE(grid.ok());
   grpc::ClientContext context;
   v1::PutMapRequest request;

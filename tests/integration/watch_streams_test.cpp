@@ -2,7 +2,6 @@
 // hold no thread each and are woken by changes; an offline robot can be forgotten, and one that
 // stays away is evicted, both also told to fleet watchers.
 #include <dirent.h>
-
 #include <gmock/gmock.h>
 
 #include <memory>

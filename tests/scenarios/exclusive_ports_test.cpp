@@ -38,8 +38,7 @@ void ExpectSecondOnThePortRefused(std::vector<std::string> first, std::vector<st
   const std::optional<int> code = two.Wait(30.0);
   ASSERT_TRUE(code.has_value()) << "the second " << name << " is serving " << address;
   EXPECT_NE(*code, 0);
-  EXPECT_THAT(two.Stderr() + two.Stdout(),
-              HasSubstr("address " + address + " already in use"));
+  EXPECT_THAT(two.Stderr() + two.Stdout(), HasSubstr("address " + address + " already in use"));
   EXPECT_TRUE(one.running());
   one.Stop();
 }

@@ -26,7 +26,7 @@ namespace v1 = fleetnav::v1;
 
 std::shared_ptr<grpc::Channel> NewChannel(const std::string& server, int index) {
   grpc::ChannelArguments args;
-  args.SetMaxSendMessageSize(64 << 20);  // the big map
+  args.SetMaxSendMessageSize(64 << 20);                // the big map
   args.SetInt(GRPC_ARG_ENABLE_RETRIES, 0);             // no retry buffering on long streams
   args.SetInt(GRPC_ARG_USE_LOCAL_SUBCHANNEL_POOL, 1);  // one connection per channel
   args.SetInt("fleetnav.loadgen.channel", index);
@@ -35,8 +35,8 @@ std::shared_ptr<grpc::Channel> NewChannel(const std::string& server, int index) 
 
 /// What the operators' site holds, beyond a small map and a one-action route.
 struct SiteOptions {
-  bool large = false;   ///< a 100,000-marker set, and a 10,000-action route for the jobs
-  int big_map_mb = 0;   ///< a second map of this many MB, with goal jobs submitted on it
+  bool large = false;  ///< a 100,000-marker set, and a 10,000-action route for the jobs
+  int big_map_mb = 0;  ///< a second map of this many MB, with goal jobs submitted on it
 };
 
 constexpr int kLargeMarkers = 100'000;
@@ -118,7 +118,7 @@ struct OperatorReport {
 struct OperatorOptions {
   int submitters = 2;
   double rate_hz = 20.0;
-  int watch_every = 10;       ///< every N-th job is watched
+  int watch_every = 10;         ///< every N-th job is watched
   bool until_assigned = false;  ///< watch until ASSIGNED (capable agents exist), else 1st event
   SiteOptions site;
 };
@@ -411,8 +411,8 @@ int main(int argc, char** argv) {
     // No --server-pid: the process listening on the server's port, if it runs here.
     const size_t colon = server.rfind(':');
     if (colon != std::string::npos) {
-      server_pid = std::max<pid_t>(0, fleetnav::loadgen::ListeningPid(
-                                          std::atoi(server.substr(colon + 1).c_str())));
+      server_pid = std::max<pid_t>(
+          0, fleetnav::loadgen::ListeningPid(std::atoi(server.substr(colon + 1).c_str())));
     }
   }
   if (submitters > 0 && !operators.Start(server, operator_options)) {

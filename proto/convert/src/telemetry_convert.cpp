@@ -3,10 +3,10 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/echo_input.hpp"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/proto/geometry_convert.hpp"
 #include "fleetnav/proto/robot_convert.hpp"
-#include "fleetnav/core/echo_input.hpp"
 
 namespace fleetnav {
 namespace {
@@ -106,8 +106,9 @@ absl::StatusOr<Telemetry> FromProto(const v1::Telemetry& telemetry) {
 
 absl::StatusOr<RobotIdentity> FromProto(const v1::AgentHello& hello) {
   if (!IsValidRobotId(hello.robot_id())) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "hello.robot_id: must be 1-64 characters of [A-Za-z0-9_.-], got '", EchoInput(hello.robot_id()), "'"));
+    return absl::InvalidArgumentError(
+        absl::StrCat("hello.robot_id: must be 1-64 characters of [A-Za-z0-9_.-], got '",
+                     EchoInput(hello.robot_id()), "'"));
   }
   RobotIdentity out;
   out.robot_id = hello.robot_id();

@@ -52,8 +52,8 @@ absl::Status FleetRegistry::CheckSessionLocked(const std::string& robot_id,
     return absl::NotFoundError(absl::StrCat("robot '", EchoInput(robot_id), "' is not registered"));
   }
   if (found->session != session) {
-    return absl::FailedPreconditionError(
-        absl::StrCat("robot '", EchoInput(robot_id), "' connected again; this stream was replaced"));
+    return absl::FailedPreconditionError(absl::StrCat(
+        "robot '", EchoInput(robot_id), "' connected again; this stream was replaced"));
   }
   return absl::OkStatus();
 }
@@ -116,9 +116,8 @@ absl::Status FleetRegistry::Forget(const std::string& robot_id) {
         absl::StrCat("robot '", robot_id, "' is connected; it can be forgotten once offline"));
   }
   if (!entry->record.current_job_id.empty()) {
-    return absl::FailedPreconditionError(absl::StrCat("robot '", robot_id, "' holds job ",
-                                                      entry->record.current_job_id,
-                                                      "; cancel it first"));
+    return absl::FailedPreconditionError(absl::StrCat(
+        "robot '", robot_id, "' holds job ", entry->record.current_job_id, "; cancel it first"));
   }
   index_.erase(robot_id);
   robots_.erase(robot_id);
@@ -158,9 +157,9 @@ void FleetRegistry::RefreshStale() {
   absl::MutexLock lock(&mutex_);
   const int64_t now_ns = clock_->NowNs();
   for (auto& [id, entry] : robots_) {
-    const bool stale = entry.record.connection == ConnectionState::kOnline &&
-                       static_cast<double>(now_ns - entry.record.last_seen_ns) * 1e-9 >
-                           params_.stale_after_s;
+    const bool stale =
+        entry.record.connection == ConnectionState::kOnline &&
+        static_cast<double>(now_ns - entry.record.last_seen_ns) * 1e-9 > params_.stale_after_s;
     if (stale == entry.shown_stale) continue;
     entry.shown_stale = stale;
     entry.record.revision = NextRevision();

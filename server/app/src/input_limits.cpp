@@ -15,9 +15,8 @@ absl::Status Exceeds(const std::string& what, int64_t count, const char* limit, 
 
 absl::Status CheckText(const std::string& field, const std::string& text, int max_bytes) {
   if (static_cast<int64_t>(text.size()) <= max_bytes) return absl::OkStatus();
-  return absl::ResourceExhaustedError(absl::StrCat(field, ": ", text.size(),
-                                                   " bytes exceeds limits.max_text_bytes = ",
-                                                   max_bytes));
+  return absl::ResourceExhaustedError(
+      absl::StrCat(field, ": ", text.size(), " bytes exceeds limits.max_text_bytes = ", max_bytes));
 }
 
 }  // namespace
@@ -34,7 +33,8 @@ absl::Status InputLimits::Validate() const {
       {"max_text_bytes", max_text_bytes}};
   for (const auto& [name, value] : limits) {
     if (value < 1) {
-      return absl::InvalidArgumentError(absl::StrCat("limits.", name, ": must be >= 1, got ", value));
+      return absl::InvalidArgumentError(
+          absl::StrCat("limits.", name, ": must be >= 1, got ", value));
     }
   }
   return absl::OkStatus();
@@ -62,12 +62,13 @@ absl::Status InputLimits::CheckMarkers(const MarkerSet& markers) const {
 
 absl::Status InputLimits::CheckRoute(const Route& route) const {
   if (static_cast<int64_t>(route.actions.size()) > max_route_actions) {
-    return Exceeds("route.actions", static_cast<int64_t>(route.actions.size()),
-                   "max_route_actions", max_route_actions);
+    return Exceeds("route.actions", static_cast<int64_t>(route.actions.size()), "max_route_actions",
+                   max_route_actions);
   }
   for (size_t i = 0; i < route.actions.size(); ++i) {
     const auto* nav = std::get_if<FreeNavigationAction>(&route.actions[i].params);
-    if (nav != nullptr && static_cast<int64_t>(nav->waypoints_m.size()) > max_waypoints_per_action) {
+    if (nav != nullptr &&
+        static_cast<int64_t>(nav->waypoints_m.size()) > max_waypoints_per_action) {
       return Exceeds(absl::StrCat("route.actions[", i, "].waypoints"),
                      static_cast<int64_t>(nav->waypoints_m.size()), "max_waypoints_per_action",
                      max_waypoints_per_action);
@@ -90,8 +91,8 @@ absl::Status InputLimits::CheckIdentity(const RobotIdentity& identity) const {
                    "max_sensors", max_sensors);
   }
   for (size_t i = 0; i < identity.capabilities.size(); ++i) {
-    RETURN_IF_ERROR(CheckText(absl::StrCat("hello.capabilities[", i, "]"),
-                              identity.capabilities[i], max_text_bytes));
+    RETURN_IF_ERROR(CheckText(absl::StrCat("hello.capabilities[", i, "]"), identity.capabilities[i],
+                              max_text_bytes));
   }
   RETURN_IF_ERROR(CheckText("hello.model.kind_name", identity.model.kind_name, max_text_bytes));
   return CheckText("hello.software_version", identity.software_version, max_text_bytes);

@@ -38,16 +38,17 @@ absl::Status JobServiceParams::Validate() const {
   }
   if (max_page_size < 1) return absl::InvalidArgumentError("max_page_size: must be >= 1");
   if (!std::isfinite(evict_offline_robots_after_s) || evict_offline_robots_after_s < 0.0) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "evict_offline_robots_after_s: must be finite and >= 0, got ", evict_offline_robots_after_s));
+    return absl::InvalidArgumentError(
+        absl::StrCat("evict_offline_robots_after_s: must be finite and >= 0, got ",
+                     evict_offline_robots_after_s));
   }
   return absl::OkStatus();
 }
 
 JobService::JobService(storage::JobRepository* jobs, storage::RobotRepository* robots,
                        SiteCache* site_data, SiteCatalog* site, FleetRegistry* registry,
-                       RobotMailbox* mailbox,
-                       const Clock* clock, JobServiceParams params, TrafficCoordinator* traffic)
+                       RobotMailbox* mailbox, const Clock* clock, JobServiceParams params,
+                       TrafficCoordinator* traffic)
     : jobs_(jobs),
       robots_(robots),
       site_data_(site_data),

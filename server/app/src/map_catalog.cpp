@@ -2,8 +2,8 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/time/clock.h"
-#include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/core/echo_input.hpp"
+#include "fleetnav/core/status_macros.hpp"
 
 namespace fleetnav::server {
 
@@ -13,8 +13,8 @@ absl::Status MapCatalog::ValidateMapId(const std::string& map_id) {
     ok = ok && ((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-');
   }
   if (!ok) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("map_id: must be 1-64 characters of [a-z0-9_-], got '", EchoInput(map_id), "'"));
+    return absl::InvalidArgumentError(absl::StrCat(
+        "map_id: must be 1-64 characters of [a-z0-9_-], got '", EchoInput(map_id), "'"));
   }
   return absl::OkStatus();
 }
@@ -29,8 +29,8 @@ absl::StatusOr<storage::MapInfo> MapCatalog::Put(const std::string& map_id,
   return site_data_->PutMap(map_id, grid, description, now_ms);
 }
 
-absl::StatusOr<std::shared_ptr<const storage::StoredMap>> MapCatalog::Get(
-    const std::string& map_id, uint32_t version) {
+absl::StatusOr<std::shared_ptr<const storage::StoredMap>> MapCatalog::Get(const std::string& map_id,
+                                                                          uint32_t version) {
   RETURN_IF_ERROR(ValidateMapId(map_id));
   return site_data_->Map(map_id, version);
 }

@@ -3,7 +3,7 @@
 namespace fleetnav::server {
 
 absl::StatusOr<storage::CreatedJob> NotifyingJobRepository::CreateJob(Job job,
-                                                                     JobEvent first_event) {
+                                                                      JobEvent first_event) {
   absl::StatusOr<storage::CreatedJob> created =
       inner_->CreateJob(std::move(job), std::move(first_event));
   if (created.ok() && !created->deduplicated && listener_) listener_(created->job.job_id);
@@ -25,8 +25,8 @@ absl::StatusOr<int64_t> NotifyingJobRepository::UpdateJob(const Job& job, JobEve
   return sequence;
 }
 
-absl::StatusOr<std::vector<JobEvent>> NotifyingJobRepository::ListEvents(
-    const std::string& job_id, int64_t after_sequence) {
+absl::StatusOr<std::vector<JobEvent>> NotifyingJobRepository::ListEvents(const std::string& job_id,
+                                                                         int64_t after_sequence) {
   return inner_->ListEvents(job_id, after_sequence);
 }
 

@@ -29,6 +29,10 @@ int64_t BytesOf(const storage::StoredRoute& stored) {
   return bytes;
 }
 
+uint32_t VersionOf(const storage::StoredMap& map) { return map.info.version; }
+uint32_t VersionOf(const storage::StoredMarkerSet& set) { return set.version; }
+uint32_t VersionOf(const storage::StoredRoute& route) { return route.version; }
+
 }  // namespace
 
 SiteCache::SiteCache(storage::MapRepository* maps, storage::MarkerSetRepository* markers,
@@ -70,52 +74,43 @@ uint32_t SiteCache::Resolve(Kind kind, const std::string& id, uint32_t version) 
   return it == latest_.end() ? 0 : it->second;
 }
 
-absl::StatusOr<std::shared_ptr<const storage::StoredMap>> SiteCache::Map(const std::string& map_id,
-                                                                         uint32_t version) {
-  const uint32_t wanted = Resolve(Kind::kMap, map_id, version);
+template <typename Stored, typename ReadFn>
+absl::StatusOr<std::shared_ptr<const Stored>> SiteCache::ReadThrough(Kind kind,
+                                                                     const std::string& id,
+                                                                     uint32_t version,
+                                                                     ReadFn read) {
+  const uint32_t wanted = Resolve(kind, id, version);
   if (wanted != 0) {
     absl::MutexLock lock(&mutex_);
-    if (const Value* found = Find({Kind::kMap, map_id, wanted})) {
-      return std::get<std::shared_ptr<const storage::StoredMap>>(*found);
+    if (const Value* found = Find({kind, id, wanted})) {
+      return std::get<std::shared_ptr<const Stored>>(*found);
     }
   }
-  ASSIGN_OR_RETURN(storage::StoredMap read, maps_->GetMap(map_id, wanted));
-  auto shared = std::make_shared<const storage::StoredMap>(std::move(read));
-  if (version == 0) NoteLatest(Kind::kMap, map_id, shared->info.version);
-  Keep({Kind::kMap, map_id, shared->info.version}, shared, BytesOf(*shared));
+  absl::StatusOr<Stored> stored = read(wanted);
+  if (!stored.ok()) return stored.status();
+  auto shared = std::make_shared<const Stored>(*std::move(stored));
+  if (version == 0) NoteLatest(kind, id, VersionOf(*shared));
+  Keep({kind, id, VersionOf(*shared)}, shared, BytesOf(*shared));
   return shared;
+}
+
+absl::StatusOr<std::shared_ptr<const storage::StoredMap>> SiteCache::Map(const std::string& map_id,
+                                                                         uint32_t version) {
+  return ReadThrough<storage::StoredMap>(Kind::kMap, map_id, version,
+                                         [&](uint32_t v) { return maps_->GetMap(map_id, v); });
 }
 
 absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> SiteCache::MarkerSetVersion(
     const std::string& map_id, uint32_t version) {
-  const uint32_t wanted = Resolve(Kind::kMarkers, map_id, version);
-  if (wanted != 0) {
-    absl::MutexLock lock(&mutex_);
-    if (const Value* found = Find({Kind::kMarkers, map_id, wanted})) {
-      return std::get<std::shared_ptr<const storage::StoredMarkerSet>>(*found);
-    }
-  }
-  ASSIGN_OR_RETURN(storage::StoredMarkerSet read, markers_->GetMarkerSet(map_id, wanted));
-  auto shared = std::make_shared<const storage::StoredMarkerSet>(std::move(read));
-  if (version == 0) NoteLatest(Kind::kMarkers, map_id, shared->version);
-  Keep({Kind::kMarkers, map_id, shared->version}, shared, BytesOf(*shared));
-  return shared;
+  return ReadThrough<storage::StoredMarkerSet>(Kind::kMarkers, map_id, version, [&](uint32_t v) {
+    return markers_->GetMarkerSet(map_id, v);
+  });
 }
 
 absl::StatusOr<std::shared_ptr<const storage::StoredRoute>> SiteCache::RouteVersion(
     const std::string& name, uint32_t version) {
-  const uint32_t wanted = Resolve(Kind::kRoute, name, version);
-  if (wanted != 0) {
-    absl::MutexLock lock(&mutex_);
-    if (const Value* found = Find({Kind::kRoute, name, wanted})) {
-      return std::get<std::shared_ptr<const storage::StoredRoute>>(*found);
-    }
-  }
-  ASSIGN_OR_RETURN(storage::StoredRoute read, routes_->GetRoute(name, wanted));
-  auto shared = std::make_shared<const storage::StoredRoute>(std::move(read));
-  if (version == 0) NoteLatest(Kind::kRoute, name, shared->version);
-  Keep({Kind::kRoute, name, shared->version}, shared, BytesOf(*shared));
-  return shared;
+  return ReadThrough<storage::StoredRoute>(Kind::kRoute, name, version,
+                                           [&](uint32_t v) { return routes_->GetRoute(name, v); });
 }
 
 absl::StatusOr<uint32_t> SiteCache::LatestMapVersion(const std::string& map_id) {
@@ -194,8 +189,7 @@ absl::StatusOr<storage::StoredRoute> SiteCache::GetRoute(const std::string& name
   return *route;
 }
 
-absl::StatusOr<std::vector<storage::StoredRoute>> SiteCache::ListRoutes(
-    const std::string& map_id) {
+absl::StatusOr<std::vector<storage::StoredRoute>> SiteCache::ListRoutes(const std::string& map_id) {
   return routes_->ListRoutes(map_id);
 }
 

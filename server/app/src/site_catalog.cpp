@@ -4,9 +4,9 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/time/clock.h"
+#include "fleetnav/core/echo_input.hpp"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/server/map_catalog.hpp"
-#include "fleetnav/core/echo_input.hpp"
 
 namespace fleetnav::server {
 namespace {
@@ -34,8 +34,8 @@ absl::Status SiteCatalog::ValidateRouteName(const std::string& name) {
                 c == '_' || c == '-' || c == '.');
   }
   if (!ok) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("route.name: must be 1-64 characters of [A-Za-z0-9_.-], got '", EchoInput(name), "'"));
+    return absl::InvalidArgumentError(absl::StrCat(
+        "route.name: must be 1-64 characters of [A-Za-z0-9_.-], got '", EchoInput(name), "'"));
   }
   return absl::OkStatus();
 }

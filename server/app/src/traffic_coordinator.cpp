@@ -22,8 +22,9 @@ absl::Status TrafficCoordinatorParams::Validate() const {
   return absl::OkStatus();
 }
 
-TrafficCoordinator::TrafficCoordinator(SiteCache* site_data, FleetRegistry* registry, RobotMailbox* mailbox,
-                                       const Clock* clock, TrafficCoordinatorParams params)
+TrafficCoordinator::TrafficCoordinator(SiteCache* site_data, FleetRegistry* registry,
+                                       RobotMailbox* mailbox, const Clock* clock,
+                                       TrafficCoordinatorParams params)
     : site_data_(site_data),
       registry_(registry),
       mailbox_(mailbox),
@@ -59,9 +60,10 @@ void TrafficCoordinator::OnActionFinished(const std::string& robot_id, const std
   if (tracked.schedule) {
     tracked.schedule->first_unfinished =
         std::max(tracked.schedule->first_unfinished, action_index + 1);
-    const bool more = tracked.predicted_end < static_cast<int>(tracked.assignment.route->actions.size());
-    if (more && tracked.schedule->first_unfinished + params_.horizon_actions / 2 >=
-                    tracked.predicted_end) {
+    const bool more =
+        tracked.predicted_end < static_cast<int>(tracked.assignment.route->actions.size());
+    if (more &&
+        tracked.schedule->first_unfinished + params_.horizon_actions / 2 >= tracked.predicted_end) {
       // The next window is predicted on the next update, from where the robot then is.
       tracked.start_action = tracked.schedule->first_unfinished;
       tracked.schedule.reset();
@@ -247,14 +249,19 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
           r.connection == ConnectionState::kOffline) {
         continue;
       }
-      parked.push_back(
-          {r.identity.robot_id,
-           planner::CellSet::Sweep({r.last_telemetry->pose_in_map}, r.identity.model.footprint_m,
-                                   params_.margin_m, params_.cell_m)});
+      // Swept again only when the robot has moved.
+      const Pose2& pose = r.last_telemetry->pose_in_map;
+      auto [cached, inserted] = parked_cells_.try_emplace(r.identity.robot_id);
+      if (inserted || !cached->second.first.IsNear(pose, 0.0, 0.0)) {
+        cached->second = {pose, planner::CellSet::Sweep({pose}, r.identity.model.footprint_m,
+                                                        params_.margin_m, params_.cell_m)};
+      }
+      parked.push_back({r.identity.robot_id, cached->second.second});
     }
+    if (parked_cells_.size() > 2 * robots.size()) parked_cells_.clear();  // robots forgotten
     for (auto& [map_id, tracked_jobs] : by_map) {
-      std::vector<planner::ScheduledRoute> routes;
-      for (const Tracked* t : tracked_jobs) routes.push_back(*t->schedule);
+      std::vector<const planner::ScheduledRoute*> routes;
+      for (const Tracked* t : tracked_jobs) routes.push_back(&*t->schedule);
       const std::vector<planner::TrafficClearanceDecision> decisions =
           planner::DecideClearances(routes, parked);
       for (size_t i = 0; i < decisions.size(); ++i) {

@@ -7,13 +7,13 @@
 
 #include "absl/strings/str_cat.h"
 #include "coarse_grid.hpp"
+#include "fleetnav/core/echo_input.hpp"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/planner/action_dependency_graph.hpp"
 #include "fleetnav/planner/mapf_planner.hpp"
 #include "kinematic_traffic.hpp"
 #include "traffic_dependencies.hpp"
-#include "fleetnav/core/echo_input.hpp"
 
 namespace fleetnav::server {
 

@@ -92,6 +92,9 @@ class AgentConnection final {
       absl::MutexLock lock(&mutex_);
       writing_ = false;
       if (!ok) broken_ = true;
+      // An assignment of a long route is hundreds of kB: not kept once written (Clear() would
+      // keep its capacity).
+      if (out_.has_assignment()) out_ = v1::ServerMessage();
     }
     PumpWrites();
   }

@@ -3,7 +3,6 @@
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/health_check_service_interface.h>
 #include <grpcpp/server_builder.h>
-
 #include <malloc.h>
 
 #include <chrono>
@@ -52,9 +51,9 @@ absl::StatusOr<int> FleetServer::Start() {
     sim_clock_feed_ = std::make_unique<SimClockFeed>(params_.sim_clock_address, &sim_clock_);
     RETURN_IF_ERROR(sim_clock_feed_->Start());
   }
-  ASSIGN_OR_RETURN(
-      db_, storage::SqliteDatabase::Open(params_.db_path, storage::FleetSchemaMigrations(),
-                                         storage::FleetDatabaseOptions()));
+  ASSIGN_OR_RETURN(db_,
+                   storage::SqliteDatabase::Open(params_.db_path, storage::FleetSchemaMigrations(),
+                                                 storage::FleetDatabaseOptions()));
   map_repository_ = std::make_unique<storage::SqliteMapRepository>(db_.get());
   marker_repository_ = std::make_unique<storage::SqliteMarkerSetRepository>(db_.get());
   route_repository_ = std::make_unique<storage::SqliteRouteRepository>(db_.get());
@@ -71,15 +70,14 @@ absl::StatusOr<int> FleetServer::Start() {
   coordinator_ = std::make_unique<TrafficCoordinator>(site_data_.get(), &registry_, &mailbox_,
                                                       clock_, params_.traffic);
   jobs_ = std::make_unique<JobService>(job_repository_.get(), robot_repository_.get(),
-                                       site_data_.get(), site_.get(), &registry_, &mailbox_,
-                                       clock_, params_.jobs, coordinator_.get());
+                                       site_data_.get(), site_.get(), &registry_, &mailbox_, clock_,
+                                       params_.jobs, coordinator_.get());
   RETURN_IF_ERROR(jobs_->Recover());
   traffic_ = std::make_unique<TrafficPlanner>(site_data_.get());
-  fleet_service_ = std::make_unique<FleetServiceImpl>(
-      maps_.get(), site_.get(), jobs_.get(), traffic_.get(), &registry_, &mailbox_);
+  fleet_service_ = std::make_unique<FleetServiceImpl>(maps_.get(), site_.get(), jobs_.get(),
+                                                      traffic_.get(), &registry_, &mailbox_);
   agent_service_ = std::make_unique<AgentServiceImpl>(&registry_, jobs_.get(), &mailbox_,
-                                                      params_.agent_stream_threads,
-                                                      params_.limits);
+                                                      params_.agent_stream_threads, params_.limits);
   watch_hub_ = std::make_unique<WatchHub>(fleet_service_.get(), &registry_, jobs_.get());
   registry_.SetChangeListener([hub = watch_hub_.get()] { hub->OnFleetChanged(); });
   job_repository_->SetListener(
@@ -117,9 +115,16 @@ absl::StatusOr<int> FleetServer::Start() {
         std::chrono::duration<double>(params_.pose_history.period_s));
     auto next_history = std::chrono::steady_clock::now() + history_period;
     auto next_trim = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    const auto stale_period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(params_.dispatch_period_s));
+    auto next_stale = std::chrono::steady_clock::now();
     while (!stopping_.load()) {
       jobs_->DispatchOnce();
-      registry_.RefreshStale();
+      // Once a period, not on every wake-up: it walks every robot under the registry's lock.
+      if (std::chrono::steady_clock::now() >= next_stale) {
+        registry_.RefreshStale();
+        next_stale = std::chrono::steady_clock::now() + stale_period;
+      }
       if (std::chrono::steady_clock::now() >= next_history) {
         (void)pose_recorder_->RecordOnce(absl::ToUnixMillis(absl::Now()));
         next_history += history_period;

@@ -59,19 +59,19 @@ absl::StatusOr<FleetServerConfig> ParseFleetServerConfig(std::string_view yaml_t
         absl::StrCat("agent_threads: must be in [1, 64], got ", p.agent_stream_threads));
   }
   if (const YAML::Node limits = root["limits"]) {
-    RETURN_IF_ERROR(CheckKeys(limits,
-                              {"max_message_bytes", "max_page_size", "max_map_cells",
-                               "max_markers", "max_route_actions", "max_waypoints_per_action",
-                               "max_capabilities", "max_footprint_points", "max_sensors",
-                               "max_text_bytes", "site_cache_mb"},
-                              "limits"));
+    RETURN_IF_ERROR(
+        CheckKeys(limits,
+                  {"max_message_bytes", "max_page_size", "max_map_cells", "max_markers",
+                   "max_route_actions", "max_waypoints_per_action", "max_capabilities",
+                   "max_footprint_points", "max_sensors", "max_text_bytes", "site_cache_mb"},
+                  "limits"));
     RETURN_IF_ERROR(Read(limits, "max_message_bytes", "limits.", &p.max_message_bytes));
     RETURN_IF_ERROR(Read(limits, "max_page_size", "limits.", &p.jobs.max_page_size));
     RETURN_IF_ERROR(Read(limits, "max_map_cells", "limits.", &p.limits.max_map_cells));
     RETURN_IF_ERROR(Read(limits, "max_markers", "limits.", &p.limits.max_markers));
     RETURN_IF_ERROR(Read(limits, "max_route_actions", "limits.", &p.limits.max_route_actions));
-    RETURN_IF_ERROR(Read(limits, "max_waypoints_per_action", "limits.",
-                         &p.limits.max_waypoints_per_action));
+    RETURN_IF_ERROR(
+        Read(limits, "max_waypoints_per_action", "limits.", &p.limits.max_waypoints_per_action));
     RETURN_IF_ERROR(Read(limits, "max_capabilities", "limits.", &p.limits.max_capabilities));
     RETURN_IF_ERROR(
         Read(limits, "max_footprint_points", "limits.", &p.limits.max_footprint_points));
@@ -82,11 +82,11 @@ absl::StatusOr<FleetServerConfig> ParseFleetServerConfig(std::string_view yaml_t
     p.site_cache.budget_bytes = cache_mb << 20;
   }
   if (const YAML::Node timeouts = root["timeouts"]) {
-    RETURN_IF_ERROR(CheckKeys(timeouts,
-                              {"stale_after_s", "lost_robot_timeout_s", "dispatch_period_s",
-                               "pose_history_period_s", "pose_history_retention_s",
-                               "evict_offline_robots_after_s"},
-                              "timeouts"));
+    RETURN_IF_ERROR(CheckKeys(
+        timeouts,
+        {"stale_after_s", "lost_robot_timeout_s", "dispatch_period_s", "pose_history_period_s",
+         "pose_history_retention_s", "evict_offline_robots_after_s"},
+        "timeouts"));
     RETURN_IF_ERROR(Read(timeouts, "pose_history_period_s", "timeouts.", &p.pose_history.period_s));
     RETURN_IF_ERROR(
         Read(timeouts, "pose_history_retention_s", "timeouts.", &p.pose_history.retention_s));

@@ -190,7 +190,7 @@ class FleetWatcher final : public WatchStream {
       hub_->fleet_.erase(this);
       hub_->fleet_watchers_.fetch_sub(1);
     }
-    hub_->Gone(this);
+    hub_->Gone();
   }
   void StartFinish(const grpc::Status& status) override {
     writer_.Finish(status, Tag(WatchHub::Op::kFinish));
@@ -273,7 +273,7 @@ class JobWatcher final : public WatchStream {
       }
       hub_->job_watchers_.fetch_sub(1);
     }
-    hub_->Gone(this);
+    hub_->Gone();
   }
   void StartFinish(const grpc::Status& status) override {
     writer_.Finish(status, Tag(WatchHub::Op::kFinish));
@@ -302,30 +302,22 @@ void WatchHub::Start() {
   thread_ = std::thread([this] { Run(); });
 }
 
+bool WatchHub::Reserve() {
+  absl::MutexLock lock(&signal_mutex_);
+  if (stopping_) return false;
+  ++live_;
+  return true;
+}
+
 void WatchHub::AcceptFleetWatcher() {
-  {
-    absl::MutexLock lock(&signal_mutex_);
-    if (stopping_) return;
-    ++live_;
-  }
-  new FleetWatcher(this);
+  if (Reserve()) new FleetWatcher(this);
 }
 
 void WatchHub::AcceptJobWatcher() {
-  {
-    absl::MutexLock lock(&signal_mutex_);
-    if (stopping_) return;
-    ++live_;
-  }
-  new JobWatcher(this);
+  if (Reserve()) new JobWatcher(this);
 }
 
-void WatchHub::Gone(FleetWatcher*) {
-  absl::MutexLock lock(&signal_mutex_);
-  --live_;
-}
-
-void WatchHub::Gone(JobWatcher*) {
+void WatchHub::Gone() {
   absl::MutexLock lock(&signal_mutex_);
   --live_;
 }
@@ -378,12 +370,11 @@ void WatchHub::Run() {
     void* tag = nullptr;
     bool ok = false;
     // Sleep until an event, or until a fleet watcher with news becomes due.
-    const auto deadline =
-        next_fleet == SteadyTime::max()
-            ? std::chrono::system_clock::now() + std::chrono::hours(1)
-            : std::chrono::system_clock::now() +
-                  std::chrono::duration_cast<std::chrono::system_clock::duration>(
-                      next_fleet - std::chrono::steady_clock::now());
+    const auto deadline = next_fleet == SteadyTime::max()
+                              ? std::chrono::system_clock::now() + std::chrono::hours(1)
+                              : std::chrono::system_clock::now() +
+                                    std::chrono::duration_cast<std::chrono::system_clock::duration>(
+                                        next_fleet - std::chrono::steady_clock::now());
     const grpc::CompletionQueue::NextStatus status = cq_->AsyncNext(&tag, &ok, deadline);
     if (status == grpc::CompletionQueue::SHUTDOWN) return;
     if (status == grpc::CompletionQueue::GOT_EVENT) {

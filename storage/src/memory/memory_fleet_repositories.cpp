@@ -47,7 +47,8 @@ absl::StatusOr<uint32_t> MemoryMarkerSetRepository::PutMarkerSet(const MarkerSet
 absl::StatusOr<StoredMarkerSet> MemoryMarkerSetRepository::GetMarkerSet(const std::string& map_id,
                                                                         uint32_t version) {
   absl::MutexLock lock(&mutex_);
-  return PickVersion(sets_[map_id], version, absl::StrCat("marker set of map '", EchoInput(map_id), "'"));
+  return PickVersion(sets_[map_id], version,
+                     absl::StrCat("marker set of map '", EchoInput(map_id), "'"));
 }
 
 absl::StatusOr<uint32_t> MemoryRouteRepository::PutRoute(const Route& route,
@@ -137,8 +138,8 @@ absl::StatusOr<JobPage> MemoryJobRepository::ListJobs(const JobFilter& filter) {
     char* end = nullptr;
     after_seq = std::strtoll(filter.page_token.c_str(), &end, 10);
     if (end == filter.page_token.c_str() || *end != '\0' || after_seq < 0) {
-      return absl::InvalidArgumentError(
-          absl::StrCat("page_token: not a token this server issued: '", EchoInput(filter.page_token), "'"));
+      return absl::InvalidArgumentError(absl::StrCat(
+          "page_token: not a token this server issued: '", EchoInput(filter.page_token), "'"));
     }
   }
   absl::MutexLock lock(&mutex_);

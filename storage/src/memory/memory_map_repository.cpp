@@ -30,7 +30,8 @@ absl::StatusOr<StoredMap> MemoryMapRepository::GetMap(const std::string& map_id,
   }
   if (version == 0) return it->second.back();
   if (version > it->second.size()) {
-    return absl::NotFoundError(absl::StrCat("map '", EchoInput(map_id), "' has no version ", version));
+    return absl::NotFoundError(
+        absl::StrCat("map '", EchoInput(map_id), "' has no version ", version));
   }
   return it->second[version - 1];
 }

@@ -180,8 +180,8 @@ absl::StatusOr<std::unique_ptr<SqliteDatabase>> SqliteDatabase::Open(
   }
   if (status.ok()) status = db->Execute("PRAGMA foreign_keys=ON");
   if (status.ok() && options.application_id != 0) {
-    status = db->Execute(absl::StrCat("PRAGMA application_id=",
-                                      static_cast<int32_t>(options.application_id)));
+    status = db->Execute(
+        absl::StrCat("PRAGMA application_id=", static_cast<int32_t>(options.application_id)));
   }
   if (status.ok()) status = db->Migrate(migrations);
   if (!status.ok()) return NamingFile(path, status);

@@ -1,8 +1,8 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "fleetnav/core/echo_input.hpp"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/storage/sqlite/sqlite_fleet_repositories.hpp"
-#include "fleetnav/core/echo_input.hpp"
 
 namespace fleetnav::storage {
 namespace {
@@ -145,8 +145,8 @@ absl::StatusOr<JobPage> SqliteJobRepository::ListJobs(const JobFilter& filter) {
     char* end = nullptr;
     after_seq = std::strtoll(filter.page_token.c_str(), &end, 10);
     if (end == filter.page_token.c_str() || *end != '\0' || after_seq < 0) {
-      return absl::InvalidArgumentError(
-          absl::StrCat("page_token: not a token this server issued: '", EchoInput(filter.page_token), "'"));
+      return absl::InvalidArgumentError(absl::StrCat(
+          "page_token: not a token this server issued: '", EchoInput(filter.page_token), "'"));
     }
   }
   std::string where = "seq > ?";

@@ -1,8 +1,8 @@
 #include "fleetnav/storage/sqlite/sqlite_map_repository.hpp"
 
 #include "absl/strings/str_cat.h"
-#include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/core/echo_input.hpp"
+#include "fleetnav/core/status_macros.hpp"
 
 namespace fleetnav::storage {
 namespace {
@@ -81,9 +81,9 @@ absl::StatusOr<StoredMap> SqliteMapRepository::GetMap(const std::string& map_id,
     return absl::OkStatus();
   }));
   if (!found) {
-    return absl::NotFoundError(version == 0
-                                   ? absl::StrCat("map '", EchoInput(map_id), "' not found")
-                                   : absl::StrCat("map '", EchoInput(map_id), "' has no version ", version));
+    return absl::NotFoundError(
+        version == 0 ? absl::StrCat("map '", EchoInput(map_id), "' not found")
+                     : absl::StrCat("map '", EchoInput(map_id), "' has no version ", version));
   }
   return *std::move(found);
 }

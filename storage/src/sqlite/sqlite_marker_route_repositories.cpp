@@ -1,7 +1,7 @@
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/echo_input.hpp"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/storage/sqlite/sqlite_fleet_repositories.hpp"
-#include "fleetnav/core/echo_input.hpp"
 
 namespace fleetnav::storage {
 namespace {
@@ -106,8 +106,8 @@ absl::StatusOr<StoredRoute> SqliteRouteRepository::GetRoute(const std::string& n
     return absl::OkStatus();
   }));
   if (!found) {
-    return absl::NotFoundError(
-        absl::StrCat("route '", EchoInput(name), "'", version == 0 ? " not found" : "", VersionText(version)));
+    return absl::NotFoundError(absl::StrCat(
+        "route '", EchoInput(name), "'", version == 0 ? " not found" : "", VersionText(version)));
   }
   return *std::move(found);
 }
@@ -196,8 +196,7 @@ absl::StatusOr<std::vector<StoredRobot>> SqliteRobotRepository::ListRobots() {
 
 absl::Status SqliteRobotRepository::DeleteRobot(const std::string& robot_id) {
   return db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement remove,
-                     db_->Prepare("DELETE FROM robots WHERE robot_id = ?"));
+    ASSIGN_OR_RETURN(SqliteStatement remove, db_->Prepare("DELETE FROM robots WHERE robot_id = ?"));
     remove.Bind(1, robot_id);
     RETURN_IF_ERROR(remove.Run());
     ASSIGN_OR_RETURN(SqliteStatement changed, db_->Prepare("SELECT changes()"));

@@ -158,9 +158,8 @@ TEST(SqliteDatabaseTest, JournalModeIsWal) {
 
 TEST(SqliteDatabaseTest, NormalDurabilityUsesSynchronousNormal) {
   testing::TempDbPath path;
-  absl::StatusOr<std::unique_ptr<SqliteDatabase>> db =
-      SqliteDatabase::Open(path.path(), FleetSchemaMigrations(),
-                           FleetDatabaseOptions(Durability::kNormal));
+  absl::StatusOr<std::unique_ptr<SqliteDatabase>> db = SqliteDatabase::Open(
+      path.path(), FleetSchemaMigrations(), FleetDatabaseOptions(Durability::kNormal));
   ASSERT_TRUE(db.ok()) << db.status();
   EXPECT_EQ(QueryInt(**db, "PRAGMA synchronous"), 1);  // NORMAL
   EXPECT_EQ(QueryText(**db, "PRAGMA journal_mode"), "wal");

@@ -138,8 +138,8 @@ TEST(SqliteOwnershipTest, OverwrittenPagesAreDataLossAtStartAndInCheck) {
   EXPECT_EQ(db.status().code(), absl::StatusCode::kDataLoss) << db.status();
   EXPECT_THAT(std::string(db.status().message()), HasSubstr(path.path()));
 
-  absl::StatusOr<SqliteCheckReport> report = SqliteDatabase::Check(path.path(),
-                                                                   FleetDatabaseOptions());
+  absl::StatusOr<SqliteCheckReport> report =
+      SqliteDatabase::Check(path.path(), FleetDatabaseOptions());
   if (report.ok()) {
     EXPECT_FALSE(report->ok());
   } else {
@@ -151,8 +151,8 @@ TEST(SqliteOwnershipTest, CheckReadsAnIntactFileWithoutWritingIt) {
   testing::TempDbPath path;
   MakeFleetDatabaseWithMaps(path.path());
   const std::string before = ReadBytes(path.path());
-  absl::StatusOr<SqliteCheckReport> report = SqliteDatabase::Check(path.path(),
-                                                                   FleetDatabaseOptions());
+  absl::StatusOr<SqliteCheckReport> report =
+      SqliteDatabase::Check(path.path(), FleetDatabaseOptions());
   ASSERT_TRUE(report.ok()) << report.status();
   EXPECT_TRUE(report->ok()) << report->problems.front();
   EXPECT_EQ(report->schema_version, static_cast<int>(FleetSchemaMigrations().size()));
@@ -162,8 +162,8 @@ TEST(SqliteOwnershipTest, CheckReadsAnIntactFileWithoutWritingIt) {
 TEST(SqliteOwnershipTest, CheckReportsAForeignFileAsAProblem) {
   testing::TempDbPath path;
   MakeForeignDatabase(path.path(), "CREATE TABLE people (name TEXT);");
-  absl::StatusOr<SqliteCheckReport> report = SqliteDatabase::Check(path.path(),
-                                                                   FleetDatabaseOptions());
+  absl::StatusOr<SqliteCheckReport> report =
+      SqliteDatabase::Check(path.path(), FleetDatabaseOptions());
   ASSERT_TRUE(report.ok()) << report.status();
   ASSERT_EQ(report->problems.size(), 1u);
   EXPECT_THAT(report->problems[0], HasSubstr("not a fleetnav database"));
@@ -179,8 +179,7 @@ TEST(SqliteOwnershipTest, AReadOnlyFileIsRefusedAtOpenNamingTheFile) {
   if (child == 0) {
     if (::geteuid() == 0 && (::setgid(65534) != 0 || ::setuid(65534) != 0)) ::_exit(3);
     absl::StatusOr<std::unique_ptr<SqliteDatabase>> db = OpenFleet(path.path());
-    const bool refused = !db.ok() &&
-                         db.status().code() == absl::StatusCode::kFailedPrecondition &&
+    const bool refused = !db.ok() && db.status().code() == absl::StatusCode::kFailedPrecondition &&
                          db.status().message().find("read-only") != std::string::npos &&
                          db.status().message().find(path.path()) != std::string::npos;
     ::_exit(refused ? 0 : 1);

@@ -59,5 +59,8 @@ struct TrafficClearanceDecision {
 /// cleared. Clearances only grow. Pure function.
 std::vector<TrafficClearanceDecision> DecideClearances(const std::vector<ScheduledRoute>& routes,
                                                        const std::vector<ParkedRobot>& parked);
+/// The same over routes held elsewhere (the server keeps one per job), so that none is copied.
+std::vector<TrafficClearanceDecision> DecideClearances(
+    const std::vector<const ScheduledRoute*>& routes, const std::vector<ParkedRobot>& parked);
 
 }  // namespace fleetnav::planner

@@ -19,10 +19,10 @@ struct InputLimits {
   int max_markers = 100'000;           ///< per marker set
   int max_route_actions = 10'000;
   int max_waypoints_per_action = 1'000;
-  int max_capabilities = 64;        ///< per robot hello
-  int max_footprint_points = 64;    ///< per robot hello
-  int max_sensors = 64;             ///< per robot hello
-  int max_text_bytes = 256;         ///< a capability, kind name, software version, description
+  int max_capabilities = 64;      ///< per robot hello
+  int max_footprint_points = 64;  ///< per robot hello
+  int max_sensors = 64;           ///< per robot hello
+  int max_text_bytes = 256;       ///< a capability, kind name, software version, description
 
   /// InvalidArgument naming a limit that is not positive.
   absl::Status Validate() const;

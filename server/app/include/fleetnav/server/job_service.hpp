@@ -50,8 +50,8 @@ struct SubmitJobRequest {
 /// serialised by one mutex.
 class JobService {
  public:
-  JobService(storage::JobRepository* jobs, storage::RobotRepository* robots,
-             SiteCache* site_data, SiteCatalog* site, FleetRegistry* registry, RobotMailbox* mailbox, const Clock* clock,
+  JobService(storage::JobRepository* jobs, storage::RobotRepository* robots, SiteCache* site_data,
+             SiteCatalog* site, FleetRegistry* registry, RobotMailbox* mailbox, const Clock* clock,
              JobServiceParams params, TrafficCoordinator* traffic = nullptr);
 
   /// Restores robots (offline) and pauses jobs that were assigned or running when the server

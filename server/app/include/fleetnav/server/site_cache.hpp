@@ -43,8 +43,8 @@ class SiteCache : public storage::MapRepository,
                                                                 uint32_t version);
   absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> MarkerSetVersion(
       const std::string& map_id, uint32_t version);
-  absl::StatusOr<std::shared_ptr<const storage::StoredRoute>> RouteVersion(
-      const std::string& name, uint32_t version);
+  absl::StatusOr<std::shared_ptr<const storage::StoredRoute>> RouteVersion(const std::string& name,
+                                                                           uint32_t version);
   /// The latest version of the map; NotFound when there is none.
   absl::StatusOr<uint32_t> LatestMapVersion(const std::string& map_id);
   /// The latest version of the map's marker set; 0 when it has none.
@@ -58,14 +58,12 @@ class SiteCache : public storage::MapRepository,
   absl::StatusOr<std::vector<storage::MapInfo>> ListMaps() override;
   absl::Status DeleteMap(const std::string& map_id) override;
   // storage::MarkerSetRepository
-  absl::StatusOr<uint32_t> PutMarkerSet(const MarkerSet& markers,
-                                        int64_t created_unix_ms) override;
+  absl::StatusOr<uint32_t> PutMarkerSet(const MarkerSet& markers, int64_t created_unix_ms) override;
   absl::StatusOr<storage::StoredMarkerSet> GetMarkerSet(const std::string& map_id,
                                                         uint32_t version) override;
   // storage::RouteRepository
   absl::StatusOr<uint32_t> PutRoute(const Route& route, int64_t created_unix_ms) override;
-  absl::StatusOr<storage::StoredRoute> GetRoute(const std::string& name,
-                                                uint32_t version) override;
+  absl::StatusOr<storage::StoredRoute> GetRoute(const std::string& name, uint32_t version) override;
   absl::StatusOr<std::vector<storage::StoredRoute>> ListRoutes(const std::string& map_id) override;
   absl::StatusOr<int> CountRoutesOnMap(const std::string& map_id) override;
 
@@ -87,7 +85,11 @@ class SiteCache : public storage::MapRepository,
   /// The entry's value, marked most recently used; nullptr when absent.
   const Value* Find(const Key& key) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   void Keep(const Key& key, Value value, int64_t bytes) ABSL_LOCKS_EXCLUDED(mutex_);
-  void NoteLatest(Kind kind, const std::string& id, uint32_t version)
+  void NoteLatest(Kind kind, const std::string& id, uint32_t version) ABSL_LOCKS_EXCLUDED(mutex_);
+  /// The cached (kind, id, version), else what `read(version or 0)` returns, kept.
+  template <typename Stored, typename ReadFn>
+  absl::StatusOr<std::shared_ptr<const Stored>> ReadThrough(Kind kind, const std::string& id,
+                                                            uint32_t version, ReadFn read)
       ABSL_LOCKS_EXCLUDED(mutex_);
   /// Resolves version 0 to the latest known version, or 0 when not yet known.
   uint32_t Resolve(Kind kind, const std::string& id, uint32_t version) ABSL_LOCKS_EXCLUDED(mutex_);

@@ -77,7 +77,7 @@ class TrafficCoordinator {
     Assignment assignment;
     RobotModel model;
     double assigned_s = 0.0;  ///< when the current window was predicted
-    int start_action = 0;  ///< actions before it had run before coordination began
+    int start_action = 0;     ///< actions before it had run before coordination began
     bool resume_from_telemetry = false;
     std::optional<planner::ScheduledRoute> schedule;
     int predicted_end = 0;  ///< actions before it are in the schedule
@@ -103,7 +103,10 @@ class TrafficCoordinator {
   const Clock* clock_;
   TrafficCoordinatorParams params_;
   absl::Mutex mutex_;
-  std::map<std::string, Tracked> jobs_ ABSL_GUARDED_BY(mutex_);  ///< by job id
+  std::map<std::string, Tracked> jobs_ ABSL_GUARDED_BY(mutex_);
+  /// Where each robot without a coordinated job stood when last swept, and the cells.
+  std::map<std::string, std::pair<Pose2, planner::CellSet>> parked_cells_
+      ABSL_GUARDED_BY(mutex_);  ///< by job id
   /// Costmap and planner per (map id, map version, robot kind).
   std::map<std::tuple<std::string, uint32_t, std::string>, PlannerCache> planners_
       ABSL_GUARDED_BY(mutex_);

@@ -5,7 +5,6 @@
 
 #include "absl/status/statusor.h"
 #include "fleetnav/core/pose2.hpp"
-
 #include "fleetnav/server/site_cache.hpp"
 
 namespace fleetnav::server {

@@ -4,8 +4,8 @@
 #include "fleetnav/server/job_service.hpp"
 #include "fleetnav/server/map_catalog.hpp"
 #include "fleetnav/server/robot_mailbox.hpp"
-#include "fleetnav/server/site_catalog.hpp"
 #include "fleetnav/server/rpc/watch_hub.hpp"
+#include "fleetnav/server/site_catalog.hpp"
 #include "fleetnav/server/traffic_planner.hpp"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
 

@@ -67,8 +67,10 @@ class WatchHub {
   /// time a watcher with news becomes due (max() when none waits).
   std::chrono::steady_clock::time_point ServeFleetWatchers();
   void ServeJobWatchers(const std::set<std::string>& job_ids);
-  void Gone(FleetWatcher* watcher);
-  void Gone(JobWatcher* watcher);
+  /// Counts a stream (or an awaited call) as live, unless the hub is stopping.
+  bool Reserve();
+  /// A stream (or an awaited call) has been deleted.
+  void Gone();
 
   FleetServiceBase* service_;
   FleetRegistry* registry_;
