@@ -402,5 +402,74 @@ TEST_F(JobFlowTest, ARobotThatLostItsJobIsToldCancelBeforeItsNextJob) {
   (void)rb->Finish();
 }
 
+// An operator pauses a running job: the robot is told to stop (PAUSE) and the job shows paused;
+// resuming tells it to go on (RESUME). Jobs in other states are refused with the state named.
+TEST_F(JobFlowTest, AnOperatorPausesAndResumesARunningJob) {
+  PutBarn();
+  ASSERT_TRUE(PutRoute(StraightRoute("long", 8.0)).ok());
+  v1::SubmitJobResponse submitted;
+  ASSERT_TRUE(Submit("long", "", &submitted).ok());
+  const std::string job_id = submitted.job().job_id();
+  auto pause = [&](const std::string& id) {
+    grpc::ClientContext context;
+    v1::PauseJobRequest request;
+    request.set_job_id(id);
+    request.set_reason("cows in the feed alley");
+    v1::PauseJobResponse response;
+    const grpc::Status status = fleet_->PauseJob(&context, request, &response);
+    return std::make_pair(status, response.job());
+  };
+  auto resume = [&](const std::string& id) {
+    grpc::ClientContext context;
+    v1::ResumeJobRequest request;
+    request.set_job_id(id);
+    v1::ResumeJobResponse response;
+    const grpc::Status status = fleet_->ResumeJob(&context, request, &response);
+    return std::make_pair(status, response.job());
+  };
+  EXPECT_EQ(pause("job-999999").first.error_code(), grpc::StatusCode::NOT_FOUND);
+
+  auto agents = v1::AgentService::NewStub(channel_);
+  grpc::ClientContext agent_context;
+  std::unique_ptr<AgentStream> agent = agents->Connect(&agent_context);
+  ASSERT_TRUE(agent->Write(HelloFor("lely1", "")));
+  v1::ServerMessage message;
+  ASSERT_TRUE(agent->Read(&message));  // welcome
+  ASSERT_TRUE(agent->Read(&message));
+  ASSERT_EQ(message.assignment().job().job_id(), job_id);
+  EXPECT_EQ(resume(job_id).first.error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+
+  const auto [paused, paused_job] = pause(job_id);
+  ASSERT_TRUE(paused.ok()) << paused.error_message();
+  EXPECT_EQ(paused_job.state(), v1::JOB_STATE_PAUSED);
+  // Clearances may come first; the command follows.
+  do {
+    ASSERT_TRUE(agent->Read(&message));
+  } while (!message.has_command());
+  EXPECT_EQ(message.command().type(), v1::Command::TYPE_PAUSE);
+  EXPECT_EQ(message.command().job_id(), job_id);
+  EXPECT_EQ(message.command().reason(), "cows in the feed alley");
+  const grpc::Status twice = pause(job_id).first;
+  EXPECT_EQ(twice.error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+  EXPECT_THAT(twice.error_message(), ::testing::HasSubstr("paused"));
+
+  const auto [resumed, resumed_job] = resume(job_id);
+  ASSERT_TRUE(resumed.ok()) << resumed.error_message();
+  EXPECT_EQ(resumed_job.state(), v1::JOB_STATE_RUNNING);
+  do {
+    ASSERT_TRUE(agent->Read(&message));
+  } while (!message.has_command());
+  EXPECT_EQ(message.command().type(), v1::Command::TYPE_RESUME);
+
+  ASSERT_TRUE(agent->Write(EventFor(job_id, v1::AgentEvent::TYPE_JOB_SUCCEEDED)));
+  const std::vector<v1::JobEvent> events = WatchToTheEnd(job_id);
+  std::vector<v1::JobEventType> types;
+  for (const auto& e : events) types.push_back(e.type());
+  EXPECT_THAT(types, ::testing::IsSupersetOf({v1::JOB_EVENT_TYPE_PAUSED, v1::JOB_EVENT_TYPE_RESUMED,
+                                              v1::JOB_EVENT_TYPE_SUCCEEDED}));
+  agent->WritesDone();
+  (void)agent->Finish();
+}
+
 }  // namespace
 }  // namespace fleetnav

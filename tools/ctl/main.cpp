@@ -53,7 +53,8 @@ int main(int argc, char** argv) {
   CLI::App* routes_list = routes->add_subcommand("list", "list routes");
   routes_list->add_option("--map", marker_map, "only routes on this map");
 
-  CLI::App* jobs = app.add_subcommand("job", "jobs: submit, get, list, cancel, watch");
+  CLI::App* jobs =
+      app.add_subcommand("job", "jobs: submit, get, list, cancel, pause, resume, watch");
   jobs->require_subcommand(1);
   fleetnav::ctl::SubmitOptions submit;
   std::string job_id, job_state, reason;
@@ -86,6 +87,12 @@ int main(int argc, char** argv) {
   CLI::App* job_cancel = jobs->add_subcommand("cancel", "cancel a job");
   job_cancel->add_option("job_id", job_id, "job id")->required();
   job_cancel->add_option("--reason", reason, "why");
+  CLI::App* job_pause =
+      jobs->add_subcommand("pause", "stop an assigned or running job where its robot is");
+  job_pause->add_option("job_id", job_id, "job id")->required();
+  job_pause->add_option("--reason", reason, "why");
+  CLI::App* job_resume = jobs->add_subcommand("resume", "let a paused job go on");
+  job_resume->add_option("job_id", job_id, "job id")->required();
   CLI::App* job_watch = jobs->add_subcommand("watch", "follow a job live until it ends");
   job_watch->add_option("job_id", job_id, "job id")->required();
 
@@ -147,6 +154,10 @@ int main(int argc, char** argv) {
     status = fleetnav::ctl::ListJobs(context, job_state, submit.robot_id, page_size);
   } else if (job_cancel->parsed()) {
     status = fleetnav::ctl::CancelJob(context, job_id, reason);
+  } else if (job_pause->parsed()) {
+    status = fleetnav::ctl::PauseJob(context, job_id, reason);
+  } else if (job_resume->parsed()) {
+    status = fleetnav::ctl::ResumeJob(context, job_id);
   } else if (job_watch->parsed()) {
     status = fleetnav::ctl::WatchJob(context, job_id);
   } else if (robots_forget->parsed()) {

@@ -200,6 +200,42 @@ absl::StatusOr<Job> JobService::Cancel(const std::string& job_id, const std::str
   return job;
 }
 
+absl::StatusOr<Job> JobService::Pause(const std::string& job_id, const std::string& reason) {
+  absl::MutexLock lock(&mutex_);
+  ASSIGN_OR_RETURN(Job job, jobs_->GetJob(job_id));
+  if (job.state != JobState::kAssigned && job.state != JobState::kRunning) {
+    return absl::FailedPreconditionError(absl::StrCat("job '", job_id, "' is ",
+                                                      std::string(JobStateName(job.state)),
+                                                      "; only an assigned or running job pauses"));
+  }
+  const std::string why = reason.empty() ? "paused by operator" : reason;
+  RETURN_IF_ERROR(
+      Transition(job, JobState::kPaused, JobEventType::kPaused, why, job.assigned_robot_id));
+  mailbox_->SendCommand(job.assigned_robot_id, RobotCommandType::kPause, job_id, why);
+  return job;
+}
+
+absl::StatusOr<Job> JobService::Resume(const std::string& job_id) {
+  absl::MutexLock lock(&mutex_);
+  ASSIGN_OR_RETURN(Job job, jobs_->GetJob(job_id));
+  if (job.state != JobState::kPaused) {
+    return absl::FailedPreconditionError(absl::StrCat(
+        "job '", job_id, "' is ", std::string(JobStateName(job.state)), ", not paused"));
+  }
+  absl::StatusOr<RobotRecord> robot = registry_->Get(job.assigned_robot_id);
+  if (!robot.ok() || robot->connection == ConnectionState::kOffline ||
+      lost_since_ns_.count(job_id) > 0) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("robot '", job.assigned_robot_id,
+                     "' is offline; the job resumes when it reconnects with it"));
+  }
+  RETURN_IF_ERROR(Transition(job, JobState::kRunning, JobEventType::kResumed, "resumed by operator",
+                             job.assigned_robot_id));
+  mailbox_->SendCommand(job.assigned_robot_id, RobotCommandType::kResume, job_id,
+                        "resumed by operator");
+  return job;
+}
+
 absl::StatusOr<std::vector<JobEvent>> JobService::Events(const std::string& job_id,
                                                          int64_t after_sequence) {
   return jobs_->ListEvents(job_id, after_sequence);

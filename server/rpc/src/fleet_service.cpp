@@ -220,6 +220,22 @@ grpc::Status FleetServiceImpl::CancelJob(grpc::ServerContext*, const v1::CancelJ
   return grpc::Status::OK;
 }
 
+grpc::Status FleetServiceImpl::PauseJob(grpc::ServerContext*, const v1::PauseJobRequest* request,
+                                        v1::PauseJobResponse* response) {
+  absl::StatusOr<Job> job = jobs_->Pause(request->job_id(), request->reason());
+  if (!job.ok()) return ToGrpcStatus(job.status());
+  *response->mutable_job() = fleetnav::ToProto(*job);
+  return grpc::Status::OK;
+}
+
+grpc::Status FleetServiceImpl::ResumeJob(grpc::ServerContext*, const v1::ResumeJobRequest* request,
+                                         v1::ResumeJobResponse* response) {
+  absl::StatusOr<Job> job = jobs_->Resume(request->job_id());
+  if (!job.ok()) return ToGrpcStatus(job.status());
+  *response->mutable_job() = fleetnav::ToProto(*job);
+  return grpc::Status::OK;
+}
+
 grpc::Status FleetServiceImpl::PlanPaths(grpc::ServerContext*, const v1::PlanPathsRequest* request,
                                          v1::PlanPathsResponse* response) {
   std::vector<TrafficAgent> agents;

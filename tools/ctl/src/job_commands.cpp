@@ -258,6 +258,36 @@ absl::Status CancelJob(const CommandContext& context, const std::string& job_id,
   return absl::OkStatus();
 }
 
+absl::Status PauseJob(const CommandContext& context, const std::string& job_id,
+                      const std::string& reason) {
+  auto stub = v1::FleetService::NewStub(context.channel);
+  grpc::ClientContext rpc;
+  SetDeadline(context, &rpc);
+  v1::PauseJobRequest request;
+  request.set_job_id(job_id);
+  request.set_reason(reason);
+  v1::PauseJobResponse response;
+  if (absl::Status s = FromGrpcStatus(stub->PauseJob(&rpc, request, &response)); !s.ok()) {
+    return s;
+  }
+  *context.out << "paused " << job_id << '\n';
+  return absl::OkStatus();
+}
+
+absl::Status ResumeJob(const CommandContext& context, const std::string& job_id) {
+  auto stub = v1::FleetService::NewStub(context.channel);
+  grpc::ClientContext rpc;
+  SetDeadline(context, &rpc);
+  v1::ResumeJobRequest request;
+  request.set_job_id(job_id);
+  v1::ResumeJobResponse response;
+  if (absl::Status s = FromGrpcStatus(stub->ResumeJob(&rpc, request, &response)); !s.ok()) {
+    return s;
+  }
+  *context.out << "resumed " << job_id << '\n';
+  return absl::OkStatus();
+}
+
 absl::Status WatchJob(const CommandContext& context, const std::string& job_id) {
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;

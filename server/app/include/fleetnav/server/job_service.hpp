@@ -63,6 +63,12 @@ class JobService {
   absl::StatusOr<storage::JobPage> List(storage::JobFilter filter);
   /// FailedPrecondition for a job that has already ended.
   absl::StatusOr<Job> Cancel(const std::string& job_id, const std::string& reason);
+  /// Operator pause of an assigned or running job: the robot is told to stop where it is and
+  /// keeps its place in traffic. FailedPrecondition for a job in another state.
+  absl::StatusOr<Job> Pause(const std::string& job_id, const std::string& reason);
+  /// Lets a job paused by Pause go on. FailedPrecondition for a job that is not paused or whose
+  /// robot is not online (it resumes when the robot reconnects with it).
+  absl::StatusOr<Job> Resume(const std::string& job_id);
   absl::StatusOr<std::vector<JobEvent>> Events(const std::string& job_id, int64_t after_sequence);
 
   void OnRobotConnected(const RobotIdentity& identity, const std::string& resume_job_id);

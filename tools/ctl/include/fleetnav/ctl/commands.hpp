@@ -70,6 +70,10 @@ absl::Status ListJobs(const CommandContext& context, const std::string& state,
                       const std::string& robot_id, uint32_t page_size);
 absl::Status CancelJob(const CommandContext& context, const std::string& job_id,
                        const std::string& reason);
+/// Pauses an assigned or running job (the robot stops where it is), or resumes a paused one.
+absl::Status PauseJob(const CommandContext& context, const std::string& job_id,
+                      const std::string& reason);
+absl::Status ResumeJob(const CommandContext& context, const std::string& job_id);
 /// Follows a job's events with a live progress bar until it ends; the status is an error when
 /// the job failed or was cancelled (so scripts can rely on the exit code).
 absl::Status WatchJob(const CommandContext& context, const std::string& job_id);

@@ -57,6 +57,10 @@ class FleetServiceImpl final : public FleetServiceBase {
                         v1::ListJobsResponse* response) override;
   grpc::Status CancelJob(grpc::ServerContext* context, const v1::CancelJobRequest* request,
                          v1::CancelJobResponse* response) override;
+  grpc::Status PauseJob(grpc::ServerContext* context, const v1::PauseJobRequest* request,
+                        v1::PauseJobResponse* response) override;
+  grpc::Status ResumeJob(grpc::ServerContext* context, const v1::ResumeJobRequest* request,
+                         v1::ResumeJobResponse* response) override;
   grpc::Status PlanPaths(grpc::ServerContext* context, const v1::PlanPathsRequest* request,
                          v1::PlanPathsResponse* response) override;
 
