@@ -115,12 +115,33 @@ class WatchStream {
   grpc::Status end_status_;
 };
 
+/// The typed half of a watch stream: its context, request, writer and the message in flight.
+template <typename Request, typename Message>
+class TypedWatchStream : public WatchStream {
+ protected:
+  explicit TypedWatchStream(WatchHub* hub) : WatchStream(hub), writer_(&context_) {
+    NotifyWhenDone(&context_);
+  }
+  /// Writes message_, which stays untouched until Written().
+  void WriteMessage() {
+    writing_ = true;
+    writer_.Write(message_, Tag(WatchHub::Op::kWrite));
+  }
+  void StartFinish(const grpc::Status& status) override {
+    writer_.Finish(status, Tag(WatchHub::Op::kFinish));
+  }
+
+  grpc::ServerContext context_;
+  Request request_;
+  grpc::ServerAsyncWriter<Message> writer_;
+  Message message_;
+};
+
 /// A WatchFleet stream: a snapshot, then the robots that changed (and the ids removed) at most
 /// at its rate.
-class FleetWatcher final : public WatchStream {
+class FleetWatcher final : public TypedWatchStream<v1::WatchFleetRequest, v1::FleetUpdate> {
  public:
-  explicit FleetWatcher(WatchHub* hub) : WatchStream(hub), writer_(&context_) {
-    NotifyWhenDone(&context_);
+  explicit FleetWatcher(WatchHub* hub) : TypedWatchStream(hub) {
     hub_->service_->RequestWatchFleet(&context_, &request_, &writer_, hub_->cq_.get(),
                                       hub_->cq_.get(), Tag(WatchHub::Op::kAccepted));
   }
@@ -163,8 +184,7 @@ class FleetWatcher final : public WatchStream {
     first_ = false;
     update.set_server_time_ns(SteadyNowNs());
     next_due_ = now + period_;
-    writing_ = true;
-    writer_.Write(update, Tag(WatchHub::Op::kWrite));
+    WriteMessage();
     return SteadyTime::max();
   }
 
@@ -192,14 +212,7 @@ class FleetWatcher final : public WatchStream {
     }
     hub_->Gone();
   }
-  void StartFinish(const grpc::Status& status) override {
-    writer_.Finish(status, Tag(WatchHub::Op::kFinish));
-  }
 
-  grpc::ServerContext context_;
-  v1::WatchFleetRequest request_;
-  grpc::ServerAsyncWriter<v1::FleetUpdate> writer_;
-  v1::FleetUpdate message_;  ///< the write in flight
   std::chrono::steady_clock::duration period_{};
   SteadyTime next_due_{};
   bool first_ = true;
@@ -211,10 +224,9 @@ class FleetWatcher final : public WatchStream {
 
 /// A WatchJob stream: the job's events in order from the first, ending after the one that ends
 /// the job.
-class JobWatcher final : public WatchStream {
+class JobWatcher final : public TypedWatchStream<v1::WatchJobRequest, v1::JobEvent> {
  public:
-  explicit JobWatcher(WatchHub* hub) : WatchStream(hub), writer_(&context_) {
-    NotifyWhenDone(&context_);
+  explicit JobWatcher(WatchHub* hub) : TypedWatchStream(hub) {
     hub_->service_->RequestWatchJob(&context_, &request_, &writer_, hub_->cq_.get(),
                                     hub_->cq_.get(), Tag(WatchHub::Op::kAccepted));
   }
@@ -238,8 +250,7 @@ class JobWatcher final : public WatchStream {
     after_ = event.sequence;
     ended_ = IsTerminal(event.state);
     message_ = fleetnav::ToProto(event);
-    writing_ = true;
-    writer_.Write(message_, Tag(WatchHub::Op::kWrite));
+    WriteMessage();
   }
 
  private:
@@ -275,14 +286,7 @@ class JobWatcher final : public WatchStream {
     }
     hub_->Gone();
   }
-  void StartFinish(const grpc::Status& status) override {
-    writer_.Finish(status, Tag(WatchHub::Op::kFinish));
-  }
 
-  grpc::ServerContext context_;
-  v1::WatchJobRequest request_;
-  grpc::ServerAsyncWriter<v1::JobEvent> writer_;
-  v1::JobEvent message_;  ///< the write in flight
   std::deque<JobEvent> pending_;
   int64_t after_ = 0;
   bool ended_ = false;

@@ -59,6 +59,17 @@ std::string ProgressBar(double fraction) {
                       absl::StrFormat(" %3.0f%%", fraction * 100.0));
 }
 
+/// One FleetService call with the command's deadline; prints `done` on success.
+template <typename Call>
+absl::Status CallAndSay(const CommandContext& context, const std::string& done, Call call) {
+  auto stub = v1::FleetService::NewStub(context.channel);
+  grpc::ClientContext rpc;
+  SetDeadline(context, &rpc);
+  if (absl::Status s = FromGrpcStatus(call(*stub, &rpc)); !s.ok()) return s;
+  *context.out << done << '\n';
+  return absl::OkStatus();
+}
+
 }  // namespace
 
 absl::Status PutMarkers(const CommandContext& context, const std::string& map_id,
@@ -244,48 +255,30 @@ absl::Status ListJobs(const CommandContext& context, const std::string& state,
 
 absl::Status CancelJob(const CommandContext& context, const std::string& job_id,
                        const std::string& reason) {
-  auto stub = v1::FleetService::NewStub(context.channel);
-  grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
   v1::CancelJobRequest request;
   request.set_job_id(job_id);
   request.set_reason(reason);
   v1::CancelJobResponse response;
-  if (absl::Status s = FromGrpcStatus(stub->CancelJob(&rpc, request, &response)); !s.ok()) {
-    return s;
-  }
-  *context.out << "cancelled " << job_id << '\n';
-  return absl::OkStatus();
+  return CallAndSay(context, "cancelled " + job_id,
+                    [&](auto& stub, auto* rpc) { return stub.CancelJob(rpc, request, &response); });
 }
 
 absl::Status PauseJob(const CommandContext& context, const std::string& job_id,
                       const std::string& reason) {
-  auto stub = v1::FleetService::NewStub(context.channel);
-  grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
   v1::PauseJobRequest request;
   request.set_job_id(job_id);
   request.set_reason(reason);
   v1::PauseJobResponse response;
-  if (absl::Status s = FromGrpcStatus(stub->PauseJob(&rpc, request, &response)); !s.ok()) {
-    return s;
-  }
-  *context.out << "paused " << job_id << '\n';
-  return absl::OkStatus();
+  return CallAndSay(context, "paused " + job_id,
+                    [&](auto& stub, auto* rpc) { return stub.PauseJob(rpc, request, &response); });
 }
 
 absl::Status ResumeJob(const CommandContext& context, const std::string& job_id) {
-  auto stub = v1::FleetService::NewStub(context.channel);
-  grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
   v1::ResumeJobRequest request;
   request.set_job_id(job_id);
   v1::ResumeJobResponse response;
-  if (absl::Status s = FromGrpcStatus(stub->ResumeJob(&rpc, request, &response)); !s.ok()) {
-    return s;
-  }
-  *context.out << "resumed " << job_id << '\n';
-  return absl::OkStatus();
+  return CallAndSay(context, "resumed " + job_id,
+                    [&](auto& stub, auto* rpc) { return stub.ResumeJob(rpc, request, &response); });
 }
 
 absl::Status WatchJob(const CommandContext& context, const std::string& job_id) {

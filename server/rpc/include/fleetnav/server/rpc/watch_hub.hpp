@@ -52,11 +52,13 @@ class WatchHub {
   void OnFleetChanged();
   void OnJobChanged(const std::string& job_id);
 
+  /// What a completion-queue tag of a watch stream stands for (its two low bits).
+  enum class Op : uintptr_t { kAccepted = 0, kWrite = 1, kFinish = 2, kDone = 3 };
+
  private:
   friend class FleetWatcher;
   friend class JobWatcher;
   friend class WatchStream;
-  enum class Op : uintptr_t { kAccepted = 0, kWrite = 1, kFinish = 2, kDone = 3 };
 
   void Run();
   /// Asks the thread to look at what changed (an alarm due now on its queue).
