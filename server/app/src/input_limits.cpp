@@ -40,14 +40,11 @@ absl::Status InputLimits::Validate() const {
   return absl::OkStatus();
 }
 
-absl::Status InputLimits::CheckMapSize(int64_t width, int64_t height) const {
-  if (width * height <= max_map_cells) return absl::OkStatus();
-  return Exceeds(absl::StrCat("map: ", width, " × ", height, " cells"), width * height,
-                 "max_map_cells", max_map_cells);
-}
-
 absl::Status InputLimits::CheckMap(const OccupancyGrid& grid) const {
-  return CheckMapSize(grid.width(), grid.height());
+  const int64_t cells = int64_t{grid.width()} * grid.height();
+  if (cells <= max_map_cells) return absl::OkStatus();
+  return Exceeds(absl::StrCat("map: ", grid.width(), " × ", grid.height(), " cells"), cells,
+                 "max_map_cells", max_map_cells);
 }
 
 absl::Status InputLimits::CheckMapDescription(const std::string& description) const {

@@ -80,7 +80,6 @@ absl::Status JobService::Transition(Job& job, JobState state, JobEventType type,
   job.updated_unix_ms = NowUnixMs();
   if (!reason.empty()) job.reason = reason;
   if (IsTerminal(state)) progress_decile_.erase(job.job_id);
-  if (state != JobState::kQueued) goal_facts_.erase(job.job_id);
   return jobs_->UpdateJob(job, MakeEvent(job, type, reason, robot_id)).status();
 }
 
@@ -283,7 +282,6 @@ void JobService::OnRobotConnected(const RobotIdentity& identity, const std::stri
   // The robot may still drive a job that ended or went elsewhere while it was away: it is told
   // before it can be handed another (its outbox delivers in order).
   if (!resume_job_id.empty()) CancelJobNoLongerHeld(identity.robot_id, resume_job_id);
-  WakeDispatcher();
 }
 
 void JobService::CancelJobNoLongerHeld(const std::string& robot_id, const std::string& job_id) {
@@ -400,15 +398,8 @@ void JobService::HandleLostRobots() {
   }
 }
 
-const JobService::RouteFacts& JobService::FactsOf(const Job& job) {
-  if (job.goal) {
-    RouteFacts& facts = goal_facts_[job.job_id];
-    if (facts.needed.empty()) {
-      facts.needed = {"free_navigation"};
-      facts.start = job.goal->translation();
-    }
-    return facts;
-  }
+JobService::RouteFacts JobService::FactsOf(const Job& job) {
+  if (job.goal) return RouteFacts{{"free_navigation"}, job.goal->translation()};
   const auto key = std::make_pair(job.route_name, job.route_version);
   auto known = route_facts_.find(key);
   if (known != route_facts_.end()) return known->second;
@@ -489,9 +480,9 @@ int JobService::AssignQueued() {
     return a.priority != b.priority ? a.priority > b.priority
                                     : a.created_unix_ms < b.created_unix_ms;
   });
-  std::vector<const RouteFacts*> job_facts;
+  std::vector<RouteFacts> job_facts;
   job_facts.reserve(queued.size());
-  for (const Job& job : queued) job_facts.push_back(&FactsOf(job));
+  for (const Job& job : queued) job_facts.push_back(FactsOf(job));
   // What the queued jobs ask for: a robot (or any) with capabilities. Only robots that can serve
   // one of these demands are copied out of the registry, so jobs no robot can drive cost nothing
   // per robot, however large the fleet.
@@ -503,7 +494,7 @@ int JobService::AssignQueued() {
   };
   std::vector<Demand> demands;
   for (size_t j = 0; j < queued.size(); ++j) {
-    Demand demand{queued[j].requested_robot_id, &job_facts[j]->needed};
+    Demand demand{queued[j].requested_robot_id, &job_facts[j].needed};
     const bool seen = std::any_of(demands.begin(), demands.end(), [&](const Demand& d) {
       return d.first == demand.first && *d.second == *demand.second;
     });
@@ -521,8 +512,8 @@ int JobService::AssignQueued() {
   for (size_t j = 0; j < queued.size(); ++j) {
     Job& job = queued[j];
     if (idle.empty()) break;
-    const std::vector<std::string>& needed = job_facts[j]->needed;
-    const std::optional<Eigen::Vector2d> start = job_facts[j]->start;
+    const std::vector<std::string>& needed = job_facts[j].needed;
+    const std::optional<Eigen::Vector2d> start = job_facts[j].start;
     const bool known_unmet = std::any_of(unmet.begin(), unmet.end(), [&](const Demand& d) {
       return d.first == job.requested_robot_id && *d.second == needed;
     });

@@ -353,7 +353,8 @@ SteadyTime WatchHub::ServeFleetWatchers() {
   const uint64_t removals = registry_->removals();
   const SteadyTime now = std::chrono::steady_clock::now();
   SteadyTime next = SteadyTime::max();
-  for (FleetWatcher* watcher : std::set<FleetWatcher*>(fleet_)) {
+  // Serving never removes a watcher: that happens only when a tag of it comes back.
+  for (FleetWatcher* watcher : fleet_) {
     next = std::min(next, watcher->Serve(revision, removals, now));
   }
   return next;
@@ -362,9 +363,7 @@ SteadyTime WatchHub::ServeFleetWatchers() {
 void WatchHub::ServeJobWatchers(const std::set<std::string>& job_ids) {
   for (const std::string& job_id : job_ids) {
     auto [begin, end] = jobs_by_id_.equal_range(job_id);
-    std::vector<JobWatcher*> watchers;
-    for (auto it = begin; it != end; ++it) watchers.push_back(it->second);
-    for (JobWatcher* watcher : watchers) watcher->Serve();
+    for (auto it = begin; it != end; ++it) it->second->Serve();
   }
 }
 

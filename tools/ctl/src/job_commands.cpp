@@ -59,17 +59,6 @@ std::string ProgressBar(double fraction) {
                       absl::StrFormat(" %3.0f%%", fraction * 100.0));
 }
 
-/// One FleetService call with the command's deadline; prints `done` on success.
-template <typename Call>
-absl::Status CallAndSay(const CommandContext& context, const std::string& done, Call call) {
-  auto stub = v1::FleetService::NewStub(context.channel);
-  grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
-  if (absl::Status s = FromGrpcStatus(call(*stub, &rpc)); !s.ok()) return s;
-  *context.out << done << '\n';
-  return absl::OkStatus();
-}
-
 }  // namespace
 
 absl::Status PutMarkers(const CommandContext& context, const std::string& map_id,

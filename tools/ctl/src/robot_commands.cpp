@@ -83,21 +83,14 @@ absl::Status ListRobots(const CommandContext& context) {
 }
 
 absl::Status ForgetRobot(const CommandContext& context, const std::string& robot_id) {
-  auto stub = v1::FleetService::NewStub(context.channel);
-  grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
   v1::ForgetRobotRequest request;
   request.set_robot_id(robot_id);
   v1::ForgetRobotResponse response;
-  if (absl::Status s = FromGrpcStatus(stub->ForgetRobot(&rpc, request, &response)); !s.ok()) {
-    return s;
-  }
-  if (context.json) {
-    *context.out << nlohmann::json{{"forgotten", robot_id}}.dump() << '\n';
-  } else {
-    *context.out << "forgot robot '" << robot_id << "'\n";
-  }
-  return absl::OkStatus();
+  const std::string done = context.json ? nlohmann::json{{"forgotten", robot_id}}.dump()
+                                        : "forgot robot '" + robot_id + "'";
+  return CallAndSay(context, done, [&](auto& stub, auto* rpc) {
+    return stub.ForgetRobot(rpc, request, &response);
+  });
 }
 
 absl::Status WatchFleet(const CommandContext& context, double rate_hz, int max_updates,

@@ -27,7 +27,6 @@ struct InputLimits {
   /// InvalidArgument naming a limit that is not positive.
   absl::Status Validate() const;
   absl::Status CheckMap(const OccupancyGrid& grid) const;
-  absl::Status CheckMapSize(int64_t width, int64_t height) const;
   absl::Status CheckMapDescription(const std::string& description) const;
   absl::Status CheckMarkers(const MarkerSet& markers) const;
   absl::Status CheckRoute(const Route& route) const;

@@ -101,9 +101,9 @@ class JobService {
     std::optional<Eigen::Vector2d> start;
   };
   absl::StatusOr<Assignment> Resolve(const Job& job);
-  /// Kept by (route, version), which never changes, so a queued job costs nothing per pass
-  /// however long its route.
-  const RouteFacts& FactsOf(const Job& job) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// A route's facts are kept by (route, version), which never changes, so a queued job costs
+  /// nothing per pass however long its route.
+  RouteFacts FactsOf(const Job& job) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   void HandleLostRobots() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   absl::Status ForgetRobotLocked(const std::string& robot_id) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Sends CANCEL with the reason when `job_id` is no longer the robot's running job.
@@ -127,7 +127,6 @@ class JobService {
   std::map<std::string, int64_t> lost_since_ns_ ABSL_GUARDED_BY(mutex_);  ///< by job id
   std::map<std::string, int> progress_decile_ ABSL_GUARDED_BY(mutex_);    ///< by job id
   std::map<std::pair<std::string, uint32_t>, RouteFacts> route_facts_ ABSL_GUARDED_BY(mutex_);
-  std::map<std::string, RouteFacts> goal_facts_ ABSL_GUARDED_BY(mutex_);  ///< by job id
   absl::Mutex work_mutex_;
   bool work_pending_ ABSL_GUARDED_BY(work_mutex_) = false;
 };
