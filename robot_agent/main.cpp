@@ -149,15 +149,25 @@ int main(int argc, char** argv) {
     }
   }
 
-  auto sim_channel = grpc::CreateChannel(sim_address, grpc::InsecureChannelCredentials());
-  if (absl::Status s = fleetnav::agent::SimHal::CheckRobotKind(sim_channel, robot_id, kind);
+  // Both links retry a refused connection within a second (gRPC's own reconnect back-off grows
+  // to 120 s by default): a robot whose link dropped is back as soon as the other end is.
+  grpc::ChannelArguments quick_reconnect;
+  quick_reconnect.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 200);
+  quick_reconnect.SetInt(GRPC_ARG_MIN_RECONNECT_BACKOFF_MS, 200);
+  quick_reconnect.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 1000);
+  auto sim_channel =
+      grpc::CreateCustomChannel(sim_address, grpc::InsecureChannelCredentials(), quick_reconnect);
+  // A simulator that has just started on a loaded machine may take a while to answer.
+  if (absl::Status s =
+          fleetnav::agent::SimHal::CheckRobotKind(sim_channel, robot_id, kind, /*timeout_s=*/30.0);
       !s.ok()) {
     return Fail(s.ToString());
   }
   // What this agent can execute: a job needs every one of its route's action types here.
   fleetnav::RobotIdentity identity{robot_id, *model, fleetnav::agent::SupportedActionTypes(),
                                    "0.2.0"};
-  auto server_channel = grpc::CreateChannel(server_address, grpc::InsecureChannelCredentials());
+  auto server_channel = grpc::CreateCustomChannel(
+      server_address, grpc::InsecureChannelCredentials(), quick_reconnect);
   fleetnav::agent::ServerLink link(server_channel, identity);
   fleetnav::agent::SimHal hal(sim_channel, robot_id);
   std::ofstream record;

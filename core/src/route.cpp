@@ -130,6 +130,21 @@ class ActionValidator {
 
 }  // namespace
 
+absl::Status CheckRoutePosition(const Route& route, const RoutePosition& position) {
+  const int actions = static_cast<int>(route.actions.size());
+  if (position.action_index < 0 ||
+      (position.action_index >= actions && position.action_index != 0)) {
+    return absl::InvalidArgumentError(absl::StrCat("resume position: action ",
+                                                   position.action_index, " is not in route '",
+                                                   route.name, "' of ", actions, " actions"));
+  }
+  if (!(position.action_fraction >= 0.0 && position.action_fraction <= 1.0)) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "resume position: fraction must be in [0, 1], got ", position.action_fraction));
+  }
+  return absl::OkStatus();
+}
+
 absl::Status Route::Validate() const {
   if (name.empty()) return absl::InvalidArgumentError("route name must not be empty");
   if (actions.empty()) {

@@ -329,6 +329,77 @@ TEST_F(JobFlowTest, ARobotThatReconnectsWithItsJobResumesIt) {
   (void)stream->Finish();
 }
 
+// A robot whose agent restarted comes back without its job: fleetnavd sends the job again,
+// beginning where the robot's last telemetry placed it (action and fraction of it done), and
+// the job runs on instead of failing or starting over.
+TEST_F(JobFlowTest, ARobotWhoseAgentRestartedGetsItsJobAgainFromWhereItWas) {
+  PutBarn();
+  ASSERT_TRUE(PutRoute(StraightRoute("long", 8.0)).ok());
+  v1::SubmitJobResponse submitted;
+  ASSERT_TRUE(Submit("long", "", &submitted).ok());
+  const std::string job_id = submitted.job().job_id();
+  auto agents = v1::AgentService::NewStub(channel_);
+  {
+    grpc::ClientContext context;
+    std::unique_ptr<AgentStream> stream = agents->Connect(&context);
+    ASSERT_TRUE(stream->Write(HelloFor("lely1", "")));
+    v1::ServerMessage message;
+    ASSERT_TRUE(stream->Read(&message));  // welcome
+    ASSERT_TRUE(stream->Read(&message));  // the assignment, from the beginning
+    ASSERT_TRUE(message.has_assignment());
+    EXPECT_EQ(message.assignment().resume_action_index(), 0);
+    EXPECT_EQ(message.assignment().resume_action_fraction(), 0.0);
+    ASSERT_TRUE(stream->Write(EventFor(job_id, v1::AgentEvent::TYPE_ACTION_STARTED)));
+    Telemetry telemetry;
+    telemetry.stamp_ns = 1;
+    telemetry.sequence = 1;
+    telemetry.job_id = job_id;
+    telemetry.action_index = 0;
+    telemetry.action_progress_fraction = 0.45;
+    telemetry.job_progress_fraction = 0.45;
+    v1::AgentMessage wire;
+    *wire.mutable_telemetry() = ToProto(telemetry);
+    ASSERT_TRUE(stream->Write(wire));
+    // The telemetry has been taken once the robot shows it.
+    for (int i = 0; i < 200; ++i) {
+      grpc::ClientContext get_context;
+      v1::GetRobotRequest get;
+      get.set_robot_id("lely1");
+      v1::GetRobotResponse robot;
+      if (fleet_->GetRobot(&get_context, get, &robot).ok() &&
+          robot.robot().last_telemetry().action_progress_fraction() > 0.4) {
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    context.TryCancel();  // the agent dies: no goodbye
+    (void)stream->Finish();
+  }
+  grpc::ClientContext context;
+  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(20));
+  std::unique_ptr<AgentStream> stream = agents->Connect(&context);
+  ASSERT_TRUE(stream->Write(HelloFor("lely1", "")));  // a fresh agent: no job
+  v1::ServerMessage message;
+  ASSERT_TRUE(stream->Read(&message));  // welcome
+  ASSERT_TRUE(stream->Read(&message));
+  ASSERT_TRUE(message.has_assignment()) << message.DebugString();
+  EXPECT_EQ(message.assignment().job().job_id(), job_id);
+  EXPECT_EQ(message.assignment().resume_action_index(), 0);
+  EXPECT_DOUBLE_EQ(message.assignment().resume_action_fraction(), 0.45);
+  ASSERT_TRUE(stream->Write(EventFor(job_id, v1::AgentEvent::TYPE_JOB_SUCCEEDED)));
+  const std::vector<v1::JobEvent> events = WatchToTheEnd(job_id);
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(events.back().type(), v1::JOB_EVENT_TYPE_SUCCEEDED);
+  bool resumed = false;
+  for (const auto& e : events) {
+    resumed |= e.type() == v1::JOB_EVENT_TYPE_RESUMED &&
+               e.reason().find("sent again from action 0, 45 % of it done") != std::string::npos;
+  }
+  EXPECT_TRUE(resumed);
+  context.TryCancel();  // the clearances sent after the assignment are left unread
+  (void)stream->Finish();
+}
+
 // A robot whose job was re-queued after the lost-robot timeout and given to another robot is told
 // to cancel it, with the reason, before it is handed a new job: otherwise it would drive the old
 // job and the new one at once.

@@ -3,13 +3,19 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
 #include <string>
+#include <vector>
 
+#include "absl/strings/str_cat.h"
+#include "fleetnav/core/pose2.hpp"
 #include "fleetnav/scenario/child_process.hpp"
 
 namespace fleetnav {
@@ -72,6 +78,117 @@ TEST(FleetScenario, AGoalJobEndsAtTheGoal) {
   EXPECT_EQ(report["contacts"].get<int>(), 0);
 }
 
+/// Runs a shipped scenario with --json (keeping its folder in `keep`) and returns its report.
+nlohmann::json RunShipped(const std::string& file, const std::string& keep, int* exit_code) {
+  std::filesystem::remove_all(keep);
+  ChildProcess run({FLEETNAV_SCENARIO_PATH, "run", std::string(FLEETNAV_SCENARIOS_DIR) + "/" + file,
+                    "--json", "--keep", keep},
+                   TempPath(absl::StrCat(file, ".", getpid(), ".out")),
+                   TempPath(absl::StrCat(file, ".", getpid(), ".err")));
+  const std::optional<int> code = run.Wait(900.0);
+  *exit_code = code.value_or(-1);
+  const std::string out = run.Stdout();
+  if (!code.has_value() || out.empty()) {
+    ADD_FAILURE() << file << " did not report: " << run.Stderr();
+    return nlohmann::json::object();
+  }
+  std::printf("[ figures  ] %s\n", out.c_str());
+  return nlohmann::json::parse(out.substr(0, out.find('\n')));  // one line
+}
+
+const nlohmann::json& RobotIn(const nlohmann::json& report, const std::string& robot_id) {
+  for (const auto& robot : report["robots"]) {
+    if (robot["robot_id"] == robot_id) return robot;
+  }
+  static const nlohmann::json kNone = nlohmann::json::object();
+  ADD_FAILURE() << robot_id << " is not in the report";
+  return kNone;
+}
+
+/// The true poses of `robot_id` in the simulator's recording, by sim time.
+std::vector<std::pair<double, Pose2>> TruePath(const std::string& truth_csv,
+                                               const std::string& robot_id) {
+  std::vector<std::pair<double, Pose2>> path;
+  std::ifstream in(truth_csv);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    // robot,truth,x,y,t,... (docs/simulator.md)
+    if (cells.size() < 5 || cells[0] != robot_id || cells[1] != "truth") continue;
+    path.emplace_back(std::stod(cells[4]), Pose2(std::stod(cells[2]), std::stod(cells[3]), 0.0));
+  }
+  return path;
+}
+
+void ExpectBothRoundsEndWithoutContact(const nlohmann::json& report, int exit_code) {
+  EXPECT_EQ(exit_code, 0) << report.dump();
+  EXPECT_EQ(report.value("contacts", -1), 0);
+  EXPECT_GE(report.value("min_separation_m", 0.0), 0.5);
+  ASSERT_EQ(report["jobs"].size(), 2u);
+  for (const auto& job : report["jobs"]) EXPECT_EQ(job["state"], "succeeded") << job.dump();
+  // Judged by the truth: lely1 docked at the charger at the west end of y = 0.
+  const nlohmann::json& end = RobotIn(report, "lely1")["final_pose"];
+  EXPECT_NEAR(end.value("x_m", 0.0), -9.9, 0.3) << end.dump();
+  EXPECT_NEAR(end.value("y_m", 9.0), 0.0, 0.3) << end.dump();
+}
+
+// Faults (issue: fleet in the loop). lely1's agent killed 6 m into its 13.5 m straight: it
+// comes back without its job, fleetnavd sends the job again from where the robot was, and the
+// straight is finished, not driven again (that would add 6 m and hit the west wall).
+TEST(FleetScenario, AKilledAgentResumesItsJobWhereTheRobotIs) {
+  int code = -1;
+  const std::string keep = TempPath("agent-restart");
+  const nlohmann::json report = RunShipped("barn_agent_restart.yaml", keep, &code);
+  ExpectBothRoundsEndWithoutContact(report, code);
+  EXPECT_LT(RobotIn(report, "lely1").value("distance_m", 1e9), 41.0 + 2.0);
+  ASSERT_FALSE(report["jobs"].empty());
+  EXPECT_THAT(report["jobs"][0].value("reason", ""), HasSubstr("sent again from action 7"));
+  EXPECT_TRUE(std::filesystem::exists(keep + "/agent-lely1.2.log"));  // it was restarted
+}
+
+// fleetnavd killed mid-job and restarted on its database: both jobs go on (no job lost or
+// made twice), and traffic coordination holds lely2 until lely1 has said where it is.
+TEST(FleetScenario, AServerRestartMidJobLosesNothing) {
+  int code = -1;
+  const std::string keep = TempPath("server-restart");
+  const nlohmann::json report = RunShipped("barn_server_restart.yaml", keep, &code);
+  ExpectBothRoundsEndWithoutContact(report, code);
+  ASSERT_EQ(report["jobs"].size(), 2u);
+  EXPECT_NE(report["jobs"][0]["job_id"], report["jobs"][1]["job_id"]);
+  EXPECT_TRUE(std::filesystem::exists(keep + "/fleetnavd.2.log"));  // it was restarted
+}
+
+// lely2's link cut for 10 s of sim time while it waits for lely1: it stands where its
+// clearance ended for the whole cut (truth), then hears the new clearance and goes on.
+TEST(FleetScenario, ARobotCutOffStandsAtItsClearanceAndGoesOnWhenBack) {
+  int code = -1;
+  const std::string keep = TempPath("link-cut");
+  const nlohmann::json report = RunShipped("barn_link_cut.yaml", keep, &code);
+  ExpectBothRoundsEndWithoutContact(report, code);
+  const auto path = TruePath(keep + "/truth.csv", "lely2");
+  ASSERT_FALSE(path.empty());
+  std::optional<Pose2> at_cut;
+  double moved_m = 0.0;
+  for (const auto& [t_s, pose] : path) {
+    if (t_s < 172.5 || t_s > 182.0) continue;
+    if (!at_cut) at_cut = pose;
+    moved_m = std::max(moved_m, (pose.translation() - at_cut->translation()).norm());
+  }
+  ASSERT_TRUE(at_cut.has_value());
+  EXPECT_LT(moved_m, 0.05) << "lely2 moved while cut off";
+}
+
+// lely2 slowed to 0.2×: lely1 never depends on it, so lely1 is never held; both rounds end.
+TEST(FleetScenario, ASlowRobotHoldsOnlyThoseThatDependOnIt) {
+  int code = -1;
+  const nlohmann::json report = RunShipped("barn_slow_robot.yaml", TempPath("slow"), &code);
+  ExpectBothRoundsEndWithoutContact(report, code);
+  EXPECT_EQ(RobotIn(report, "lely1").value("waiting_s", -1.0), 0.0);
+  EXPECT_GT(report.value("sim_time_s", 0.0), 500.0);  // lely2 was slowed indeed
+}
+
 /// Runs fleetnav-scenario on a scenario text and returns its exit code and its stderr.
 std::pair<int, std::string> RunBad(const std::string& name, const std::string& text) {
   const std::string path = TempPath(name);
@@ -111,6 +228,21 @@ TEST(FleetScenario, BadScenarioFilesAreRefusedNamingTheFileAndTheKey) {
         "world-robot.yaml", kHead + "robots: [{id: store1}]\njobs: [{route: barn-feeding}]\n");
     EXPECT_EQ(code, 2);
     EXPECT_THAT(err, HasSubstr("robots[0].id: 'store1' is not a robot of world barn"));
+  }
+  {
+    const auto [code, err] =
+        RunBad("cut-forever.yaml", kHead +
+                                       "jobs: [{route: barn-feeding}]\n"
+                                       "faults: [{type: cut_link, robot: lely1, at_s: 5}]\n");
+    EXPECT_EQ(code, 2);
+    EXPECT_THAT(err, HasSubstr("faults[0].duration_s: cut_link needs a duration > 0 s"));
+  }
+  {
+    const auto [code, err] = RunBad("wait-who.yaml", kHead +
+                                                         "jobs: [{route: barn-feeding}]\n"
+                                                         "expect: {max_waiting_s: {lely7: 3}}\n");
+    EXPECT_EQ(code, 2);
+    EXPECT_THAT(err, HasSubstr("expect.max_waiting_s.lely7: 'lely7' is not a robot"));
   }
   {
     const auto [code, err] = RunBad("unknown-route.yaml", kHead + "jobs: [{route: nowhere}]\n");

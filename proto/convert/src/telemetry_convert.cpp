@@ -65,6 +65,7 @@ v1::Telemetry ToProto(const Telemetry& telemetry) {
   out.set_job_id(telemetry.job_id);
   out.set_action_index(telemetry.action_index);
   out.set_job_progress_fraction(telemetry.job_progress_fraction);
+  out.set_action_progress_fraction(telemetry.action_progress_fraction);
   return out;
 }
 
@@ -101,6 +102,12 @@ absl::StatusOr<Telemetry> FromProto(const v1::Telemetry& telemetry) {
   out.job_id = telemetry.job_id();
   out.action_index = telemetry.action_index();
   out.job_progress_fraction = telemetry.job_progress_fraction();
+  out.action_progress_fraction = telemetry.action_progress_fraction();
+  if (!(out.action_progress_fraction >= 0.0 && out.action_progress_fraction <= 1.0)) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("telemetry.action_progress_fraction: must be in [0, 1], got ",
+                     out.action_progress_fraction));
+  }
   return out;
 }
 

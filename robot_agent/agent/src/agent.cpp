@@ -30,10 +30,12 @@ Agent::Agent(RouteContext context, AgentPorts ports, std::optional<Route> route,
   if (route) StartRoute(std::move(*route));
 }
 
-void Agent::StartRoute(Route route) {
-  executor_.emplace(std::move(route), context_, params_.modes, localizer().estimate().pose_in_map);
+void Agent::StartRoute(Route route, const RoutePosition& from) {
+  const Pose2 here = localizer().estimate().pose_in_map;
+  executor_.emplace(std::move(route), context_, params_.modes, here, from);
   reported_action_ = -1;
-  finished_action_ = -1;
+  // Actions before the resume point were reported finished by the agent that ran them.
+  finished_action_ = from.action_index - 1;
   paused_ = false;
   end_reported_ = false;
   safety_.Reset();
@@ -72,27 +74,31 @@ void Agent::ReportProgress(const ExecutorOutput& output, AgentResult* result) {
   }
 }
 
+void Agent::ApplyCommand(const JobCommand& command, const ExecutorOutput& output,
+                         AgentResult* result) {
+  if (command.job_id != current_job_id_ || current_job_id_.empty()) return;
+  if (command.type == JobCommandType::kPause) paused_ = true;
+  if (command.type == JobCommandType::kResume) paused_ = false;
+  if (command.type == JobCommandType::kClearance && executor_) {
+    // The action under way stays cleared whatever a new session says.
+    executor_->SetClearedUpTo(std::max(command.cleared_up_to_action, executor_->action_index()));
+  }
+  if (command.type == JobCommandType::kCancel) {
+    Report(JobEventType::kCancelled, output.action_index, NavigationMode::kIdle, command.reason,
+           result);
+    executor_.reset();
+    current_job_id_.clear();
+    ports_.jobs->SetCurrentJob("");
+    ++result->jobs_finished;
+  }
+}
+
 void Agent::ServeJobs(const ExecutorOutput& output, AgentResult* result) {
-  for (const JobCommand& command : ports_.jobs->TakeCommands()) {
-    if (command.type == JobCommandType::kClearance) {
-      // Kept, for a clearance may come before the agent takes its job's assignment.
-      clearance_ = command;
-    }
-    if (command.job_id != current_job_id_ || current_job_id_.empty()) continue;
-    if (command.type == JobCommandType::kPause) paused_ = true;
-    if (command.type == JobCommandType::kResume) paused_ = false;
-    if (command.type == JobCommandType::kClearance && executor_) {
-      // The action under way stays cleared whatever a new session says.
-      executor_->SetClearedUpTo(std::max(command.cleared_up_to_action, executor_->action_index()));
-    }
-    if (command.type == JobCommandType::kCancel) {
-      Report(JobEventType::kCancelled, output.action_index, NavigationMode::kIdle, command.reason,
-             result);
-      executor_.reset();
-      current_job_id_.clear();
-      ports_.jobs->SetCurrentJob("");
-      ++result->jobs_finished;
-    }
+  const std::vector<JobCommand> commands = ports_.jobs->TakeCommands();
+  for (const JobCommand& command : commands) {
+    // Kept, for a clearance may come before the agent takes its job's assignment.
+    if (command.type == JobCommandType::kClearance) clearance_ = command;
+    ApplyCommand(command, output, result);
   }
   if (!current_job_id_.empty() && executor_ && executor_->state() != ExecutionState::kRunning) {
     executor_.reset();
@@ -110,10 +116,15 @@ void Agent::ServeJobs(const ExecutorOutput& output, AgentResult* result) {
         executor_->Abort(site);
         return;
       }
-      StartRoute(std::move(assignment->route));
+      StartRoute(std::move(assignment->route), assignment->resume);
       // A job from the server waits for its traffic clearance.
       executor_->SetClearedUpTo(
           clearance_.job_id == current_job_id_ ? clearance_.cleared_up_to_action : -1);
+      // Commands about this job that came with it (a job sent again while an operator holds
+      // it comes with PAUSE).
+      for (const JobCommand& command : commands) {
+        if (command.type != JobCommandType::kClearance) ApplyCommand(command, output, result);
+      }
     }
   }
 }
@@ -163,6 +174,7 @@ Telemetry Agent::MakeTelemetry(int64_t stamp_ns, const ExecutorOutput& output) c
   t.battery_fraction = battery_fraction_;
   t.action_index = output.action_index;
   t.job_progress_fraction = output.progress_fraction;
+  t.action_progress_fraction = output.action_fraction;
   return t;
 }
 

@@ -3,20 +3,23 @@
 #include <algorithm>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/status_macros.hpp"
+#include "fleetnav/robot_agent/action_remainder.hpp"
 #include "fleetnav/robot_agent/route_site_check.hpp"
 
 namespace fleetnav::agent {
 
 RouteExecutor::RouteExecutor(Route route, RouteContext context, ModeParams params,
-                             std::optional<Pose2> start_in_map)
+                             std::optional<Pose2> start_in_map, const RoutePosition& from)
     : route_(std::move(route)), context_(std::move(context)), params_(params) {
   if (absl::Status s = params_.Validate(); !s.ok()) {
     failure_ = absl::InvalidArgumentError(absl::StrCat("mode parameters: ", s.message()));
   } else {
     failure_ = CheckRoute(route_, context_, params_);
   }
-  if (failure_.ok() && start_in_map.has_value()) {
-    failure_ = CheckRouteOnSite(route_, context_, *start_in_map);
+  if (failure_.ok()) failure_ = ResumeAt(from, start_in_map.value_or(Pose2{}));
+  if (failure_.ok() && start_in_map.has_value() && state_ == ExecutionState::kRunning) {
+    failure_ = CheckRouteOnSite(route_, context_, *start_in_map, {}, index_ + 1);
   }
   if (!failure_.ok()) state_ = ExecutionState::kFailed;
 }
@@ -28,6 +31,35 @@ absl::Status RouteExecutor::StartAction(int index) {
   if (!controller.ok()) return controller.status();
   controller_ = *std::move(controller);
   return absl::OkStatus();
+}
+
+absl::Status RouteExecutor::ResumeAt(const RoutePosition& position, const Pose2& pose_in_map) {
+  if (position.action_index == 0 && position.action_fraction == 0.0) return absl::OkStatus();
+  RETURN_IF_ERROR(CheckRoutePosition(route_, position));
+  const int k = position.action_index;
+  std::optional<RouteAction> left =
+      RemainderOf(route_.actions[k], position.action_fraction, pose_in_map);
+  if (left) {
+    route_.actions[k] = *std::move(left);
+    resumed_index_ = k;
+    resumed_fraction_ = position.action_fraction;
+    index_ = k - 1;
+    waiting_ = k > 0;  // action k starts once cleared, as after action k - 1
+    return absl::OkStatus();
+  }
+  // Nothing is left of action k: go on with the next, or the route is done.
+  index_ = k;
+  if (k + 1 >= static_cast<int>(route_.actions.size())) {
+    state_ = ExecutionState::kSucceeded;
+  } else {
+    waiting_ = true;
+  }
+  return absl::OkStatus();
+}
+
+double RouteExecutor::ActionFraction(double controller_fraction) const {
+  if (index_ != resumed_index_) return controller_fraction;
+  return resumed_fraction_ + (1.0 - resumed_fraction_) * controller_fraction;
 }
 
 ExecutorOutput RouteExecutor::Fail(absl::Status status) {
@@ -47,6 +79,7 @@ ExecutorOutput RouteExecutor::Waiting() const {
   out.mode = NavigationMode::kIdle;
   out.action_index = index_;
   out.waiting = true;
+  out.action_fraction = 1.0;
   out.progress_fraction =
       static_cast<double>(index_ + 1) / static_cast<double>(route_.actions.size());
   return out;
@@ -110,7 +143,8 @@ ExecutorOutput RouteExecutor::Step(const ControlInput& input,
     out.mode = control.mode;
     out.mode_reason = control.mode_reason;
     out.action_index = index_;
-    out.progress_fraction = (index_ + (done ? 1.0 : control.progress_fraction)) / actions;
+    out.action_fraction = done ? 1.0 : ActionFraction(control.progress_fraction);
+    out.progress_fraction = (index_ + out.action_fraction) / actions;
     if (!done) {
       out.command = control.command;
       return out;

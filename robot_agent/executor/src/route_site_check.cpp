@@ -1,5 +1,6 @@
 #include "fleetnav/robot_agent/route_site_check.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <optional>
@@ -133,13 +134,14 @@ absl::Status RouteSiteCheckParams::Validate() const {
 }
 
 absl::Status CheckRouteOnSite(const Route& route, const RouteContext& context,
-                              const Pose2& start_in_map, const RouteSiteCheckParams& params) {
+                              const Pose2& start_in_map, const RouteSiteCheckParams& params,
+                              int first_action) {
   if (absl::Status s = params.Validate(); !s.ok()) return s;
   if (context.map == nullptr) return absl::OkStatus();
   const MarkerSet* markers = context.markers ? &*context.markers : nullptr;
   std::optional<planner::Costmap> costmap;
   Pose2 pose = start_in_map;
-  for (size_t i = 0; i < route.actions.size(); ++i) {
+  for (size_t i = static_cast<size_t>(std::max(first_action, 0)); i < route.actions.size(); ++i) {
     const RouteAction& action = route.actions[i];
     Route one;
     one.actions = {action};

@@ -58,16 +58,19 @@ void ServerLink::OnServerMessage(const v1::ServerMessage& message) {
   if (message.has_assignment()) {
     absl::StatusOr<Job> job = FromProto(message.assignment().job());
     absl::StatusOr<Route> route = FromProto(message.assignment().route());
-    if (job.ok() && route.ok()) {
+    const RoutePosition resume{message.assignment().resume_action_index(),
+                               message.assignment().resume_action_fraction()};
+    const absl::Status usable = !job.ok() ? job.status() : route.status();
+    if (usable.ok()) {
       assignments_.push_back(JobAssignment{*job, *route, message.assignment().map_id(),
                                            message.assignment().map_version(),
-                                           message.assignment().marker_set_version()});
+                                           message.assignment().marker_set_version(), resume});
     } else {
       // The job cannot run here: say so, so the server fails it rather than waiting.
       JobEvent failed;
       failed.job_id = message.assignment().job().job_id();
       failed.type = JobEventType::kFailed;
-      failed.reason = std::string(job.ok() ? route.status().message() : job.status().message());
+      failed.reason = std::string(usable.message());
       events_.push_back(failed);
     }
   } else if (message.has_command()) {

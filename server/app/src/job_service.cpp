@@ -7,6 +7,7 @@
 #include <set>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "absl/time/clock.h"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/server/map_catalog.hpp"
@@ -109,6 +110,13 @@ absl::Status JobService::Recover() {
       }
       lost_since_ns_[job.job_id] = clock_->NowNs();
       registry_->SetCurrentJob(job.assigned_robot_id, job.job_id);
+      // Coordinated from where the robot reports when it is back; until then it holds the
+      // others on its map (it may stand in their way).
+      if (traffic_ != nullptr) {
+        if (absl::StatusOr<Assignment> held = Resolve(job); held.ok()) {
+          traffic_->Begin(job.assigned_robot_id, *held, TrafficCoordinator::kResumeWhereReported);
+        }
+      }
     }
     if (page.next_page_token.empty()) break;
     in_flight.page_token = page.next_page_token;
@@ -253,10 +261,17 @@ void JobService::OnRobotConnected(const RobotIdentity& identity, const std::stri
   if (!page.ok()) return;
   for (Job& job : page->jobs) {
     if (job.assigned_robot_id != identity.robot_id) continue;
+    // A job an operator paused stays paused whatever the link did.
+    const bool held_by_operator =
+        job.state == JobState::kPaused && !lost_since_ns_.contains(job.job_id);
     lost_since_ns_.erase(job.job_id);
     if (job.job_id == resume_job_id) {
-      (void)Transition(job, JobState::kRunning, JobEventType::kResumed, "robot reconnected",
-                       identity.robot_id);
+      if (held_by_operator) {
+        mailbox_->SendCommand(identity.robot_id, RobotCommandType::kPause, job.job_id, job.reason);
+      } else {
+        (void)Transition(job, JobState::kRunning, JobEventType::kResumed, "robot reconnected",
+                         identity.robot_id);
+      }
       registry_->SetCurrentJob(identity.robot_id, job.job_id);
       if (traffic_ != nullptr) {
         if (traffic_->Tracks(job.job_id)) {
@@ -266,6 +281,9 @@ void JobService::OnRobotConnected(const RobotIdentity& identity, const std::stri
           traffic_->Begin(identity.robot_id, *resumed, TrafficCoordinator::kResumeWhereReported);
         }
       }
+    } else if (std::optional<RoutePosition> left_off = WhereRobotLeftOff(identity.robot_id, job);
+               left_off && SendAgain(identity.robot_id, job, *left_off, held_by_operator)) {
+      // Its agent restarted: the job goes on from where the robot stands.
     } else if (job.on_robot_lost == RequeuePolicy::kRequeue) {
       job.assigned_robot_id.clear();
       EndTraffic(job.job_id);
@@ -282,6 +300,44 @@ void JobService::OnRobotConnected(const RobotIdentity& identity, const std::stri
   // The robot may still drive a job that ended or went elsewhere while it was away: it is told
   // before it can be handed another (its outbox delivers in order).
   if (!resume_job_id.empty()) CancelJobNoLongerHeld(identity.robot_id, resume_job_id);
+}
+
+std::optional<RoutePosition> JobService::WhereRobotLeftOff(const std::string& robot_id,
+                                                           const Job& job) {
+  absl::StatusOr<RobotRecord> record = registry_->Get(robot_id);
+  if (!record.ok() || !record->last_telemetry || record->last_telemetry->job_id != job.job_id) {
+    return std::nullopt;
+  }
+  const Telemetry& last = *record->last_telemetry;
+  if (last.action_index < 0) return RoutePosition{};  // it had not begun
+  return RoutePosition{last.action_index, last.action_progress_fraction};
+}
+
+bool JobService::SendAgain(const std::string& robot_id, Job& job, const RoutePosition& from,
+                           bool held_by_operator) {
+  absl::StatusOr<Assignment> assignment = Resolve(job);
+  if (!assignment.ok() || !CheckRoutePosition(*assignment->route, from).ok()) return false;
+  assignment->resume = from;
+  if (!mailbox_->SendAssignment(robot_id, *assignment)) return false;
+  const std::string why = absl::StrFormat(
+      "robot came back without the job (its agent restarted): sent again from "
+      "action %d, %.0f %% of it done",
+      from.action_index, 100.0 * from.action_fraction);
+  if (held_by_operator) {
+    mailbox_->SendCommand(robot_id, RobotCommandType::kPause, job.job_id, job.reason);
+    (void)jobs_->UpdateJob(job, MakeEvent(job, JobEventType::kPaused, why, robot_id));
+  } else {
+    (void)Transition(job, JobState::kRunning, JobEventType::kResumed, why, robot_id);
+  }
+  registry_->SetCurrentJob(robot_id, job.job_id);
+  if (traffic_ != nullptr) {
+    if (traffic_->Tracks(job.job_id)) {
+      traffic_->Resend(robot_id);
+    } else {
+      traffic_->Begin(robot_id, *assignment, TrafficCoordinator::kResumeWhereReported);
+    }
+  }
+  return true;
 }
 
 void JobService::CancelJobNoLongerHeld(const std::string& robot_id, const std::string& job_id) {

@@ -238,8 +238,16 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
       Predict(tracked, telemetry.pose_in_map);
     }
     std::map<std::string, std::vector<Tracked*>> by_map;
+    // A job resumed after a server restart whose robot has not yet said where it is: nobody
+    // else on its map is cleared further until it has (or its job ends), for it may stand in
+    // their way.
+    std::map<std::string, std::string> unplaced_robot_by_map;
     for (auto& [job_id, tracked] : jobs_) {
-      if (tracked.schedule) by_map[tracked.assignment.job.map_id].push_back(&tracked);
+      if (tracked.schedule) {
+        by_map[tracked.assignment.job.map_id].push_back(&tracked);
+      } else if (tracked.resume_from_telemetry) {
+        unplaced_robot_by_map.emplace(tracked.assignment.job.map_id, tracked.robot_id);
+      }
     }
     // Sweeping every idle robot is only worth it when some job is to be ordered.
     std::vector<planner::ParkedRobot> parked;
@@ -260,6 +268,17 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
     }
     if (parked_cells_.size() > 2 * robots.size()) parked_cells_.clear();  // robots forgotten
     for (auto& [map_id, tracked_jobs] : by_map) {
+      if (auto unplaced = unplaced_robot_by_map.find(map_id);
+          unplaced != unplaced_robot_by_map.end()) {
+        const std::string reason = absl::StrCat("waits for ", unplaced->second,
+                                                " to report where it is (the server restarted)");
+        for (Tracked* t : tracked_jobs) {
+          if (reason == t->reason) continue;
+          t->reason = reason;
+          changes.push_back({t->robot_id, t->assignment.job.job_id, reason});
+        }
+        continue;
+      }
       std::vector<const planner::ScheduledRoute*> routes;
       for (const Tracked* t : tracked_jobs) routes.push_back(&*t->schedule);
       const std::vector<planner::TrafficClearanceDecision> decisions =

@@ -74,6 +74,8 @@ bool AgentMailbox::SendAssignment(const std::string& robot_id, const Assignment&
   wire->set_map_id(assignment.job.map_id);
   wire->set_map_version(assignment.map_version);
   wire->set_marker_set_version(assignment.marker_set_version);
+  wire->set_resume_action_index(assignment.resume.action_index);
+  wire->set_resume_action_fraction(assignment.resume.action_fraction);
   return Send(robot_id, std::move(message));
 }
 

@@ -215,5 +215,64 @@ TEST(RouteExecutorTest, EmptyRouteSucceedsAtOnce) {
   EXPECT_EQ(out.progress_fraction, 1.0);
 }
 
+// An agent restarted 1.2 m into a 2 m straight drives the 0.8 m left of it, then the rest of
+// the route: the robot ends where the route says, not 1.2 m beyond.
+TEST(RouteExecutorTest, ResumedMidStraightDrivesOnlyWhatIsLeft) {
+  const Pose2 where(1.2, 0.0, 0.0);
+  RouteExecutor executor(
+      MakeRoute({Act(TurnAction{DegToRad(10), 0.3}), Act(StraightAction{2.0, 0.25}),
+                 Act(TurnAction{DegToRad(90), 0.3}), Act(StraightAction{1.0, 0.25})}),
+      Lely(), {}, where, RoutePosition{1, 0.6});
+  ASSERT_TRUE(executor.failure().ok()) << executor.failure();
+  const RunResult run = RunOnUnicycle(executor, where);
+  ASSERT_EQ(run.state, ExecutionState::kSucceeded) << executor.failure();
+  EXPECT_NEAR(run.robot.pose().x_m(), 2.0, 0.02);
+  EXPECT_NEAR(run.robot.pose().y_m(), 1.0, 0.02);
+  EXPECT_NEAR(RadToDeg(run.robot.pose().yaw_rad()), 90.0, 0.5);
+  // The resumed action reports its progress from 60 %; action 0 is never run again.
+  ASSERT_FALSE(run.outputs.empty());
+  EXPECT_EQ(run.outputs.front().action_index, 1);
+  EXPECT_GE(run.outputs.front().action_fraction, 0.6);
+  EXPECT_GE(run.outputs.front().progress_fraction, (1 + 0.6) / 4.0 - 1e-9);
+  for (const ExecutorOutput& out : run.outputs) EXPECT_NE(out.action_index, 0);
+}
+
+// A turn interrupted at 75 % turns the last quarter.
+TEST(RouteExecutorTest, ResumedMidTurnTurnsTheRest) {
+  const Pose2 where(0.0, 0.0, DegToRad(67.5));
+  RouteExecutor executor(MakeRoute({Act(TurnAction{DegToRad(90), 0.3})}), Lely(), {}, where,
+                         RoutePosition{0, 0.75});
+  const RunResult run = RunOnUnicycle(executor, where);
+  ASSERT_EQ(run.state, ExecutionState::kSucceeded) << executor.failure();
+  EXPECT_NEAR(RadToDeg(run.robot.pose().yaw_rad()), 90.0, 0.5);
+}
+
+// Nothing left of the last action: the route has succeeded without moving; nothing left of
+// another: the next action waits for its clearance.
+TEST(RouteExecutorTest, ResumedAtTheEndOfAnActionGoesOnWithTheNext) {
+  RouteExecutor done(MakeRoute({Act(StraightAction{2.0, 0.25})}), Lely(), {}, Pose2(2, 0, 0),
+                     RoutePosition{0, 1.0});
+  EXPECT_EQ(done.state(), ExecutionState::kSucceeded);
+
+  RouteExecutor next(MakeRoute({Act(StraightAction{2.0, 0.25}), Act(StraightAction{1.0, 0.25})}),
+                     Lely(), {}, Pose2(2, 0, 0), RoutePosition{0, 1.0});
+  next.SetClearedUpTo(0);
+  const ExecutorOutput held = next.Step(OdometryInput(Pose2(2, 0, 0), kDt));
+  EXPECT_TRUE(held.waiting);
+  EXPECT_EQ(held.action_index, 0);
+  EXPECT_EQ(held.command.vx_mps, 0.0);
+  next.SetClearedUpTo(1);
+  const RunResult run = RunOnUnicycle(next, Pose2(2, 0, 0));
+  ASSERT_EQ(run.state, ExecutionState::kSucceeded);
+  EXPECT_NEAR(run.robot.pose().x_m(), 3.0, 0.02);
+}
+
+TEST(RouteExecutorTest, ResumePositionOutsideTheRouteFailsIt) {
+  RouteExecutor executor(MakeRoute({Act(StraightAction{2.0, 0.25})}), Lely(), {}, Pose2(),
+                         RoutePosition{3, 0.5});
+  EXPECT_EQ(executor.state(), ExecutionState::kFailed);
+  EXPECT_THAT(executor.failure().message(), HasSubstr("action 3 is not in route"));
+}
+
 }  // namespace
 }  // namespace fleetnav::agent

@@ -161,7 +161,22 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
   };
   // Expectations first: the deadline bounds every time.
   if (const YAML::Node e = root["expect"]) {
-    RETURN_IF_ERROR(CheckKeys(e, "expect", {"jobs", "contacts", "min_separation_m", "deadline_s"}));
+    RETURN_IF_ERROR(CheckKeys(
+        e, "expect", {"jobs", "contacts", "min_separation_m", "deadline_s", "max_waiting_s"}));
+    if (const YAML::Node waits = e["max_waiting_s"]) {
+      if (!waits.IsMap()) {
+        return absl::InvalidArgumentError("expect.max_waiting_s: expected {robot: seconds, ...}");
+      }
+      for (const auto& entry : waits) {
+        const std::string robot = entry.first.as<std::string>();
+        const std::string where = absl::StrCat("expect.max_waiting_s.", robot);
+        if (!known_robot(robot)) {
+          return absl::InvalidArgumentError(
+              absl::StrCat(where, ": '", robot, "' is not a robot of the scenario"));
+        }
+        ASSIGN_OR_RETURN(s.expect.max_waiting_s[robot], Number(entry.second, where, 0));
+      }
+    }
     if (e["deadline_s"]) {
       ASSIGN_OR_RETURN(s.expect.deadline_s, Number(e["deadline_s"], "expect.deadline_s", 1e-9));
     }
@@ -259,14 +274,17 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
         fault.type = ScenarioFaultType::kKillAgent;
       } else if (type == "kill_server") {
         fault.type = ScenarioFaultType::kKillServer;
+      } else if (type == "cut_link") {
+        fault.type = ScenarioFaultType::kCutLink;
       } else if (sim::FaultTypeByName(type).ok()) {
         fault.type = ScenarioFaultType::kSimFault;
         fault.sim_type = type;
       } else {
-        return absl::InvalidArgumentError(absl::StrCat(
-            where, ".type: unknown fault '", type,
-            "' (known: kill_agent, kill_server and the simulator's faults: hide_ultrasonic, "
-            "remove_fence, remove_stripe, wheel_slip, sensor_dropout, slow_down)"));
+        return absl::InvalidArgumentError(
+            absl::StrCat(where, ".type: unknown fault '", type,
+                         "' (known: kill_agent, kill_server, cut_link and the simulator's faults: "
+                         "hide_ultrasonic, "
+                         "remove_fence, remove_stripe, wheel_slip, sensor_dropout, slow_down)"));
       }
       ASSIGN_OR_RETURN(fault.at_s, check_time(f["at_s"], where + ".at_s"));
       fault.robot_id = Text(f["robot"]);
@@ -274,8 +292,10 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
         return absl::InvalidArgumentError(
             absl::StrCat(where, ".robot: '", fault.robot_id, "' is not a robot of the scenario"));
       }
-      if (fault.type == ScenarioFaultType::kKillAgent && fault.robot_id.empty()) {
-        return absl::InvalidArgumentError(absl::StrCat(where, ".robot: kill_agent needs a robot"));
+      if ((fault.type == ScenarioFaultType::kKillAgent ||
+           fault.type == ScenarioFaultType::kCutLink) &&
+          fault.robot_id.empty()) {
+        return absl::InvalidArgumentError(absl::StrCat(where, ".robot: ", type, " needs a robot"));
       }
       if (f["restart_after_s"]) {
         ASSIGN_OR_RETURN(fault.restart_after_s,
@@ -286,6 +306,10 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
       }
       if (f["factor"]) {
         ASSIGN_OR_RETURN(fault.factor, Number(f["factor"], where + ".factor", 0));
+      }
+      if (fault.type == ScenarioFaultType::kCutLink && !(fault.duration_s > 0.0)) {
+        return absl::InvalidArgumentError(
+            absl::StrCat(where, ".duration_s: cut_link needs a duration > 0 s (sim time)"));
       }
       fault.sensor = Text(f["sensor"]);
       if (f["region"]) {

@@ -20,6 +20,7 @@
 #include "fleetnav/core/angles.hpp"
 #include "fleetnav/proto/geometry_convert.hpp"
 #include "fleetnav/scenario/child_process.hpp"
+#include "fleetnav/scenario/link_proxy.hpp"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
 #include "fleetnav/v1/sim_service.grpc.pb.h"
 
@@ -100,6 +101,8 @@ class Run {
   absl::Status Ctl(const std::vector<std::string>& args);
   absl::Status StartServer();
   absl::Status StartAgent(const ScenarioRobot& robot, const Pose2& pose);
+  /// Where fleetnavd last saw the robot (its agent's estimate), else where it was last polled.
+  Pose2 LastKnownPose(const ScenarioRobot& robot);
   void Submit(size_t index);
   void Inject(const ScenarioFault& fault);
   void Poll(double sim_s);
@@ -124,6 +127,13 @@ class Run {
   std::unique_ptr<ChildProcess> server_;
   std::unique_ptr<ChildProcess> sim_;
   std::map<std::string, std::unique_ptr<ChildProcess>> agents_;
+  /// The links of the robots a cut_link fault names go through a proxy.
+  std::map<std::string, std::unique_ptr<LinkProxy>> links_;
+  struct LinkRestore {
+    double sim_s;
+    std::string robot_id;
+  };
+  std::vector<LinkRestore> link_restores_;
   std::map<std::string, int> agent_starts_;
   std::unique_ptr<v1::FleetService::Stub> fleet_;
   std::unique_ptr<v1::SimService::Stub> simulator_;
@@ -176,11 +186,13 @@ absl::Status Run::StartServer() {
 
 absl::Status Run::StartAgent(const ScenarioRobot& robot, const Pose2& pose) {
   const int start = ++agent_starts_[robot.robot_id];
+  const auto link = links_.find(robot.robot_id);
+  const int server_port = link != links_.end() ? link->second->port() : server_port_;
   const std::string stem = absl::StrCat("agent-", robot.robot_id, ".", start);
   agents_[robot.robot_id] = std::make_unique<ChildProcess>(
       std::vector<std::string>{bin_.agent, "--robot-id", robot.robot_id, "--kind", robot.kind_name,
                                "--sim", absl::StrCat("127.0.0.1:", sim_port_), "--server",
-                               absl::StrCat("127.0.0.1:", server_port_), "--initial-pose",
+                               absl::StrCat("127.0.0.1:", server_port), "--initial-pose",
                                absl::StrFormat("%.4f", pose.x_m()),
                                absl::StrFormat("%.4f", pose.y_m()),
                                absl::StrFormat("%.3f", RadToDeg(pose.yaw_rad())), "--particles",
@@ -193,6 +205,23 @@ absl::Status Run::StartAgent(const ScenarioRobot& robot, const Pose2& pose) {
         absl::StrCat("fleetnav-agent for ", robot.robot_id, " did not start"));
   }
   return absl::OkStatus();
+}
+
+Pose2 Run::LastKnownPose(const ScenarioRobot& robot) {
+  // Asked now, not taken from the last poll: the robot has moved since.
+  grpc::ClientContext context;
+  WithDeadline(&context);
+  v1::GetRobotRequest request;
+  request.set_robot_id(robot.robot_id);
+  v1::GetRobotResponse response;
+  if (fleet_->GetRobot(&context, request, &response).ok() &&
+      response.robot().has_last_telemetry()) {
+    absl::StatusOr<Pose2> pose =
+        fleetnav::FromProto(response.robot().last_telemetry().pose_in_map().pose());
+    if (pose.ok()) return *pose;
+  }
+  const auto polled = estimates_.find(robot.robot_id);
+  return polled != estimates_.end() ? polled->second : robot.initial_pose;
 }
 
 void Run::Submit(size_t index) {
@@ -242,6 +271,12 @@ void Run::Inject(const ScenarioFault& fault) {
                                               static_cast<int64_t>(fault.restart_after_s * 1000)),
                            ""});
       return;
+    case ScenarioFaultType::kCutLink:
+      if (auto it = links_.find(fault.robot_id); it != links_.end()) {
+        it->second->Cut();
+        link_restores_.push_back({fault.at_s + fault.duration_s, fault.robot_id});
+      }
+      return;
     case ScenarioFaultType::kSimFault: {
       v1::InjectFaultRequest request;
       request.set_type(SimFaultType(fault.sim_type));
@@ -274,7 +309,9 @@ void Run::Poll(double sim_s) {
     if (fleet_->ListRobots(&context, v1::ListRobotsRequest{}, &robots).ok()) {
       for (const v1::RobotState& robot : robots.robots()) {
         waits_[robot.robot_id()] = robot.traffic_wait();
-        if (!robot.traffic_wait().empty()) {
+        // Held means standing: a robot still driving the actions it was cleared for is not.
+        const bool standing = robot.last_telemetry().mode() == v1::NAVIGATION_MODE_IDLE;
+        if (!robot.traffic_wait().empty() && standing) {
           RobotFigures& f = figures_[robot.robot_id()];
           f.waiting_s += dt_s;
           if (std::find(f.waits.begin(), f.waits.end(), robot.traffic_wait()) == f.waits.end()) {
@@ -336,6 +373,11 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   if (keep_) {
     work_ = opt_.keep_dir;
     fs::create_directories(work_);
+    // A folder kept from an earlier run: the database starts fresh all the same.
+    for (const char* stale : {"fleet.db", "fleet.db-wal", "fleet.db-shm"}) {
+      std::error_code ignored;
+      fs::remove(fs::path(work_) / stale, ignored);
+    }
   } else {
     char pattern[] = "/tmp/fleetnav-scenario.XXXXXX";
     if (mkdtemp(pattern) == nullptr) return absl::InternalError("cannot make a temporary folder");
@@ -388,6 +430,12 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   for (const std::string& route : s_.route_paths) {
     if (absl::Status st = Ctl({"routes", "put", route}); !st.ok()) return st;
   }
+  for (const ScenarioFault& fault : s_.faults) {
+    if (fault.type != ScenarioFaultType::kCutLink || links_.contains(fault.robot_id)) continue;
+    absl::StatusOr<std::unique_ptr<LinkProxy>> proxy = LinkProxy::Start(server_port_);
+    if (!proxy.ok()) return proxy.status();
+    links_[fault.robot_id] = *std::move(proxy);
+  }
   for (const ScenarioRobot& robot : s_.robots) {
     if (absl::Status st = StartAgent(robot, robot.initial_pose); !st.ok()) return st;
   }
@@ -422,12 +470,7 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
         for (const ScenarioRobot& robot : s_.robots) {
           if (robot.robot_id != it->robot_id) continue;
           // Restarted where fleetnavd last saw it, as an operator would.
-          const auto last = estimates_.find(robot.robot_id);
-          if (absl::Status st =
-                  StartAgent(robot, last != estimates_.end() ? last->second : robot.initial_pose);
-              !st.ok()) {
-            return st;
-          }
+          if (absl::Status st = StartAgent(robot, LastKnownPose(robot)); !st.ok()) return st;
         }
       }
       it = restarts_.erase(it);
@@ -447,6 +490,14 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
         if (!submitted_[i] && sim_s >= s_.jobs[i].at_s) Submit(i);
       }
       Poll(sim_s);
+    }
+    for (auto it = link_restores_.begin(); it != link_restores_.end();) {
+      if (sim_s < it->sim_s) {
+        ++it;
+        continue;
+      }
+      links_.at(it->robot_id)->Restore();
+      it = link_restores_.erase(it);
     }
     for (size_t i = 0; i < s_.faults.size(); ++i) {
       if (!injected_[i] && sim_s >= s_.faults[i].at_s) {
@@ -536,6 +587,14 @@ void Run::Finish(ScenarioReport* report) {
     report->failures.push_back(absl::StrFormat("min separation %.3f m (at least %.3f m expected)",
                                                report->min_separation_m,
                                                *s_.expect.min_separation_m));
+  }
+  for (const auto& [robot_id, most_s] : s_.expect.max_waiting_s) {
+    const double waited_s = figures_[robot_id].waiting_s;
+    if (waited_s > most_s) {
+      report->failures.push_back(absl::StrFormat(
+          "%s was held by traffic coordination for %.1f s (at most %.1f s expected)", robot_id,
+          waited_s, most_s));
+    }
   }
   if (report->sim_time_s >= s_.expect.deadline_s) {
     report->failures.push_back(

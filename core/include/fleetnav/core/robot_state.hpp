@@ -55,6 +55,7 @@ struct Telemetry {
   std::string job_id;
   int action_index = -1;
   double job_progress_fraction = 0.0;
+  double action_progress_fraction = 0.0;  ///< of action action_index
 };
 
 /// Who a robot says it is when it connects.

@@ -72,6 +72,13 @@ struct RouteAction {
   EndCondition end;
 };
 
+/// Where a robot stands in a route: inside action `action_index`, of which `action_fraction`
+/// (0..1) is done. {0, 0} is the route's beginning.
+struct RoutePosition {
+  int action_index = 0;
+  double action_fraction = 0.0;
+};
+
 /// A named, ordered list of actions on one map (the thesis's route file, §6.3). Validate()
 /// checks each action on its own (finite numbers, non-zero distance or angle, positive speed,
 /// end condition fitting the action); errors are InvalidArgument and name the action's index,
@@ -83,6 +90,10 @@ struct Route {
 
   absl::Status Validate() const;
 };
+
+/// InvalidArgument unless `position` lies in `route`: an action index of it (0 for an empty
+/// route) and a fraction in [0, 1].
+absl::Status CheckRoutePosition(const Route& route, const RoutePosition& position);
 
 std::string_view ActionTypeName(const ActionParams& params);
 std::string_view EndConditionKindName(EndConditionKind kind);

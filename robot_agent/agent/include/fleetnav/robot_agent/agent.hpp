@@ -87,12 +87,13 @@ class Agent {
  private:
   Telemetry MakeTelemetry(int64_t stamp_ns, const ExecutorOutput& output) const;
   /// Takes new assignments and commands, and reports the current job's end.
+  void ApplyCommand(const JobCommand& command, const ExecutorOutput& output, AgentResult* result);
   void ServeJobs(const ExecutorOutput& output, AgentResult* result);
   /// Reports action and mode events of this tick's output.
   void ReportProgress(const ExecutorOutput& output, AgentResult* result);
   void Report(JobEventType type, int action_index, NavigationMode mode, const std::string& reason,
               AgentResult* result);
-  void StartRoute(Route route);
+  void StartRoute(Route route, const RoutePosition& from = {});
   /// Loads the assignment's site and localizer when it is not the one in use; the reason when
   /// the job cannot run here.
   absl::Status PrepareSite(const JobAssignment& assignment);

@@ -18,6 +18,9 @@ struct JobAssignment {
   std::string map_id;
   uint32_t map_version = 0;
   uint32_t marker_set_version = 0;
+  /// Where to begin: the route's beginning, or — for a job the robot held before its agent
+  /// restarted — the action it was in and how much of it was done.
+  RoutePosition resume;
 };
 
 /// kClearance: traffic coordination lets the robot start the job's actions up to

@@ -21,6 +21,7 @@ struct ExecutorOutput {
   NavigationMode mode = NavigationMode::kIdle;
   int action_index = -1;
   double progress_fraction = 0.0;  ///< of the whole route
+  double action_fraction = 0.0;    ///< of action action_index
   ExecutionState state = ExecutionState::kRunning;
   /// Set on the tick the mode switched between reactive and map-based: why.
   std::string mode_reason;
@@ -41,8 +42,11 @@ struct ExecutorOutput {
 /// then the robot stands and Step reports `waiting`. Not thread-safe.
 class RouteExecutor {
  public:
+  /// `from`: where to begin instead of the route's beginning (an agent restarted in the middle
+  /// of a job): the action there runs only what is left of it (RemainderOf, given the robot at
+  /// start_in_map), its progress counts from what was done, and the site check starts there.
   RouteExecutor(Route route, RouteContext context, ModeParams params = {},
-                std::optional<Pose2> start_in_map = std::nullopt);
+                std::optional<Pose2> start_in_map = std::nullopt, const RoutePosition& from = {});
 
   /// One control tick. `detected_markers` are the calibration markers the localizer associated
   /// with an inductive edge this tick.
@@ -58,16 +62,22 @@ class RouteExecutor {
   int action_index() const { return index_; }
 
  private:
+  /// Moves the start to `position` (see the constructor).
+  absl::Status ResumeAt(const RoutePosition& position, const Pose2& pose_in_map);
   absl::Status StartAction(int index);
   ExecutorOutput Fail(absl::Status status);
   ExecutorOutput Waiting() const;
+  /// The progress of action index_ given its controller's, counted from the resumed fraction.
+  double ActionFraction(double controller_fraction) const;
 
   Route route_;
   RouteContext context_;
   ModeParams params_;
   int index_ = -1;
   int cleared_up_to_ = std::numeric_limits<int>::max();
-  bool waiting_ = false;  ///< action index_ is done; index_ + 1 is not cleared yet
+  bool waiting_ = false;         ///< action index_ is done; index_ + 1 is not cleared yet
+  int resumed_index_ = -1;       ///< the action ResumeAt began in the middle of
+  double resumed_fraction_ = 0;  ///< how much of it was done before
   std::unique_ptr<MotionController> controller_;
   ExecutionState state_ = ExecutionState::kRunning;
   absl::Status failure_;

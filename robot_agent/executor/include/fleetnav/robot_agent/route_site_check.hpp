@@ -24,8 +24,9 @@ struct RouteSiteCheckParams {
 /// waypoint) must be connected to where its leg starts through cells at least the footprint's
 /// inscribed radius from any obstacle — a necessary condition of every collision-free path, so a
 /// reachable goal is never refused. Without a map there is nothing to check. FailedPrecondition
-/// naming the action's index.
+/// naming the action's index. `first_action` > 0 checks a resumed route from that action on.
 absl::Status CheckRouteOnSite(const Route& route, const RouteContext& context,
-                              const Pose2& start_in_map, const RouteSiteCheckParams& params = {});
+                              const Pose2& start_in_map, const RouteSiteCheckParams& params = {},
+                              int first_action = 0);
 
 }  // namespace fleetnav::agent

@@ -106,6 +106,14 @@ class JobService {
   RouteFacts FactsOf(const Job& job) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   void HandleLostRobots() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   absl::Status ForgetRobotLocked(const std::string& robot_id) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Where the robot's last telemetry placed it in `job` (nullopt: it never reported the job).
+  std::optional<RoutePosition> WhereRobotLeftOff(const std::string& robot_id, const Job& job)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Sends `job` again to its robot, whose agent came back without it, to begin at `from`; the
+  /// job runs again (or stays paused when an operator paused it) and keeps its traffic place.
+  /// False when it cannot be sent.
+  bool SendAgain(const std::string& robot_id, Job& job, const RoutePosition& from,
+                 bool held_by_operator) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Sends CANCEL with the reason when `job_id` is no longer the robot's running job.
   void CancelJobNoLongerHeld(const std::string& robot_id, const std::string& job_id)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);

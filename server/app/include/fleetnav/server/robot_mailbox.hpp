@@ -19,6 +19,8 @@ struct Assignment {
   uint32_t route_version = 0;
   uint32_t map_version = 0;
   uint32_t marker_set_version = 0;  ///< 0: the map has no marker set
+  /// Where the robot begins: the route's beginning, or where a restarted agent left off.
+  RoutePosition resume;
 };
 
 /// Which actions of its job a robot may enter (traffic coordination) and what holds the next.

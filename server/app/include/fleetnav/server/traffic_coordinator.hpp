@@ -54,7 +54,8 @@ class TrafficCoordinator {
                      const Clock* clock, TrafficCoordinatorParams params);
 
   /// Begin's resume_action for a job resumed after a server restart: the robot is in the
-  /// action its telemetry reports.
+  /// action its telemetry reports. Until its robot has reported, no other robot on the job's
+  /// map is cleared further (it may stand in their way).
   static constexpr int kResumeWhereReported = -2;
   /// Starts coordinating a job the robot was given (resume_action -1), or one it is already
   /// running in action `resume_action` (or kResumeWhereReported).

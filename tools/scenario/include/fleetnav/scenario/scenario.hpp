@@ -32,6 +32,7 @@ struct ScenarioJob {
 enum class ScenarioFaultType {
   kKillAgent,   ///< SIGKILL the robot's agent; restarted restart_after_s later (wall time)
   kKillServer,  ///< SIGKILL fleetnavd; restarted on the same database and port
+  kCutLink,     ///< the robot's link to fleetnavd cut for duration_s (sim time), then restored
   kSimFault,    ///< a simulator fault (SimService.InjectFault)
 };
 
@@ -54,6 +55,8 @@ struct ScenarioExpectations {
   int max_contacts = 0;
   std::optional<double> min_separation_m;
   double deadline_s = 600.0;  ///< sim time by which every job has ended
+  /// Sim time each named robot may be held by traffic coordination at most.
+  std::map<std::string, double> max_waiting_s;
 };
 
 /// A multi-robot scenario (docs/scenarios.md). Paths are resolved against the file's folder.
