@@ -12,6 +12,7 @@
 #include "fleetnav/core/angles.hpp"
 #include "fleetnav/localization/dead_reckoning_localizer.hpp"
 #include "fleetnav/localization/samcl_localizer.hpp"
+#include "fleetnav/proto/geometry_convert.hpp"
 #include "fleetnav/proto/telemetry_convert.hpp"
 #include "fleetnav/robot_agent/agent.hpp"
 #include "fleetnav/robot_agent/fleet_site_source.hpp"
@@ -398,6 +399,85 @@ TEST_F(JobFlowTest, ARobotWhoseAgentRestartedGetsItsJobAgainFromWhereItWas) {
   EXPECT_TRUE(resumed);
   context.TryCancel();  // the clearances sent after the assignment are left unread
   (void)stream->Finish();
+}
+
+// The dispatcher ranks robots by the path they would drive over the map, not the straight line:
+// a robot 6 m from the goal but behind a 14 m wall (about 22 m to drive) loses to one 12 m away
+// in the open.
+TEST_F(JobFlowTest, TheRobotWithTheShortestPathOverTheMapGetsTheJob) {
+  OccupancyGrid hall = *OccupancyGrid::Filled(300, 200, 0.1, Pose2(), OccupancyGrid::kFreeValue);
+  for (int y = 0; y < 140; ++y) {
+    for (int x = 148; x < 152; ++x) hall.SetValue({x, y}, OccupancyGrid::kOccupiedValue);
+  }
+  {
+    grpc::ClientContext context;
+    v1::PutMapRequest map;
+    map.set_map_id("hall");
+    *map.mutable_grid() = ToProto(hall);
+    v1::PutMapResponse response;
+    ASSERT_TRUE(fleet_->PutMap(&context, map, &response).ok());
+  }
+  auto agents = v1::AgentService::NewStub(channel_);
+  struct Robot {
+    std::string id;
+    Pose2 pose;
+    grpc::ClientContext context;
+    std::unique_ptr<AgentStream> stream;
+  };
+  std::vector<std::unique_ptr<Robot>> robots;
+  for (const auto& [id, pose] : {std::pair<std::string, Pose2>{"behind-wall", Pose2(12, 4, 0)},
+                                 std::pair<std::string, Pose2>{"in-the-open", Pose2(27, 12, 0)}}) {
+    auto robot = std::make_unique<Robot>();
+    robot->id = id;
+    robot->pose = pose;
+    robot->context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(20));
+    robot->stream = agents->Connect(&robot->context);
+    v1::AgentMessage hello;
+    *hello.mutable_hello() =
+        ToProto(RobotIdentity{id, LelyVectorModel(), {"free_navigation"}, "test"});
+    ASSERT_TRUE(robot->stream->Write(hello));
+    v1::ServerMessage welcome;
+    ASSERT_TRUE(robot->stream->Read(&welcome));
+    Telemetry telemetry;
+    telemetry.stamp_ns = 1;
+    telemetry.sequence = 1;
+    telemetry.pose_in_map = pose;
+    v1::AgentMessage wire;
+    *wire.mutable_telemetry() = ToProto(telemetry);
+    ASSERT_TRUE(robot->stream->Write(wire));
+    robots.push_back(std::move(robot));
+  }
+  // Both poses are known before the job is submitted.
+  for (const auto& robot : robots) {
+    for (int i = 0; i < 200; ++i) {
+      grpc::ClientContext context;
+      v1::GetRobotRequest get;
+      get.set_robot_id(robot->id);
+      v1::GetRobotResponse got;
+      if (fleet_->GetRobot(&context, get, &got).ok() && got.robot().has_last_telemetry()) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+  }
+  grpc::ClientContext context;
+  v1::SubmitJobRequest request;
+  request.mutable_goal()->set_map_id("hall");
+  *request.mutable_goal()->mutable_goal() = ToProto(Pose2(18, 4, 0));
+  v1::SubmitJobResponse submitted;
+  ASSERT_TRUE(fleet_->SubmitJob(&context, request, &submitted).ok());
+  std::string assigned;
+  for (int i = 0; i < 400 && assigned.empty(); ++i) {
+    grpc::ClientContext get_context;
+    v1::GetJobRequest get;
+    get.set_job_id(submitted.job().job_id());
+    v1::GetJobResponse job;
+    if (fleet_->GetJob(&get_context, get, &job).ok()) assigned = job.job().assigned_robot_id();
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  EXPECT_EQ(assigned, "in-the-open");
+  for (const auto& robot : robots) {
+    robot->context.TryCancel();
+    (void)robot->stream->Finish();
+  }
 }
 
 // A robot whose job was re-queued after the lost-robot timeout and given to another robot is told

@@ -15,6 +15,10 @@
 namespace fleetnav::server {
 namespace {
 
+/// Added to the straight-line distance of a robot with no path to a job's start: it is
+/// considered only when no robot has one.
+constexpr double kNoPathRankM = 1e6;
+
 int64_t NowUnixMs() { return absl::ToUnixMillis(absl::Now()); }
 
 JobEvent MakeEvent(const Job& job, JobEventType type, const std::string& reason,
@@ -58,7 +62,8 @@ JobService::JobService(storage::JobRepository* jobs, storage::RobotRepository* r
       mailbox_(mailbox),
       clock_(clock),
       params_(params),
-      traffic_(traffic) {}
+      traffic_(traffic),
+      travel_(site_data) {}
 
 void JobService::EndTraffic(const std::string& job_id) {
   if (traffic_ != nullptr) traffic_->End(job_id);
@@ -583,7 +588,10 @@ int JobService::AssignQueued() {
       if (!fits(it->identity.capabilities, needed)) continue;
       double distance_m = 0.0;
       if (start && it->last_telemetry) {
-        distance_m = (it->last_telemetry->pose_in_map.translation() - *start).norm();
+        const Eigen::Vector2d here = it->last_telemetry->pose_in_map.translation();
+        const std::optional<double> path_m = travel_.Between(job.map_id, here, *start);
+        // No path known (off the map, walled off): ranked after every robot with one.
+        distance_m = path_m ? *path_m : kNoPathRankM + (here - *start).norm();
       }
       if (distance_m < best_distance_m) {
         best_distance_m = distance_m;

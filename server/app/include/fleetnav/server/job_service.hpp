@@ -15,6 +15,7 @@
 #include "fleetnav/server/site_cache.hpp"
 #include "fleetnav/server/site_catalog.hpp"
 #include "fleetnav/server/traffic_coordinator.hpp"
+#include "fleetnav/server/travel_distances.hpp"
 #include "fleetnav/storage/job_repository.hpp"
 #include "fleetnav/storage/robot_repository.hpp"
 
@@ -42,12 +43,12 @@ struct SubmitJobRequest {
 /// Jobs from submission to their end, and the dispatcher. Every transition is stored with its
 /// event (JobRepository) before anyone is told. Dispatch (DispatchOnce): queued jobs in order of
 /// priority (high first) then age go to connected, idle robots whose capabilities include every
-/// action type of the route (go-to-goal jobs need "free_navigation"), the nearest robot to the
-/// job's first known point first. A robot that drops holds its job paused; when it returns
-/// with the job it resumes, and after lost_robot_timeout_s the job is failed or re-queued by
-/// its policy. With a TrafficCoordinator every running job is coordinated (traffic
-/// clearances, waits recorded as WAITING_FOR_TRAFFIC events). Thread-safe: transitions are
-/// serialised by one mutex.
+/// action type of the route (go-to-goal jobs need "free_navigation"), the robot with the
+/// shortest path over the map (TravelDistances) to the job's first known point first. A robot that
+/// drops holds its job paused; when it returns with the job it resumes, and after
+/// lost_robot_timeout_s the job is failed or re-queued by its policy. With a TrafficCoordinator
+/// every running job is coordinated (traffic clearances, waits recorded as WAITING_FOR_TRAFFIC
+/// events). Thread-safe: transitions are serialised by one mutex.
 class JobService {
  public:
   JobService(storage::JobRepository* jobs, storage::RobotRepository* robots, SiteCache* site_data,
@@ -135,6 +136,7 @@ class JobService {
   std::map<std::string, int64_t> lost_since_ns_ ABSL_GUARDED_BY(mutex_);  ///< by job id
   std::map<std::string, int> progress_decile_ ABSL_GUARDED_BY(mutex_);    ///< by job id
   std::map<std::pair<std::string, uint32_t>, RouteFacts> route_facts_ ABSL_GUARDED_BY(mutex_);
+  TravelDistances travel_ ABSL_GUARDED_BY(mutex_);
   absl::Mutex work_mutex_;
   bool work_pending_ ABSL_GUARDED_BY(work_mutex_) = false;
 };
