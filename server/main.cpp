@@ -9,6 +9,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/synchronization/mutex.h"
+#include "fleetnav/core/port_file.hpp"
 #include "fleetnav/server/rpc/fleet_server.hpp"
 #include "fleetnav/server/rpc/fleet_server_config.hpp"
 #include "fleetnav/storage/sqlite/schema.hpp"
@@ -114,10 +115,8 @@ int main(int argc, char** argv) {
   }
   spdlog::info("fleetnavd serving on port {} (db {})", *port, params.db_path);
   if (!port_file.empty()) {
-    FILE* f = std::fopen(port_file.c_str(), "w");
-    if (f != nullptr) {
-      std::fprintf(f, "%d\n", *port);
-      std::fclose(f);
+    if (absl::Status written = fleetnav::WritePortFile(port_file, *port); !written.ok()) {
+      spdlog::warn("fleetnavd: {}", std::string(written.message()));
     }
   }
 

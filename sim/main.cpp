@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "fleetnav/core/map_io.hpp"
+#include "fleetnav/core/port_file.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
 #include "fleetnav/sim/sim_server.hpp"
 #include "fleetnav/sim/world_rasterizer.hpp"
@@ -148,10 +149,8 @@ int main(int argc, char** argv) {
   spdlog::info("fleetnav-sim: world '{}' with {} robot(s) on port {}", world->name,
                world->robots.size(), *port);
   if (!port_file.empty()) {
-    FILE* f = std::fopen(port_file.c_str(), "w");
-    if (f != nullptr) {
-      std::fprintf(f, "%d\n", *port);
-      std::fclose(f);
+    if (absl::Status written = fleetnav::WritePortFile(port_file, *port); !written.ok()) {
+      spdlog::warn("fleetnav-sim: {}", std::string(written.message()));
     }
   }
   // Stop on a signal, or when the loop ends by itself (max sim time).

@@ -28,6 +28,7 @@ class JobFlowTest : public testing::FleetServerFixture {
   server::FleetServerParams Params() override {
     server::FleetServerParams params = FleetServerFixture::Params();
     params.jobs.lost_robot_timeout_s = 0.5;
+    params.jobs.charging_routes = {{"hall", "hall-charge"}};
     return params;
   }
 
@@ -96,6 +97,20 @@ class JobFlowTest : public testing::FleetServerFixture {
     while (reader->Read(&event)) events.push_back(event);
     EXPECT_TRUE(reader->Finish().ok());
     return events;
+  }
+
+  /// A 30 × 20 m hall (0.1 m cells) with a wall along x = 15 m from y = 0 to y = 14 m.
+  void PutHall() {
+    OccupancyGrid hall = *OccupancyGrid::Filled(300, 200, 0.1, Pose2(), OccupancyGrid::kFreeValue);
+    for (int y = 0; y < 140; ++y) {
+      for (int x = 148; x < 152; ++x) hall.SetValue({x, y}, OccupancyGrid::kOccupiedValue);
+    }
+    grpc::ClientContext context;
+    v1::PutMapRequest map;
+    map.set_map_id("hall");
+    *map.mutable_grid() = ToProto(hall);
+    v1::PutMapResponse response;
+    ASSERT_TRUE(fleet_->PutMap(&context, map, &response).ok());
   }
 
   std::unique_ptr<sim::SimServer> simulator_;
@@ -405,18 +420,7 @@ TEST_F(JobFlowTest, ARobotWhoseAgentRestartedGetsItsJobAgainFromWhereItWas) {
 // a robot 6 m from the goal but behind a 14 m wall (about 22 m to drive) loses to one 12 m away
 // in the open.
 TEST_F(JobFlowTest, TheRobotWithTheShortestPathOverTheMapGetsTheJob) {
-  OccupancyGrid hall = *OccupancyGrid::Filled(300, 200, 0.1, Pose2(), OccupancyGrid::kFreeValue);
-  for (int y = 0; y < 140; ++y) {
-    for (int x = 148; x < 152; ++x) hall.SetValue({x, y}, OccupancyGrid::kOccupiedValue);
-  }
-  {
-    grpc::ClientContext context;
-    v1::PutMapRequest map;
-    map.set_map_id("hall");
-    *map.mutable_grid() = ToProto(hall);
-    v1::PutMapResponse response;
-    ASSERT_TRUE(fleet_->PutMap(&context, map, &response).ok());
-  }
+  PutHall();
   auto agents = v1::AgentService::NewStub(channel_);
   struct Robot {
     std::string id;
@@ -478,6 +482,84 @@ TEST_F(JobFlowTest, TheRobotWithTheShortestPathOverTheMapGetsTheJob) {
     robot->context.TryCancel();
     (void)robot->stream->Finish();
   }
+}
+
+// A robot whose battery falls below 20 % is sent to its charger (the map's charging route)
+// before any other job, and gets other work again only once charged to 90 %.
+TEST_F(JobFlowTest, ALowRobotIsSentToChargeFirstAndWorksAgainOnceCharged) {
+  PutHall();
+  Route charge;
+  charge.name = "hall-charge";
+  charge.map_id = "hall";
+  charge.actions.push_back(RouteAction{StraightAction{1.0, 0.25}, {}});
+  ASSERT_TRUE(PutRoute(charge).ok());
+  Route work = charge;
+  work.name = "hall-work";
+  ASSERT_TRUE(PutRoute(work).ok());
+  auto agents = v1::AgentService::NewStub(channel_);
+  grpc::ClientContext context;
+  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(20));
+  std::unique_ptr<AgentStream> stream = agents->Connect(&context);
+  v1::AgentMessage hello;
+  *hello.mutable_hello() = ToProto(RobotIdentity{"r1", LelyVectorModel(), {"straight"}, "test"});
+  ASSERT_TRUE(stream->Write(hello));
+  int64_t sequence = 0;
+  auto report_battery = [&](double fraction, const std::string& job_id) {
+    Telemetry telemetry;
+    telemetry.stamp_ns = ++sequence;
+    telemetry.sequence = static_cast<uint64_t>(sequence);
+    telemetry.pose_in_map = Pose2(5, 5, 0);
+    telemetry.battery_fraction = fraction;
+    telemetry.job_id = job_id;
+    v1::AgentMessage wire;
+    *wire.mutable_telemetry() = ToProto(telemetry);
+    return stream->Write(wire);
+  };
+  ASSERT_TRUE(report_battery(0.12, ""));
+  for (int i = 0; i < 200; ++i) {  // the battery is known before there is work
+    grpc::ClientContext get_context;
+    v1::GetRobotRequest get;
+    get.set_robot_id("r1");
+    v1::GetRobotResponse robot;
+    if (fleet_->GetRobot(&get_context, get, &robot).ok() &&
+        robot.robot().last_telemetry().battery_fraction() > 0.0) {
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  v1::SubmitJobResponse submitted;
+  ASSERT_TRUE(Submit("hall-work", "", &submitted).ok());
+  const std::string work_id = submitted.job().job_id();
+  // The first assignment is the charging route, although the work job came first.
+  v1::ServerMessage message;
+  do {
+    ASSERT_TRUE(stream->Read(&message));
+  } while (!message.has_assignment());
+  EXPECT_EQ(message.assignment().route().name(), "hall-charge");
+  EXPECT_EQ(message.assignment().job().assigned_robot_id(), "r1");
+  const std::string charge_id = message.assignment().job().job_id();
+  ASSERT_TRUE(stream->Write(EventFor(charge_id, v1::AgentEvent::TYPE_ACTION_STARTED)));
+  ASSERT_TRUE(stream->Write(EventFor(charge_id, v1::AgentEvent::TYPE_JOB_SUCCEEDED)));
+  auto work_state = [&] {
+    grpc::ClientContext get_context;
+    v1::GetJobRequest get;
+    get.set_job_id(work_id);
+    v1::GetJobResponse job;
+    EXPECT_TRUE(fleet_->GetJob(&get_context, get, &job).ok());
+    return job.job().state();
+  };
+  // Docked and charging, but at 50 %: still no work (several dispatcher passes).
+  ASSERT_TRUE(report_battery(0.5, ""));
+  std::this_thread::sleep_for(std::chrono::milliseconds(600));
+  EXPECT_EQ(work_state(), v1::JOB_STATE_QUEUED);
+  // Charged: the work job goes to it.
+  ASSERT_TRUE(report_battery(0.95, ""));
+  do {
+    ASSERT_TRUE(stream->Read(&message));
+  } while (!message.has_assignment());
+  EXPECT_EQ(message.assignment().job().job_id(), work_id);
+  context.TryCancel();
+  (void)stream->Finish();
 }
 
 // A robot whose job was re-queued after the lost-robot timeout and given to another robot is told

@@ -58,6 +58,8 @@ class ClosedLoop : public ::testing::Test {
   void StartSim(bool with_gap, uint64_t seed = 3, const std::string& world_file = "") {
     dir_ = std::filesystem::path(::testing::TempDir()) /
            ("closed-loop-" + std::to_string(getpid()) + "-" + std::to_string(counter_++));
+    // A folder of an earlier run with the same pid holds a stale sim.port.
+    std::filesystem::remove_all(dir_);
     std::filesystem::create_directories(dir_);
     std::string world = Path("fence-hall.yaml");
     if (world_file.empty()) {

@@ -42,6 +42,12 @@ absl::Status JobServiceParams::Validate() const {
         absl::StrCat("lost_robot_timeout_s: must be finite and > 0, got ", lost_robot_timeout_s));
   }
   if (max_page_size < 1) return absl::InvalidArgumentError("max_page_size: must be >= 1");
+  if (!(charge_below_fraction >= 0.0 && charge_below_fraction < charged_fraction &&
+        charged_fraction <= 1.0)) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("charging: need 0 <= below_fraction < charged_fraction <= 1, got ",
+                     charge_below_fraction, " and ", charged_fraction));
+  }
   if (!std::isfinite(evict_offline_robots_after_s) || evict_offline_robots_after_s < 0.0) {
     return absl::InvalidArgumentError(
         absl::StrCat("evict_offline_robots_after_s: must be finite and >= 0, got ",
@@ -525,9 +531,51 @@ int JobService::DispatchOnce() {
       (void)ForgetRobotLocked(robot_id);
     }
   }
+  SendLowRobotsToCharge();
   const int assigned = AssignQueued();
   UpdateTraffic();
   return assigned;
+}
+
+bool JobService::HeldForCharging(const RobotRecord& robot) {
+  auto it = charging_job_.find(robot.identity.robot_id);
+  if (it == charging_job_.end()) return false;
+  absl::StatusOr<Job> job = jobs_->GetJob(it->second);
+  const bool charged =
+      robot.last_telemetry && robot.last_telemetry->battery_fraction >= params_.charged_fraction;
+  if (!job.ok() || job->state == JobState::kFailed || job->state == JobState::kCancelled ||
+      (job->state == JobState::kSucceeded && charged)) {
+    charging_job_.erase(it);  // charged, or sent again on the next pass
+    return false;
+  }
+  return true;
+}
+
+void JobService::SendLowRobotsToCharge() {
+  if (params_.charge_below_fraction <= 0.0 || params_.charging_routes.empty()) return;
+  const std::vector<RobotRecord> low = registry_->IdleOnline([&](const RobotRecord& r) {
+    return r.last_telemetry && r.last_telemetry->battery_fraction < params_.charge_below_fraction;
+  });
+  for (const RobotRecord& robot : low) {
+    if (HeldForCharging(robot)) continue;
+    const std::string& id = robot.identity.robot_id;
+    std::string route;
+    if (auto map = robot_map_.find(id); map != robot_map_.end()) {
+      if (auto r = params_.charging_routes.find(map->second); r != params_.charging_routes.end()) {
+        route = r->second;
+      }
+    } else if (params_.charging_routes.size() == 1) {
+      route = params_.charging_routes.begin()->second;
+    }
+    if (route.empty()) continue;  // no charger known for where it is
+    SubmitJobRequest request;
+    request.route_name = route;
+    request.robot_id = id;
+    request.priority = std::numeric_limits<int>::max();
+    request.idempotency_key = absl::StrCat("charge/", id, "/", NowUnixMs());
+    absl::StatusOr<storage::CreatedJob> created = Submit(request);
+    if (created.ok()) charging_job_[id] = created->job.job_id;
+  }
 }
 
 int JobService::AssignQueued() {
@@ -586,6 +634,8 @@ int JobService::AssignQueued() {
         continue;
       }
       if (!fits(it->identity.capabilities, needed)) continue;
+      // A robot kept for charging takes its charging job only.
+      if (HeldForCharging(*it) && charging_job_.at(it->identity.robot_id) != job.job_id) continue;
       double distance_m = 0.0;
       if (start && it->last_telemetry) {
         const Eigen::Vector2d here = it->last_telemetry->pose_in_map.translation();
@@ -604,6 +654,7 @@ int JobService::AssignQueued() {
     }
     const std::string robot = best->identity.robot_id;
     job.assigned_robot_id = robot;
+    robot_map_[robot] = job.map_id;
     if (!Transition(job, JobState::kAssigned, JobEventType::kAssigned, "", robot).ok()) continue;
     absl::StatusOr<Assignment> assignment = Resolve(job);
     if (!assignment.ok() || !mailbox_->SendAssignment(robot, *assignment)) {

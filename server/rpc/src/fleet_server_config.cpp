@@ -48,7 +48,8 @@ absl::StatusOr<FleetServerConfig> ParseFleetServerConfig(std::string_view yaml_t
   }
   if (root.IsNull()) return config;
   RETURN_IF_ERROR(CheckKeys(
-      root, {"listen", "db", "log_level", "agent_threads", "limits", "timeouts"}, "config"));
+      root, {"listen", "db", "log_level", "agent_threads", "limits", "timeouts", "charging"},
+      "config"));
   FleetServerParams& p = config.params;
   RETURN_IF_ERROR(Read(root, "listen", "", &p.listen_address));
   RETURN_IF_ERROR(Read(root, "db", "", &p.db_path));
@@ -96,6 +97,20 @@ absl::StatusOr<FleetServerConfig> ParseFleetServerConfig(std::string_view yaml_t
     RETURN_IF_ERROR(Read(timeouts, "dispatch_period_s", "timeouts.", &p.dispatch_period_s));
     RETURN_IF_ERROR(Read(timeouts, "evict_offline_robots_after_s", "timeouts.",
                          &p.jobs.evict_offline_robots_after_s));
+  }
+  if (const YAML::Node charging = root["charging"]) {
+    RETURN_IF_ERROR(
+        CheckKeys(charging, {"below_fraction", "charged_fraction", "routes"}, "charging"));
+    RETURN_IF_ERROR(Read(charging, "below_fraction", "charging.", &p.jobs.charge_below_fraction));
+    RETURN_IF_ERROR(Read(charging, "charged_fraction", "charging.", &p.jobs.charged_fraction));
+    if (const YAML::Node routes = charging["routes"]) {
+      if (!routes.IsMap()) {
+        return absl::InvalidArgumentError("charging.routes: expected {map_id: route_name, ...}");
+      }
+      for (const auto& entry : routes) {
+        p.jobs.charging_routes[entry.first.as<std::string>()] = entry.second.as<std::string>();
+      }
+    }
   }
   static const std::set<std::string> kLevels = {"trace", "debug", "info", "warn", "error"};
   if (kLevels.count(config.log_level) == 0) {

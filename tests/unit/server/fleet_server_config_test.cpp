@@ -68,6 +68,24 @@ TEST(FleetServerConfigTest, AgentStreamThreadsMustBeBetweenOneAndSixtyFour) {
   EXPECT_TRUE(params.Validate().ok());
 }
 
+TEST(FleetServerConfigTest, ChargingRoutesAndThresholdsAreReadAndChecked) {
+  absl::StatusOr<FleetServerConfig> config = ParseFleetServerConfig(
+      "charging: {below_fraction: 0.25, charged_fraction: 0.8, routes: {barn: barn-charge}}\n");
+  ASSERT_TRUE(config.ok()) << config.status();
+  EXPECT_DOUBLE_EQ(config->params.jobs.charge_below_fraction, 0.25);
+  EXPECT_DOUBLE_EQ(config->params.jobs.charged_fraction, 0.8);
+  EXPECT_EQ(config->params.jobs.charging_routes.at("barn"), "barn-charge");
+
+  absl::StatusOr<FleetServerConfig> inverted =
+      ParseFleetServerConfig("charging: {below_fraction: 0.9, charged_fraction: 0.5}\n");
+  EXPECT_EQ(inverted.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(inverted.status().message(), HasSubstr("below_fraction < charged_fraction"));
+  EXPECT_THAT(ParseFleetServerConfig("charging: {routes: [barn]}\n").status().message(),
+              HasSubstr("charging.routes: expected {map_id: route_name"));
+  EXPECT_THAT(ParseFleetServerConfig("charging: {below: 0.1}\n").status().message(),
+              HasSubstr("charging: unknown key 'below'"));
+}
+
 TEST(FleetServerConfigTest, MissingFileIsNotFound) {
   EXPECT_EQ(LoadFleetServerConfig("/nonexistent/fleetnavd.yaml").status().code(),
             absl::StatusCode::kNotFound);

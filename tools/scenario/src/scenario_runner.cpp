@@ -406,6 +406,7 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
     }
   }
   const std::string sim_port_file = Path("sim.port");
+  fs::remove(sim_port_file);  // a kept folder's port file names a simulator long gone
   sim_ = std::make_unique<ChildProcess>(
       std::vector<std::string>{bin_.sim, "--world", s_.world_path, "--listen", "127.0.0.1:0",
                                "--port-file", sim_port_file, "--seed", absl::StrCat(seed_),

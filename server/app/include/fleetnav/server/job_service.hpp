@@ -27,6 +27,13 @@ struct JobServiceParams {
   /// A robot offline this long that holds no job is forgotten (registry and store); 0: never.
   double evict_offline_robots_after_s = 86400.0;
   int max_page_size = 1000;
+  /// A robot whose battery falls below this fraction gets no more work: it is sent to its
+  /// charger (charging_routes) and stays there until charged to charged_fraction (0: never).
+  double charge_below_fraction = 0.2;
+  double charged_fraction = 0.9;
+  /// The route that takes a robot to its charger, by map id (the map of the robot's last job;
+  /// the only route when there is one).
+  std::map<std::string, std::string> charging_routes;
   absl::Status Validate() const;
 };
 
@@ -44,8 +51,9 @@ struct SubmitJobRequest {
 /// event (JobRepository) before anyone is told. Dispatch (DispatchOnce): queued jobs in order of
 /// priority (high first) then age go to connected, idle robots whose capabilities include every
 /// action type of the route (go-to-goal jobs need "free_navigation"), the robot with the
-/// shortest path over the map (TravelDistances) to the job's first known point first. A robot that
-/// drops holds its job paused; when it returns with the job it resumes, and after
+/// shortest path over the map (TravelDistances) to the job's first known point first. A robot
+/// whose battery is low is sent to its charger first and given nothing else until charged. A robot
+/// that drops holds its job paused; when it returns with the job it resumes, and after
 /// lost_robot_timeout_s the job is failed or re-queued by its policy. With a TrafficCoordinator
 /// every running job is coordinated (traffic clearances, waits recorded as WAITING_FOR_TRAFFIC
 /// events). Thread-safe: transitions are serialised by one mutex.
@@ -119,6 +127,10 @@ class JobService {
   void CancelJobNoLongerHeld(const std::string& robot_id, const std::string& job_id)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   int AssignQueued() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Submits a charging job for each idle robot whose battery is low and that is not charging.
+  void SendLowRobotsToCharge() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Whether `robot` is kept for charging: its charging job runs, or it charges after it.
+  bool HeldForCharging(const RobotRecord& robot) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Decides traffic clearances and stores a waiting event for each job whose wait changed.
   void UpdateTraffic() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   void EndTraffic(const std::string& job_id);
@@ -137,6 +149,8 @@ class JobService {
   std::map<std::string, int> progress_decile_ ABSL_GUARDED_BY(mutex_);    ///< by job id
   std::map<std::pair<std::string, uint32_t>, RouteFacts> route_facts_ ABSL_GUARDED_BY(mutex_);
   TravelDistances travel_ ABSL_GUARDED_BY(mutex_);
+  std::map<std::string, std::string> robot_map_ ABSL_GUARDED_BY(mutex_);     ///< last job's map
+  std::map<std::string, std::string> charging_job_ ABSL_GUARDED_BY(mutex_);  ///< by robot id
   absl::Mutex work_mutex_;
   bool work_pending_ ABSL_GUARDED_BY(work_mutex_) = false;
 };

@@ -14,6 +14,7 @@ namespace fleetnav::server {
 ///   log_level: info                # trace | debug | info | warn | error
 ///   limits: {max_message_bytes: 67108864, max_page_size: 1000}
 ///   timeouts: {stale_after_s: 2.0, lost_robot_timeout_s: 30.0, dispatch_period_s: 0.2}
+///   charging: {below_fraction: 0.2, charged_fraction: 0.9, routes: {barn: barn-charge}}
 /// Unknown keys and bad values are InvalidArgument naming the key; the result is validated.
 struct FleetServerConfig {
   FleetServerParams params;
