@@ -1,6 +1,7 @@
 #include "fleetnav/server/fleet_registry.hpp"
 
 #include <cmath>
+#include <set>
 
 #include "absl/strings/str_cat.h"
 #include "fleetnav/core/echo_input.hpp"
@@ -218,6 +219,17 @@ std::vector<RobotRecord> FleetRegistry::IdleOnline(
     if (record.connection != ConnectionState::kOnline || !record.current_job_id.empty()) continue;
     if (static_cast<double>(now_ns - record.last_seen_ns) * 1e-9 > params_.stale_after_s) continue;
     if (wanted(record)) out.push_back(record);
+  }
+  return out;
+}
+
+std::set<std::string> FleetRegistry::OnlineCapabilities() const {
+  absl::ReaderMutexLock lock(&mutex_);
+  std::set<std::string> out;
+  for (const auto& [id, entry] : robots_) {
+    if (entry.record.connection != ConnectionState::kOnline) continue;
+    out.insert(entry.record.identity.capabilities.begin(),
+               entry.record.identity.capabilities.end());
   }
   return out;
 }

@@ -537,6 +537,47 @@ int JobService::DispatchOnce() {
   return assigned;
 }
 
+void JobService::SayWhyQueued(Job& job, const std::vector<std::string>& needed,
+                              const std::set<std::string>& online_capabilities) {
+  std::string why;
+  if (!job.requested_robot_id.empty()) {
+    const std::string& id = job.requested_robot_id;
+    absl::StatusOr<RobotRecord> robot = registry_->Get(id);
+    if (!robot.ok()) {
+      why = absl::StrCat("robot ", id, " is not known");
+    } else if (robot->connection != ConnectionState::kOnline) {
+      why = absl::StrCat(
+          "robot ", id, " is ",
+          robot->connection == ConnectionState::kStale ? "not reporting (stale)" : "offline");
+    } else {
+      for (const std::string& capability : needed) {
+        const auto& have = robot->identity.capabilities;
+        if (std::find(have.begin(), have.end(), capability) == have.end()) {
+          why = absl::StrCat("robot ", id, " cannot run ", capability);
+          break;
+        }
+      }
+      if (why.empty() && !robot->current_job_id.empty()) {
+        why = absl::StrCat("waits for robot ", id, " to finish job ", robot->current_job_id);
+      } else if (why.empty()) {
+        why = absl::StrCat("robot ", id,
+                           charging_job_.contains(id) ? " is kept for charging" : " is not free");
+      }
+    }
+  } else {
+    for (const std::string& capability : needed) {
+      if (!online_capabilities.contains(capability)) {
+        why = absl::StrCat("no connected robot can run ", capability);
+        break;
+      }
+    }
+    if (why.empty()) why = "every connected robot that can run it is busy or charging";
+  }
+  if (why == job.reason) return;
+  job.reason = why;
+  (void)jobs_->UpdateJob(job, MakeEvent(job, JobEventType::kQueued, why, ""));
+}
+
 bool JobService::HeldForCharging(const RobotRecord& robot) {
   auto it = charging_job_.find(robot.identity.robot_id);
   if (it == charging_job_.end()) return false;
@@ -617,16 +658,20 @@ int JobService::AssignQueued() {
   });
   // A demand that found no robot finds none later in this pass either: idle robots only leave.
   std::vector<Demand> unmet;
+  std::optional<std::set<std::string>> online_capabilities;  // read once, when a job waits
   int assigned = 0;
   for (size_t j = 0; j < queued.size(); ++j) {
     Job& job = queued[j];
-    if (idle.empty()) break;
     const std::vector<std::string>& needed = job_facts[j].needed;
     const std::optional<Eigen::Vector2d> start = job_facts[j].start;
     const bool known_unmet = std::any_of(unmet.begin(), unmet.end(), [&](const Demand& d) {
       return d.first == job.requested_robot_id && *d.second == needed;
     });
-    if (known_unmet) continue;
+    if (known_unmet || idle.empty()) {
+      if (!online_capabilities) online_capabilities = registry_->OnlineCapabilities();
+      SayWhyQueued(job, needed, *online_capabilities);
+      continue;
+    }
     auto best = idle.end();
     double best_distance_m = std::numeric_limits<double>::infinity();
     for (auto it = idle.begin(); it != idle.end(); ++it) {
@@ -650,6 +695,8 @@ int JobService::AssignQueued() {
     }
     if (best == idle.end()) {
       unmet.emplace_back(job.requested_robot_id, &needed);
+      if (!online_capabilities) online_capabilities = registry_->OnlineCapabilities();
+      SayWhyQueued(job, needed, *online_capabilities);
       continue;
     }
     const std::string robot = best->identity.robot_id;

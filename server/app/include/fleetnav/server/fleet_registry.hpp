@@ -4,6 +4,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -83,6 +84,8 @@ class FleetRegistry {
   /// those are copied, so a caller that wants few robots of a large fleet pays little; `wanted`
   /// runs under the registry's reader lock and must not call back into the registry.
   std::vector<RobotRecord> IdleOnline(const std::function<bool(const RobotRecord&)>& wanted) const;
+  /// What the connected robots can run between them (the union of their capabilities).
+  std::set<std::string> OnlineCapabilities() const;
   /// Robots whose revision is greater than `after_revision`; sets *latest_revision.
   std::vector<RobotRecord> ChangedSince(uint64_t after_revision, uint64_t* latest_revision) const;
 

@@ -2,6 +2,7 @@
 
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -127,6 +128,12 @@ class JobService {
   void CancelJobNoLongerHeld(const std::string& robot_id, const std::string& job_id)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   int AssignQueued() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Stores why `job` stays queued (one QUEUED event when the reason changes): "no connected
+  /// robot can run stripe_navigation", "robot lely2 is offline", "waits for robot lely2 to
+  /// finish job job-000004", ….
+  void SayWhyQueued(Job& job, const std::vector<std::string>& needed,
+                    const std::set<std::string>& online_capabilities)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Submits a charging job for each idle robot whose battery is low and that is not charging.
   void SendLowRobotsToCharge() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Whether `robot` is kept for charging: its charging job runs, or it charges after it.
