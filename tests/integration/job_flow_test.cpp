@@ -2,6 +2,7 @@
 // agent, the agent drives it in the ODE barn, and the job's events and end state come back.
 #include <gmock/gmock.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <thread>
@@ -97,6 +98,20 @@ class JobFlowTest : public testing::FleetServerFixture {
     while (reader->Read(&event)) events.push_back(event);
     EXPECT_TRUE(reader->Finish().ok());
     return events;
+  }
+
+  /// Waits (up to 1 s) until fleetnavd shows `robot_id` as `shown` says; false if it never does.
+  bool WaitUntilRobot(const std::string& robot_id,
+                      const std::function<bool(const v1::RobotState&)>& shown) {
+    for (int i = 0; i < 200; ++i) {
+      grpc::ClientContext context;
+      v1::GetRobotRequest get;
+      get.set_robot_id(robot_id);
+      v1::GetRobotResponse got;
+      if (fleet_->GetRobot(&context, get, &got).ok() && shown(got.robot())) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return false;
   }
 
   /// A 30 × 20 m hall (0.1 m cells) with a wall along x = 15 m from y = 0 to y = 14 m.
@@ -378,17 +393,9 @@ TEST_F(JobFlowTest, ARobotWhoseAgentRestartedGetsItsJobAgainFromWhereItWas) {
     *wire.mutable_telemetry() = ToProto(telemetry);
     ASSERT_TRUE(stream->Write(wire));
     // The telemetry has been taken once the robot shows it.
-    for (int i = 0; i < 200; ++i) {
-      grpc::ClientContext get_context;
-      v1::GetRobotRequest get;
-      get.set_robot_id("lely1");
-      v1::GetRobotResponse robot;
-      if (fleet_->GetRobot(&get_context, get, &robot).ok() &&
-          robot.robot().last_telemetry().action_progress_fraction() > 0.4) {
-        break;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
+    EXPECT_TRUE(WaitUntilRobot("lely1", [](const v1::RobotState& robot) {
+      return robot.last_telemetry().action_progress_fraction() > 0.4;
+    }));
     context.TryCancel();  // the agent dies: no goodbye
     (void)stream->Finish();
   }
@@ -454,14 +461,8 @@ TEST_F(JobFlowTest, TheRobotWithTheShortestPathOverTheMapGetsTheJob) {
   }
   // Both poses are known before the job is submitted.
   for (const auto& robot : robots) {
-    for (int i = 0; i < 200; ++i) {
-      grpc::ClientContext context;
-      v1::GetRobotRequest get;
-      get.set_robot_id(robot->id);
-      v1::GetRobotResponse got;
-      if (fleet_->GetRobot(&context, get, &got).ok() && got.robot().has_last_telemetry()) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
+    EXPECT_TRUE(WaitUntilRobot(
+        robot->id, [](const v1::RobotState& shown) { return shown.has_last_telemetry(); }));
   }
   grpc::ClientContext context;
   v1::SubmitJobRequest request;
@@ -517,17 +518,10 @@ TEST_F(JobFlowTest, ALowRobotIsSentToChargeFirstAndWorksAgainOnceCharged) {
     return stream->Write(wire);
   };
   ASSERT_TRUE(report_battery(0.12, ""));
-  for (int i = 0; i < 200; ++i) {  // the battery is known before there is work
-    grpc::ClientContext get_context;
-    v1::GetRobotRequest get;
-    get.set_robot_id("r1");
-    v1::GetRobotResponse robot;
-    if (fleet_->GetRobot(&get_context, get, &robot).ok() &&
-        robot.robot().last_telemetry().battery_fraction() > 0.0) {
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
+  // The battery is known before there is work.
+  EXPECT_TRUE(WaitUntilRobot("r1", [](const v1::RobotState& robot) {
+    return robot.last_telemetry().battery_fraction() > 0.0;
+  }));
   v1::SubmitJobResponse submitted;
   ASSERT_TRUE(Submit("hall-work", "", &submitted).ok());
   const std::string work_id = submitted.job().job_id();

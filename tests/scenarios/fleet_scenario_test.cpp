@@ -160,8 +160,22 @@ TEST(FleetScenario, AServerRestartMidJobLosesNothing) {
   EXPECT_TRUE(std::filesystem::exists(keep + "/fleetnavd.2.log"));  // it was restarted
 }
 
-// lely2's link cut for 10 s of sim time while it waits for lely1: it stands where its
-// clearance ended for the whole cut (truth), then hears the new clearance and goes on.
+/// How far `path` moves between sim times from_s and to_s (largest distance from where it was).
+double MovedBetween(const std::vector<std::pair<double, Pose2>>& path, double from_s, double to_s) {
+  std::optional<Pose2> first;
+  double moved_m = 0.0;
+  for (const auto& [t_s, pose] : path) {
+    if (t_s < from_s || t_s > to_s) continue;
+    if (!first) first = pose;
+    moved_m = std::max(moved_m, (pose.translation() - first->translation()).norm());
+  }
+  return moved_m;
+}
+
+// lely2's link cut for 10 s of sim time from t = 172 s. When the cut begins lely2 is either
+// standing, held for lely1 (most runs): then it stands for the whole cut, for it cannot hear
+// the clearance lely1 earns meanwhile; or already driving the action it was cleared for (when
+// lely1 was early): then it drives on, for a cut link does not stop cleared work. Both jobs end.
 TEST(FleetScenario, ARobotCutOffStandsAtItsClearanceAndGoesOnWhenBack) {
   int code = -1;
   const std::string keep = TempPath("link-cut");
@@ -169,15 +183,16 @@ TEST(FleetScenario, ARobotCutOffStandsAtItsClearanceAndGoesOnWhenBack) {
   ExpectBothRoundsEndWithoutContact(report, code);
   const auto path = TruePath(keep + "/truth.csv", "lely2");
   ASSERT_FALSE(path.empty());
-  std::optional<Pose2> at_cut;
-  double moved_m = 0.0;
-  for (const auto& [t_s, pose] : path) {
-    if (t_s < 172.5 || t_s > 182.0) continue;
-    if (!at_cut) at_cut = pose;
-    moved_m = std::max(moved_m, (pose.translation() - at_cut->translation()).norm());
+  // The runner injects at its first look at the sim time past 172 s (within 2.5 s).
+  const bool standing_at_cut = MovedBetween(path, 171.0, 175.0) < 0.01;
+  const double moved_during_cut_m = MovedBetween(path, 175.0, 182.0);
+  std::printf("[ figures  ] lely2 %s when cut off; moved %.2f m during the cut\n",
+              standing_at_cut ? "stood" : "drove", moved_during_cut_m);
+  if (standing_at_cut) {
+    EXPECT_LT(moved_during_cut_m, 0.05) << "lely2 moved on while cut off";
+  } else {
+    EXPECT_GT(moved_during_cut_m, 0.5) << "lely2 stopped its cleared action when cut off";
   }
-  ASSERT_TRUE(at_cut.has_value());
-  EXPECT_LT(moved_m, 0.05) << "lely2 moved while cut off";
 }
 
 // lely2 slowed to 0.2×: lely1 never depends on it, so lely1 is never held; both rounds end.

@@ -518,6 +518,8 @@ absl::Status JobService::ForgetRobot(const std::string& robot_id) {
 absl::Status JobService::ForgetRobotLocked(const std::string& robot_id) {
   // The registry refuses a connected robot or one with a job; the store follows it.
   RETURN_IF_ERROR(registry_->Forget(robot_id));
+  robot_map_.erase(robot_id);
+  charging_job_.erase(robot_id);
   absl::Status stored = robots_->DeleteRobot(robot_id);
   return absl::IsNotFound(stored) ? absl::OkStatus() : stored;
 }
