@@ -134,9 +134,9 @@ void ExpectBothRoundsEndWithoutContact(const nlohmann::json& report, int exit_co
   EXPECT_NEAR(end.value("y_m", 9.0), 0.0, 0.3) << end.dump();
 }
 
-// Faults (issue: fleet in the loop). lely1's agent killed 6 m into its 13.5 m straight: it
-// comes back without its job, fleetnavd sends the job again from where the robot was, and the
-// straight is finished, not driven again (that would add 6 m and hit the west wall).
+// Faults (issue: fleet in the loop). lely1's agent killed part-way along its 13.5 m straight:
+// it comes back without its job, fleetnavd sends the job again from where the robot was, and
+// the straight is finished, not driven again (that would add 2.5–11 m and hit the west wall).
 TEST(FleetScenario, AKilledAgentResumesItsJobWhereTheRobotIs) {
   int code = -1;
   const std::string keep = TempPath("agent-restart");
