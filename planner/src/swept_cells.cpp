@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "absl/container/flat_hash_set.h"
 #include "fleetnav/core/segment_distance.hpp"
 
 namespace fleetnav::planner {
@@ -38,6 +39,9 @@ CellSet CellSet::Sweep(const std::vector<Pose2>& poses,
   CellSet out;
   const double reach_m = margin_m + cell_m * std::sqrt(0.5);
   std::vector<Eigen::Vector2d> placed(footprint.size());
+  // Poses along an action are a few centimetres apart, so nearly every cell one pose touches
+  // was already taken by the one before: each cell is tested and stored once.
+  absl::flat_hash_set<uint64_t> taken;
   for (const Pose2& pose : poses) {
     Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
     Eigen::Vector2d hi = -lo;
@@ -52,9 +56,12 @@ CellSet CellSet::Sweep(const std::vector<Pose2>& poses,
     const int64_t y1 = static_cast<int64_t>(std::floor((hi.y() + reach_m) / cell_m));
     for (int64_t ix = x0; ix <= x1; ++ix) {
       for (int64_t iy = y0; iy <= y1; ++iy) {
+        const uint64_t key = Key(ix, iy);
+        if (taken.contains(key)) continue;
         const Eigen::Vector2d centre((ix + 0.5) * cell_m, (iy + 0.5) * cell_m);
         if (DistanceToPolygon(centre, placed) > reach_m) continue;
-        out.keys_.push_back(Key(ix, iy));
+        taken.insert(key);
+        out.keys_.push_back(key);
         if (out.max_x_ < out.min_x_) {
           out.min_x_ = out.max_x_ = ix;
           out.min_y_ = out.max_y_ = iy;
@@ -67,7 +74,7 @@ CellSet CellSet::Sweep(const std::vector<Pose2>& poses,
     }
   }
   std::sort(out.keys_.begin(), out.keys_.end());
-  out.keys_.erase(std::unique(out.keys_.begin(), out.keys_.end()), out.keys_.end());
+  out.keys_.shrink_to_fit();  // a server keeps thousands of these
   return out;
 }
 

@@ -1,6 +1,7 @@
 #include "fleetnav/planner/traffic_schedule.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <limits>
 #include <map>
 #include <set>
@@ -53,10 +54,7 @@ int Newer(const RouteList& routes, int r, int s) {
   return ts > tr || (ts == tr && s > r) ? s : r;
 }
 
-/// One place two routes share: actions k1..k2 of the first and l1..l2 of the second.
-struct Block {
-  int k1, k2, l1, l2;
-};
+using Block = SharedBlock;
 
 /// The blocks of two routes: 4-connected components of intersecting unfinished action pairs.
 std::vector<Block> Blocks(const ScheduledRoute& a, const ScheduledRoute& b) {
@@ -115,8 +113,11 @@ struct BuildResult {
   int infeasible_route = -1;
 };
 
+/// The blocks of routes r and s, computed or remembered.
+using BlocksOf = std::function<const std::vector<Block>&(int r, int s)>;
+
 BuildResult Build(const RouteList& routes, const std::vector<bool>& held,
-                  const std::vector<ParkedRobot>& parked) {
+                  const std::vector<ParkedRobot>& parked, const BlocksOf& blocks_of) {
   BuildResult out;
   Graph& g = out.graph;
   // Parked robots and held routes stand where they are.
@@ -156,7 +157,7 @@ BuildResult Build(const RouteList& routes, const std::vector<bool>& held,
     for (int s = r + 1; s < n; ++s) {
       if (held[s] || !bounds[r].BoundsOverlap(bounds[s])) continue;
       const ScheduledRoute& b = routes[s];
-      for (const Block& block : Blocks(a, b)) {
+      for (const Block& block : blocks_of(r, s)) {
         const bool a_cleared = block.k1 <= a.cleared_up_to;
         const bool b_cleared = block.l1 <= b.cleared_up_to;
         bool a_first;
@@ -205,36 +206,49 @@ BuildResult Build(const RouteList& routes, const std::vector<bool>& held,
 
 /// A route on a cycle of the graph (intra-route edges k → k+1 plus the dependencies), or -1.
 int RouteOnCycle(const RouteList& routes, const std::vector<bool>& held, const Graph& g) {
-  // Successors: blocker → waiter, and k → k+1.
-  std::map<Node, std::vector<Node>> next;
+  // Nodes are numbered route by route: node offset[r] + k is action k of route r.
+  const int n = static_cast<int>(routes.size());
+  std::vector<int> offset(n + 1, 0);
+  for (int r = 0; r < n; ++r) offset[r + 1] = offset[r] + Count(routes[r]);
+  std::vector<int> route_of(offset[n]);
+  for (int r = 0; r < n; ++r)
+    std::fill(route_of.begin() + offset[r], route_of.begin() + offset[r + 1], r);
+  // Successors across routes: blocker → waiter (k → k+1 is implicit).
+  std::vector<std::vector<int>> next(offset[n]);
   for (const auto& [waiter, deps] : g.deps) {
     for (const Dependency& d : deps) {
-      if (d.blocker_route != kParked) next[{d.blocker_route, d.blocker_action}].push_back(waiter);
+      if (d.blocker_route != kParked) {
+        next[offset[d.blocker_route] + d.blocker_action].push_back(offset[waiter.first] +
+                                                                   waiter.second);
+      }
     }
   }
-  std::map<Node, int> color;  // 0 new, 1 on stack, 2 done
-  for (int r = 0; r < static_cast<int>(routes.size()); ++r) {
+  std::vector<char> color(offset[n], 0);  // 0 new, 1 on stack, 2 done
+  // Each frame: the node and how many of its successors have been followed (the last one is
+  // the next action of the same route).
+  std::vector<std::pair<int, size_t>> stack;
+  for (int r = 0; r < n; ++r) {
     if (held[r]) continue;
     for (int k = routes[r].first_unfinished; k < Count(routes[r]); ++k) {
-      if (color[{r, k}] != 0) continue;
-      std::vector<std::pair<Node, size_t>> stack{{{r, k}, 0}};
-      color[{r, k}] = 1;
+      if (color[offset[r] + k] != 0) continue;
+      stack.assign(1, {offset[r] + k, 0});
+      color[offset[r] + k] = 1;
       while (!stack.empty()) {
         auto& [node, child] = stack.back();
-        std::vector<Node> succ = next[node];
-        if (node.second + 1 < Count(routes[node.first]))
-          succ.push_back({node.first, node.second + 1});
-        if (child >= succ.size()) {
+        const bool has_next_action = node + 1 < offset[route_of[node] + 1];
+        const size_t successors = next[node].size() + (has_next_action ? 1 : 0);
+        if (child >= successors) {
           color[node] = 2;
           stack.pop_back();
           continue;
         }
-        const Node to = succ[child++];
+        const int to = child < next[node].size() ? next[node][child] : node + 1;
+        ++child;
         if (color[to] == 1) {
           // The cycle runs from `to` up the stack: hold its newest route.
-          int newest = to.first;
+          int newest = route_of[to];
           for (auto it = stack.rbegin(); it != stack.rend() && it->first != to; ++it) {
-            const int q = it->first.first;
+            const int q = route_of[it->first];
             if (routes[q].action_start_s.front() > routes[newest].action_start_s.front() ||
                 (routes[q].action_start_s.front() == routes[newest].action_start_s.front() &&
                  q > newest)) {
@@ -253,24 +267,14 @@ int RouteOnCycle(const RouteList& routes, const std::vector<bool>& held, const G
   return -1;
 }
 
-}  // namespace
-
-std::vector<TrafficClearanceDecision> DecideClearances(const std::vector<ScheduledRoute>& routes,
-                                                       const std::vector<ParkedRobot>& parked) {
-  std::vector<const ScheduledRoute*> pointers;
-  pointers.reserve(routes.size());
-  for (const ScheduledRoute& route : routes) pointers.push_back(&route);
-  return DecideClearances(pointers, parked);
-}
-
-std::vector<TrafficClearanceDecision> DecideClearances(
-    const std::vector<const ScheduledRoute*>& route_pointers,
-    const std::vector<ParkedRobot>& parked) {
-  const RouteList routes(route_pointers);
+/// DecideClearances over the graph that `blocks_of` yields.
+std::vector<TrafficClearanceDecision> Decide(const RouteList& routes,
+                                             const std::vector<ParkedRobot>& parked,
+                                             const BlocksOf& blocks_of) {
   std::vector<bool> held(routes.size(), false);
   Graph g;
   while (true) {
-    BuildResult built = Build(routes, held, parked);
+    BuildResult built = Build(routes, held, parked, blocks_of);
     if (built.infeasible_route >= 0) {
       held[built.infeasible_route] = true;
       continue;
@@ -319,6 +323,58 @@ std::vector<TrafficClearanceDecision> DecideClearances(
     }
     out.push_back(std::move(decision));
   }
+  return out;
+}
+
+}  // namespace
+
+std::vector<TrafficClearanceDecision> DecideClearances(const std::vector<ScheduledRoute>& routes,
+                                                       const std::vector<ParkedRobot>& parked) {
+  std::vector<const ScheduledRoute*> pointers;
+  pointers.reserve(routes.size());
+  for (const ScheduledRoute& route : routes) pointers.push_back(&route);
+  return DecideClearances(pointers, parked);
+}
+
+std::vector<TrafficClearanceDecision> DecideClearances(
+    const std::vector<const ScheduledRoute*>& route_pointers,
+    const std::vector<ParkedRobot>& parked) {
+  const RouteList routes(route_pointers);
+  std::map<std::pair<int, int>, std::vector<Block>> computed;
+  return Decide(routes, parked, [&](int r, int s) -> const std::vector<Block>& {
+    auto [it, inserted] = computed.try_emplace({r, s});
+    if (inserted) it->second = Blocks(routes[r], routes[s]);
+    return it->second;
+  });
+}
+
+std::vector<TrafficClearanceDecision> ClearanceDecider::Decide(
+    const std::vector<const ScheduledRoute*>& route_pointers,
+    const std::vector<ParkedRobot>& parked) {
+  const RouteList routes(route_pointers);
+  const uint64_t call = ++calls_;
+  std::map<std::pair<int, int>, std::vector<Block>> uncached;
+  std::vector<TrafficClearanceDecision> out =
+      planner::Decide(routes, parked, [&](int r, int s) -> const std::vector<Block>& {
+        const ScheduledRoute& a = routes[r];
+        const ScheduledRoute& b = routes[s];
+        if (a.cells_id == 0 || b.cells_id == 0) {
+          auto [it, inserted] = uncached.try_emplace({r, s});
+          if (inserted) it->second = Blocks(a, b);
+          return it->second;
+        }
+        auto [it, inserted] = pairs_.try_emplace({a.cells_id, b.cells_id});
+        Remembered& remembered = it->second;
+        if (inserted || remembered.first_a != a.first_unfinished ||
+            remembered.first_b != b.first_unfinished) {
+          remembered.first_a = a.first_unfinished;
+          remembered.first_b = b.first_unfinished;
+          remembered.blocks = Blocks(a, b);
+        }
+        remembered.last_call = call;
+        return remembered.blocks;
+      });
+  absl::erase_if(pairs_, [call](const auto& entry) { return entry.second.last_call != call; });
   return out;
 }
 

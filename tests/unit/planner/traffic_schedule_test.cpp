@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -46,6 +47,37 @@ TEST(CellSetTest, SweepCoversTheFootprintAndSetsIntersectOnlyWhenTheyShareCells)
   const CellSet grown = CellSet::Sweep({Pose2(0, 0, 0)}, kSquare, 0.6, 0.25);
   EXPECT_TRUE(grown.Intersects(At({0, 1.6})));
   EXPECT_FALSE(grown.Intersects(At({0, 3.0})));
+}
+
+TEST(CellSetTest, ASweepHoldsEachCellOnceAndExactlyTheCellsOfItsPoses) {
+  // A pose repeated adds no cell: each cell is stored once.
+  const CellSet once = CellSet::Sweep({Pose2(1.0, 2.0, 0.3)}, kSquare, 0.2, 0.25);
+  const CellSet repeated =
+      CellSet::Sweep(std::vector<Pose2>(10, Pose2(1.0, 2.0, 0.3)), kSquare, 0.2, 0.25);
+  EXPECT_EQ(repeated.size(), once.size());
+  // A sweep along a curve touches a probe exactly when one of its poses alone does.
+  std::vector<Pose2> poses;
+  for (int i = 0; i <= 40; ++i) poses.emplace_back(0.1 * i, std::sin(0.1 * i), 0.05 * i);
+  const CellSet swept = CellSet::Sweep(poses, kSquare, 0.1, 0.25);
+  size_t sum_of_sizes = 0;
+  std::vector<CellSet> alone;
+  for (const Pose2& pose : poses) {
+    alone.push_back(CellSet::Sweep({pose}, kSquare, 0.1, 0.25));
+    sum_of_sizes += alone.back().size();
+  }
+  EXPECT_LT(swept.size(), sum_of_sizes / 4);  // neighbouring poses share most cells
+  const std::vector<Eigen::Vector2d> dot{{-0.01, -0.01}, {0.01, -0.01}, {0.01, 0.01}};
+  int touched = 0;
+  for (double x = -1.5; x <= 5.5; x += 0.125) {
+    for (double y = -2.5; y <= 2.5; y += 0.125) {
+      const CellSet probe = CellSet::Sweep({Pose2(x, y, 0.0)}, dot, 0.0, 0.25);
+      bool any = false;
+      for (const CellSet& one : alone) any = any || one.Intersects(probe);
+      ASSERT_EQ(swept.Intersects(probe), any) << "probe at " << x << ", " << y;
+      touched += any ? 1 : 0;
+    }
+  }
+  EXPECT_GT(touched, 100);
 }
 
 TEST(TrafficScheduleTest, CrossingRoutesGoOneAfterTheOtherInExpectedOrder) {
@@ -265,6 +297,97 @@ TEST(RoutePredictionTest, LegsChainFromTheStartAlongStripesAndTurns) {
   route.actions.back().params = StripeNavigationAction{4, 0.0, 0.25};
   EXPECT_EQ(PredictRoute(route, Pose2(0, 0, 0), &markers, nullptr, Pose2()).status().code(),
             absl::StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace fleetnav::planner
+
+namespace fleetnav::planner {
+namespace {
+
+bool SameDecisions(const std::vector<TrafficClearanceDecision>& a,
+                   const std::vector<TrafficClearanceDecision>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i].robot_id != b[i].robot_id || a[i].cleared_up_to != b[i].cleared_up_to ||
+        a[i].deadlocked != b[i].deadlocked || a[i].waits.size() != b[i].waits.size()) {
+      return false;
+    }
+    for (size_t w = 0; w < a[i].waits.size(); ++w) {
+      const TrafficWait& x = a[i].waits[w];
+      const TrafficWait& y = b[i].waits[w];
+      if (x.robot_id != y.robot_id || x.action != y.action ||
+          x.blocker_robot_id != y.blocker_robot_id || x.blocker_action != y.blocker_action) {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+// Six robots on random crossing routes, executed with random delays, re-predicted now and then
+// and finishing at random: the decider's remembered blocks give the same decisions as
+// computing them afresh at every step, over 30 seeds.
+TEST(ClearanceDeciderTest, RememberingSharedPlacesChangesNoDecision) {
+  size_t most_remembered = 0;
+  int waits_seen = 0;
+  for (int seed = 1; seed <= 30; ++seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> mid(5.0, 15.0);
+    std::vector<ScheduledRoute> routes;
+    uint64_t next_id = 1;
+    for (int i = 0; i < 6; ++i) {
+      routes.push_back(Route(std::string(1, static_cast<char>('a' + i)),
+                             {{0.0, 2.0 * i},
+                              {mid(rng), mid(rng) - 5.0},
+                              {mid(rng), mid(rng) - 5.0},
+                              {mid(rng), mid(rng) - 5.0},
+                              {20.0, 2.0 * i}},
+                             0.5 * i));
+      routes.back().cells_id = next_id++;
+    }
+    ClearanceDecider decider;
+    std::vector<bool> running(routes.size(), false);
+    for (int step = 0; step < 400; ++step) {
+      std::vector<const ScheduledRoute*> active;
+      std::vector<ScheduledRoute*> active_mutable;
+      std::vector<ParkedRobot> parked;
+      for (ScheduledRoute& r : routes) {
+        if (r.first_unfinished < 4) {
+          active.push_back(&r);
+          active_mutable.push_back(&r);
+        } else {
+          parked.push_back({r.robot_id, r.action_end_cells.back()});
+        }
+      }
+      if (active.empty()) break;
+      const std::vector<TrafficClearanceDecision> fresh = DecideClearances(active, parked);
+      const std::vector<TrafficClearanceDecision> remembered = decider.Decide(active, parked);
+      ASSERT_TRUE(SameDecisions(fresh, remembered)) << "seed " << seed << " step " << step;
+      ASSERT_LE(decider.remembered_pairs(), active.size() * (active.size() - 1) / 2);
+      most_remembered = std::max(most_remembered, decider.remembered_pairs());
+      for (size_t j = 0; j < fresh.size(); ++j) {
+        active_mutable[j]->cleared_up_to = fresh[j].cleared_up_to;
+        waits_seen += fresh[j].waits.empty() ? 0 : 1;
+      }
+      // One robot moves on; now and then another's cells are predicted again (a new id).
+      const size_t j = std::uniform_int_distribution<size_t>(0, active.size() - 1)(rng);
+      ScheduledRoute& r = *active_mutable[j];
+      const size_t i = static_cast<size_t>(&r - routes.data());
+      if (running[i]) {
+        running[i] = false;
+        ++r.first_unfinished;
+      } else if (r.cleared_up_to >= r.first_unfinished) {
+        running[i] = true;
+      }
+      if (std::uniform_int_distribution<int>(0, 9)(rng) == 0) {
+        active_mutable[std::uniform_int_distribution<size_t>(0, active.size() - 1)(rng)]->cells_id =
+            next_id++;
+      }
+    }
+  }
+  EXPECT_GT(most_remembered, 0u);
+  EXPECT_GT(waits_seen, 0);
 }
 
 }  // namespace

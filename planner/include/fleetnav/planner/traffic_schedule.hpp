@@ -1,8 +1,11 @@
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "absl/container/flat_hash_map.h"
 #include "fleetnav/planner/swept_cells.hpp"
 
 namespace fleetnav::planner {
@@ -15,7 +18,10 @@ struct ScheduledRoute {
   std::vector<CellSet> action_cells;
   std::vector<CellSet> action_end_cells;  ///< where the robot stands after each action
   std::vector<double> action_start_s;
-  CellSet start_cells;       ///< where the robot stands before its first action
+  CellSet start_cells;  ///< where the robot stands before its first action
+  /// Names these cells for ClearanceDecider's memory: a new id whenever the cells are
+  /// predicted again (0: never remembered).
+  uint64_t cells_id = 0;
   int first_unfinished = 0;  ///< actions before it have finished
   int cleared_up_to = -1;    ///< actions up to it were cleared earlier (never taken back)
 };
@@ -62,5 +68,32 @@ std::vector<TrafficClearanceDecision> DecideClearances(const std::vector<Schedul
 /// The same over routes held elsewhere (the server keeps one per job), so that none is copied.
 std::vector<TrafficClearanceDecision> DecideClearances(
     const std::vector<const ScheduledRoute*>& routes, const std::vector<ParkedRobot>& parked);
+
+/// One place two routes share: actions k1..k2 of the first and l1..l2 of the second.
+struct SharedBlock {
+  int k1 = 0, k2 = 0, l1 = 0, l2 = 0;
+};
+
+/// DecideClearances with a memory: the shared blocks of each pair of routes are kept from one
+/// call to the next while both routes keep their cells (ScheduledRoute::cells_id) and their
+/// first unfinished actions, so a pass over a fleet whose routes did not change costs a lookup
+/// per pair of nearby routes instead of a cell comparison per pair of actions. Pairs not met in
+/// a call are forgotten. Same decisions as DecideClearances. Not thread-safe.
+class ClearanceDecider {
+ public:
+  std::vector<TrafficClearanceDecision> Decide(const std::vector<const ScheduledRoute*>& routes,
+                                               const std::vector<ParkedRobot>& parked);
+  /// Pairs of routes remembered.
+  size_t remembered_pairs() const { return pairs_.size(); }
+
+ private:
+  struct Remembered {
+    int first_a = 0, first_b = 0;
+    std::vector<SharedBlock> blocks;
+    uint64_t last_call = 0;
+  };
+  absl::flat_hash_map<std::pair<uint64_t, uint64_t>, Remembered> pairs_;
+  uint64_t calls_ = 0;
+};
 
 }  // namespace fleetnav::planner
