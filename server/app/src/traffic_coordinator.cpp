@@ -15,6 +15,10 @@ absl::Status TrafficCoordinatorParams::Validate() const {
   if (!std::isfinite(cell_m) || cell_m <= 0.0) {
     return absl::InvalidArgumentError(absl::StrCat("cell_m: must be > 0, got ", cell_m));
   }
+  if (!std::isfinite(recheck_period_s) || recheck_period_s < 0.0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("recheck_period_s: must be >= 0, got ", recheck_period_s));
+  }
   if (horizon_actions < 2) {
     return absl::InvalidArgumentError(
         absl::StrCat("horizon_actions: must be >= 2, got ", horizon_actions));
@@ -43,6 +47,7 @@ void TrafficCoordinator::Begin(const std::string& robot_id, const Assignment& as
   tracked.start_action = std::max(resume_action, 0);
   tracked.resume_from_telemetry = resume_action == kResumeWhereReported;
   jobs_[assignment.job.job_id] = std::move(tracked);
+  changed_ = true;
 }
 
 bool TrafficCoordinator::Tracks(const std::string& job_id) {
@@ -57,6 +62,7 @@ void TrafficCoordinator::OnActionFinished(const std::string& robot_id, const std
   if (it == jobs_.end() || it->second.robot_id != robot_id) return;
   Tracked& tracked = it->second;
   tracked.start_action = std::max(tracked.start_action, action_index + 1);
+  changed_ = true;
   if (tracked.schedule) {
     tracked.schedule->first_unfinished =
         std::max(tracked.schedule->first_unfinished, action_index + 1);
@@ -80,6 +86,7 @@ void TrafficCoordinator::End(const std::string& job_id) {
     if (it == jobs_.end()) return;
     robot_id = it->second.robot_id;
     jobs_.erase(it);
+    changed_ = true;
   }
   registry_->SetTrafficWait(robot_id, "");
 }
@@ -87,7 +94,10 @@ void TrafficCoordinator::End(const std::string& job_id) {
 void TrafficCoordinator::Resend(const std::string& robot_id) {
   absl::MutexLock lock(&mutex_);
   for (auto& [job_id, tracked] : jobs_) {
-    if (tracked.robot_id == robot_id) tracked.sent_cleared = -2;
+    if (tracked.robot_id == robot_id) {
+      tracked.sent_cleared = -2;
+      changed_ = true;
+    }
   }
 }
 
@@ -157,6 +167,7 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose) {
                                    params_.cell_m);
   };
   schedule.start_cells = sweep({pose});
+  schedule.cells_id = next_cells_id_++;
   schedule.action_cells.resize(skipped);
   schedule.action_end_cells.assign(skipped, schedule.start_cells);
   schedule.action_start_s.assign(skipped, tracked.assigned_s);
@@ -213,6 +224,10 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
     // fleet is not copied or swept.
     absl::MutexLock lock(&mutex_);
     if (jobs_.empty()) return {};
+    const double now_s = static_cast<double>(clock_->NowNs()) * 1e-9;
+    if (!changed_ && now_s - last_decision_s_ < params_.recheck_period_s) return {};
+    changed_ = false;
+    last_decision_s_ = now_s;
   }
   // Who stands where: online robots without a coordinated job are obstacles on every site (the
   // server does not know the site of a robot that has had no job).
@@ -236,6 +251,10 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
         tracked.start_action = std::max(tracked.start_action, telemetry.action_index);
       }
       Predict(tracked, telemetry.pose_in_map);
+    }
+    for (const auto& [job_id, tracked] : jobs_) {
+      // A job still waiting for its robot's pose is looked at again on the next update.
+      if (!tracked.schedule) changed_ = true;
     }
     std::map<std::string, std::vector<Tracked*>> by_map;
     // A job resumed after a server restart whose robot has not yet said where it is: nobody
@@ -267,6 +286,7 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
       parked.push_back({r.identity.robot_id, cached->second.second});
     }
     if (parked_cells_.size() > 2 * robots.size()) parked_cells_.clear();  // robots forgotten
+    std::erase_if(deciders_, [&](const auto& entry) { return !by_map.contains(entry.first); });
     for (auto& [map_id, tracked_jobs] : by_map) {
       if (auto unplaced = unplaced_robot_by_map.find(map_id);
           unplaced != unplaced_robot_by_map.end()) {
@@ -282,7 +302,7 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
       std::vector<const planner::ScheduledRoute*> routes;
       for (const Tracked* t : tracked_jobs) routes.push_back(&*t->schedule);
       const std::vector<planner::TrafficClearanceDecision> decisions =
-          planner::DecideClearances(routes, parked);
+          deciders_[map_id].Decide(routes, parked);
       for (size_t i = 0; i < decisions.size(); ++i) {
         Tracked& t = *tracked_jobs[i];
         t.schedule->cleared_up_to = decisions[i].cleared_up_to;
@@ -306,6 +326,7 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
       absl::MutexLock lock(&mutex_);
       auto it = jobs_.find(notice.job_id);
       if (it != jobs_.end()) it->second.sent_cleared = -2;  // try again on the next update
+      changed_ = true;
     }
   }
   for (const TrafficWaitChange& change : changes) {

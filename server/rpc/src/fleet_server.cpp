@@ -5,6 +5,7 @@
 #include <grpcpp/server_builder.h>
 #include <malloc.h>
 
+#include <algorithm>
 #include <chrono>
 
 #include "absl/strings/str_cat.h"
@@ -110,33 +111,39 @@ absl::StatusOr<int> FleetServer::Start() {
   }
   agent_service_->Start();
   watch_hub_->Start();
+  // The dispatcher only dispatches, so that a submitted job waits for nothing else.
   dispatcher_ = std::thread([this] {
-    const auto history_period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-        std::chrono::duration<double>(params_.pose_history.period_s));
-    auto next_history = std::chrono::steady_clock::now() + history_period;
-    auto next_trim = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-    const auto stale_period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-        std::chrono::duration<double>(params_.dispatch_period_s));
-    auto next_stale = std::chrono::steady_clock::now();
     while (!stopping_.load()) {
       jobs_->DispatchOnce();
-      // Once a period, not on every wake-up: it walks every robot under the registry's lock.
-      if (std::chrono::steady_clock::now() >= next_stale) {
+      jobs_->WaitForWork(absl::Seconds(params_.dispatch_period_s));
+    }
+  });
+  housekeeper_ = std::thread([this] {
+    const absl::Duration history_period = absl::Seconds(params_.pose_history.period_s);
+    const absl::Duration stale_period = absl::Seconds(params_.dispatch_period_s);
+    const absl::Duration trim_period = absl::Seconds(5);
+    absl::Time next_history = absl::Now() + history_period;
+    absl::Time next_trim = absl::Now() + trim_period;
+    absl::Time next_stale = absl::Now();
+    while (!stop_housekeeping_.WaitForNotificationWithDeadline(
+        std::min({next_history, next_trim, next_stale}))) {
+      const absl::Time now = absl::Now();
+      // Once a period: it walks every robot under the registry's lock.
+      if (now >= next_stale) {
         registry_.RefreshStale();
-        next_stale = std::chrono::steady_clock::now() + stale_period;
+        next_stale = now + stale_period;
       }
-      if (std::chrono::steady_clock::now() >= next_history) {
-        (void)pose_recorder_->RecordOnce(absl::ToUnixMillis(absl::Now()));
+      if (now >= next_history) {
+        (void)pose_recorder_->RecordOnce(absl::ToUnixMillis(now));
         next_history += history_period;
       }
-      if (std::chrono::steady_clock::now() >= next_trim) {
+      if (now >= next_trim) {
         // Large requests (a 100,000-marker set, a 10,000-action route, their assignments) are
         // parsed and sent through many small allocations; glibc keeps the freed pages mapped
         // between live ones, so the server's memory would stay at its peak for good.
         malloc_trim(0);
-        next_trim += std::chrono::seconds(5);
+        next_trim = now + trim_period;
       }
-      jobs_->WaitForWork(absl::Seconds(params_.dispatch_period_s));
     }
   });
   return port;
@@ -150,6 +157,8 @@ void FleetServer::Shutdown() {
   watch_hub_->Shutdown();
   registry_.SetChangeListener(nullptr);
   if (dispatcher_.joinable()) dispatcher_.join();
+  stop_housekeeping_.Notify();
+  if (housekeeper_.joinable()) housekeeper_.join();
   if (sim_clock_feed_ != nullptr) sim_clock_feed_->Stop();
 }
 

@@ -49,10 +49,15 @@ class TrafficCoordinatorTest : public ::testing::Test {
     RobotIdentity identity;
     identity.robot_id = robot_id;
     identity.model = LelyVectorModel();
-    const uint64_t session = registry_.Connect(identity);
+    sessions_[robot_id] = registry_.Connect(identity);
+    Move(robot_id, pose);
+  }
+
+  /// The robot reports a new pose (telemetry in map).
+  void Move(const std::string& robot_id, const Pose2& pose) {
     Telemetry telemetry;
     telemetry.pose_in_map = pose;
-    ASSERT_TRUE(registry_.RecordTelemetry(robot_id, session, telemetry).ok());
+    ASSERT_TRUE(registry_.RecordTelemetry(robot_id, sessions_[robot_id], telemetry).ok());
   }
 
   Assignment Job(const std::string& job_id, std::vector<RouteAction> actions) {
@@ -68,6 +73,7 @@ class TrafficCoordinatorTest : public ::testing::Test {
     return a;
   }
 
+  std::map<std::string, uint64_t> sessions_;
   storage::MemoryMapRepository maps_;
   storage::MemoryMarkerSetRepository markers_;
   ManualClock clock_{1'000'000'000};
@@ -118,6 +124,44 @@ TEST_F(TrafficCoordinatorTest, AnIdleRobotInTheWayIsNeverDrivenThrough) {
   ASSERT_FALSE(mailbox_.sent["a"].empty());
   EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
   EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("idle, which stands in its way"));
+}
+
+// When no job began, ended or moved on, the clearances are decided again only once
+// recheck_period_s has passed: an idle robot that walked out of the way is noticed then.
+TEST_F(TrafficCoordinatorTest, WithoutJobEventsClearancesAreRecheckedOncePerPeriod) {
+  Connect("a", Pose2(-8, 0, 0));
+  Connect("idle", Pose2(0, 0, M_PI / 2));
+  coordinator_.Begin(
+      "a", Job("job-a", {{StraightAction{4.0, 0.5}, {}}, {StraightAction{8.0, 0.5}, {}}}));
+  coordinator_.Update();
+  ASSERT_EQ(mailbox_.sent["a"].size(), 1u);
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+  Move("idle", Pose2(0, 6, M_PI / 2));
+  coordinator_.Update();  // within the period: not looked at
+  EXPECT_EQ(mailbox_.sent["a"].size(), 1u);
+  clock_.AdvanceNs(static_cast<int64_t>(TrafficCoordinatorParams{}.recheck_period_s * 1e9) + 1);
+  coordinator_.Update();
+  ASSERT_EQ(mailbox_.sent["a"].size(), 2u);
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 1);
+  EXPECT_EQ(mailbox_.sent["a"].back().wait_reason, "");
+}
+
+// A job event (here the end of another robot's job) is decided on at once.
+TEST_F(TrafficCoordinatorTest, AJobEndingIsDecidedOnAtOnce) {
+  Connect("a", Pose2(-8, 0, 0));
+  Connect("b", Pose2(0, 0, M_PI / 2));
+  coordinator_.Begin(
+      "a", Job("job-a", {{StraightAction{4.0, 0.5}, {}}, {StraightAction{8.0, 0.5}, {}}}));
+  coordinator_.Begin("b", Job("job-b", {{TurnAction{DegToRad(90), 0.3}, {}}}));
+  coordinator_.Update();
+  ASSERT_EQ(mailbox_.sent["a"].size(), 1u);
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+  Move("b", Pose2(0, 6, M_PI / 2));
+  coordinator_.OnActionFinished("b", "job-b", 0);
+  coordinator_.End("job-b");
+  coordinator_.Update();  // same clock time
+  ASSERT_EQ(mailbox_.sent["a"].size(), 2u);
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 1);
 }
 
 TEST_F(TrafficCoordinatorTest, AReconnectedRobotIsSentItsClearanceAgain) {

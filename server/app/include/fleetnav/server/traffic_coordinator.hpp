@@ -29,6 +29,10 @@ struct TrafficCoordinatorParams {
   /// predicted, from where the robot then is, once it is within half a window of the end, so
   /// the work per dispatcher pass does not grow with the length of routes.
   int horizon_actions = 32;
+  /// Clearances are decided again at once when a job begins, ends, finishes an action or its
+  /// robot reconnects; otherwise at most this often (clock time), for robots without a job
+  /// that moved and robots that reported where they are.
+  double recheck_period_s = 0.5;
   planner::RoutePredictionParams prediction;
   absl::Status Validate() const;
 };
@@ -69,7 +73,8 @@ class TrafficCoordinator {
   /// The robot opened a new stream: its clearance is sent again on the next Update.
   void Resend(const std::string& robot_id);
   /// Predicts routes that wait for a pose, decides clearances, sends those that changed, and
-  /// returns the robots whose wait reason changed.
+  /// returns the robots whose wait reason changed. Returns at once when nothing changed since
+  /// the last decision and recheck_period_s has not passed.
   std::vector<TrafficWaitChange> Update();
 
  private:
@@ -111,6 +116,12 @@ class TrafficCoordinator {
   /// Costmap and planner per (map id, map version, robot kind).
   std::map<std::tuple<std::string, uint32_t, std::string>, PlannerCache> planners_
       ABSL_GUARDED_BY(mutex_);
+  /// Remembers which pairs of predicted windows share floor, per map.
+  std::map<std::string, planner::ClearanceDecider> deciders_ ABSL_GUARDED_BY(mutex_);
+  uint64_t next_cells_id_ ABSL_GUARDED_BY(mutex_) = 1;
+  /// A job began, ended or moved on since the last decision.
+  bool changed_ ABSL_GUARDED_BY(mutex_) = true;
+  double last_decision_s_ ABSL_GUARDED_BY(mutex_) = -1e300;
 };
 
 }  // namespace fleetnav::server

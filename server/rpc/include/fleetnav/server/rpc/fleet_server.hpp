@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "absl/status/statusor.h"
+#include "absl/synchronization/notification.h"
 #include "fleetnav/core/clock.hpp"
 #include "fleetnav/server/fleet_registry.hpp"
 #include "fleetnav/server/job_service.hpp"
@@ -50,9 +51,9 @@ struct FleetServerParams {
 
 /// fleetnavd as a library: opens the store, recovers robots and unfinished jobs, builds
 /// FleetService and AgentService with health checking and reflection, serves on a socket and
-/// runs the dispatcher and the pose-history recorder on a housekeeping thread. Used by main() and
-/// by integration tests (real gRPC over loopback). Start once; Shutdown() ends open streams within
-/// a second.
+/// runs the dispatcher on a thread of its own and the pose-history recorder on a housekeeping
+/// one. Used by main() and by integration tests (real gRPC over loopback). Start once;
+/// Shutdown() ends open streams within a second.
 class FleetServer {
  public:
   explicit FleetServer(FleetServerParams params);
@@ -91,6 +92,9 @@ class FleetServer {
   std::unique_ptr<JobService> jobs_;
   std::unique_ptr<TrafficPlanner> traffic_;
   std::thread dispatcher_;
+  /// Stale robots, pose history and returning freed memory, off the dispatcher's thread.
+  std::thread housekeeper_;
+  absl::Notification stop_housekeeping_;
   std::unique_ptr<grpc::Service> health_service_;
   std::unique_ptr<FleetServiceImpl> fleet_service_;
   std::unique_ptr<AgentServiceImpl> agent_service_;
