@@ -123,6 +123,7 @@ int main(int argc, char** argv) {
   lp.amcl.max_particles = particles;
   lp.amcl.min_particles = std::min(lp.amcl.min_particles, particles);
   lp.amcl.seed = seed;
+  lp.amcl.motion.kinematics = model->kinematics;  // the odometry motion model of its drive
   lp.use_markers = !ignore_markers;
   lp.ultrasonic_range_max_m = params.ultrasonic_range_max_m;
   std::unique_ptr<fleetnav::localization::Localizer> localizer;
@@ -164,7 +165,7 @@ int main(int argc, char** argv) {
     return Fail(s.ToString());
   }
   // What this agent can execute: a job needs every one of its route's action types here.
-  fleetnav::RobotIdentity identity{robot_id, *model, fleetnav::agent::SupportedActionTypes(),
+  fleetnav::RobotIdentity identity{robot_id, *model, fleetnav::agent::SupportedActionTypes(*model),
                                    "0.2.0"};
   auto server_channel = grpc::CreateCustomChannel(
       server_address, grpc::InsecureChannelCredentials(), quick_reconnect);

@@ -30,6 +30,12 @@ absl::StatusOr<PlannerKind> PlannerKindByName(std::string_view name) {
       "kind: '", std::string(name), "' is not lattice, ompl-omni or ompl-reeds-shepp"));
 }
 
+PlannerKind NavigationPlannerKind(const RobotModel& model) {
+  return model.kinematics == Kinematics::kAckermann && model.limits.max_reverse_speed_mps > 0.0
+             ? PlannerKind::kOmplReedsShepp
+             : PlannerKind::kLattice;
+}
+
 absl::StatusOr<std::unique_ptr<SingleRobotPlanner>> MakeSingleRobotPlanner(
     Costmap* costmap, const RobotModel& model, const SingleRobotPlannerParams& params) {
   if (params.kind == PlannerKind::kLattice) {

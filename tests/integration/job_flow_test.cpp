@@ -53,7 +53,7 @@ class JobFlowTest : public testing::FleetServerFixture {
       // Without sites the robot says it turns and drives straight only (the dispatcher's
       // capability test below relies on a route it cannot drive).
       const std::vector<std::string> capabilities =
-          sites ? agent::SupportedActionTypes() : std::vector<std::string>{"straight", "turn"};
+          sites ? agent::SupportedActionTypes(model) : std::vector<std::string>{"straight", "turn"};
       agent::ServerLink link(channel_, RobotIdentity{"lely1", model, capabilities, "t"});
       agent::FleetSiteSource site_source(channel_);
       agent::SimHal hal(grpc::CreateChannel("127.0.0.1:" + std::to_string(sim_port_),

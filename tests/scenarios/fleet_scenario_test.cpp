@@ -96,6 +96,33 @@ nlohmann::json RunShipped(const std::string& file, const std::string& keep, int*
   return nlohmann::json::parse(out.substr(0, out.find('\n')));  // one line
 }
 
+/// A shipped one-job goal scenario ends with its robot at the goal, judged by the truth.
+void ExpectGoalReached(const std::string& file, const Pose2& goal, double tolerance_m,
+                       double tolerance_rad) {
+  int code = -1;
+  const nlohmann::json report = RunShipped(file, TempPath(file + ".keep"), &code);
+  EXPECT_EQ(code, 0) << report.dump();
+  EXPECT_EQ(report.value("contacts", -1), 0);
+  ASSERT_EQ(report["robots"].size(), 1u);
+  const nlohmann::json& robot = report["robots"][0];
+  const nlohmann::json& end = robot["final_pose"];
+  const Pose2 truth(end.value("x_m", 1e9), end.value("y_m", 1e9), end.value("yaw_rad", 0.0));
+  EXPECT_TRUE(truth.IsNear(goal, tolerance_m, tolerance_rad)) << end.dump();
+  EXPECT_LT(robot.value("max_loc_error_m", 1e9), 0.25);  // laser AMCL kept up
+}
+
+// The mecanum platform's goal job: lattice path, spline with augmented end points, holonomic
+// tracking, laser AMCL with the omni motion model; down an aisle past a trolley.
+TEST(FleetScenario, AMecanumPlatformReachesItsGoalHolonomically) {
+  ExpectGoalReached("store_goal.yaml", Pose2(3.0, -2.0, M_PI / 2), 0.1, 0.06);
+}
+
+// The Ackermann robot's goal job at a yaw no lattice heading reaches: Reeds-Shepp path, pure
+// pursuit with cusps, laser AMCL with the Ackermann motion model.
+TEST(FleetScenario, AnAckermannRobotReachesAGoalAtAnyYaw) {
+  ExpectGoalReached("yard_goal.yaml", Pose2(7.0, -9.0, -100.0 * M_PI / 180.0), 0.2, 0.12);
+}
+
 const nlohmann::json& RobotIn(const nlohmann::json& report, const std::string& robot_id) {
   for (const auto& robot : report["robots"]) {
     if (robot["robot_id"] == robot_id) return robot;

@@ -21,7 +21,16 @@ planner::CostmapParams CostmapParamsFor(double padding_m) {
 
 absl::Status FreeNavigationParams::Validate() const {
   if (absl::Status s = tracker.Validate(); !s.ok()) return s;
+  if (absl::Status s = holonomic.Validate(); !s.ok()) return s;
+  if (absl::Status s = smoothing.Validate(); !s.ok()) return s;
+  if (absl::Status s = ackermann.Validate(); !s.ok()) return s;
+  if (absl::Status s = ompl.Validate(); !s.ok()) return s;
   if (absl::Status s = lattice.Validate(); !s.ok()) return s;
+  if (!(std::isfinite(goal_check_m) && goal_check_m > 0.0 && std::isfinite(goal_check_rad) &&
+        goal_check_rad > 0.0 && max_goal_corrections >= 0)) {
+    return absl::InvalidArgumentError(
+        "goal_check_m > 0, goal_check_rad > 0, max_goal_corrections >= 0 required");
+  }
   if (!(std::isfinite(padding_m) && padding_m >= 0.0 && std::isfinite(plan_time_limit_s) &&
         plan_time_limit_s > 0.0 && std::isfinite(replan_cross_track_m) &&
         replan_cross_track_m > 0.0)) {
@@ -65,17 +74,21 @@ FreeNavigationController::FreeNavigationController(const FreeNavigationAction& a
                                                    const RobotModel& model,
                                                    std::shared_ptr<const OccupancyGrid> map,
                                                    FreeNavigationParams params)
-    : action_(action),
-      model_(model),
-      map_(std::move(map)),
-      params_(params),
-      tracker_(
-          [&] {
-            RegulatedPurePursuitParams p = params.tracker;
-            p.desired_speed_mps = action.speed_mps;
-            return p;
-          }(),
-          model.limits) {}
+    : action_(action), model_(model), map_(std::move(map)), params_(params) {
+  if (model.kinematics == Kinematics::kOmnidirectional) {
+    HolonomicTrackerParams p = params.holonomic;
+    p.desired_speed_mps = action.speed_mps;
+    tracker_ = std::make_unique<HolonomicTracker>(p, model.limits);
+  } else if (model.kinematics == Kinematics::kAckermann) {
+    AckermannPurePursuitParams p = params.ackermann;
+    p.desired_speed_mps = action.speed_mps;
+    tracker_ = std::make_unique<AckermannPurePursuit>(p, model);
+  } else {
+    RegulatedPurePursuitParams p = params.tracker;
+    p.desired_speed_mps = action.speed_mps;
+    tracker_ = std::make_unique<RegulatedPurePursuit>(p, model.limits);
+  }
+}
 
 absl::Status FreeNavigationController::Plan(const Pose2& from_in_map) {
   if (!costmap_) {
@@ -83,8 +96,12 @@ absl::Status FreeNavigationController::Plan(const Pose2& from_in_map) {
         planner::Costmap::Build(*map_, model_.footprint_m, CostmapParamsFor(params_.padding_m));
     if (!costmap.ok()) return costmap.status();
     costmap_.emplace(*std::move(costmap));
+    planner::SingleRobotPlannerParams planner_params;
+    planner_params.kind = planner::NavigationPlannerKind(model_);
+    planner_params.lattice = params_.lattice;
+    planner_params.ompl = params_.ompl;
     absl::StatusOr<std::unique_ptr<planner::SingleRobotPlanner>> planner =
-        planner::MakeSingleRobotPlanner(&*costmap_, model_, params_.lattice);
+        planner::MakeSingleRobotPlanner(&*costmap_, model_, planner_params);
     if (!planner.ok()) return planner.status();
     planner_ = *std::move(planner);
   }
@@ -94,9 +111,29 @@ absl::Status FreeNavigationController::Plan(const Pose2& from_in_map) {
       *planner_, map_->origin(), from_in_map, ahead, action_.goal, params_.plan_time_limit_s);
   if (!path.ok()) return path.status();
   planned_length_m_ = path->length_m;
-  tracker_.SetPath(std::move(path->poses));
+  if (model_.kinematics == Kinematics::kOmnidirectional) path->poses = Smoothed(path->poses);
+  tracker_->SetPath(std::move(path->poses));
   planned_ = true;
   return absl::OkStatus();
+}
+
+std::vector<Pose2> FreeNavigationController::Smoothed(const std::vector<Pose2>& path_in_map) {
+  const Pose2 grid_from_map = map_->origin().Inverse();
+  planner::PathResult in_grid;
+  for (const Pose2& p : path_in_map) in_grid.poses.push_back(grid_from_map * p);
+  absl::StatusOr<planner::Trajectory> smooth =
+      planner::SmoothPath(in_grid, &*costmap_, model_, params_.smoothing);
+  // SmoothPath falls back to the planner's own motion where the spline collides; it fails
+  // only on input it cannot take, and then the planner's path is followed as it is.
+  if (!smooth.ok() || smooth->points.empty()) return path_in_map;
+  std::vector<Pose2> out;
+  out.reserve(smooth->points.size() + 1);
+  for (const planner::TrajectoryPoint& point : smooth->points) {
+    out.push_back(map_->origin() *
+                  Pose2(point.position_m.x(), point.position_m.y(), point.yaw_rad));
+  }
+  out.push_back(path_in_map.back());
+  return out;
 }
 
 ControlOutput FreeNavigationController::Step(const ControlInput& input) {
@@ -113,20 +150,33 @@ ControlOutput FreeNavigationController::Step(const ControlInput& input) {
          (action_.waypoints_m[next_waypoint_] - input.pose_in_map.translation()).norm() < 1.0) {
     ++next_waypoint_;
   }
-  out.command = tracker_.Step(input.pose_in_map, input.dt_s);
-  if (tracker_.cross_track_m() > params_.replan_cross_track_m) {
+  out.command = tracker_->Step(input.pose_in_map, input.dt_s);
+  if (tracker_->cross_track_m() > params_.replan_cross_track_m) {
     out.mode_reason =
-        absl::StrFormat("off the path by %.2f m: replanning", tracker_.cross_track_m());
+        absl::StrFormat("off the path by %.2f m: replanning", tracker_->cross_track_m());
     if (absl::Status s = Plan(input.pose_in_map); !s.ok()) {
       out.failure = s;
       return out;
     }
-    out.command = tracker_.Step(input.pose_in_map, input.dt_s);
+    out.command = tracker_->Step(input.pose_in_map, input.dt_s);
   }
-  out.done = tracker_.done();
+  out.done = tracker_->done();
+  if (out.done && goal_corrections_ < params_.max_goal_corrections &&
+      !input.pose_in_map.IsNear(action_.goal, params_.goal_check_m, params_.goal_check_rad)) {
+    ++goal_corrections_;
+    const Pose2 error = action_.goal.Inverse() * input.pose_in_map;
+    out.mode_reason = absl::StrFormat("ended %.2f m and %.1f deg from the goal: correcting",
+                                      error.translation().norm(), RadToDeg(error.yaw_rad()));
+    if (absl::Status s = Plan(input.pose_in_map); !s.ok()) {
+      out.failure = s;
+      return out;
+    }
+    out.command = tracker_->Step(input.pose_in_map, input.dt_s);
+    out.done = tracker_->done();
+  }
   out.progress_fraction =
       planned_length_m_ > 0.0
-          ? std::clamp(1.0 - tracker_.remaining_m() / planned_length_m_, 0.0, 1.0)
+          ? std::clamp(1.0 - tracker_->remaining_m() / planned_length_m_, 0.0, 1.0)
           : 0.0;
   if (out.done) {
     out.command = Twist2{};

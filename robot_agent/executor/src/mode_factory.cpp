@@ -24,6 +24,13 @@ bool HasInductiveSensors(const RobotModel& model) {
   return false;
 }
 
+/// The kinds FreeNavigationController has a path tracker for.
+bool FreeNavigationSupported(const RobotModel& model) {
+  return model.kinematics == Kinematics::kDifferential ||
+         model.kinematics == Kinematics::kOmnidirectional ||
+         model.kinematics == Kinematics::kAckermann;
+}
+
 /// The marker set's pieces of stripe `stripe_id` (of `kind`), or of every stripe of `kind` when
 /// stripe_id is 0.
 std::vector<StripeMarker> StripePieces(const RouteContext& context, int stripe_id,
@@ -87,7 +94,7 @@ absl::Status CheckAction(const RouteAction& action, int index, const RouteContex
     return absl::FailedPreconditionError(absl::StrCat(Where(action, index), ": ", why));
   };
   if (const auto* free = std::get_if<FreeNavigationAction>(&action.params)) {
-    if (context.model.kinematics != Kinematics::kDifferential) {
+    if (!FreeNavigationSupported(context.model)) {
       return refuse(absl::StrCat("free navigation for ", context.model.kind_name,
                                  " is not supported by this agent version"));
     }
@@ -97,6 +104,11 @@ absl::Status CheckAction(const RouteAction& action, int index, const RouteContex
         !s.ok()) {
       return refuse(std::string(s.message()));
     }
+  }
+  if (std::holds_alternative<TurnAction>(action.params) &&
+      context.model.kinematics == Kinematics::kAckermann) {
+    return refuse(
+        absl::StrCat(context.model.kind_name, " steers its front wheels and cannot turn in place"));
   }
   if (const auto* fence = std::get_if<FenceNavigationAction>(&action.params)) {
     if (FenceUltrasonic(*fence, context.model) == nullptr) {
@@ -137,8 +149,19 @@ absl::Status ModeParams::Validate() const {
   return free_navigation.Validate();
 }
 
-std::vector<std::string> SupportedActionTypes() {
-  return {"straight", "turn", "fence_navigation", "stripe_navigation", "dock", "free_navigation"};
+std::vector<std::string> SupportedActionTypes(const RobotModel& model) {
+  std::vector<std::string> types{"straight"};
+  if (model.kinematics != Kinematics::kAckermann) types.push_back("turn");
+  if (model.FindSensor("ultrasonic_left") != nullptr ||
+      model.FindSensor("ultrasonic_right") != nullptr) {
+    types.push_back("fence_navigation");
+  }
+  if (HasInductiveSensors(model)) {
+    types.push_back("stripe_navigation");
+    types.push_back("dock");
+  }
+  if (FreeNavigationSupported(model)) types.push_back("free_navigation");
+  return types;
 }
 
 absl::Status CheckRoute(const Route& route, const RouteContext& context, const ModeParams& params) {

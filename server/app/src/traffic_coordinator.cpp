@@ -119,9 +119,11 @@ planner::SingleRobotPlanner* TrafficCoordinator::PlannerFor(const Tracked& track
           planner::Costmap::Build(map->grid, tracked.model.footprint_m, costmap_params);
       if (costmap.ok()) {
         cache.costmap = std::make_unique<planner::Costmap>(*std::move(costmap));
+        // The planner the robot's agent navigates with, so the prediction is its path.
+        planner::SingleRobotPlannerParams planner_params;
+        planner_params.kind = planner::NavigationPlannerKind(tracked.model);
         absl::StatusOr<std::unique_ptr<planner::SingleRobotPlanner>> planner =
-            planner::MakeSingleRobotPlanner(cache.costmap.get(), tracked.model,
-                                            planner::SingleRobotPlannerParams{});
+            planner::MakeSingleRobotPlanner(cache.costmap.get(), tracked.model, planner_params);
         if (planner.ok()) cache.planner = *std::move(planner);
       }
       cache.map_origin = map->grid.origin();

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fleetnav/core/angles.hpp"
+#include "fleetnav/robot_agent/mode_factory.hpp"
 #include "kinematic_unicycle.hpp"
 
 namespace fleetnav::agent {
@@ -146,6 +147,29 @@ TEST(RouteExecutorTest, FenceLegOnARobotWithoutUltrasonicsIsRefused) {
   EXPECT_EQ(executor.state(), ExecutionState::kFailed);
   EXPECT_THAT(std::string(executor.failure().message()), HasSubstr("actions[0]"));
   EXPECT_THAT(std::string(executor.failure().message()), HasSubstr("ultrasonic"));
+}
+
+TEST(RouteExecutorTest, ATurnInPlaceOnAnAckermannRobotIsRefused) {
+  RouteExecutor executor(
+      MakeRoute({Act(StraightAction{1.0, 0.25}), Act(TurnAction{DegToRad(90), 0.3})}),
+      RouteContext{AckermannDeliveryModel(), std::nullopt, nullptr});
+  EXPECT_EQ(executor.state(), ExecutionState::kFailed);
+  EXPECT_EQ(executor.failure().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_THAT(std::string(executor.failure().message()), HasSubstr("actions[1] (turn)"));
+  EXPECT_THAT(std::string(executor.failure().message()), HasSubstr("cannot turn in place"));
+}
+
+// What each kind says it runs: the dispatcher sends a job only to robots that advertise every
+// action type of its route.
+TEST(RouteExecutorTest, EachKindAdvertisesWhatItsSensorsAndDriveAllow) {
+  using ::testing::ElementsAre;
+  EXPECT_THAT(SupportedActionTypes(LelyVectorModel()),
+              ElementsAre("straight", "turn", "fence_navigation", "stripe_navigation", "dock",
+                          "free_navigation"));
+  EXPECT_THAT(SupportedActionTypes(MecanumPlatformModel()),
+              ElementsAre("straight", "turn", "free_navigation"));
+  EXPECT_THAT(SupportedActionTypes(AckermannDeliveryModel()),
+              ElementsAre("straight", "free_navigation"));
 }
 
 TEST(RouteExecutorTest, MarkerEndWithoutAMarkerSetIsRefused) {

@@ -22,6 +22,11 @@ std::string_view PlannerKindName(PlannerKind kind);
 /// "lattice", "ompl-omni" or "ompl-reeds-shepp"; InvalidArgument otherwise.
 absl::StatusOr<PlannerKind> PlannerKindByName(std::string_view name);
 
+/// The planner a robot of `model` navigates with: Reeds-Shepp curves for Ackermann models
+/// that may reverse (they reach any goal yaw; the lattice's arcs only reach its heading bins),
+/// the lattice for every other model.
+PlannerKind NavigationPlannerKind(const RobotModel& model);
+
 /// Parameters of MakeSingleRobotPlanner: the kind and each kind's own parameters.
 struct SingleRobotPlannerParams {
   PlannerKind kind = PlannerKind::kLattice;

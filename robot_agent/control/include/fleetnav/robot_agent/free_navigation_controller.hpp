@@ -9,20 +9,38 @@
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/planner/costmap.hpp"
+#include "fleetnav/planner/path_smoothing.hpp"
+#include "fleetnav/planner/planner_factory.hpp"
 #include "fleetnav/planner/single_robot_planner.hpp"
+#include "fleetnav/robot_agent/ackermann_pure_pursuit.hpp"
+#include "fleetnav/robot_agent/holonomic_tracker.hpp"
 #include "fleetnav/robot_agent/motion_controller.hpp"
+#include "fleetnav/robot_agent/path_tracker.hpp"
 #include "fleetnav/robot_agent/regulated_pure_pursuit.hpp"
 
 namespace fleetnav::agent {
 
 struct FreeNavigationParams {
+  /// Differential drive.
   RegulatedPurePursuitParams tracker;
+  /// Omnidirectional platforms: the path is spline-smoothed, then tracked holonomically.
+  HolonomicTrackerParams holonomic;
+  planner::SmoothingParams smoothing;
+  /// Ackermann robots: Reeds-Shepp paths (OMPL) reach any goal yaw; tracked with cusps.
+  AckermannPurePursuitParams ackermann;
+  planner::OmplPlannerParams ompl;
   planner::LatticeParams lattice;
   /// Clearance kept around the footprint when planning.
   double padding_m = 0.1;
   double plan_time_limit_s = 2.0;
   /// Replan from where the robot is when it is further than this from its path.
   double replan_cross_track_m = 0.5;
+  /// When the tracker has ended further than this from the goal pose (a car that reached the
+  /// end of its path at the wrong heading), plan again from there, at most
+  /// max_goal_corrections times; after that the action ends where the robot is.
+  double goal_check_m = 0.15;
+  double goal_check_rad = 0.1;
+  int max_goal_corrections = 3;
   absl::Status Validate() const;
 };
 
@@ -31,11 +49,15 @@ struct FreeNavigationParams {
 absl::Status CheckFreeNavigation(const FreeNavigationAction& action, const RobotModel& model,
                                  const OccupancyGrid& map, double padding_m);
 
-/// Free navigation (Lely thesis §6.6.5): plan on the map with the lattice planner for the
-/// robot's kinematics (no reversing for the Lely) from the estimated pose through the route's
-/// waypoints to the goal, and track the path with regulated pure pursuit; replan from where the
-/// robot is when it has left the path. A goal the planner cannot reach exactly fails the
-/// action with the reason. Not thread-safe.
+/// Free navigation (Lely thesis §6.6.5): plan on the map from the estimated pose through the
+/// route's waypoints to the goal — the lattice planner for differential drive (no reversing
+/// for the Lely) and omni platforms, Reeds-Shepp curves for Ackermann robots — and track the
+/// path with the tracker of the robot's drive: regulated pure pursuit for differential drive;
+/// for omnidirectional platforms the path is first smoothed into a cubic spline with end-point
+/// augmentation (KUKA thesis ch. 9–10, checked against the costmap) and followed by the
+/// HolonomicTracker; Ackermann robots follow it with AckermannPurePursuit, cusps included. Replan
+/// from where the robot is when it has left the path. A goal the planner cannot reach exactly fails
+/// the action with the reason. Not thread-safe.
 class FreeNavigationController : public MotionController {
  public:
   FreeNavigationController(const FreeNavigationAction& action, const RobotModel& model,
@@ -44,6 +66,8 @@ class FreeNavigationController : public MotionController {
 
  private:
   absl::Status Plan(const Pose2& from_in_map);
+  /// An omni platform's path (map frame) as a spline with augmented end points.
+  std::vector<Pose2> Smoothed(const std::vector<Pose2>& path_in_map);
 
   FreeNavigationAction action_;
   RobotModel model_;
@@ -51,8 +75,9 @@ class FreeNavigationController : public MotionController {
   FreeNavigationParams params_;
   std::optional<planner::Costmap> costmap_;
   std::unique_ptr<planner::SingleRobotPlanner> planner_;
-  RegulatedPurePursuit tracker_;
+  std::unique_ptr<PathTracker> tracker_;
   size_t next_waypoint_ = 0;
+  int goal_corrections_ = 0;
   double planned_length_m_ = 0.0;
   bool planned_ = false;
 };

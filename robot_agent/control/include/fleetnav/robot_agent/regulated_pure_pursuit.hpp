@@ -6,6 +6,7 @@
 #include "fleetnav/core/pose2.hpp"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/core/robot_state.hpp"
+#include "fleetnav/robot_agent/path_tracker.hpp"
 
 namespace fleetnav::agent {
 
@@ -35,18 +36,15 @@ struct RegulatedPurePursuitParams {
 /// goal, rotation in place when the path turns away from the heading, and a final rotation to
 /// the goal's yaw. Respects the model's speed, yaw-rate and acceleration limits. Not
 /// thread-safe.
-class RegulatedPurePursuit {
+class RegulatedPurePursuit : public PathTracker {
  public:
   RegulatedPurePursuit(RegulatedPurePursuitParams params, MotionLimits limits);
 
-  /// A path in the map frame ending at the goal pose (at least one pose).
-  void SetPath(std::vector<Pose2> path);
-  Twist2 Step(const Pose2& pose_in_map, double dt_s);
-  bool done() const { return done_; }
-  /// Distance from the robot's closest path point to the goal along the path.
-  double remaining_m() const { return remaining_m_; }
-  /// Distance from the robot to the closest path point (for replanning).
-  double cross_track_m() const { return cross_track_m_; }
+  void SetPath(std::vector<Pose2> path) override;
+  Twist2 Step(const Pose2& pose_in_map, double dt_s) override;
+  bool done() const override { return done_; }
+  double remaining_m() const override { return remaining_m_; }
+  double cross_track_m() const override { return cross_track_m_; }
 
  private:
   RegulatedPurePursuitParams params_;

@@ -38,8 +38,10 @@ struct RouteContext {
   std::shared_ptr<const OccupancyGrid> map;
 };
 
-/// The action types this agent version executes, as advertised to fleetnavd.
-std::vector<std::string> SupportedActionTypes();
+/// The action types this agent version executes on a robot of `model`, as advertised to
+/// fleetnavd: turning in place needs a drive that can (not Ackermann), fence following a side
+/// ultrasonic, stripes and docking inductive sensors.
+std::vector<std::string> SupportedActionTypes(const RobotModel& model);
 
 /// Checks a whole route before the robot moves: every action type and end condition is
 /// executable here, its sensors are fitted, and every marker it ends on is in the marker set.

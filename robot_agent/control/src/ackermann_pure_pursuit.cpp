@@ -1,0 +1,157 @@
+#include "fleetnav/robot_agent/ackermann_pure_pursuit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace fleetnav::agent {
+namespace {
+
+/// Steps shorter than this carry no direction of their own.
+constexpr double kTinyStepM = 1e-4;
+/// Slowest speed while a piece's end is still ahead, so it is reached in finite time.
+constexpr double kCreepSpeedMps = 0.03;
+/// A piece's end passed this close beside the robot counts as reached.
+constexpr double kPassedLateralM = 0.25;
+
+}  // namespace
+
+absl::Status AckermannPurePursuitParams::Validate() const {
+  for (double v :
+       {desired_speed_mps, lookahead_time_s, min_lookahead_m, max_lookahead_m, goal_tolerance_m}) {
+    if (!(std::isfinite(v) && v > 0.0)) {
+      return absl::InvalidArgumentError(
+          "Ackermann pure pursuit parameters: must be finite and > 0");
+    }
+  }
+  if (min_lookahead_m > max_lookahead_m) {
+    return absl::InvalidArgumentError("min_lookahead_m: must be <= max_lookahead_m");
+  }
+  if (!(brake_share > 0.0 && brake_share <= 1.0)) {
+    return absl::InvalidArgumentError("brake_share: must be in (0, 1]");
+  }
+  return absl::OkStatus();
+}
+
+AckermannPurePursuit::AckermannPurePursuit(AckermannPurePursuitParams params,
+                                           const RobotModel& model)
+    : params_(params),
+      limits_(model.limits),
+      max_curvature_per_m_(model.wheelbase_m > 0.0
+                               ? std::tan(model.limits.max_steering_rad) / model.wheelbase_m
+                               : std::numeric_limits<double>::infinity()) {}
+
+void AckermannPurePursuit::SetPath(std::vector<Pose2> path) {
+  path_ = std::move(path);
+  to_goal_m_.assign(path_.size(), 0.0);
+  for (size_t i = path_.size(); i-- > 1;) {
+    to_goal_m_[i - 1] =
+        to_goal_m_[i] + (path_[i].translation() - path_[i - 1].translation()).norm();
+  }
+  // Split where the direction of travel (step · heading) changes sign.
+  pieces_.clear();
+  piece_sign_.clear();
+  int sign = 0;
+  size_t begin = 0;
+  for (size_t i = 0; i + 1 < path_.size(); ++i) {
+    const Eigen::Vector2d step = path_[i + 1].translation() - path_[i].translation();
+    if (step.norm() < kTinyStepM) continue;
+    const Eigen::Vector2d heading(std::cos(path_[i].yaw_rad()), std::sin(path_[i].yaw_rad()));
+    const int s = step.dot(heading) >= 0.0 ? 1 : -1;
+    if (sign != 0 && s != sign) {
+      pieces_.push_back({begin, i});
+      piece_sign_.push_back(sign);
+      begin = i;
+    }
+    sign = s;
+  }
+  pieces_.push_back({begin, path_.empty() ? 0 : path_.size() - 1});
+  piece_sign_.push_back(sign == 0 ? 1 : sign);
+  piece_ = 0;
+  closest_ = 0;
+  last_speed_mps_ = 0.0;
+  done_ = path_.empty();
+}
+
+Twist2 AckermannPurePursuit::Step(const Pose2& pose, double dt_s) {
+  if (done_ || path_.empty()) {
+    last_speed_mps_ = 0.0;
+    return Twist2{};
+  }
+  while (true) {
+    const auto [begin, end] = pieces_[piece_];
+    closest_ = std::clamp(closest_, begin, end);
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t i = closest_; i <= end; ++i) {
+      const double d = (path_[i].translation() - pose.translation()).norm();
+      if (d < best) {
+        best = d;
+        closest_ = i;
+      }
+    }
+    cross_track_m_ = best;
+    remaining_m_ = to_goal_m_[closest_] + best;
+    // The piece's end reached: within tolerance, or passed (behind in the direction of travel).
+    const Pose2& end_pose = path_[end];
+    const Eigen::Vector2d end_local = pose.Inverse().TransformPoint(end_pose.translation());
+    const int sign = piece_sign_[piece_];
+    const bool reached =
+        end_local.norm() <= params_.goal_tolerance_m ||
+        (sign * end_local.x() <= 0.0 && std::abs(end_local.y()) <= 2.0 * params_.goal_tolerance_m);
+    if (!reached) break;
+    if (piece_ + 1 == pieces_.size()) {
+      done_ = true;
+      last_speed_mps_ = 0.0;
+      return Twist2{};
+    }
+    // A cusp: stop before driving the other way.
+    if (std::abs(last_speed_mps_) > 1e-3) {
+      const double brake = limits_.max_accel_mps2 * dt_s;
+      last_speed_mps_ = std::abs(last_speed_mps_) <= brake
+                            ? 0.0
+                            : last_speed_mps_ - std::copysign(brake, last_speed_mps_);
+      return Twist2{last_speed_mps_, 0.0, 0.0};
+    }
+    ++piece_;
+  }
+  const auto [begin, end] = pieces_[piece_];
+  const int sign = piece_sign_[piece_];
+  // The lookahead point: the first pose of the piece that far away, else beyond its end.
+  const double lookahead = std::clamp(std::abs(last_speed_mps_) * params_.lookahead_time_s,
+                                      params_.min_lookahead_m, params_.max_lookahead_m);
+  Eigen::Vector2d target;
+  bool found = false;
+  for (size_t i = closest_; i <= end; ++i) {
+    if ((path_[i].translation() - pose.translation()).norm() >= lookahead) {
+      target = path_[i].translation();
+      found = true;
+      break;
+    }
+  }
+  if (!found) {
+    const Pose2& e = path_[end];
+    const double beyond = lookahead - (e.translation() - pose.translation()).norm();
+    target = e.translation() + sign * std::max(beyond, 0.0) *
+                                   Eigen::Vector2d(std::cos(e.yaw_rad()), std::sin(e.yaw_rad()));
+  }
+  const Eigen::Vector2d local = pose.Inverse().TransformPoint(target);
+  double curvature = 2.0 * local.y() / std::max(local.squaredNorm(), 1e-9);
+  curvature = std::clamp(curvature, -max_curvature_per_m_, max_curvature_per_m_);
+
+  const double to_end_m = std::max(to_goal_m_[closest_] - to_goal_m_[end],
+                                   (path_[end].translation() - pose.translation()).norm());
+  const double top = sign > 0 ? limits_.max_speed_mps : limits_.max_reverse_speed_mps;
+  double speed = std::min(params_.desired_speed_mps, top);
+  speed = std::min(speed, std::sqrt(2.0 * params_.brake_share * limits_.max_accel_mps2 * to_end_m));
+  if (std::abs(curvature) > 1e-9) {
+    speed = std::min(speed, limits_.max_yaw_rate_radps / std::abs(curvature));
+  }
+  speed = std::max(speed, kCreepSpeedMps);
+  const double signed_speed =
+      std::clamp(sign * speed, last_speed_mps_ - limits_.max_accel_mps2 * dt_s,
+                 last_speed_mps_ + limits_.max_accel_mps2 * dt_s);
+  last_speed_mps_ = signed_speed;
+  return Twist2{signed_speed, 0.0, signed_speed * curvature};
+}
+
+}  // namespace fleetnav::agent
