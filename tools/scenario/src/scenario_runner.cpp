@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "absl/strings/ascii.h"
+#include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_split.h"
@@ -373,10 +374,17 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   if (keep_) {
     work_ = opt_.keep_dir;
     fs::create_directories(work_);
-    // A folder kept from an earlier run: the database starts fresh all the same.
-    for (const char* stale : {"fleet.db", "fleet.db-wal", "fleet.db-shm"}) {
-      std::error_code ignored;
-      fs::remove(fs::path(work_) / stale, ignored);
+    // A folder kept from an earlier run: the database, the recordings and the logs start
+    // fresh all the same (the recordings are appended to, and would mix two runs).
+    std::error_code ignored;
+    for (const fs::directory_entry& entry : fs::directory_iterator(work_, ignored)) {
+      const std::string name = entry.path().filename().string();
+      const std::string ext = entry.path().extension().string();
+      if (entry.is_regular_file() && (absl::StartsWith(name, "fleet.db") || name == "truth.csv" ||
+                                      absl::StartsWith(name, "estimate-") || ext == ".log" ||
+                                      ext == ".out" || ext == ".err" || ext == ".port")) {
+        fs::remove(entry.path(), ignored);
+      }
     }
   } else {
     char pattern[] = "/tmp/fleetnav-scenario.XXXXXX";
