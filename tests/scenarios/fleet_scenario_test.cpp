@@ -149,6 +149,35 @@ std::vector<std::pair<double, Pose2>> TruePath(const std::string& truth_csv,
   return path;
 }
 
+// The store (issue: fleet in the loop): three mecanum platforms and one Ackermann robot, 40
+// goal jobs at once, their ways crossing in pairs: every job ends succeeded, no contact, the
+// footprints never closer than 0.3 m (the truth), and each robot is back home.
+TEST(FleetScenario, AStoreFleetOfFourRunsFortyGoalJobsWithoutContact) {
+  int code = -1;
+  const nlohmann::json report = RunShipped("store_fleet.yaml", TempPath("store-fleet"), &code);
+  EXPECT_EQ(code, 0) << report.dump();
+  EXPECT_EQ(report.value("contacts", -1), 0);
+  EXPECT_GE(report.value("min_separation_m", 0.0), 0.3);
+  ASSERT_EQ(report["jobs"].size(), 40u);
+  for (const auto& job : report["jobs"]) EXPECT_EQ(job["state"], "succeeded") << job.dump();
+  const std::vector<std::pair<std::string, Pose2>> homes = {
+      {"omni1", Pose2(-10.5, 5.8, 0.0)},
+      {"omni2", Pose2(-10.5, -5.8, 0.0)},
+      {"omni3", Pose2(10.5, 5.8, M_PI)},
+      {"delivery1", Pose2(10.0, -5.8, M_PI / 2)}};
+  for (const auto& [robot_id, home] : homes) {
+    const nlohmann::json& robot = RobotIn(report, robot_id);
+    EXPECT_EQ(robot.value("jobs", 0), 10) << robot_id;
+    const nlohmann::json& end = robot["final_pose"];
+    const Pose2 truth(end.value("x_m", 1e9), end.value("y_m", 1e9), end.value("yaw_rad", 0.0));
+    EXPECT_TRUE(truth.IsNear(home, 0.25, 0.15)) << robot_id << " " << end.dump();
+  }
+  // The crossings were ordered: somebody waited.
+  double waited_s = 0.0;
+  for (const auto& robot : report["robots"]) waited_s += robot.value("waiting_s", 0.0);
+  EXPECT_GT(waited_s, 0.0);
+}
+
 void ExpectBothRoundsEndWithoutContact(const nlohmann::json& report, int exit_code) {
   EXPECT_EQ(exit_code, 0) << report.dump();
   EXPECT_EQ(report.value("contacts", -1), 0);
