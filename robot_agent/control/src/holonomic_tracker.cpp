@@ -16,6 +16,10 @@ constexpr double kSamePlaceM = 0.01;
 /// A planned turn in place is turned once the platform is this close to its place.
 constexpr double kInPlaceRadiusM = 0.1;
 constexpr double kTurnStepToleranceRad = 0.05;
+/// The path's turning rate is taken over this much of it ahead of the closest pose.
+constexpr double kTurnLookM = 0.2;
+/// Turning along the path uses at most this share of the yaw-rate limit (the rest corrects).
+constexpr double kYawRateShare = 0.8;
 /// Slowest translation while still away from the goal, so the approach ends in finite time.
 constexpr double kCreepSpeedMps = 0.02;
 
@@ -80,6 +84,7 @@ Twist2 HolonomicTracker::Step(const Pose2& pose, double dt_s) {
   // Turns in place are turned where they were planned: the planner checked that sweep.
   Eigen::Vector2d velocity_in_map = Eigen::Vector2d::Zero();
   double yaw_target = pose.yaw_rad();
+  double yaw_feed_forward_radps = 0.0;
   bool turning_in_place = false;
   while (closest_ + 1 < path_.size() &&
          (path_[closest_ + 1].translation() - path_[closest_].translation()).norm() < kSamePlaceM &&
@@ -101,8 +106,11 @@ Twist2 HolonomicTracker::Step(const Pose2& pose, double dt_s) {
   const double goal_distance = (goal.translation() - pose.translation()).norm();
   if (!turning_in_place) {
     const size_t stop = NextStop(closest_);
+    // At the goal pose: done once the platform can stop within this tick.
     if (stop + 1 == path_.size() && goal_distance <= params_.goal_tolerance_m &&
-        std::abs(AngleDifference(goal.yaw_rad(), pose.yaw_rad())) <= params_.goal_tolerance_rad) {
+        std::abs(AngleDifference(goal.yaw_rad(), pose.yaw_rad())) <= params_.goal_tolerance_rad &&
+        std::hypot(last_command_.vx_mps, last_command_.vy_mps) <= limits_.max_accel_mps2 * dt_s &&
+        std::abs(last_command_.yaw_rate_radps) <= limits_.max_yaw_accel_radps2 * dt_s) {
       done_ = true;
       last_command_ = Twist2{};
       return last_command_;
@@ -118,6 +126,19 @@ Twist2 HolonomicTracker::Step(const Pose2& pose, double dt_s) {
     double speed = std::min(params_.desired_speed_mps, limits_.max_speed_mps);
     speed =
         std::min(speed, std::sqrt(2.0 * params_.brake_share * limits_.max_accel_mps2 * to_stop_m));
+    // The path's turning per metre just ahead: the platform turns as it moves along, no
+    // sooner (the spline's sweep was checked with the yaw where it is planned), and no faster
+    // than its yaw-rate limit allows at this speed.
+    size_t ahead = closest_;
+    while (ahead < stop && to_goal_m_[closest_] - to_goal_m_[ahead] < kTurnLookM) ++ahead;
+    const double ahead_m = to_goal_m_[closest_] - to_goal_m_[ahead];
+    const double turn_per_m =
+        ahead_m > 1e-6
+            ? AngleDifference(path_[ahead].yaw_rad(), path_[closest_].yaw_rad()) / ahead_m
+            : 0.0;
+    if (std::abs(turn_per_m) > 1e-6) {
+      speed = std::min(speed, kYawRateShare * limits_.max_yaw_rate_radps / std::abs(turn_per_m));
+    }
     // Off the path's yaw here: slow down until the platform has turned.
     const double yaw_error_here = AngleDifference(path_[closest_].yaw_rad(), pose.yaw_rad());
     speed *= std::clamp(1.0 - std::abs(yaw_error_here) / params_.heading_stop_rad, 0.0, 1.0);
@@ -130,7 +151,8 @@ Twist2 HolonomicTracker::Step(const Pose2& pose, double dt_s) {
         speed = 0.0;
       velocity_in_map = speed * to_carrot / carrot_m;
     }
-    yaw_target = path_[carrot].yaw_rad();
+    yaw_target = path_[closest_].yaw_rad();
+    yaw_feed_forward_radps = turn_per_m * speed;
   }
 
   // Into the body frame, within the model's limits (translation scaled as a whole).
@@ -151,8 +173,9 @@ Twist2 HolonomicTracker::Step(const Pose2& pose, double dt_s) {
   command.vx_mps *= scale;
   command.vy_mps *= scale;
   const double yaw_error = AngleDifference(yaw_target, pose.yaw_rad());
-  command.yaw_rate_radps = std::clamp(params_.heading_gain_per_s * yaw_error,
-                                      -limits_.max_yaw_rate_radps, limits_.max_yaw_rate_radps);
+  command.yaw_rate_radps =
+      std::clamp(yaw_feed_forward_radps + params_.heading_gain_per_s * yaw_error,
+                 -limits_.max_yaw_rate_radps, limits_.max_yaw_rate_radps);
   // Acceleration limits: the change of the translation as a vector, the yaw rate alone.
   const double dvx = command.vx_mps - last_command_.vx_mps;
   const double dvy = command.vy_mps - last_command_.vy_mps;

@@ -17,7 +17,7 @@ struct HolonomicTrackerParams {
   double position_gain_per_s = 1.5;
   double heading_gain_per_s = 1.5;
   /// Translation slows to a stop while the platform is this far off the path's yaw.
-  double heading_stop_rad = 0.4;
+  double heading_stop_rad = 0.25;
   /// Braking (to turns in place and the goal) uses this share of the acceleration limit.
   double brake_share = 0.7;
   double goal_tolerance_m = 0.05;
@@ -29,9 +29,11 @@ struct HolonomicTrackerParams {
 /// the platform translates in any direction while it turns, so position and yaw are
 /// controlled apart. Each tick the velocity in the map frame is the path's tangent times a
 /// speed regulated by the braking distance to the next stop (a planned turn in place or the
-/// goal), plus a proportional pull towards a carrot a little ahead on the path; the yaw rate
-/// follows the path's yaw (the spline-smoothed path of planner::SmoothPath spreads yaw changes
-/// over its intervals). Turns in place in the path are turned where they were planned. Both
+/// goal), plus a proportional pull towards a carrot a little ahead on the path; the yaw follows
+/// the path's yaw where the platform is (the spline-smoothed path of planner::SmoothPath
+/// spreads yaw changes over its intervals and checked its sweep with them): the path's turning
+/// per metre times the speed, fed forward, plus a proportional correction, the speed lowered
+/// so that turning stays within the yaw-rate limit. Turns in place in the path are turned where they were planned. Both
 /// are rotated into the body frame and limited to the model's speed, lateral-speed, yaw-rate
 /// and acceleration limits (the whole twist scaled down together, so the direction holds).
 class HolonomicTracker : public PathTracker {
