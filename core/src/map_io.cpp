@@ -12,6 +12,7 @@
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "fleetnav/core/map_image.hpp"
 #include "fleetnav/core/status_macros.hpp"
 #include "io_internal.hpp"
 
@@ -25,7 +26,10 @@ using internal::FormatDouble;
 constexpr uint8_t kFreePixel = 254;
 constexpr uint8_t kOccupiedPixel = 0;
 constexpr uint8_t kUnknownPixel = 205;
+// Raw mode: the pixel is the cell value; above 100 is unknown.
+constexpr uint8_t kRawUnknownPixel = 255;
 constexpr int kMaxPgmValue = 255;
+constexpr int kMaxPgm16Value = 65535;
 
 // ---------------------------------------------------------------------------------------------
 // YAML
@@ -209,14 +213,9 @@ absl::Status CheckPgmSize(int64_t width, int64_t height) {
 }
 
 absl::Status CheckMaxValue(int64_t max_value) {
-  if (max_value > kMaxPgmValue && max_value < 65536) {
+  if (max_value <= 0 || max_value > kMaxPgm16Value) {
     return absl::InvalidArgumentError(
-        absl::StrCat("PGM maxval ", max_value,
-                     " means 16-bit samples, which are not supported (maxval <= 255)"));
-  }
-  if (max_value <= 0 || max_value > kMaxPgmValue) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("PGM maxval must be in [1, 255], got ", max_value));
+        absl::StrCat("PGM maxval must be in [1, 65535], got ", max_value));
   }
   return absl::OkStatus();
 }
@@ -231,13 +230,18 @@ absl::Status ReadBinaryRaster(PgmReader& reader, PgmImage& image) {
   }
   const std::string_view raster = reader.Rest();
   const size_t expected = static_cast<size_t>(image.width) * image.height;
-  if (raster.size() < expected) {
-    return absl::InvalidArgumentError(absl::StrCat("PGM truncated: expected ", expected,
+  // Above maxval 255 each sample is two bytes, most significant first (netpbm).
+  const size_t bytes_per_sample = image.max_value > kMaxPgmValue ? 2 : 1;
+  if (raster.size() < expected * bytes_per_sample) {
+    return absl::InvalidArgumentError(absl::StrCat("PGM truncated: expected ",
+                                                   expected * bytes_per_sample,
                                                    " bytes of raster data, got ", raster.size()));
   }
   image.pixels.resize(expected);
   for (size_t i = 0; i < expected; ++i) {
-    const int64_t value = static_cast<unsigned char>(raster[i]);
+    const int64_t value = bytes_per_sample == 1 ? static_cast<unsigned char>(raster[i])
+                                                : static_cast<unsigned char>(raster[2 * i]) * 256 +
+                                                      static_cast<unsigned char>(raster[2 * i + 1]);
     if (value > image.max_value) {
       return absl::InvalidArgumentError(
           absl::StrCat("PGM pixel ", i, " = ", value, " exceeds maxval ", image.max_value));
@@ -269,7 +273,8 @@ absl::Status ReadAsciiRaster(PgmReader& reader, PgmImage& image) {
 // ---------------------------------------------------------------------------------------------
 // Pixel interpretation (ROS map_server)
 
-absl::StatusOr<int8_t> CellValueFromPixel(uint8_t pixel, const MapServerMetadata& metadata) {
+absl::StatusOr<int8_t> CellValueFromPixel(uint8_t pixel, bool transparent,
+                                          const MapServerMetadata& metadata) {
   // The "lightness" after negate; map_server's occupancy probability is p = (255 - v) / 255.
   const int value = metadata.negate ? kMaxPgmValue - pixel : pixel;
   if (metadata.mode == MapServerMode::kRaw) {
@@ -280,13 +285,18 @@ absl::StatusOr<int8_t> CellValueFromPixel(uint8_t pixel, const MapServerMetadata
   const double p = static_cast<double>(kMaxPgmValue - value) / kMaxPgmValue;
   if (p > metadata.occupied_thresh) return OccupancyGrid::kOccupiedValue;
   if (p < metadata.free_thresh) return OccupancyGrid::kFreeValue;
-  if (metadata.mode == MapServerMode::kTrinary) return OccupancyGrid::kUnknownValue;
+  // map_server: between the thresholds a transparent pixel is unknown in scale mode too.
+  if (metadata.mode == MapServerMode::kTrinary || transparent) return OccupancyGrid::kUnknownValue;
   const double ratio =
       (p - metadata.free_thresh) / (metadata.occupied_thresh - metadata.free_thresh);
   return static_cast<int8_t>(std::lround(99.0 * ratio));
 }
 
-uint8_t PixelFromCellValue(const OccupancyGrid& grid, CellIndex cell) {
+uint8_t PixelFromCellValue(const OccupancyGrid& grid, CellIndex cell, MapServerMode mode) {
+  if (mode == MapServerMode::kRaw) {
+    const int8_t value = grid.Value(cell);
+    return value < 0 ? kRawUnknownPixel : static_cast<uint8_t>(value);
+  }
   switch (grid.State(cell)) {
     case CellState::kFree:
       return kFreePixel;
@@ -371,13 +381,19 @@ absl::StatusOr<OccupancyGrid> GridFromMapServer(const MapServerMetadata& metadat
     return absl::InvalidArgumentError(absl::StrCat(
         "image has ", image.pixels.size(), " pixels, expected width*height = ", pixel_count));
   }
+  if (!image.alpha.empty() && image.alpha.size() != pixel_count) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("image has ", image.alpha.size(), " alpha values, expected ", pixel_count));
+  }
   std::vector<int8_t> cells(pixel_count);
   for (int row = 0; row < image.height; ++row) {
     // The image's top row is the grid's top row (y = height - 1).
     const size_t grid_row = static_cast<size_t>(image.height - 1 - row);
     for (int col = 0; col < image.width; ++col) {
-      const uint8_t pixel = image.pixels[static_cast<size_t>(row) * image.width + col];
-      ASSIGN_OR_RETURN(cells[grid_row * image.width + col], CellValueFromPixel(pixel, metadata));
+      const size_t i = static_cast<size_t>(row) * image.width + col;
+      const bool transparent = !image.alpha.empty() && image.alpha[i] == 0;
+      ASSIGN_OR_RETURN(cells[grid_row * image.width + col],
+                       CellValueFromPixel(image.pixels[i], transparent, metadata));
     }
   }
   return OccupancyGrid::Create(image.width, image.height, metadata.resolution_m, metadata.origin,
@@ -385,9 +401,9 @@ absl::StatusOr<OccupancyGrid> GridFromMapServer(const MapServerMetadata& metadat
 }
 
 absl::StatusOr<OccupancyGrid> GridFromMapServerBytes(std::string_view yaml_text,
-                                                     std::string_view pgm_bytes) {
+                                                     std::string_view image_bytes) {
   ASSIGN_OR_RETURN(const MapServerMetadata metadata, ParseMapServerYaml(yaml_text));
-  ASSIGN_OR_RETURN(const PgmImage image, DecodePgm(pgm_bytes));
+  ASSIGN_OR_RETURN(const PgmImage image, DecodeMapImage(image_bytes));
   return GridFromMapServer(metadata, image);
 }
 
@@ -401,6 +417,17 @@ std::pair<MapServerMetadata, PgmImage> GridToMapServer(const OccupancyGrid& grid
   metadata.occupied_thresh = 0.65;
   metadata.free_thresh = 0.196;
   metadata.mode = MapServerMode::kTrinary;
+  // Values between free and occupied (a map read in scale or raw mode) survive only as raw.
+  for (int y = 0; y < grid.height() && metadata.mode == MapServerMode::kTrinary; ++y) {
+    for (int x = 0; x < grid.width(); ++x) {
+      const int8_t value = grid.Value(CellIndex{x, y});
+      if (value != OccupancyGrid::kFreeValue && value != OccupancyGrid::kOccupiedValue &&
+          value != OccupancyGrid::kUnknownValue) {
+        metadata.mode = MapServerMode::kRaw;
+        break;
+      }
+    }
+  }
 
   PgmImage image;
   image.width = grid.width();
@@ -410,7 +437,8 @@ std::pair<MapServerMetadata, PgmImage> GridToMapServer(const OccupancyGrid& grid
   for (int y = 0; y < grid.height(); ++y) {
     const size_t row = static_cast<size_t>(grid.height() - 1 - y);
     for (int x = 0; x < grid.width(); ++x) {
-      image.pixels[row * grid.width() + x] = PixelFromCellValue(grid, CellIndex{x, y});
+      image.pixels[row * grid.width() + x] =
+          PixelFromCellValue(grid, CellIndex{x, y}, metadata.mode);
     }
   }
   return {std::move(metadata), std::move(image)};
@@ -423,8 +451,8 @@ absl::StatusOr<OccupancyGrid> LoadMapServer(const std::string& yaml_path) {
   if (image_path.is_relative()) {
     image_path = std::filesystem::path(yaml_path).parent_path() / image_path;
   }
-  ASSIGN_OR_RETURN(const std::string pgm_bytes, internal::ReadFileToString(image_path.string()));
-  absl::StatusOr<PgmImage> image = DecodePgm(pgm_bytes);
+  ASSIGN_OR_RETURN(const std::string image_bytes, internal::ReadFileToString(image_path.string()));
+  absl::StatusOr<PgmImage> image = DecodeMapImage(image_bytes);
   if (!image.ok()) {
     return absl::Status(image.status().code(),
                         absl::StrCat(image_path.string(), ": ", image.status().message()));

@@ -3,7 +3,9 @@
 #include <gmock/gmock.h>
 #include <grpcpp/create_channel.h>
 #include <gtest/gtest.h>
+#include <png.h>
 
+#include <cstring>
 #include <filesystem>
 #include <limits>
 
@@ -121,6 +123,52 @@ TEST_F(FleetServiceTest, PutMapServerBytesStoresTheDecodedGrid) {
   absl::StatusOr<OccupancyGrid> stored = FromProto(map.grid());
   ASSERT_TRUE(stored.ok());
   EXPECT_EQ(stored->cells(), grid->cells());
+}
+
+// A map as ROS users have it: a PNG (RGB, so its greys are averaged) uploaded over gRPC is
+// stored as the same grid as its PGM twin; bytes of no image format are refused.
+TEST_F(FleetServiceTest, PutMapServerPngStoresTheSameGridAsThePgm) {
+  const std::vector<uint8_t> greys = {254, 0, 205, 254, 254, 0};  // 3 x 2, top row first
+  std::vector<uint8_t> rgb;
+  for (uint8_t v : greys) rgb.insert(rgb.end(), {v, v, v});
+  png_image png;
+  std::memset(&png, 0, sizeof(png));
+  png.version = PNG_IMAGE_VERSION;
+  png.width = 3;
+  png.height = 2;
+  png.format = PNG_FORMAT_RGB;
+  png_alloc_size_t size = 1 << 16;
+  std::string png_bytes(size, '\0');
+  ASSERT_TRUE(png_image_write_to_memory(&png, png_bytes.data(), &size, 0, rgb.data(), 0, nullptr));
+  png_bytes.resize(size);
+  const std::string yaml = "image: shop.png\nresolution: 0.05\norigin: [1, 2, 0]\n";
+  v1::PutMapRequest request;
+  request.set_map_id("shop");
+  request.mutable_map_server()->set_yaml(yaml);
+  request.mutable_map_server()->set_pgm(png_bytes);
+  v1::PutMapResponse response;
+  ASSERT_TRUE(Put(request, &response).ok());
+  grpc::ClientContext context;
+  v1::GetMapRequest get;
+  get.set_map_id("shop");
+  v1::GetMapResponse map;
+  ASSERT_TRUE(stub_->GetMap(&context, get, &map).ok());
+  PgmImage pgm;
+  pgm.width = 3;
+  pgm.height = 2;
+  pgm.pixels = greys;
+  absl::StatusOr<OccupancyGrid> twin = GridFromMapServerBytes(yaml, EncodePgm(pgm));
+  ASSERT_TRUE(twin.ok()) << twin.status();
+  absl::StatusOr<OccupancyGrid> stored = FromProto(map.grid());
+  ASSERT_TRUE(stored.ok());
+  EXPECT_EQ(stored->cells(), twin->cells());
+  EXPECT_EQ(stored->cells(), (std::vector<int8_t>{0, 0, 100, 0, 100, -1}));
+
+  request.set_map_id("junk");
+  request.mutable_map_server()->set_pgm("GIF89a not a map");
+  const grpc::Status refused = Put(request, &response);
+  EXPECT_EQ(refused.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_THAT(refused.error_message(), HasSubstr("not a PGM (P5/P2), PNG or BMP"));
 }
 
 TEST_F(FleetServiceTest, BadMapsAreRefusedNamingTheFieldAndNothingIsStored) {

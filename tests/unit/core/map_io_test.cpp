@@ -189,9 +189,19 @@ TEST(PgmTest, RejectsBadSizes) {
   ExpectInvalid(DecodePgm("P5\nthree 2\n255\n"), "width is not an integer: 'three'");
 }
 
-TEST(PgmTest, RejectsSixteenBitAndBadMaxval) {
-  ExpectInvalid(DecodePgm("P5\n1 1\n65535\n\x00\x01"), "16-bit");
-  ExpectInvalid(DecodePgm("P5\n1 1\n0\n\x00"), "maxval must be in [1, 255], got 0");
+TEST(PgmTest, ReadsSixteenBitSamplesAndRejectsBadMaxval) {
+  // Two samples of two bytes, most significant first: 0x0101 and 0xffff of 65535.
+  const std::string p5("P5\n2 1\n65535\n\x01\x01\xff\xff", 17);
+  absl::StatusOr<PgmImage> image = DecodePgm(p5);
+  ASSERT_TRUE(image.ok()) << image.status();
+  EXPECT_EQ(image->pixels, (std::vector<uint8_t>{1, 255}));
+  absl::StatusOr<PgmImage> ascii = DecodePgm("P2\n2 1\n1000\n500 1000\n");
+  ASSERT_TRUE(ascii.ok()) << ascii.status();
+  EXPECT_EQ(ascii->pixels, (std::vector<uint8_t>{128, 255}));
+  ExpectInvalid(DecodePgm(std::string("P5\n2 1\n65535\n\x01\x01\xff", 16)),
+                "expected 4 bytes of raster data, got 3");
+  ExpectInvalid(DecodePgm("P5\n1 1\n0\n\x00"), "maxval must be in [1, 65535], got 0");
+  ExpectInvalid(DecodePgm("P5\n1 1\n65536\n\x00"), "maxval must be in [1, 65535], got 65536");
   ExpectInvalid(DecodePgm("P2\n1 1\n15\n16\n"), "PGM pixel 0 = '16' is not an integer in [0, 15]");
 }
 
@@ -291,11 +301,19 @@ TEST(MapServerRoundTripTest, InMemoryRoundTripIsExact) {
   EXPECT_TRUE(*back == grid);
 }
 
-TEST(MapServerRoundTripTest, IntermediateValuesAreWrittenByState) {
-  absl::StatusOr<OccupancyGrid> grid = OccupancyGrid::Create(4, 1, 0.1, Pose2(), {10, 40, 80, -1});
+// A grid read in scale mode holds values between free and occupied: it is written in raw mode
+// (the value as the pixel), which reads back exactly; trinary would keep only the states.
+TEST(MapServerRoundTripTest, IntermediateValuesAreWrittenRawAndReadBackExactly) {
+  absl::StatusOr<OccupancyGrid> grid =
+      OccupancyGrid::Create(5, 1, 0.1, Pose2(), {0, 10, 40, 100, -1});
   ASSERT_TRUE(grid.ok());
   const auto [metadata, image] = GridToMapServer(*grid, "x.pgm");
-  EXPECT_EQ(image.pixels, (std::vector<uint8_t>{254, 205, 0, 205}));
+  EXPECT_EQ(metadata.mode, MapServerMode::kRaw);
+  EXPECT_EQ(image.pixels, (std::vector<uint8_t>{0, 10, 40, 100, 255}));
+  absl::StatusOr<OccupancyGrid> back =
+      GridFromMapServerBytes(MapServerYamlToString(metadata), EncodePgm(image));
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_TRUE(*back == *grid);
 }
 
 TEST(MapServerRoundTripTest, SaveThenLoadIsExact) {
