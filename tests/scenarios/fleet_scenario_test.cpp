@@ -109,6 +109,11 @@ void ExpectGoalReached(const std::string& file, const Pose2& goal, double tolera
   const Pose2 truth(end.value("x_m", 1e9), end.value("y_m", 1e9), end.value("yaw_rad", 0.0));
   EXPECT_TRUE(truth.IsNear(goal, tolerance_m, tolerance_rad)) << end.dump();
   EXPECT_LT(robot.value("max_loc_error_m", 1e9), 0.25);  // laser AMCL kept up
+  // The run's cost is reported: one dispatcher pass assigned the one job.
+  EXPECT_EQ(report.value("assigning_passes", 0), 1);
+  EXPECT_GT(report.value("assigning_pass_ms_p99", 0.0), 0.0);
+  EXPECT_GT(report.value("server_cpu_s", 0.0), 0.0);
+  EXPECT_GT(report.value("agents_cpu_s", 0.0), 0.0);
 }
 
 // The mecanum platform's goal job: lattice path, spline with augmented end points, holonomic
@@ -172,10 +177,12 @@ TEST(FleetScenario, AStoreFleetOfFourRunsFortyGoalJobsWithoutContact) {
     const Pose2 truth(end.value("x_m", 1e9), end.value("y_m", 1e9), end.value("yaw_rad", 0.0));
     EXPECT_TRUE(truth.IsNear(home, 0.25, 0.15)) << robot_id << " " << end.dump();
   }
-  // The crossings were ordered: somebody waited.
+  // The crossings were ordered: somebody waited, and the share says how much.
   double waited_s = 0.0;
   for (const auto& robot : report["robots"]) waited_s += robot.value("waiting_s", 0.0);
   EXPECT_GT(waited_s, 0.0);
+  EXPECT_NEAR(report.value("waiting_share", -1.0),
+              waited_s / (4.0 * report.value("sim_time_s", 1.0)), 1e-6);
 }
 
 void ExpectBothRoundsEndWithoutContact(const nlohmann::json& report, int exit_code) {

@@ -114,7 +114,10 @@ absl::StatusOr<int> FleetServer::Start() {
   // The dispatcher only dispatches, so that a submitted job waits for nothing else.
   dispatcher_ = std::thread([this] {
     while (!stopping_.load()) {
-      jobs_->DispatchOnce();
+      const absl::Time start = absl::Now();
+      if (jobs_->DispatchOnce() > 0) {
+        assigning_pass_ms_.push_back(absl::ToDoubleMilliseconds(absl::Now() - start));
+      }
       jobs_->WaitForWork(absl::Seconds(params_.dispatch_period_s));
     }
   });
@@ -147,6 +150,21 @@ absl::StatusOr<int> FleetServer::Start() {
     }
   });
   return port;
+}
+
+AssigningPassFigures FleetServer::assigning_passes() const {
+  AssigningPassFigures figures;
+  std::vector<double> ms = assigning_pass_ms_;
+  figures.count = static_cast<int64_t>(ms.size());
+  if (ms.empty()) return figures;
+  std::sort(ms.begin(), ms.end());
+  const auto at = [&](double q) {
+    return ms[std::min(ms.size() - 1, static_cast<size_t>(q * static_cast<double>(ms.size())))];
+  };
+  figures.p50_ms = at(0.5);
+  figures.p99_ms = at(0.99);
+  figures.max_ms = ms.back();
+  return figures;
 }
 
 void FleetServer::Shutdown() {

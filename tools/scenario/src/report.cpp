@@ -31,9 +31,19 @@ void PrintReport(const ScenarioReport& report, std::ostream& out) {
   }
   out << absl::StrFormat(
       "contacts %d, min separation %.3f m, sim time %.1f s, wall time %.1f s, real-time factor "
-      "%.1f\n",
+      "%.1f, waiting share %.1f %%\n",
       report.contacts, report.min_separation_m, report.sim_time_s, report.wall_time_s,
-      report.real_time_factor);
+      report.real_time_factor, 100.0 * report.waiting_share);
+  const double per_sim_s = report.sim_time_s > 0.0 ? 1.0 / report.sim_time_s : 0.0;
+  out << absl::StrFormat(
+      "CPU: fleetnavd %.1f s (%.4f per sim-s), simulator %.1f s, agents %.1f s (%.4f per robot "
+      "and sim-s)\n",
+      report.server_cpu_s, report.server_cpu_s * per_sim_s, report.sim_cpu_s, report.agents_cpu_s,
+      report.robots.empty() ? 0.0 : report.agents_cpu_s * per_sim_s / report.robots.size());
+  out << absl::StrFormat(
+      "fleetnavd dispatch passes that assigned jobs: %d, p50 %.2f ms, p99 %.2f ms, max %.2f ms\n",
+      report.assigning_passes, report.assigning_pass_ms_p50, report.assigning_pass_ms_p99,
+      report.assigning_pass_ms_max);
   for (const std::string& failure : report.failures) out << "FAILED: " << failure << "\n";
   if (!report.work_dir.empty()) out << "logs and recordings kept in " << report.work_dir << "\n";
 }
@@ -73,7 +83,15 @@ std::string ReportJson(const ScenarioReport& report) {
                         {"min_separation_m", report.min_separation_m},
                         {"sim_time_s", report.sim_time_s},
                         {"wall_time_s", report.wall_time_s},
-                        {"real_time_factor", report.real_time_factor}};
+                        {"real_time_factor", report.real_time_factor},
+                        {"waiting_share", report.waiting_share},
+                        {"server_cpu_s", report.server_cpu_s},
+                        {"sim_cpu_s", report.sim_cpu_s},
+                        {"agents_cpu_s", report.agents_cpu_s},
+                        {"assigning_passes", report.assigning_passes},
+                        {"assigning_pass_ms_p50", report.assigning_pass_ms_p50},
+                        {"assigning_pass_ms_p99", report.assigning_pass_ms_p99},
+                        {"assigning_pass_ms_max", report.assigning_pass_ms_max}};
   if (!report.work_dir.empty()) out["work_dir"] = report.work_dir;
   return out.dump();
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -30,6 +31,23 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+
+/// fleetnavd's exit line "N assigning dispatch passes, p50 X ms, p99 Y ms, max Z ms".
+void ReadAssigningPasses(const std::string& log, ScenarioReport* report) {
+  const size_t at = log.rfind(" assigning dispatch passes, ");
+  if (at == std::string::npos) return;
+  const size_t line = log.rfind(' ', at - 1);
+  long long count = 0;
+  double p50 = 0.0, p99 = 0.0, max = 0.0;
+  if (std::sscanf(log.c_str() + line + 1,
+                  "%lld assigning dispatch passes, p50 %lf ms, p99 %lf ms, max %lf ms", &count,
+                  &p50, &p99, &max) == 4) {
+    report->assigning_passes = count;
+    report->assigning_pass_ms_p50 = p50;
+    report->assigning_pass_ms_p99 = p99;
+    report->assigning_pass_ms_max = max;
+  }
+}
 
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -128,6 +146,9 @@ class Run {
   std::unique_ptr<ChildProcess> server_;
   std::unique_ptr<ChildProcess> sim_;
   std::map<std::string, std::unique_ptr<ChildProcess>> agents_;
+  /// CPU time of processes already ended (killed by a fault).
+  double server_cpu_s_ = 0.0;
+  double agents_cpu_s_ = 0.0;
   /// The links of the robots a cut_link fault names go through a proxy.
   std::map<std::string, std::unique_ptr<LinkProxy>> links_;
   struct LinkRestore {
@@ -261,6 +282,7 @@ void Run::Inject(const ScenarioFault& fault) {
     case ScenarioFaultType::kKillAgent:
       if (auto it = agents_.find(fault.robot_id); it != agents_.end()) {
         it->second->Stop(SIGKILL, 5.0);
+        agents_cpu_s_ += it->second->cpu_s().value_or(0.0);
         restarts_.push_back({Clock::now() + std::chrono::milliseconds(
                                                 static_cast<int64_t>(fault.restart_after_s * 1000)),
                              fault.robot_id});
@@ -268,6 +290,7 @@ void Run::Inject(const ScenarioFault& fault) {
       return;
     case ScenarioFaultType::kKillServer:
       server_->Stop(SIGKILL, 5.0);
+      server_cpu_s_ += server_->cpu_s().value_or(0.0);
       restarts_.push_back({Clock::now() + std::chrono::milliseconds(
                                               static_cast<int64_t>(fault.restart_after_s * 1000)),
                            ""});
@@ -545,9 +568,17 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
       report.failures.push_back("the simulator's ground truth could not be read at the end");
     }
   }
-  for (auto& [id, agent] : agents_) agent->Stop(SIGTERM, 10.0);
+  for (auto& [id, agent] : agents_) {
+    agent->Stop(SIGTERM, 10.0);
+    agents_cpu_s_ += agent->cpu_s().value_or(0.0);
+  }
   sim_->Stop(SIGTERM, 10.0);
   server_->Stop(SIGTERM, 10.0);
+  report.server_cpu_s = server_cpu_s_ + server_->cpu_s().value_or(0.0);
+  report.sim_cpu_s = sim_->cpu_s().value_or(0.0);
+  report.agents_cpu_s = agents_cpu_s_;
+  ReadAssigningPasses(ReadWholeFile(Path(absl::StrCat("fleetnavd.", server_starts_, ".out"))),
+                      &report);
   report.wall_time_s = SecondsSince(wall_start);
   report.real_time_factor = report.wall_time_s > 0 ? report.sim_time_s / report.wall_time_s : 0;
   Finish(&report);
@@ -578,7 +609,14 @@ void Run::Finish(ScenarioReport* report) {
   for (const JobOutcome& job : jobs_) {
     if (IsEnd(job.state) && figures_.count(job.robot_id)) ++figures_[job.robot_id].jobs;
   }
-  for (auto& [id, f] : figures_) report->robots.push_back(f);
+  double waited_s = 0.0;
+  for (auto& [id, f] : figures_) {
+    report->robots.push_back(f);
+    waited_s += f.waiting_s;
+  }
+  if (!figures_.empty() && report->sim_time_s > 0.0) {
+    report->waiting_share = waited_s / (static_cast<double>(figures_.size()) * report->sim_time_s);
+  }
   report->jobs = jobs_;
   // Expectations.
   for (const JobOutcome& job : jobs_) {

@@ -32,12 +32,16 @@ class ChildProcess {
   /// Sends `signal` and waits for the exit.
   std::optional<int> Stop(int signal = SIGTERM, double timeout_s = 10.0);
 
+  /// CPU time (user + system) the process used, known once it has exited and been reaped.
+  std::optional<double> cpu_s() const { return cpu_s_; }
+
   std::string Stdout() const { return ReadWholeFile(stdout_path_); }
   std::string Stderr() const { return ReadWholeFile(stderr_path_); }
 
  private:
   int pid_ = -1;
   std::optional<int> exit_code_;
+  std::optional<double> cpu_s_;
   std::string stdout_path_;
   std::string stderr_path_;
 };

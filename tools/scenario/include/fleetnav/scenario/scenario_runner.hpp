@@ -65,6 +65,19 @@ struct ScenarioReport {
   double sim_time_s = 0.0;
   double wall_time_s = 0.0;
   double real_time_factor = 0.0;
+  /// Share of the robots' sim time spent held by traffic coordination (all robots together).
+  double waiting_share = 0.0;
+  /// CPU time (user + system) of fleetnavd, the simulator and all agents over the run (every
+  /// start of each counted), the machine's cost of the run.
+  double server_cpu_s = 0.0;
+  double sim_cpu_s = 0.0;
+  double agents_cpu_s = 0.0;
+  /// fleetnavd's dispatcher passes that assigned jobs (replanning traffic with the new job),
+  /// wall-clock milliseconds, as its last start logged them at exit (0 when it did not).
+  int64_t assigning_passes = 0;
+  double assigning_pass_ms_p50 = 0.0;
+  double assigning_pass_ms_p99 = 0.0;
+  double assigning_pass_ms_max = 0.0;
   std::string work_dir;  ///< kept only with RunOptions::keep_dir
 };
 
