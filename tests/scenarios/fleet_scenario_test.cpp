@@ -119,13 +119,15 @@ void ExpectGoalReached(const std::string& file, const Pose2& goal, double tolera
 // The mecanum platform's goal job: lattice path, spline with augmented end points, holonomic
 // tracking, laser AMCL with the omni motion model; down an aisle past a trolley.
 TEST(FleetScenario, AMecanumPlatformReachesItsGoalHolonomically) {
+  // 20 seeds: within 0.043 m and 0.9° (docs/scenarios.md).
   ExpectGoalReached("store_goal.yaml", Pose2(3.0, -2.0, M_PI / 2), 0.1, 0.06);
 }
 
 // The Ackermann robot's goal job at a yaw no lattice heading reaches: Reeds-Shepp path, pure
 // pursuit with cusps, laser AMCL with the Ackermann motion model.
 TEST(FleetScenario, AnAckermannRobotReachesAGoalAtAnyYaw) {
-  ExpectGoalReached("yard_goal.yaml", Pose2(7.0, -9.0, -100.0 * M_PI / 180.0), 0.2, 0.12);
+  // 20 seeds: within 0.072 m and 6.4° (docs/scenarios.md).
+  ExpectGoalReached("yard_goal.yaml", Pose2(7.0, -9.0, -100.0 * M_PI / 180.0), 0.2, 0.15);
 }
 
 const nlohmann::json& RobotIn(const nlohmann::json& report, const std::string& robot_id) {
