@@ -4,11 +4,17 @@
 #include <limits>
 #include <queue>
 
+#include "absl/container/flat_hash_map.h"
 #include "absl/strings/str_cat.h"
 #include "fleetnav/planner/single_robot_planner.hpp"
 
 namespace fleetnav::planner {
 namespace {
+
+/// The heuristic's Dijkstra from the goal runs until it is this many times the start's
+/// distance plus the margin away: weighted A* rarely strays further from the straight way.
+constexpr double kHeuristicReachFactor = 2.0;
+constexpr double kHeuristicReachMarginM = 3.0;
 
 double AngleDiff(double a, double b) {
   double d = std::fmod(a - b, 2.0 * M_PI);
@@ -144,10 +150,16 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
     return absl::InvalidArgumentError("goal: outside the map");
   }
 
-  // Heuristic: 8-connected Dijkstra from the goal over cells with the inscribed clearance.
+  // Heuristic: 8-connected Dijkstra from the goal over cells with the inscribed clearance. It
+  // stops once it has gone well past the start (kHeuristicReach): a short trip on a large map
+  // does not pay for the whole map. Cells it did not settle are at least `frontier` away, which
+  // keeps the heuristic a lower bound.
   const size_t cells = static_cast<size_t>(w) * h;
   std::vector<float> hdist(cells, std::numeric_limits<float>::infinity());
+  float frontier = std::numeric_limits<float>::infinity();
   {
+    const size_t start_cell = static_cast<size_t>(sy) * w + sx;
+    float stop_at = std::numeric_limits<float>::infinity();
     const double need = std::max(0.0, costmap_->inscribed_radius_m() - res);
     using Item = std::pair<float, int>;
     std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
@@ -157,8 +169,18 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
     static constexpr int kDy[] = {0, 0, 1, -1, 1, -1, 1, -1};
     while (!open.empty()) {
       auto [d, c] = open.top();
+      if (d > hdist[c]) {
+        open.pop();
+        continue;
+      }
+      if (d > stop_at) {
+        frontier = d;
+        break;
+      }
       open.pop();
-      if (d > hdist[c]) continue;
+      if (static_cast<size_t>(c) == start_cell) {
+        stop_at = static_cast<float>(kHeuristicReachFactor * d + kHeuristicReachMarginM);
+      }
       const int cx = c % w, cy = c / w;
       for (int k = 0; k < 8; ++k) {
         const int nx = cx + kDx[k], ny = cy + kDy[k];
@@ -180,7 +202,9 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
     if (!cell_of(p.x_m(), p.y_m(), &cx, &cy)) return std::numeric_limits<double>::infinity();
     const float d = hdist[static_cast<size_t>(cy) * w + cx];
     const double euclid = std::hypot(p.x_m() - request.goal.x_m(), p.y_m() - request.goal.y_m());
-    return std::isfinite(d) ? std::max<double>(d - res, euclid) : euclid + 1e3;
+    if (d <= frontier) return std::max<double>(d - res, euclid);  // settled: exact
+    if (std::isfinite(frontier)) return std::max<double>(frontier - res, euclid);
+    return euclid + 1e3;  // the search finished: no way from the goal to here
   };
   auto bin_of = [&](double yaw) {
     const double turns = yaw / (2.0 * M_PI);
@@ -193,11 +217,15 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
     int parent;
   };
   std::vector<Node> nodes;
-  std::vector<float> best(cells * bins, std::numeric_limits<float>::infinity());
+  // Best cost per (cell, heading bin), only for the states the search met.
+  absl::flat_hash_map<uint64_t, float> best;
+  const auto state_of = [&](int x, int y, int bin) {
+    return (static_cast<uint64_t>(y) * w + x) * bins + bin;
+  };
   using Entry = std::pair<double, int>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
   nodes.push_back({request.start, 0.0, -1});
-  best[(static_cast<size_t>(sy) * w + sx) * bins + bin_of(request.start.yaw_rad())] = 0.0f;
+  best[state_of(sx, sy, bin_of(request.start.yaw_rad()))] = 0.0f;
   open.push({params_.heuristic_weight * heuristic(request.start), 0});
   const bool turns_in_place = model_.kinematics != Kinematics::kAckermann;
   int closest = 0;
@@ -216,10 +244,7 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
     int cx, cy;
     cell_of(cur.pose.x_m(), cur.pose.y_m(), &cx, &cy);
     // Stale entry? best[] is float: compare with a tolerance above its rounding at ~100 m.
-    if (cur.g >
-        best[(static_cast<size_t>(cy) * w + cx) * bins + bin_of(cur.pose.yaw_rad())] + 1e-3) {
-      continue;
-    }
+    if (cur.g > best.at(state_of(cx, cy, bin_of(cur.pose.yaw_rad()))) + 1e-3) continue;
     ++result.expanded;
     const double dist =
         std::hypot(cur.pose.x_m() - request.goal.x_m(), cur.pose.y_m() - request.goal.y_m());
@@ -247,10 +272,12 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
       int nx, ny;
       if (!cell_of(next.x_m(), next.y_m(), &nx, &ny)) continue;
       const double g = cur.g + p.cost;
-      float& slot = best[(static_cast<size_t>(ny) * w + nx) * bins + bin_of(next.yaw_rad())];
-      if (g >= slot) continue;
+      const uint64_t state = state_of(nx, ny, bin_of(next.yaw_rad()));
+      if (const auto known = best.find(state); known != best.end() && g >= known->second) {
+        continue;
+      }
       if (!SegmentFree(cur.pose, p)) continue;
-      slot = static_cast<float>(g);
+      best[state] = static_cast<float>(g);
       nodes.push_back({next, g, id});
       open.push(
           {g + params_.heuristic_weight * heuristic(next), static_cast<int>(nodes.size()) - 1});
