@@ -33,9 +33,10 @@ struct HolonomicTrackerParams {
 /// the path's yaw where the platform is (the spline-smoothed path of planner::SmoothPath
 /// spreads yaw changes over its intervals and checked its sweep with them): the path's turning
 /// per metre times the speed, fed forward, plus a proportional correction, the speed lowered
-/// so that turning stays within the yaw-rate limit. Turns in place in the path are turned where they were planned. Both
-/// are rotated into the body frame and limited to the model's speed, lateral-speed, yaw-rate
-/// and acceleration limits (the whole twist scaled down together, so the direction holds).
+/// so that turning stays within the yaw-rate limit. Turns in place in the path are turned
+/// where they were planned. Both are rotated into the body frame and limited to the model's
+/// speed, lateral-speed, yaw-rate and acceleration limits (the whole twist scaled down
+/// together, so the direction holds).
 class HolonomicTracker : public PathTracker {
  public:
   HolonomicTracker(HolonomicTrackerParams params, MotionLimits limits);
