@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "fleetnav/robot_agent/path_geometry.hpp"
+
 namespace fleetnav::agent {
 namespace {
 
@@ -43,11 +45,7 @@ AckermannPurePursuit::AckermannPurePursuit(AckermannPurePursuitParams params,
 
 void AckermannPurePursuit::SetPath(std::vector<Pose2> path) {
   path_ = std::move(path);
-  to_goal_m_.assign(path_.size(), 0.0);
-  for (size_t i = path_.size(); i-- > 1;) {
-    to_goal_m_[i - 1] =
-        to_goal_m_[i] + (path_[i].translation() - path_[i - 1].translation()).norm();
-  }
+  to_goal_m_ = DistancesToGoal(path_);
   // Split where the direction of travel (step · heading) changes sign.
   pieces_.clear();
   piece_sign_.clear();
@@ -81,14 +79,9 @@ Twist2 AckermannPurePursuit::Step(const Pose2& pose, double dt_s) {
   while (true) {
     const auto [begin, end] = pieces_[piece_];
     closest_ = std::clamp(closest_, begin, end);
-    double best = std::numeric_limits<double>::infinity();
-    for (size_t i = closest_; i <= end; ++i) {
-      const double d = (path_[i].translation() - pose.translation()).norm();
-      if (d < best) {
-        best = d;
-        closest_ = i;
-      }
-    }
+    const ClosestPose closest = FindClosestPose(path_, pose, closest_, end + 1);
+    closest_ = closest.index;
+    const double best = closest.distance_m;
     cross_track_m_ = best;
     remaining_m_ = to_goal_m_[closest_] + best;
     // The piece's end reached: within tolerance, or passed (behind in the direction of travel).

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "fleetnav/core/angles.hpp"
+#include "fleetnav/robot_agent/path_geometry.hpp"
 
 namespace fleetnav::agent {
 namespace {
@@ -42,11 +42,7 @@ RegulatedPurePursuit::RegulatedPurePursuit(RegulatedPurePursuitParams params, Mo
 
 void RegulatedPurePursuit::SetPath(std::vector<Pose2> path) {
   path_ = std::move(path);
-  to_goal_m_.assign(path_.size(), 0.0);
-  for (size_t i = path_.size(); i-- > 1;) {
-    to_goal_m_[i - 1] =
-        to_goal_m_[i] + (path_[i].translation() - path_[i - 1].translation()).norm();
-  }
+  to_goal_m_ = DistancesToGoal(path_);
   closest_ = 0;
   done_ = path_.empty();
 }
@@ -57,15 +53,9 @@ Twist2 RegulatedPurePursuit::Step(const Pose2& pose, double dt_s) {
     return Twist2{};
   }
   // The closest path pose, searched forward from the last one.
-  double best = std::numeric_limits<double>::infinity();
-  const size_t end = std::min(path_.size(), closest_ + kSearchWindow);
-  for (size_t i = closest_; i < end; ++i) {
-    const double d = (path_[i].translation() - pose.translation()).norm();
-    if (d < best) {
-      best = d;
-      closest_ = i;
-    }
-  }
+  const ClosestPose closest = FindClosestPose(path_, pose, closest_, closest_ + kSearchWindow);
+  closest_ = closest.index;
+  const double best = closest.distance_m;
   cross_track_m_ = best;
   const Pose2& goal = path_.back();
   const double goal_distance = (goal.translation() - pose.translation()).norm();

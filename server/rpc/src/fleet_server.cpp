@@ -116,7 +116,14 @@ absl::StatusOr<int> FleetServer::Start() {
     while (!stopping_.load()) {
       const absl::Time start = absl::Now();
       if (jobs_->DispatchOnce() > 0) {
-        assigning_pass_ms_.push_back(absl::ToDoubleMilliseconds(absl::Now() - start));
+        const double ms = absl::ToDoubleMilliseconds(absl::Now() - start);
+        // The latest kAssigningPassSamples only: a server runs for months.
+        if (assigning_pass_ms_.size() < kAssigningPassSamples) {
+          assigning_pass_ms_.push_back(ms);
+        } else {
+          assigning_pass_ms_[assigning_passes_ % kAssigningPassSamples] = ms;
+        }
+        ++assigning_passes_;
       }
       jobs_->WaitForWork(absl::Seconds(params_.dispatch_period_s));
     }
@@ -155,7 +162,7 @@ absl::StatusOr<int> FleetServer::Start() {
 AssigningPassFigures FleetServer::assigning_passes() const {
   AssigningPassFigures figures;
   std::vector<double> ms = assigning_pass_ms_;
-  figures.count = static_cast<int64_t>(ms.size());
+  figures.count = assigning_passes_;
   if (ms.empty()) return figures;
   std::sort(ms.begin(), ms.end());
   const auto at = [&](double q) {

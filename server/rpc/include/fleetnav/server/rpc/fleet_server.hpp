@@ -57,7 +57,8 @@ struct FleetServerParams {
 /// Shutdown() ends open streams within a second.
 /// How long the dispatcher's passes that assigned at least one job took (wall clock): the
 /// assignment, then traffic coordination replanned with the new job (its route predicted, the
-/// clearances of every robot decided again).
+/// clearances of every robot decided again). count is every such pass; the percentiles are
+/// over the latest 100,000.
 struct AssigningPassFigures {
   int64_t count = 0;
   double p50_ms = 0.0;
@@ -106,7 +107,9 @@ class FleetServer {
   std::unique_ptr<TrafficPlanner> traffic_;
   std::thread dispatcher_;
   /// Durations of the passes that assigned jobs (written by the dispatcher thread only).
-  std::vector<double> assigning_pass_ms_;
+  static constexpr size_t kAssigningPassSamples = 100'000;
+  std::vector<double> assigning_pass_ms_;  ///< the latest kAssigningPassSamples
+  int64_t assigning_passes_ = 0;
   /// Stale robots, pose history and returning freed memory, off the dispatcher's thread.
   std::thread housekeeper_;
   absl::Notification stop_housekeeping_;
