@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "fleetnav/planner/movingai.hpp"
+#include "fleetnav/planner/grid/movingai.hpp"
 
 namespace fleetnav::testing {
 

@@ -1,14 +1,18 @@
 // fleetnav-mapf-bench: wiring only. Loads a MovingAI map and a scenario (or draws a seeded
 // random instance), runs the multi-robot planner, validates the plan and prints one JSON object.
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <utility>
+#include <vector>
 
-#include "fleetnav/planner/mapf.hpp"
-#include "fleetnav/planner/mapf_planner.hpp"
-#include "fleetnav/planner/movingai.hpp"
+#include "absl/strings/str_cat.h"
+#include "fleetnav/planner/grid/movingai.hpp"
+#include "fleetnav/planner/mapf/mapf.hpp"
+#include "fleetnav/planner/mapf/mapf_planner.hpp"
 
 namespace fp = fleetnav::planner;
 
@@ -63,7 +67,6 @@ int main(int argc, char** argv) {
   if (!instance.ok()) return fail(instance.status());
 
   fp::MapfPlannerParams params;
-  params.time_limit_s = time_limit_s;
   params.seed = seed.value_or(0);
   params.eecbs_suboptimality = w;
   params.lns_neighborhood_size = neighborhood;
@@ -77,7 +80,19 @@ int main(int argc, char** argv) {
   }
   fp::MapfPlanner planner(params);
   const int64_t lower_bound = fp::SumOfCostsLowerBound(*instance);
-  absl::StatusOr<fp::MapfResult> result = planner.Solve(*instance);
+  // The observer times when the caller holds the first plan, and keeps every improvement for
+  // the anytime curve.
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point started = Clock::now();
+  std::optional<double> first_plan_delivered_ms;
+  std::vector<std::pair<double, int64_t>> improvements;  // (ms since Solve began, sum of costs)
+  const fp::MapfPlanObserver observe = [&](const fp::MapfResult& plan) {
+    const double at_ms = std::chrono::duration<double, std::milli>(Clock::now() - started).count();
+    if (!first_plan_delivered_ms) first_plan_delivered_ms = at_ms;
+    improvements.emplace_back(at_ms, fp::SumOfCosts(*instance, plan.solution));
+  };
+  absl::StatusOr<fp::MapfResult> result =
+      planner.Solve(*instance, fp::MapfStopCondition{time_limit_s}, observe);
   out["agents"] = agents;
   out["soc_lower_bound"] = lower_bound;
   if (!result.ok()) return fail(result.status());
@@ -88,6 +103,20 @@ int main(int argc, char** argv) {
   out["solved"] = true;
   out["solver"] = result->solver;
   out["first_solution_ms"] = result->first_solution_ms;
+  out["first_plan_delivered_ms"] = first_plan_delivered_ms.value_or(-1.0);
+  // soc / lower bound of the best plan held after each checkpoint within the budget.
+  nlohmann::json curve = nlohmann::json::object();
+  for (const double checkpoint_s : {0.1, 1.0, 10.0, 100.0}) {
+    if (checkpoint_s > time_limit_s) break;
+    int64_t held = -1;
+    for (const auto& [at_ms, cost] : improvements) {
+      if (at_ms <= checkpoint_s * 1e3) held = cost;
+    }
+    if (held >= 0 && lower_bound > 0) {
+      curve[absl::StrCat(checkpoint_s)] = static_cast<double>(held) / lower_bound;
+    }
+  }
+  out["soc_over_lb_at_s"] = curve;
   out["final_ms"] = result->final_ms;
   out["soc"] = soc;
   out["soc_over_lb"] = lower_bound > 0 ? static_cast<double>(soc) / lower_bound : 1.0;

@@ -2,7 +2,7 @@
 
 #include <random>
 
-#include "fleetnav/planner/movingai.hpp"
+#include "fleetnav/planner/grid/movingai.hpp"
 
 namespace fleetnav::plan_bench {
 

@@ -20,9 +20,9 @@
 
 #include "bench_map.hpp"
 #include "fleetnav/core/robot_model.hpp"
-#include "fleetnav/planner/costmap.hpp"
-#include "fleetnav/planner/ompl_benchmark_adapter.hpp"
-#include "fleetnav/planner/planner_factory.hpp"
+#include "fleetnav/planner/grid/costmap.hpp"
+#include "fleetnav/planner/single_robot/planner_factory.hpp"
+#include "ompl_benchmark_adapter.hpp"
 
 namespace fp = fleetnav::planner;
 namespace ob = ompl::base;

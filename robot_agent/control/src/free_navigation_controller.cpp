@@ -6,7 +6,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "fleetnav/core/angles.hpp"
-#include "fleetnav/planner/route_prediction.hpp"
+#include "fleetnav/planner/coordination/route_prediction.hpp"
 
 namespace fleetnav::agent {
 namespace {

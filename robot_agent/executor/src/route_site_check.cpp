@@ -8,8 +8,8 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "fleetnav/planner/costmap.hpp"
-#include "fleetnav/planner/route_prediction.hpp"
+#include "fleetnav/planner/coordination/route_prediction.hpp"
+#include "fleetnav/planner/grid/costmap.hpp"
 
 namespace fleetnav::agent {
 namespace {

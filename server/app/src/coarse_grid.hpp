@@ -2,7 +2,7 @@
 
 #include "fleetnav/core/occupancy_grid.hpp"
 #include "fleetnav/core/pose2.hpp"
-#include "fleetnav/planner/movingai.hpp"
+#include "fleetnav/planner/grid/movingai.hpp"
 
 namespace fleetnav::server {
 

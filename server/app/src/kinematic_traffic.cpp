@@ -8,8 +8,8 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_replace.h"
 #include "coarse_grid.hpp"
-#include "fleetnav/planner/kinematic_dependency_graph.hpp"
-#include "fleetnav/planner/kinematic_mapf.hpp"
+#include "fleetnav/planner/coordination/kinematic_dependency_graph.hpp"
+#include "fleetnav/planner/kinematic/kinematic_mapf.hpp"
 #include "traffic_dependencies.hpp"
 
 namespace fleetnav::server {

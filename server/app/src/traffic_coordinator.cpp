@@ -4,7 +4,7 @@
 #include <set>
 
 #include "absl/strings/str_cat.h"
-#include "fleetnav/planner/planner_factory.hpp"
+#include "fleetnav/planner/single_robot/planner_factory.hpp"
 
 namespace fleetnav::server {
 

@@ -10,8 +10,8 @@
 #include "fleetnav/core/echo_input.hpp"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/core/status_macros.hpp"
-#include "fleetnav/planner/action_dependency_graph.hpp"
-#include "fleetnav/planner/mapf_planner.hpp"
+#include "fleetnav/planner/coordination/action_dependency_graph.hpp"
+#include "fleetnav/planner/mapf/mapf_planner.hpp"
 #include "kinematic_traffic.hpp"
 #include "traffic_dependencies.hpp"
 
@@ -91,10 +91,10 @@ absl::StatusOr<TrafficPlan> TrafficPlanner::Plan(const std::string& map_id, uint
   }
 
   planner::MapfPlannerParams params;
-  params.time_limit_s = time_limit_s;
   // Robots execute through an action dependency graph, which needs a plan without rotations.
   params.forbid_rotations = true;
-  absl::StatusOr<planner::MapfResult> result = planner::MapfPlanner(params).Solve(instance);
+  absl::StatusOr<planner::MapfResult> result =
+      planner::MapfPlanner(params).Solve(instance, {time_limit_s});
   if (!result.ok()) return result.status();
   // A robot whose goal another robot keeps was planned to the coarse cell beside it.
   std::vector<bool> at_requested_goal(instance.num_agents());

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "bench_registry.hpp"
-#include "fleetnav/planner/kinematic_mapf.hpp"
+#include "fleetnav/planner/kinematic/kinematic_mapf.hpp"
 #include "kinematic_fleet.hpp"
 
 namespace fp = fleetnav::planner;

@@ -8,9 +8,9 @@
 #include <string>
 
 #include "bench_registry.hpp"
-#include "fleetnav/planner/eecbs.hpp"
-#include "fleetnav/planner/lacam.hpp"
-#include "fleetnav/planner/mapf.hpp"
+#include "fleetnav/planner/mapf/eecbs.hpp"
+#include "fleetnav/planner/mapf/lacam.hpp"
+#include "fleetnav/planner/mapf/mapf.hpp"
 
 namespace fp = fleetnav::planner;
 
@@ -33,9 +33,8 @@ void RunLacam(benchmark::State& state, const fp::MovingAiMap& map) {
   double ratio = 0.0;
   for (auto _ : state) {
     fp::LacamParams params;
-    params.time_limit_s = 10.0;
     params.anytime = false;
-    absl::StatusOr<fp::MapfResult> r = fp::LacamSolver(inst, params).Solve();
+    absl::StatusOr<fp::MapfResult> r = fp::LacamSolver(params).Solve(inst, {10.0});
     if (!r.ok()) {
       state.SkipWithError(std::string(r.status().message()).c_str());
       break;
@@ -52,7 +51,7 @@ void RunEecbs(benchmark::State& state, const fp::MovingAiMap& map) {
   const double lb = static_cast<double>(fp::SumOfCostsLowerBound(inst));
   double ratio = 0.0;
   for (auto _ : state) {
-    absl::StatusOr<fp::MapfResult> r = fp::EecbsSolver(inst, fp::EecbsParams{1.2, 10.0}).Solve();
+    absl::StatusOr<fp::MapfResult> r = fp::EecbsSolver(fp::EecbsParams{1.2}).Solve(inst, {10.0});
     if (!r.ok()) {
       state.SkipWithError(std::string(r.status().message()).c_str());
       break;

@@ -6,8 +6,8 @@
 #include <random>
 
 #include "fleetnav/core/robot_model.hpp"
-#include "fleetnav/planner/planner_factory.hpp"
-#include "fleetnav/planner/single_robot_planner.hpp"
+#include "fleetnav/planner/single_robot/planner_factory.hpp"
+#include "fleetnav/planner/single_robot/single_robot_planner.hpp"
 
 namespace fp = fleetnav::planner;
 

@@ -4,7 +4,7 @@
 #include <random>
 #include <vector>
 
-#include "fleetnav/planner/kinematic_mapf.hpp"
+#include "fleetnav/planner/kinematic/kinematic_mapf.hpp"
 
 namespace fleetnav::planner::testing {
 

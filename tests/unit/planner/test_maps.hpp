@@ -3,7 +3,7 @@
 #include <string>
 
 #include "fleetnav/core/occupancy_grid.hpp"
-#include "fleetnav/planner/movingai.hpp"
+#include "fleetnav/planner/grid/movingai.hpp"
 #include "movingai_generators.hpp"
 
 namespace fleetnav::planner::testing {

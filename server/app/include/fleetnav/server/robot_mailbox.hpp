@@ -7,7 +7,7 @@
 
 #include "fleetnav/core/job.hpp"
 #include "fleetnav/core/route.hpp"
-#include "fleetnav/planner/traffic_schedule.hpp"
+#include "fleetnav/planner/coordination/traffic_schedule.hpp"
 
 namespace fleetnav::server {
 

@@ -1,0 +1,99 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "absl/container/flat_hash_map.h"
+#include "fleetnav/planner/grid/swept_cells.hpp"
+
+namespace fleetnav::planner {
+
+/// One robot's job as traffic coordination sees it: the floor each action sweeps, when each
+/// action is expected to start (any common time base), and how far the robot has got.
+struct ScheduledRoute {
+  std::string robot_id;
+  std::string job_id;
+  std::vector<CellSet> action_cells;
+  std::vector<CellSet> action_end_cells;  ///< where the robot stands after each action
+  std::vector<double> action_start_s;
+  CellSet start_cells;  ///< where the robot stands before its first action
+  /// Names these cells for ClearanceDecider's memory: a new id whenever the cells are
+  /// predicted again (0: never remembered).
+  uint64_t cells_id = 0;
+  int first_unfinished = 0;  ///< actions before it have finished
+  int cleared_up_to = -1;    ///< actions up to it were cleared earlier (never taken back)
+};
+
+/// A robot with no job on the site: the floor it stands on.
+struct ParkedRobot {
+  std::string robot_id;
+  CellSet cells;
+};
+
+/// "Action `action` of `robot_id` may start only when `blocker_action` of `blocker_robot_id`
+/// has finished" (-1: never, the blocker is parked there).
+struct TrafficWait {
+  std::string robot_id;
+  int action = 0;
+  std::string blocker_robot_id;
+  int blocker_action = -1;
+};
+
+/// What each robot may do now: the last action it may enter, and what holds the next one.
+struct TrafficClearanceDecision {
+  std::string robot_id;
+  std::string job_id;
+  int cleared_up_to = -1;
+  std::vector<TrafficWait> waits;  ///< of action cleared_up_to + 1; empty when nothing holds it
+  bool deadlocked = false;         ///< the routes block each other at action granularity
+};
+
+/// Traffic coordination over swept regions with an action dependency graph (Hönig, Kiesel,
+/// Tinka, Durham and Ayanian, "Persistent and Robust Execution of MAPF Schedules in
+/// Warehouses", RA-L 2019). For two routes A and B, the pairs of unfinished actions whose swept
+/// cells intersect form blocks (4-connected components in the grid of action pairs): a block
+/// is one place the two robots share, A through actions k1..k2 and B through l1..l2, where a
+/// robot standing between two of them is still in the other's way. One robot passes the whole
+/// block first: B's l1 waits for A's k2 to finish (or A's k1 for B's l2); once k2 is done, A
+/// stands outside every region of B in the block. Who goes first: a robot already cleared into
+/// the block; else the one that stands in the block before it starts (it cannot make way);
+/// else not the one whose route ends in the block (it would stay there); else the earlier
+/// expected start (robot index breaks ties). Orders that close a cycle hold the newest route
+/// whole (deadlocked; its robot stands as parked). Actions that cross a parked robot are never
+/// cleared. Clearances only grow. Pure function.
+std::vector<TrafficClearanceDecision> DecideClearances(const std::vector<ScheduledRoute>& routes,
+                                                       const std::vector<ParkedRobot>& parked);
+/// The same over routes held elsewhere (the server keeps one per job), so that none is copied.
+std::vector<TrafficClearanceDecision> DecideClearances(
+    const std::vector<const ScheduledRoute*>& routes, const std::vector<ParkedRobot>& parked);
+
+/// One place two routes share: actions k1..k2 of the first and l1..l2 of the second.
+struct SharedBlock {
+  int k1 = 0, k2 = 0, l1 = 0, l2 = 0;
+};
+
+/// DecideClearances with a memory: the shared blocks of each pair of routes are kept from one
+/// call to the next while both routes keep their cells (ScheduledRoute::cells_id) and their
+/// first unfinished actions, so a pass over a fleet whose routes did not change costs a lookup
+/// per pair of nearby routes instead of a cell comparison per pair of actions. Pairs not met in
+/// a call are forgotten. Same decisions as DecideClearances. Not thread-safe.
+class ClearanceDecider {
+ public:
+  std::vector<TrafficClearanceDecision> Decide(const std::vector<const ScheduledRoute*>& routes,
+                                               const std::vector<ParkedRobot>& parked);
+  /// Pairs of routes remembered.
+  size_t remembered_pairs() const { return pairs_.size(); }
+
+ private:
+  struct Remembered {
+    int first_a = 0, first_b = 0;
+    std::vector<SharedBlock> blocks;
+    uint64_t last_call = 0;
+  };
+  absl::flat_hash_map<std::pair<uint64_t, uint64_t>, Remembered> pairs_;
+  uint64_t calls_ = 0;
+};
+
+}  // namespace fleetnav::planner

@@ -1,0 +1,100 @@
+#pragma once
+
+#include <memory>
+#include <stop_token>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "fleetnav/core/pose2.hpp"
+#include "fleetnav/core/robot_model.hpp"
+#include "fleetnav/planner/grid/costmap.hpp"
+
+namespace fleetnav::planner {
+
+/// A single-robot path request. Poses are in the costmap's grid frame (metres from the lower-
+/// left corner of the grid, yaw relative to the grid).
+struct PathRequest {
+  Pose2 start;
+  Pose2 goal;
+  double goal_tolerance_m = 0.15;  ///< > 0
+  double goal_tolerance_rad =
+      0.25;                   ///< > 0; below half a heading bin only turn-in-place robots reach it
+  double time_limit_s = 1.0;  ///< > 0
+
+  absl::Status Validate() const;
+};
+
+/// A planned path: poses from the start to the goal. Consecutive poses are joined by the
+/// planner's motion primitive (a straight line at constant yaw, a turn in place, a
+/// constant-curvature arc forward or in reverse, or — omnidirectional OMPL — a straight line with
+/// the yaw interpolated along it). `exact` is false for an approximate result: the path ends at
+/// the reachable pose closest to the goal. `expanded` counts search nodes (lattice) or tree
+/// states (OMPL).
+struct PathResult {
+  std::vector<Pose2> poses;
+  bool exact = true;
+  double length_m = 0.0;
+  int64_t expanded = 0;
+};
+
+/// The interface of every single-robot planner: plan(request, stop token) → a path or a
+/// status. Errors: InvalidArgument (bad request, or start in collision), NotFound (no path and
+/// approximate results disabled), DeadlineExceeded, Cancelled.
+class SingleRobotPlanner {
+ public:
+  virtual ~SingleRobotPlanner() = default;
+  virtual absl::StatusOr<PathResult> Plan(const PathRequest& request,
+                                          std::stop_token stop = {}) = 0;
+};
+
+/// Parameters of LatticePlanner.
+struct LatticeParams {
+  int heading_bins = 16;             ///< yaw discretisation of the search, ≥ 4
+  double step_m = 0.0;               ///< primitive length; 0: 1.5 cells (arcs: one bin of turn)
+  double turn_cost_m_per_rad = 0.3;  ///< cost of turning in place
+  double reverse_cost_factor = 2.0;  ///< cost multiplier of reversing (Ackermann), ≥ 1
+  double heuristic_weight = 1.5;     ///< weighted A*, ≥ 1 (bounded suboptimal)
+  bool allow_approximate = true;     ///< return the closest reachable pose when no path exists
+  int max_expansions = 4'000'000;    ///< > 0
+
+  absl::Status Validate() const;
+};
+
+/// A hybrid-A* lattice planner of our own (Dolgov, Thrun, Montemerlo and Diebel, "Path
+/// Planning for Autonomous Vehicles in Unknown Semi-structured Environments", IJRR 2010:
+/// continuous poses, closed set on (cell, heading bin), obstacle-aware 2D Dijkstra heuristic)
+/// with motion primitives per kinematics: differential drive moves straight forward and turns
+/// in place, never reversing when the model's max_reverse_speed_mps is 0 (the Lely robot);
+/// omnidirectional moves in 8 directions at any yaw and turns in place; Ackermann drives arcs of
+/// the minimum turning radius wheelbase / tan(max_steering) and straights, forward and (if the
+/// model allows) backward. Every primitive is checked against the costmap's footprint test
+/// every half cell. Holds a pointer to the costmap, which must outlive it. Not thread-safe.
+class LatticePlanner : public SingleRobotPlanner {
+ public:
+  LatticePlanner(Costmap* costmap, const RobotModel& model, const LatticeParams& params);
+  absl::StatusOr<PathResult> Plan(const PathRequest& request, std::stop_token stop = {}) override;
+  double turning_radius_m() const { return turning_radius_m_; }
+
+ private:
+  struct Primitive {
+    double forward_m;  // signed arc length along the heading (0 for turns in place)
+    double lateral_m;  // omni sideways component in the robot frame
+    double dyaw_rad;
+    double cost;
+  };
+  bool SegmentFree(const Pose2& from, const Primitive& p) const;
+  static Pose2 Apply(const Pose2& from, const Primitive& p, double fraction);
+
+  Costmap* costmap_;
+  RobotModel model_;
+  LatticeParams params_;
+  double turning_radius_m_ = 0.0;
+  std::vector<Primitive> primitives_;
+};
+
+/// The lattice planner for a robot model (every kinematics kind); InvalidArgument for bad
+/// params or model. planner_factory.hpp chooses between the lattice and the OMPL planners.
+absl::StatusOr<std::unique_ptr<SingleRobotPlanner>> MakeSingleRobotPlanner(
+    Costmap* costmap, const RobotModel& model, const LatticeParams& params);
+
+}  // namespace fleetnav::planner

@@ -1,0 +1,381 @@
+#include "fleetnav/planner/coordination/traffic_schedule.hpp"
+
+#include <algorithm>
+#include <functional>
+#include <limits>
+#include <map>
+#include <set>
+#include <tuple>
+#include <utility>
+
+namespace fleetnav::planner {
+namespace {
+
+constexpr int kParked = -1;
+
+/// A dependency: the waiting action can start once `blocker` (route index, or kParked with
+/// the parked robot's index in `parked_index`) has finished `blocker_action`.
+struct Dependency {
+  int blocker_route = kParked;
+  int blocker_action = -1;
+  int parked_index = -1;
+};
+
+using Node = std::pair<int, int>;  // (route index, action index)
+
+struct Graph {
+  std::map<Node, std::vector<Dependency>> deps;  // waiting node → what it waits for
+};
+
+/// The routes being ordered, by index, wherever they are held.
+class RouteList {
+ public:
+  explicit RouteList(const std::vector<const ScheduledRoute*>& routes) : routes_(routes) {}
+  const ScheduledRoute& operator[](size_t i) const { return *routes_[i]; }
+  size_t size() const { return routes_.size(); }
+
+ private:
+  const std::vector<const ScheduledRoute*>& routes_;
+};
+
+int Count(const ScheduledRoute& r) { return static_cast<int>(r.action_cells.size()); }
+
+/// Where the robot stands now: its start before the first action, else the end of the last
+/// finished one.
+const CellSet& Standing(const ScheduledRoute& r) {
+  if (r.first_unfinished <= 0 || r.action_end_cells.empty()) return r.start_cells;
+  return r.action_end_cells[std::min(r.first_unfinished, Count(r)) - 1];
+}
+
+/// The newer of two routes (later expected start; the higher index on a tie).
+int Newer(const RouteList& routes, int r, int s) {
+  const double tr = routes[r].action_start_s.empty() ? 0.0 : routes[r].action_start_s.front();
+  const double ts = routes[s].action_start_s.empty() ? 0.0 : routes[s].action_start_s.front();
+  return ts > tr || (ts == tr && s > r) ? s : r;
+}
+
+using Block = SharedBlock;
+
+/// The blocks of two routes: 4-connected components of intersecting unfinished action pairs.
+std::vector<Block> Blocks(const ScheduledRoute& a, const ScheduledRoute& b) {
+  const int fa = a.first_unfinished;
+  const int fb = b.first_unfinished;
+  const int na = std::max(0, Count(a) - fa);
+  const int nb = std::max(0, Count(b) - fb);
+  std::vector<char> conflict(static_cast<size_t>(na) * nb, 0);
+  for (int i = 0; i < na; ++i) {
+    for (int j = 0; j < nb; ++j) {
+      conflict[i * nb + j] = a.action_cells[fa + i].Intersects(b.action_cells[fb + j]) ? 1 : 0;
+    }
+  }
+  std::vector<Block> blocks;
+  std::vector<char> seen(conflict.size(), 0);
+  for (int start = 0; start < na * nb; ++start) {
+    if (!conflict[start] || seen[start]) continue;
+    Block block{na, -1, nb, -1};
+    std::vector<int> stack{start};
+    seen[start] = 1;
+    while (!stack.empty()) {
+      const int cell = stack.back();
+      stack.pop_back();
+      const int i = cell / nb;
+      const int j = cell % nb;
+      block.k1 = std::min(block.k1, i);
+      block.k2 = std::max(block.k2, i);
+      block.l1 = std::min(block.l1, j);
+      block.l2 = std::max(block.l2, j);
+      const int neighbours[4][2] = {{i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
+      for (const auto& [ni, nj] : neighbours) {
+        if (ni < 0 || nj < 0 || ni >= na || nj >= nb) continue;
+        const int next = ni * nb + nj;
+        if (conflict[next] && !seen[next]) {
+          seen[next] = 1;
+          stack.push_back(next);
+        }
+      }
+    }
+    blocks.push_back({block.k1 + fa, block.k2 + fa, block.l1 + fb, block.l2 + fb});
+  }
+  return blocks;
+}
+
+/// Whether `cells` meets any of the route's action regions first..last.
+bool Meets(const CellSet& cells, const ScheduledRoute& route, int first, int last) {
+  for (int k = first; k <= last; ++k) {
+    if (cells.Intersects(route.action_cells[k])) return true;
+  }
+  return false;
+}
+
+/// The dependency graph, or the route to hold when two routes cannot be ordered at all.
+struct BuildResult {
+  Graph graph;
+  int infeasible_route = -1;
+};
+
+/// The blocks of routes r and s, computed or remembered.
+using BlocksOf = std::function<const std::vector<Block>&(int r, int s)>;
+
+BuildResult Build(const RouteList& routes, const std::vector<bool>& held,
+                  const std::vector<ParkedRobot>& parked, const BlocksOf& blocks_of) {
+  BuildResult out;
+  Graph& g = out.graph;
+  // Parked robots and held routes stand where they are.
+  std::vector<std::pair<int, const CellSet*>> standing;
+  for (size_t p = 0; p < parked.size(); ++p) {
+    standing.emplace_back(static_cast<int>(p), &parked[p].cells);
+  }
+  for (size_t r = 0; r < routes.size(); ++r) {
+    if (held[r]) standing.emplace_back(static_cast<int>(parked.size() + r), &Standing(routes[r]));
+  }
+  auto key = [&](int r, int k) {
+    const double t = k <= routes[r].cleared_up_to ? -std::numeric_limits<double>::infinity()
+                                                  : routes[r].action_start_s[k];
+    return std::make_tuple(t, r, k);
+  };
+  const int n = static_cast<int>(routes.size());
+  // Each route's bounds over what is left of it: pairs whose bounds do not meet share no cell,
+  // so a large fleet spread over a site costs little more than its routes' lengths.
+  std::vector<CellSet> bounds(n);
+  for (int r = 0; r < n; ++r) {
+    const ScheduledRoute& route = routes[r];
+    bounds[r].GrowBounds(route.start_cells);
+    for (int k = std::max(0, route.first_unfinished - 1); k < Count(route); ++k) {
+      bounds[r].GrowBounds(route.action_cells[k]);
+      bounds[r].GrowBounds(route.action_end_cells[k]);
+    }
+  }
+  for (int r = 0; r < n; ++r) {
+    if (held[r]) continue;
+    const ScheduledRoute& a = routes[r];
+    for (const auto& [index, cells] : standing) {
+      if (!bounds[r].BoundsOverlap(*cells)) continue;
+      for (int k = a.first_unfinished; k < Count(a); ++k) {
+        if (a.action_cells[k].Intersects(*cells)) g.deps[{r, k}].push_back({kParked, -1, index});
+      }
+    }
+    for (int s = r + 1; s < n; ++s) {
+      if (held[s] || !bounds[r].BoundsOverlap(bounds[s])) continue;
+      const ScheduledRoute& b = routes[s];
+      for (const Block& block : blocks_of(r, s)) {
+        const bool a_cleared = block.k1 <= a.cleared_up_to;
+        const bool b_cleared = block.l1 <= b.cleared_up_to;
+        bool a_first;
+        if (a_cleared != b_cleared) {
+          // The robot already cleared into the block goes on, unless the other stands where
+          // it has still to go: then nothing can be ordered, and the other is held.
+          const ScheduledRoute& in = a_cleared ? a : b;
+          const ScheduledRoute& waiting = a_cleared ? b : a;
+          const int in_first = a_cleared ? block.k1 : block.l1;
+          const int in_last = a_cleared ? block.k2 : block.l2;
+          const int waiting_first = a_cleared ? block.l1 : block.k1;
+          if (waiting_first == waiting.first_unfinished &&
+              Meets(Standing(waiting), in, std::max(in_first, in.cleared_up_to + 1), in_last)) {
+            out.infeasible_route = a_cleared ? s : r;
+            return out;
+          }
+          a_first = a_cleared;
+        } else {
+          // A robot standing in the block cannot make way; one whose route ends in it stays.
+          const bool a_stands = block.k1 == a.first_unfinished && !a_cleared &&
+                                Meets(Standing(a), b, block.l1, block.l2);
+          const bool b_stands = block.l1 == b.first_unfinished && !b_cleared &&
+                                Meets(Standing(b), a, block.k1, block.k2);
+          const bool a_ends =
+              block.k2 == Count(a) - 1 && Meets(a.action_end_cells.back(), b, block.l1, block.l2);
+          const bool b_ends =
+              block.l2 == Count(b) - 1 && Meets(b.action_end_cells.back(), a, block.k1, block.k2);
+          const bool a_must = a_stands || b_ends;
+          const bool b_must = b_stands || a_ends;
+          if (a_must && b_must && !a_cleared) {
+            out.infeasible_route = Newer(routes, r, s);
+            return out;
+          }
+          a_first = a_must || (!b_must && key(r, block.k1) < key(s, block.l1));
+        }
+        if (a_first) {
+          g.deps[{s, block.l1}].push_back({r, block.k2, -1});
+        } else {
+          g.deps[{r, block.k1}].push_back({s, block.l2, -1});
+        }
+      }
+    }
+  }
+  return out;
+}
+
+/// A route on a cycle of the graph (intra-route edges k → k+1 plus the dependencies), or -1.
+int RouteOnCycle(const RouteList& routes, const std::vector<bool>& held, const Graph& g) {
+  // Nodes are numbered route by route: node offset[r] + k is action k of route r.
+  const int n = static_cast<int>(routes.size());
+  std::vector<int> offset(n + 1, 0);
+  for (int r = 0; r < n; ++r) offset[r + 1] = offset[r] + Count(routes[r]);
+  std::vector<int> route_of(offset[n]);
+  for (int r = 0; r < n; ++r)
+    std::fill(route_of.begin() + offset[r], route_of.begin() + offset[r + 1], r);
+  // Successors across routes: blocker → waiter (k → k+1 is implicit).
+  std::vector<std::vector<int>> next(offset[n]);
+  for (const auto& [waiter, deps] : g.deps) {
+    for (const Dependency& d : deps) {
+      if (d.blocker_route != kParked) {
+        next[offset[d.blocker_route] + d.blocker_action].push_back(offset[waiter.first] +
+                                                                   waiter.second);
+      }
+    }
+  }
+  std::vector<char> color(offset[n], 0);  // 0 new, 1 on stack, 2 done
+  // Each frame: the node and how many of its successors have been followed (the last one is
+  // the next action of the same route).
+  std::vector<std::pair<int, size_t>> stack;
+  for (int r = 0; r < n; ++r) {
+    if (held[r]) continue;
+    for (int k = routes[r].first_unfinished; k < Count(routes[r]); ++k) {
+      if (color[offset[r] + k] != 0) continue;
+      stack.assign(1, {offset[r] + k, 0});
+      color[offset[r] + k] = 1;
+      while (!stack.empty()) {
+        auto& [node, child] = stack.back();
+        const bool has_next_action = node + 1 < offset[route_of[node] + 1];
+        const size_t successors = next[node].size() + (has_next_action ? 1 : 0);
+        if (child >= successors) {
+          color[node] = 2;
+          stack.pop_back();
+          continue;
+        }
+        const int to = child < next[node].size() ? next[node][child] : node + 1;
+        ++child;
+        if (color[to] == 1) {
+          // The cycle runs from `to` up the stack: hold its newest route.
+          int newest = route_of[to];
+          for (auto it = stack.rbegin(); it != stack.rend() && it->first != to; ++it) {
+            const int q = route_of[it->first];
+            if (routes[q].action_start_s.front() > routes[newest].action_start_s.front() ||
+                (routes[q].action_start_s.front() == routes[newest].action_start_s.front() &&
+                 q > newest)) {
+              newest = q;
+            }
+          }
+          return newest;
+        }
+        if (color[to] == 0) {
+          color[to] = 1;
+          stack.push_back({to, 0});
+        }
+      }
+    }
+  }
+  return -1;
+}
+
+/// DecideClearances over the graph that `blocks_of` yields.
+std::vector<TrafficClearanceDecision> Decide(const RouteList& routes,
+                                             const std::vector<ParkedRobot>& parked,
+                                             const BlocksOf& blocks_of) {
+  std::vector<bool> held(routes.size(), false);
+  Graph g;
+  while (true) {
+    BuildResult built = Build(routes, held, parked, blocks_of);
+    if (built.infeasible_route >= 0) {
+      held[built.infeasible_route] = true;
+      continue;
+    }
+    g = std::move(built.graph);
+    const int cycle = RouteOnCycle(routes, held, g);
+    if (cycle < 0) break;
+    held[cycle] = true;
+  }
+  std::vector<TrafficClearanceDecision> out;
+  for (int r = 0; r < static_cast<int>(routes.size()); ++r) {
+    const ScheduledRoute& route = routes[r];
+    TrafficClearanceDecision decision{route.robot_id,
+                                      route.job_id,
+                                      std::max(route.cleared_up_to, route.first_unfinished - 1),
+                                      {},
+                                      static_cast<bool>(held[r])};
+    if (held[r]) {
+      for (int s = 0; s < static_cast<int>(routes.size()); ++s) {
+        if (s != r && !held[s])
+          decision.waits.push_back({route.robot_id, decision.cleared_up_to + 1, routes[s].robot_id,
+                                    Count(routes[s]) - 1});
+      }
+      out.push_back(std::move(decision));
+      continue;
+    }
+    for (int k = decision.cleared_up_to + 1; k < Count(route); ++k) {
+      auto it = g.deps.find({r, k});
+      if (it != g.deps.end()) {
+        for (const Dependency& d : it->second) {
+          if (d.blocker_route == kParked) {
+            const bool parked_robot = d.parked_index < static_cast<int>(parked.size());
+            decision.waits.push_back({route.robot_id, k,
+                                      parked_robot
+                                          ? parked[d.parked_index].robot_id
+                                          : routes[d.parked_index - parked.size()].robot_id,
+                                      -1});
+          } else if (routes[d.blocker_route].first_unfinished <= d.blocker_action) {
+            decision.waits.push_back(
+                {route.robot_id, k, routes[d.blocker_route].robot_id, d.blocker_action});
+          }
+        }
+      }
+      if (!decision.waits.empty()) break;
+      decision.cleared_up_to = k;
+    }
+    out.push_back(std::move(decision));
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<TrafficClearanceDecision> DecideClearances(const std::vector<ScheduledRoute>& routes,
+                                                       const std::vector<ParkedRobot>& parked) {
+  std::vector<const ScheduledRoute*> pointers;
+  pointers.reserve(routes.size());
+  for (const ScheduledRoute& route : routes) pointers.push_back(&route);
+  return DecideClearances(pointers, parked);
+}
+
+std::vector<TrafficClearanceDecision> DecideClearances(
+    const std::vector<const ScheduledRoute*>& route_pointers,
+    const std::vector<ParkedRobot>& parked) {
+  const RouteList routes(route_pointers);
+  std::map<std::pair<int, int>, std::vector<Block>> computed;
+  return Decide(routes, parked, [&](int r, int s) -> const std::vector<Block>& {
+    auto [it, inserted] = computed.try_emplace({r, s});
+    if (inserted) it->second = Blocks(routes[r], routes[s]);
+    return it->second;
+  });
+}
+
+std::vector<TrafficClearanceDecision> ClearanceDecider::Decide(
+    const std::vector<const ScheduledRoute*>& route_pointers,
+    const std::vector<ParkedRobot>& parked) {
+  const RouteList routes(route_pointers);
+  const uint64_t call = ++calls_;
+  std::map<std::pair<int, int>, std::vector<Block>> uncached;
+  std::vector<TrafficClearanceDecision> out =
+      planner::Decide(routes, parked, [&](int r, int s) -> const std::vector<Block>& {
+        const ScheduledRoute& a = routes[r];
+        const ScheduledRoute& b = routes[s];
+        if (a.cells_id == 0 || b.cells_id == 0) {
+          auto [it, inserted] = uncached.try_emplace({r, s});
+          if (inserted) it->second = Blocks(a, b);
+          return it->second;
+        }
+        auto [it, inserted] = pairs_.try_emplace({a.cells_id, b.cells_id});
+        Remembered& remembered = it->second;
+        if (inserted || remembered.first_a != a.first_unfinished ||
+            remembered.first_b != b.first_unfinished) {
+          remembered.first_a = a.first_unfinished;
+          remembered.first_b = b.first_unfinished;
+          remembered.blocks = Blocks(a, b);
+        }
+        remembered.last_call = call;
+        return remembered.blocks;
+      });
+  absl::erase_if(pairs_, [call](const auto& entry) { return entry.second.last_call != call; });
+  return out;
+}
+
+}  // namespace fleetnav::planner

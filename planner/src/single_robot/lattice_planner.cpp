@@ -1,0 +1,316 @@
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <queue>
+
+#include "absl/container/flat_hash_map.h"
+#include "absl/strings/str_cat.h"
+#include "fleetnav/planner/single_robot/single_robot_planner.hpp"
+
+namespace fleetnav::planner {
+namespace {
+
+/// The heuristic's Dijkstra from the goal runs until it is this many times the start's
+/// distance plus the margin away: weighted A* rarely strays further from the straight way.
+constexpr double kHeuristicReachFactor = 2.0;
+constexpr double kHeuristicReachMarginM = 3.0;
+
+double AngleDiff(double a, double b) {
+  double d = std::fmod(a - b, 2.0 * M_PI);
+  if (d > M_PI) d -= 2.0 * M_PI;
+  if (d < -M_PI) d += 2.0 * M_PI;
+  return d;
+}
+
+bool Positive(double v) { return v > 0.0 && std::isfinite(v); }
+
+}  // namespace
+
+absl::Status PathRequest::Validate() const {
+  for (const Pose2* p : {&start, &goal}) {
+    if (!std::isfinite(p->x_m()) || !std::isfinite(p->y_m()) || !std::isfinite(p->yaw_rad())) {
+      return absl::InvalidArgumentError(p == &start ? "start: not finite" : "goal: not finite");
+    }
+  }
+  if (!Positive(goal_tolerance_m))
+    return absl::InvalidArgumentError("goal_tolerance_m: must be > 0");
+  if (!Positive(goal_tolerance_rad)) {
+    return absl::InvalidArgumentError("goal_tolerance_rad: must be > 0");
+  }
+  if (!Positive(time_limit_s)) return absl::InvalidArgumentError("time_limit_s: must be > 0");
+  return absl::OkStatus();
+}
+
+absl::Status LatticeParams::Validate() const {
+  if (heading_bins < 4 || heading_bins > 360) {
+    return absl::InvalidArgumentError("heading_bins: must be in [4, 360]");
+  }
+  if (!(step_m >= 0.0) || !std::isfinite(step_m)) {
+    return absl::InvalidArgumentError("step_m: must be finite and >= 0");
+  }
+  if (!(turn_cost_m_per_rad >= 0.0)) {
+    return absl::InvalidArgumentError("turn_cost_m_per_rad: must be >= 0");
+  }
+  if (!(reverse_cost_factor >= 1.0)) {
+    return absl::InvalidArgumentError("reverse_cost_factor: must be >= 1");
+  }
+  if (!(heuristic_weight >= 1.0))
+    return absl::InvalidArgumentError("heuristic_weight: must be >= 1");
+  if (max_expansions <= 0) return absl::InvalidArgumentError("max_expansions: must be > 0");
+  return absl::OkStatus();
+}
+
+LatticePlanner::LatticePlanner(Costmap* costmap, const RobotModel& model,
+                               const LatticeParams& params)
+    : costmap_(costmap), model_(model), params_(params) {
+  const double res = costmap_->resolution_m();
+  const double bin = 2.0 * M_PI / params_.heading_bins;
+  const double step = params_.step_m > 0 ? params_.step_m : 1.5 * res;
+  const bool reverse = model_.limits.max_reverse_speed_mps > 0.0;
+  const double turn = params_.turn_cost_m_per_rad * bin;
+  switch (model_.kinematics) {
+    case Kinematics::kDifferential:
+      primitives_ = {{step, 0, 0, step}, {0, 0, bin, turn}, {0, 0, -bin, turn}};
+      if (reverse) primitives_.push_back({-step, 0, 0, step * params_.reverse_cost_factor});
+      break;
+    case Kinematics::kOmnidirectional:
+      for (int dx = -1; dx <= 1; ++dx) {
+        for (int dy = -1; dy <= 1; ++dy) {
+          if (dx == 0 && dy == 0) continue;
+          const double len = step * std::hypot(dx, dy);
+          primitives_.push_back({step * dx, step * dy, 0, len});
+        }
+      }
+      primitives_.push_back({0, 0, bin, turn});
+      primitives_.push_back({0, 0, -bin, turn});
+      break;
+    case Kinematics::kAckermann: {
+      turning_radius_m_ = model_.wheelbase_m / std::tan(model_.limits.max_steering_rad);
+      const double arc = std::max(turning_radius_m_ * bin, step);
+      const double dyaw = arc / turning_radius_m_;
+      for (double dir : {1.0, -1.0}) {
+        if (dir < 0 && !reverse) continue;
+        const double cost = arc * (dir > 0 ? 1.0 : params_.reverse_cost_factor);
+        primitives_.push_back({dir * arc, 0, 0, cost});
+        primitives_.push_back({dir * arc, 0, dir * dyaw, cost * 1.05});
+        primitives_.push_back({dir * arc, 0, -dir * dyaw, cost * 1.05});
+      }
+      break;
+    }
+  }
+}
+
+Pose2 LatticePlanner::Apply(const Pose2& from, const Primitive& p, double f) {
+  const double th = from.yaw_rad();
+  const double s = p.forward_m * f;
+  const double phi = p.dyaw_rad * f;
+  if (p.lateral_m != 0.0 || std::abs(phi) < 1e-12) {
+    const double lat = p.lateral_m * f;
+    return Pose2(from.x_m() + s * std::cos(th) - lat * std::sin(th),
+                 from.y_m() + s * std::sin(th) + lat * std::cos(th), th + phi);
+  }
+  if (p.forward_m == 0.0) return Pose2(from.x_m(), from.y_m(), th + phi);
+  const double r = s / phi;  // signed radius of the arc
+  return Pose2(from.x_m() + r * (std::sin(th + phi) - std::sin(th)),
+               from.y_m() - r * (std::cos(th + phi) - std::cos(th)), th + phi);
+}
+
+bool LatticePlanner::SegmentFree(const Pose2& from, const Primitive& p) const {
+  const double res = costmap_->resolution_m();
+  const double span = std::hypot(p.forward_m, p.lateral_m) +
+                      std::abs(p.dyaw_rad) * costmap_->circumscribed_radius_m();
+  const int samples = std::max(1, static_cast<int>(std::ceil(span / (0.5 * res))));
+  for (int k = 1; k <= samples; ++k) {
+    const Pose2 q = Apply(from, p, static_cast<double>(k) / samples);
+    if (!costmap_->PoseFree(q.x_m(), q.y_m(), q.yaw_rad())) return false;
+  }
+  return true;
+}
+
+absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std::stop_token stop) {
+  if (absl::Status s = params_.Validate(); !s.ok()) return s;
+  if (absl::Status s = request.Validate(); !s.ok()) return s;
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point t0 = Clock::now();
+  const double res = costmap_->resolution_m();
+  const int w = costmap_->width(), h = costmap_->height();
+  const int bins = params_.heading_bins;
+  auto cell_of = [&](double x, double y, int* cx, int* cy) {
+    *cx = static_cast<int>(std::floor(x / res));
+    *cy = static_cast<int>(std::floor(y / res));
+    return costmap_->InBounds(*cx, *cy);
+  };
+  int sx, sy, gx, gy;
+  if (!cell_of(request.start.x_m(), request.start.y_m(), &sx, &sy) ||
+      !costmap_->PoseFree(request.start.x_m(), request.start.y_m(), request.start.yaw_rad())) {
+    return absl::InvalidArgumentError("start: outside the map or in collision");
+  }
+  if (!cell_of(request.goal.x_m(), request.goal.y_m(), &gx, &gy)) {
+    return absl::InvalidArgumentError("goal: outside the map");
+  }
+
+  // Heuristic: 8-connected Dijkstra from the goal over cells with the inscribed clearance. It
+  // stops once it has gone well past the start (kHeuristicReach): a short trip on a large map
+  // does not pay for the whole map. Cells it did not settle are at least `frontier` away, which
+  // keeps the heuristic a lower bound.
+  const size_t cells = static_cast<size_t>(w) * h;
+  std::vector<float> hdist(cells, std::numeric_limits<float>::infinity());
+  float frontier = std::numeric_limits<float>::infinity();
+  {
+    const size_t start_cell = static_cast<size_t>(sy) * w + sx;
+    float stop_at = std::numeric_limits<float>::infinity();
+    const double need = std::max(0.0, costmap_->inscribed_radius_m() - res);
+    using Item = std::pair<float, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+    hdist[static_cast<size_t>(gy) * w + gx] = 0.0f;
+    open.push({0.0f, gy * w + gx});
+    static constexpr int kDx[] = {1, -1, 0, 0, 1, 1, -1, -1};
+    static constexpr int kDy[] = {0, 0, 1, -1, 1, -1, 1, -1};
+    while (!open.empty()) {
+      auto [d, c] = open.top();
+      if (d > hdist[c]) {
+        open.pop();
+        continue;
+      }
+      if (d > stop_at) {
+        frontier = d;
+        break;
+      }
+      open.pop();
+      if (static_cast<size_t>(c) == start_cell) {
+        stop_at = static_cast<float>(kHeuristicReachFactor * d + kHeuristicReachMarginM);
+      }
+      const int cx = c % w, cy = c / w;
+      for (int k = 0; k < 8; ++k) {
+        const int nx = cx + kDx[k], ny = cy + kDy[k];
+        if (!costmap_->InBounds(nx, ny) || costmap_->IsObstacle(nx, ny) ||
+            costmap_->DistanceToObstacle_m(nx, ny) < need) {
+          continue;
+        }
+        const float nd = d + static_cast<float>(res * (k < 4 ? 1.0 : M_SQRT2));
+        const size_t n = static_cast<size_t>(ny) * w + nx;
+        if (nd < hdist[n]) {
+          hdist[n] = nd;
+          open.push({nd, static_cast<int>(n)});
+        }
+      }
+    }
+  }
+  auto heuristic = [&](const Pose2& p) -> double {
+    int cx, cy;
+    if (!cell_of(p.x_m(), p.y_m(), &cx, &cy)) return std::numeric_limits<double>::infinity();
+    const float d = hdist[static_cast<size_t>(cy) * w + cx];
+    const double euclid = std::hypot(p.x_m() - request.goal.x_m(), p.y_m() - request.goal.y_m());
+    if (d <= frontier) return std::max<double>(d - res, euclid);  // settled: exact
+    if (std::isfinite(frontier)) return std::max<double>(frontier - res, euclid);
+    return euclid + 1e3;  // the search finished: no way from the goal to here
+  };
+  auto bin_of = [&](double yaw) {
+    const double turns = yaw / (2.0 * M_PI);
+    return static_cast<int>(std::lround((turns - std::floor(turns)) * bins)) % bins;
+  };
+
+  struct Node {
+    Pose2 pose;
+    double g;
+    int parent;
+  };
+  std::vector<Node> nodes;
+  // Best cost per (cell, heading bin), only for the states the search met.
+  absl::flat_hash_map<uint64_t, float> best;
+  const auto state_of = [&](int x, int y, int bin) {
+    return (static_cast<uint64_t>(y) * w + x) * bins + bin;
+  };
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
+  nodes.push_back({request.start, 0.0, -1});
+  best[state_of(sx, sy, bin_of(request.start.yaw_rad()))] = 0.0f;
+  open.push({params_.heuristic_weight * heuristic(request.start), 0});
+  const bool turns_in_place = model_.kinematics != Kinematics::kAckermann;
+  int closest = 0;
+  double closest_h = heuristic(request.start);
+  int goal_node = -1;
+  PathResult result;
+  while (!open.empty()) {
+    if ((result.expanded & 255) == 0) {
+      if (stop.stop_requested()) return absl::CancelledError("lattice: stopped");
+      if (std::chrono::duration<double>(Clock::now() - t0).count() > request.time_limit_s) break;
+    }
+    if (result.expanded >= params_.max_expansions) break;
+    auto [f, id] = open.top();
+    open.pop();
+    const Node cur = nodes[id];
+    int cx, cy;
+    cell_of(cur.pose.x_m(), cur.pose.y_m(), &cx, &cy);
+    // Stale entry? best[] is float: compare with a tolerance above its rounding at ~100 m.
+    if (cur.g > best.at(state_of(cx, cy, bin_of(cur.pose.yaw_rad()))) + 1e-3) continue;
+    ++result.expanded;
+    const double dist =
+        std::hypot(cur.pose.x_m() - request.goal.x_m(), cur.pose.y_m() - request.goal.y_m());
+    if (dist < closest_h) {
+      closest_h = dist;
+      closest = id;
+    }
+    if (dist <= request.goal_tolerance_m) {
+      const double dyaw = AngleDiff(request.goal.yaw_rad(), cur.pose.yaw_rad());
+      if (std::abs(dyaw) <= request.goal_tolerance_rad) {
+        goal_node = id;
+        break;
+      }
+      if (turns_in_place) {
+        const Primitive turn{0, 0, dyaw, params_.turn_cost_m_per_rad * std::abs(dyaw)};
+        if (SegmentFree(cur.pose, turn)) {
+          nodes.push_back({Apply(cur.pose, turn, 1.0), cur.g + turn.cost, id});
+          goal_node = static_cast<int>(nodes.size()) - 1;
+          break;
+        }
+      }
+    }
+    for (const Primitive& p : primitives_) {
+      const Pose2 next = Apply(cur.pose, p, 1.0);
+      int nx, ny;
+      if (!cell_of(next.x_m(), next.y_m(), &nx, &ny)) continue;
+      const double g = cur.g + p.cost;
+      const uint64_t state = state_of(nx, ny, bin_of(next.yaw_rad()));
+      if (const auto known = best.find(state); known != best.end() && g >= known->second) {
+        continue;
+      }
+      if (!SegmentFree(cur.pose, p)) continue;
+      best[state] = static_cast<float>(g);
+      nodes.push_back({next, g, id});
+      open.push(
+          {g + params_.heuristic_weight * heuristic(next), static_cast<int>(nodes.size()) - 1});
+    }
+  }
+  int end = goal_node;
+  if (end < 0) {
+    if (!params_.allow_approximate) {
+      return absl::NotFoundError(absl::StrCat("lattice: no path within ", request.time_limit_s,
+                                              " s / ", params_.max_expansions, " expansions"));
+    }
+    result.exact = false;
+    end = closest;
+  }
+  for (int id = end; id >= 0; id = nodes[id].parent) result.poses.push_back(nodes[id].pose);
+  std::reverse(result.poses.begin(), result.poses.end());
+  for (size_t i = 1; i < result.poses.size(); ++i) {
+    result.length_m += (result.poses[i].translation() - result.poses[i - 1].translation()).norm();
+  }
+  return result;
+}
+
+absl::StatusOr<std::unique_ptr<SingleRobotPlanner>> MakeSingleRobotPlanner(
+    Costmap* costmap, const RobotModel& model, const LatticeParams& params) {
+  if (costmap == nullptr) return absl::InvalidArgumentError("costmap: null");
+  if (absl::Status s = params.Validate(); !s.ok()) return s;
+  if (absl::Status s = model.Validate(); !s.ok()) return s;
+  if (model.kinematics == Kinematics::kAckermann &&
+      !(model.limits.max_steering_rad > 0.0 && model.wheelbase_m > 0.0)) {
+    return absl::InvalidArgumentError(
+        "model: Ackermann needs wheelbase_m and max_steering_rad > 0");
+  }
+  return std::make_unique<LatticePlanner>(costmap, model, params);
+}
+
+}  // namespace fleetnav::planner

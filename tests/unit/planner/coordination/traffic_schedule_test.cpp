@@ -1,0 +1,394 @@
+#include "fleetnav/planner/coordination/traffic_schedule.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "fleetnav/planner/coordination/route_prediction.hpp"
+
+namespace fleetnav::planner {
+namespace {
+
+const std::vector<Eigen::Vector2d> kSquare{{-0.5, -0.5}, {0.5, -0.5}, {0.5, 0.5}, {-0.5, 0.5}};
+
+/// The cells a 1 m square sweeps from `from` to `to` (no margin, 0.25 m cells).
+CellSet Line(Eigen::Vector2d from, Eigen::Vector2d to) {
+  std::vector<Pose2> poses;
+  for (int i = 0; i <= 20; ++i) {
+    const Eigen::Vector2d p = from + (to - from) * (i / 20.0);
+    poses.emplace_back(p.x(), p.y(), 0.0);
+  }
+  return CellSet::Sweep(poses, kSquare, 0.0, 0.25);
+}
+
+CellSet At(Eigen::Vector2d p) { return Line(p, p); }
+
+/// A route of legs through `points`, one action per leg, each expected to take 10 s from t0.
+ScheduledRoute Route(const std::string& robot, std::vector<Eigen::Vector2d> points, double t0) {
+  ScheduledRoute r;
+  r.robot_id = robot;
+  r.job_id = "job-" + robot;
+  for (size_t i = 1; i < points.size(); ++i) {
+    r.action_cells.push_back(Line(points[i - 1], points[i]));
+    r.action_end_cells.push_back(At(points[i]));
+    r.action_start_s.push_back(t0 + 10.0 * (i - 1));
+  }
+  r.start_cells = At(points.front());
+  return r;
+}
+
+TEST(CellSetTest, SweepCoversTheFootprintAndSetsIntersectOnlyWhenTheyShareCells) {
+  const CellSet a = Line({0, 0}, {4, 0});
+  EXPECT_TRUE(a.Intersects(At({4.2, 0})));
+  EXPECT_FALSE(a.Intersects(At({0, 2.0})));
+  // A margin grows the region: a square 0.6 m away is touched with a 0.6 m margin.
+  const CellSet grown = CellSet::Sweep({Pose2(0, 0, 0)}, kSquare, 0.6, 0.25);
+  EXPECT_TRUE(grown.Intersects(At({0, 1.6})));
+  EXPECT_FALSE(grown.Intersects(At({0, 3.0})));
+}
+
+TEST(CellSetTest, ASweepHoldsEachCellOnceAndExactlyTheCellsOfItsPoses) {
+  // A pose repeated adds no cell: each cell is stored once.
+  const CellSet once = CellSet::Sweep({Pose2(1.0, 2.0, 0.3)}, kSquare, 0.2, 0.25);
+  const CellSet repeated =
+      CellSet::Sweep(std::vector<Pose2>(10, Pose2(1.0, 2.0, 0.3)), kSquare, 0.2, 0.25);
+  EXPECT_EQ(repeated.size(), once.size());
+  // A sweep along a curve touches a probe exactly when one of its poses alone does.
+  std::vector<Pose2> poses;
+  for (int i = 0; i <= 40; ++i) poses.emplace_back(0.1 * i, std::sin(0.1 * i), 0.05 * i);
+  const CellSet swept = CellSet::Sweep(poses, kSquare, 0.1, 0.25);
+  size_t sum_of_sizes = 0;
+  std::vector<CellSet> alone;
+  for (const Pose2& pose : poses) {
+    alone.push_back(CellSet::Sweep({pose}, kSquare, 0.1, 0.25));
+    sum_of_sizes += alone.back().size();
+  }
+  EXPECT_LT(swept.size(), sum_of_sizes / 4);  // neighbouring poses share most cells
+  const std::vector<Eigen::Vector2d> dot{{-0.01, -0.01}, {0.01, -0.01}, {0.01, 0.01}};
+  int touched = 0;
+  for (double x = -1.5; x <= 5.5; x += 0.125) {
+    for (double y = -2.5; y <= 2.5; y += 0.125) {
+      const CellSet probe = CellSet::Sweep({Pose2(x, y, 0.0)}, dot, 0.0, 0.25);
+      bool any = false;
+      for (const CellSet& one : alone) any = any || one.Intersects(probe);
+      ASSERT_EQ(swept.Intersects(probe), any) << "probe at " << x << ", " << y;
+      touched += any ? 1 : 0;
+    }
+  }
+  EXPECT_GT(touched, 100);
+}
+
+TEST(TrafficScheduleTest, CrossingRoutesGoOneAfterTheOtherInExpectedOrder) {
+  // a drives east along y = 0 through x = 0 first (t 0–10); b comes south later (t 10–20)
+  // across the same place.
+  ScheduledRoute a = Route("a", {{-5, 0}, {5, 0}, {5, -5}}, 0.0);
+  ScheduledRoute b = Route("b", {{0, 8}, {0, 4}, {0, -4}}, 0.0);
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
+  ASSERT_EQ(d.size(), 2u);
+  EXPECT_EQ(d[0].cleared_up_to, 1);  // a: nothing holds it
+  EXPECT_TRUE(d[0].waits.empty());
+  EXPECT_EQ(d[1].cleared_up_to, 0);  // b: may approach, not cross
+  ASSERT_EQ(d[1].waits.size(), 1u);
+  EXPECT_EQ(d[1].waits[0].blocker_robot_id, "a");
+  EXPECT_EQ(d[1].waits[0].blocker_action, 0);
+  // Once a has left the crossing, b may cross; its clearance is kept when a is late.
+  a.first_unfinished = 1;
+  a.cleared_up_to = 1;
+  b.cleared_up_to = 0;
+  d = DecideClearances({a, b}, {});
+  EXPECT_EQ(d[1].cleared_up_to, 1);
+  EXPECT_TRUE(d[1].waits.empty());
+  EXPECT_FALSE(d[0].deadlocked);
+}
+
+TEST(TrafficScheduleTest, ARobotThatStopsInsideACrossingIsWaitedForUntilItHasLeftIt) {
+  // a's first action ends on the crossing and its second leaves it: b waits for the second,
+  // for a would stand in b's way between the two.
+  ScheduledRoute a = Route("a", {{-5, 0}, {0, 0}, {5, 0}}, 0.0);
+  ScheduledRoute b = Route("b", {{0, 5}, {0, -5}}, 5.0);
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
+  EXPECT_EQ(d[0].cleared_up_to, 1);
+  EXPECT_EQ(d[1].cleared_up_to, -1);
+  ASSERT_EQ(d[1].waits.size(), 1u);
+  EXPECT_EQ(d[1].waits[0].blocker_robot_id, "a");
+  EXPECT_EQ(d[1].waits[0].blocker_action, 1);
+}
+
+TEST(TrafficScheduleTest, ClearedActionsComeFirstWhateverTheExpectedTimes) {
+  // b was cleared into the crossing before a's route was known: a waits, though its expected
+  // time is earlier.
+  ScheduledRoute a = Route("a", {{-5, 0}, {5, 0}}, 0.0);
+  ScheduledRoute b = Route("b", {{0, 5}, {0, -5}}, 100.0);
+  b.cleared_up_to = 0;
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
+  EXPECT_EQ(d[0].cleared_up_to, -1);
+  ASSERT_EQ(d[0].waits.size(), 1u);
+  EXPECT_EQ(d[0].waits[0].blocker_robot_id, "b");
+  EXPECT_EQ(d[1].cleared_up_to, 0);
+}
+
+TEST(TrafficScheduleTest, ARobotsRestingPlaceIsCrossedBeforeItArrives) {
+  // b ends at (0, 0), on a's later leg: a must pass there before b's last action, although b
+  // is expected earlier.
+  ScheduledRoute a = Route("a", {{-8, 3}, {-4, 3}, {-4, 0}, {4, 0}}, 0.0);
+  ScheduledRoute b = Route("b", {{0, -8}, {0, -4}, {0, 0}}, 0.0);
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
+  EXPECT_EQ(d[0].cleared_up_to, 2);
+  EXPECT_EQ(d[1].cleared_up_to, 0);
+  ASSERT_FALSE(d[1].waits.empty());
+  EXPECT_EQ(d[1].waits[0].blocker_robot_id, "a");
+  EXPECT_EQ(d[1].waits[0].blocker_action, 2);
+}
+
+TEST(TrafficScheduleTest, ARobotStandingAtItsStartIsPassedOnlyAfterItLeaves) {
+  // b stands on a's path until b's first action; b's first action is expected later than a
+  // passes, yet a waits for it.
+  ScheduledRoute a = Route("a", {{-5, 0}, {5, 0}}, 0.0);
+  ScheduledRoute b = Route("b", {{0, 0}, {0, 5}}, 50.0);
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
+  EXPECT_EQ(d[0].cleared_up_to, -1);
+  ASSERT_EQ(d[0].waits.size(), 1u);
+  EXPECT_EQ(d[0].waits[0].blocker_robot_id, "b");
+  EXPECT_EQ(d[1].cleared_up_to, 0);
+}
+
+TEST(TrafficScheduleTest, ACrossingAlreadyEnteredIsNotDrivenOnThroughARobotThatStandsInIt) {
+  // a was cleared into the place where b stands (its first action), before b's route was
+  // known: a may not go on through b, and b cannot make way first (a is in its way): b is held
+  // and a waits for it — both stand, nobody is driven into.
+  ScheduledRoute a = Route("a", {{-5, 0}, {2.2, 0}, {8, 0}}, 0.0);
+  a.cleared_up_to = 0;
+  ScheduledRoute b = Route("b", {{3.5, 0}, {3.5, 5}}, 1.0);
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
+  EXPECT_EQ(d[0].cleared_up_to, 0);
+  ASSERT_FALSE(d[0].waits.empty());
+  EXPECT_EQ(d[0].waits[0].blocker_robot_id, "b");
+  EXPECT_TRUE(d[1].deadlocked);
+  EXPECT_EQ(d[1].cleared_up_to, -1);
+}
+
+TEST(TrafficScheduleTest, ParkedRobotsAreNeverDrivenThrough) {
+  ScheduledRoute a = Route("a", {{-5, 0}, {-2, 0}, {5, 0}}, 0.0);
+  std::vector<TrafficClearanceDecision> d =
+      DecideClearances({a}, {ParkedRobot{"idle", At({2, 0})}});
+  EXPECT_EQ(d[0].cleared_up_to, 0);
+  ASSERT_EQ(d[0].waits.size(), 1u);
+  EXPECT_EQ(d[0].waits[0].blocker_robot_id, "idle");
+  EXPECT_EQ(d[0].waits[0].blocker_action, -1);
+}
+
+TEST(TrafficScheduleTest, RoutesThatEndOnEachOthersStartAreHeldNotDeadlocked) {
+  // Each robot ends where the other starts: no order of whole actions works, so the newer
+  // route is held and the older one runs.
+  ScheduledRoute a = Route("a", {{0, 0}, {6, 0}}, 0.0);
+  ScheduledRoute b = Route("b", {{6, 0}, {0, 0}}, 1.0);
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
+  EXPECT_FALSE(d[0].deadlocked);
+  EXPECT_TRUE(d[1].deadlocked);
+  EXPECT_EQ(d[1].cleared_up_to, -1);
+}
+
+// Four robots on random crossing routes, executed with random delays over 50 seeds: no two
+// robots are ever in each other's way (running action or standing place), and all finish.
+TEST(TrafficScheduleTest, RandomDelaysNeverCollideOrDeadlock) {
+  int crossings_waited = 0;
+  for (int seed = 1; seed <= 50; ++seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> mid(5.0, 15.0);
+    std::vector<int> exits{0, 1, 2, 3};
+    std::shuffle(exits.begin(), exits.end(), rng);
+    std::vector<ScheduledRoute> routes;
+    for (int i = 0; i < 4; ++i) {
+      routes.push_back(Route(std::string(1, static_cast<char>('a' + i)),
+                             {{0.0, 3.0 * i},
+                              {mid(rng), mid(rng) - 5.0},
+                              {mid(rng), mid(rng) - 5.0},
+                              {20.0, 3.0 * exits[i]}},
+                             0.5 * i));
+    }
+    std::vector<bool> running(4, false);
+    auto occupied = [&](int i) -> const CellSet& {
+      const ScheduledRoute& r = routes[i];
+      if (running[i]) return r.action_cells[r.first_unfinished];
+      return r.first_unfinished == 0 ? r.start_cells : r.action_end_cells[r.first_unfinished - 1];
+    };
+    int idle_steps = 0;
+    for (int step = 0; step < 5000; ++step) {
+      std::vector<ScheduledRoute> active;
+      std::vector<ParkedRobot> parked;
+      std::vector<int> index;
+      for (int i = 0; i < 4; ++i) {
+        if (routes[i].first_unfinished < 3) {
+          active.push_back(routes[i]);
+          index.push_back(i);
+        } else {
+          parked.push_back({routes[i].robot_id, routes[i].action_end_cells.back()});
+        }
+      }
+      if (active.empty()) break;
+      const std::vector<TrafficClearanceDecision> d = DecideClearances(active, parked);
+      for (size_t j = 0; j < d.size(); ++j) {
+        routes[index[j]].cleared_up_to = d[j].cleared_up_to;
+        if (!d[j].waits.empty()) ++crossings_waited;
+      }
+      // One robot moves on (a random delay for everyone else).
+      const int i = index[std::uniform_int_distribution<size_t>(0, index.size() - 1)(rng)];
+      ScheduledRoute& r = routes[i];
+      bool moved = false;
+      if (running[i]) {
+        running[i] = false;
+        ++r.first_unfinished;
+        moved = true;
+      } else if (r.cleared_up_to >= r.first_unfinished) {
+        running[i] = true;
+        moved = true;
+      }
+      idle_steps = moved ? 0 : idle_steps + 1;
+      ASSERT_LT(idle_steps, 400) << "seed " << seed << ": nobody can move (deadlock)";
+      for (int x = 0; x < 4; ++x) {
+        for (int y = x + 1; y < 4; ++y) {
+          ASSERT_FALSE(occupied(x).Intersects(occupied(y)))
+              << "seed " << seed << ": " << routes[x].robot_id << " and " << routes[y].robot_id
+              << " meet";
+        }
+      }
+    }
+    for (int i = 0; i < 4; ++i) {
+      EXPECT_EQ(routes[i].first_unfinished, 3) << "seed " << seed << " robot " << i;
+    }
+  }
+  EXPECT_GT(crossings_waited, 0);  // the routes did cross
+}
+
+TEST(RoutePredictionTest, LegsChainFromTheStartAlongStripesAndTurns) {
+  MarkerSet markers;
+  StripeMarker stripe;
+  stripe.id = 10;
+  stripe.position_m = {5.0, 2.0};
+  stripe.yaw_rad = 0.0;
+  stripe.length_m = 6.0;  // x 2..8 at y = 2
+  stripe.kind = MarkerKind::kFollowStripe;
+  stripe.stripe_id = 3;
+  markers.markers.push_back(stripe);
+  fleetnav::Route route;
+  route.actions.push_back({StraightAction{2.0, 0.5}, {}});
+  route.actions.push_back({TurnAction{M_PI / 2, 0.5}, {}});
+  route.actions.push_back({StraightAction{2.0, 0.5}, {}});
+  route.actions.push_back({TurnAction{-M_PI / 2, 0.5}, {}});
+  route.actions.push_back({StripeNavigationAction{3, 0.0, 0.25}, {EndConditionKind::kStripeEnd}});
+  absl::StatusOr<std::vector<PredictedAction>> predicted =
+      PredictRoute(route, Pose2(0, 0, 0), &markers, nullptr, Pose2());
+  ASSERT_TRUE(predicted.ok()) << predicted.status();
+  ASSERT_EQ(predicted->size(), 5u);
+  EXPECT_TRUE(predicted->at(0).poses.back().IsNear(Pose2(2, 0, 0), 1e-9, 1e-9));
+  EXPECT_NEAR(predicted->at(0).duration_s, 4.0, 1e-9);
+  EXPECT_NEAR(predicted->at(1).duration_s, M_PI, 1e-9);
+  EXPECT_TRUE(predicted->at(2).poses.back().IsNear(Pose2(2, 2, M_PI / 2), 1e-9, 1e-9));
+  EXPECT_TRUE(predicted->at(4).poses.back().IsNear(Pose2(8, 2, 0), 1e-9, 1e-9));
+  EXPECT_NEAR(predicted->at(4).duration_s, 6.0 / 0.25, 1e-6);
+  for (const PredictedAction& action : *predicted) {
+    for (size_t i = 1; i < action.poses.size(); ++i) {
+      EXPECT_LE((action.poses[i].translation() - action.poses[i - 1].translation()).norm(),
+                0.1 + 1e-9);
+    }
+  }
+  route.actions.back().params = StripeNavigationAction{4, 0.0, 0.25};
+  EXPECT_EQ(PredictRoute(route, Pose2(0, 0, 0), &markers, nullptr, Pose2()).status().code(),
+            absl::StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace fleetnav::planner
+
+namespace fleetnav::planner {
+namespace {
+
+bool SameDecisions(const std::vector<TrafficClearanceDecision>& a,
+                   const std::vector<TrafficClearanceDecision>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i].robot_id != b[i].robot_id || a[i].cleared_up_to != b[i].cleared_up_to ||
+        a[i].deadlocked != b[i].deadlocked || a[i].waits.size() != b[i].waits.size()) {
+      return false;
+    }
+    for (size_t w = 0; w < a[i].waits.size(); ++w) {
+      const TrafficWait& x = a[i].waits[w];
+      const TrafficWait& y = b[i].waits[w];
+      if (x.robot_id != y.robot_id || x.action != y.action ||
+          x.blocker_robot_id != y.blocker_robot_id || x.blocker_action != y.blocker_action) {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+// Six robots on random crossing routes, executed with random delays, re-predicted now and then
+// and finishing at random: the decider's remembered blocks give the same decisions as
+// computing them afresh at every step, over 30 seeds.
+TEST(ClearanceDeciderTest, RememberingSharedPlacesChangesNoDecision) {
+  size_t most_remembered = 0;
+  int waits_seen = 0;
+  for (int seed = 1; seed <= 30; ++seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> mid(5.0, 15.0);
+    std::vector<ScheduledRoute> routes;
+    uint64_t next_id = 1;
+    for (int i = 0; i < 6; ++i) {
+      routes.push_back(Route(std::string(1, static_cast<char>('a' + i)),
+                             {{0.0, 2.0 * i},
+                              {mid(rng), mid(rng) - 5.0},
+                              {mid(rng), mid(rng) - 5.0},
+                              {mid(rng), mid(rng) - 5.0},
+                              {20.0, 2.0 * i}},
+                             0.5 * i));
+      routes.back().cells_id = next_id++;
+    }
+    ClearanceDecider decider;
+    std::vector<bool> running(routes.size(), false);
+    for (int step = 0; step < 400; ++step) {
+      std::vector<const ScheduledRoute*> active;
+      std::vector<ScheduledRoute*> active_mutable;
+      std::vector<ParkedRobot> parked;
+      for (ScheduledRoute& r : routes) {
+        if (r.first_unfinished < 4) {
+          active.push_back(&r);
+          active_mutable.push_back(&r);
+        } else {
+          parked.push_back({r.robot_id, r.action_end_cells.back()});
+        }
+      }
+      if (active.empty()) break;
+      const std::vector<TrafficClearanceDecision> fresh = DecideClearances(active, parked);
+      const std::vector<TrafficClearanceDecision> remembered = decider.Decide(active, parked);
+      ASSERT_TRUE(SameDecisions(fresh, remembered)) << "seed " << seed << " step " << step;
+      ASSERT_LE(decider.remembered_pairs(), active.size() * (active.size() - 1) / 2);
+      most_remembered = std::max(most_remembered, decider.remembered_pairs());
+      for (size_t j = 0; j < fresh.size(); ++j) {
+        active_mutable[j]->cleared_up_to = fresh[j].cleared_up_to;
+        waits_seen += fresh[j].waits.empty() ? 0 : 1;
+      }
+      // One robot moves on; now and then another's cells are predicted again (a new id).
+      const size_t j = std::uniform_int_distribution<size_t>(0, active.size() - 1)(rng);
+      ScheduledRoute& r = *active_mutable[j];
+      const size_t i = static_cast<size_t>(&r - routes.data());
+      if (running[i]) {
+        running[i] = false;
+        ++r.first_unfinished;
+      } else if (r.cleared_up_to >= r.first_unfinished) {
+        running[i] = true;
+      }
+      if (std::uniform_int_distribution<int>(0, 9)(rng) == 0) {
+        active_mutable[std::uniform_int_distribution<size_t>(0, active.size() - 1)(rng)]->cells_id =
+            next_id++;
+      }
+    }
+  }
+  EXPECT_GT(most_remembered, 0u);
+  EXPECT_GT(waits_seen, 0);
+}
+
+}  // namespace
+}  // namespace fleetnav::planner
