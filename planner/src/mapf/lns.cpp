@@ -68,9 +68,14 @@ absl::Status LnsRefiner::Load(const MapfSolution& initial, std::vector<int> fixe
     shortest_[i] = fixed_steps_[i] - 1 + Distances(i).Get(paths_[i][fixed_steps_[i] - 1]);
   }
   for (int i = 0; i < n; ++i) {
-    if (fixed_steps_[i] > 1) {
-      const std::vector<int> prefix(paths_[i].begin(), paths_[i].begin() + (fixed_steps_[i] - 1));
+    const int fixed = fixed_steps_[i];
+    if (fixed > 1) {
+      const std::vector<int> prefix(paths_[i].begin(), paths_[i].begin() + (fixed - 1));
       table_.AddHardPath(prefix, 0, /*park=*/false);
+      // The last committed move belongs to neither the prefix above nor the tail: block the
+      // opposite move at its step here, or a replanned robot could swap with it.
+      const int before = paths_[i][fixed - 2], last = paths_[i][fixed - 1];
+      if (before != last) table_.AddHardEdge(last, before, fixed - 1);
     }
     AddToTable(i);
     IndexVisitors(i, /*add=*/true);

@@ -57,7 +57,7 @@ TEST(LnsTest, KeepsTheCommittedPrefixes) {
   params.time_limit_s = 0.2;
   absl::StatusOr<MapfSolution> refined = LnsRefiner(inst, params).Refine(initial, {}, fixed);
   ASSERT_TRUE(refined.ok()) << refined.status();
-  EXPECT_TRUE(ValidateSolution(inst, *refined).ok());
+  EXPECT_TRUE(ValidateSolution(inst, *refined).ok()) << ValidateSolution(inst, *refined);
   for (int i = 0; i < inst.num_agents(); ++i) {
     for (int k = 0; k < fixed[i]; ++k) {
       ASSERT_EQ(refined->paths[i][k], initial.paths[i][k]) << "agent " << i << " step " << k;

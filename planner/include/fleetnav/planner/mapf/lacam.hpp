@@ -1,7 +1,6 @@
 #pragma once
 
 #include <cstdint>
-#include <random>
 #include <stop_token>
 #include <vector>
 
@@ -85,6 +84,18 @@ class LacamSolver : public MapfSolver {
   int InternNode(int parent, bool* is_new);
   bool Generate(int node, int low);
   bool Pibt(int agent, const int* from);
+  void Shuffle(int* values, int count);
+  // PIBT with swap (Okumura, IJCAI 2023, section 4.2): the robot i must swap places with, or
+  // kNone. SwapRequired simulates the pusher driving the puller back along a corridor;
+  // SwapPossible looks for a junction behind the puller where the two can pass.
+  int SwapPartner(int i, const int* from, int target);
+  bool SwapRequired(int pusher, int puller, int v_pusher, int v_puller);
+  bool SwapPossible(int v_pusher_origin, int v_puller_origin) const;
+  // Neighbours of v other than from_v that a robot could step into (a dead end where a robot
+  // rests at its goal does not count); the last one in *next.
+  int CorridorStep(int from_v, int v, int* next) const;
+  // A dead end (degree 1) where a robot rests at its goal.
+  bool RestingInDeadEnd(int u) const;
   int64_t EdgeCost(int a, int b) const;
   void AddEdge(int from, int to);
   void Rewire(int from);
@@ -94,7 +105,7 @@ class LacamSolver : public MapfSolver {
   LacamParams params_;
   int n_ = 0;
   std::vector<DistanceTable> tables_;
-  std::mt19937 rng_;
+  uint64_t rng_state_ = 0;  // SplitMix64
 
   std::vector<HighNode> nodes_;
   std::vector<int> config_;
