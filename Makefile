@@ -5,7 +5,12 @@ JOBS ?= 2
 BUILD_TYPE ?= RelWithDebInfo
 FLEETNAV_WERROR ?= OFF
 
-.PHONY: all bootstrap configure build test demo bench format clean
+# Test programs built with sanitizers by `make sanitize` (ASan + UBSan) and `make tsan`: the pure
+# libraries (algorithms, store, server logic, agent) whose tests run without gRPC or ODE.
+SANITIZE_TESTS ?= core_test planner_test storage_test localization_test server_app_test robot_agent_test
+TSAN_TESTS ?= core_test storage_test server_app_test
+
+.PHONY: all bootstrap configure build test demo bench format format-check tidy sanitize tsan clean
 
 all: build
 
@@ -33,5 +38,19 @@ demo: build
 format:
 	git ls-files '*.cpp' '*.hpp' | xargs clang-format -i
 
+# Fails on any C++ file clang-format would change.
+format-check:
+	git ls-files '*.cpp' '*.hpp' | xargs clang-format --dry-run -Werror
+
+# clang-tidy (.clang-tidy: naming rules and defect checks) on the files changed in the last day.
+tidy: configure
+	./scripts/tidy-changed $(BUILD_DIR)
+
+sanitize: bootstrap
+	JOBS=$(JOBS) ./scripts/sanitized-tests address,undefined build-asan $(SANITIZE_TESTS)
+
+tsan: bootstrap
+	JOBS=$(JOBS) ./scripts/sanitized-tests thread build-tsan $(TSAN_TESTS)
+
 clean:
-	rm -rf $(BUILD_DIR)
+	rm -rf $(BUILD_DIR) build-asan build-tsan

@@ -13,8 +13,6 @@ namespace {
 constexpr double kTinyStepM = 1e-4;
 /// Slowest speed while a piece's end is still ahead, so it is reached in finite time.
 constexpr double kCreepSpeedMps = 0.03;
-/// A piece's end passed this close beside the robot counts as reached.
-constexpr double kPassedLateralM = 0.25;
 
 }  // namespace
 
