@@ -24,7 +24,7 @@ absl::StatusOr<KinematicDependencyGraph> KinematicDependencyGraph::Compile(
   if (absl::Status s = ValidateKinematicPlan(problem, plan); !s.ok()) return s;
   KinematicDependencyGraph g;
   const int n = static_cast<int>(problem.robots.size());
-  g.by_robot_.resize(n);
+  g.graph_ = DependencyGraph(n);
   // Per cell, the episodes of every robot, built robot by robot along the half steps: state t
   // at 2t, the move from t to t + 1 at 2t + 1 (covering both footprints).
   std::map<int, std::vector<Episode>> episodes;
@@ -40,10 +40,8 @@ absl::StatusOr<KinematicDependencyGraph> KinematicDependencyGraph::Compile(
       const bool moves = !last && !(states[t + 1] == states[t]);
       int action = kNoAction;
       if (moves) {
-        action = static_cast<int>(g.actions_.size());
+        action = g.graph_.AddAction(r);
         g.actions_.push_back({r, states[t], states[t + 1], static_cast<int>(t) + 1});
-        g.by_robot_[r].push_back(action);
-        g.deps_.emplace_back();
         CoveredCells(*problem.map, motion, states[t + 1], &next);
       }
       // Cells covered at this state: begun by the action that arrived here (or the start).
@@ -81,11 +79,7 @@ absl::StatusOr<KinematicDependencyGraph> KinematicDependencyGraph::Compile(
           before.release == kNoAction) {
         continue;  // the same robot's order, or impossible in a validated plan
       }
-      std::vector<int>& deps = g.deps_[after.acquire];
-      if (std::find(deps.begin(), deps.end(), before.release) == deps.end()) {
-        deps.push_back(before.release);
-        ++g.cross_;
-      }
+      g.graph_.AddCrossDependency(before.release, after.acquire);
     }
   }
   return g;

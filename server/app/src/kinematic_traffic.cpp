@@ -123,9 +123,7 @@ absl::StatusOr<TrafficPlan> PlanKinematicTraffic(const OccupancyGrid& grid,
     plan.makespan_s = std::max(plan.makespan_s, path.back().t_s);
     plan.paths.push_back(std::move(path));
   }
-  AppendDependencies(
-      *graph, static_cast<int>(agents.size()), [&](int id) { return graph->action(id).robot; },
-      agents, &plan);
+  AppendDependencies(graph->graph(), agents, &plan);
   return plan;
 }
 

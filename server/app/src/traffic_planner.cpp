@@ -131,8 +131,7 @@ absl::StatusOr<TrafficPlan> TrafficPlanner::Plan(const std::string& map_id, uint
     plan.makespan_s = std::max(plan.makespan_s, path.back().t_s);
     plan.paths.push_back(std::move(path));
   }
-  AppendDependencies(
-      *adg, adg->num_agents(), [&](int id) { return adg->action(id).agent; }, agents, &plan);
+  AppendDependencies(adg->graph(), agents, &plan);
   plan.planning_ms = elapsed_ms();
   return plan;
 }

@@ -36,14 +36,14 @@ ExecutionOutcome ExecuteWithDelays(const MapfInstance& inst, const ActionDepende
   std::vector<int> position = inst.starts;
   std::vector<size_t> next(n, 0);    // index into ActionsOf(i) of the next action
   std::vector<int> remaining(n, 0);  // ticks left of the running action, 0 if idle
-  std::vector<bool> done(adg.num_actions(), false);
+  std::vector<bool> done(adg.graph().num_actions(), false);
   std::vector<int> holder(inst.graph->size(), -1);
   ExecutionOutcome out;
   for (int tick = 0; tick < 100000; ++tick) {
     // Finish running moves.
     for (int i = 0; i < n; ++i) {
       if (remaining[i] > 0 && --remaining[i] == 0) {
-        const int id = adg.ActionsOf(i)[next[i]];
+        const int id = adg.graph().ActionsOf(i)[next[i]];
         done[id] = true;
         position[i] = adg.action(id).to;
         ++next[i];
@@ -52,10 +52,10 @@ ExecutionOutcome ExecuteWithDelays(const MapfInstance& inst, const ActionDepende
     // Start every action whose dependencies are finished.
     bool any_running = false;
     for (int i = 0; i < n; ++i) {
-      if (remaining[i] == 0 && next[i] < adg.ActionsOf(i).size()) {
-        const int id = adg.ActionsOf(i)[next[i]];
+      if (remaining[i] == 0 && next[i] < adg.graph().ActionsOf(i).size()) {
+        const int id = adg.graph().ActionsOf(i)[next[i]];
         bool ready = true;
-        for (int d : adg.DependenciesOf(id)) ready = ready && done[d];
+        for (int d : adg.graph().DependenciesOf(id)) ready = ready && done[d];
         if (ready) {
           const bool late = delayed(rng);
           out.delayed_actions += late;
@@ -68,7 +68,7 @@ ExecutionOutcome ExecuteWithDelays(const MapfInstance& inst, const ActionDepende
     std::fill(holder.begin(), holder.end(), -1);
     for (int i = 0; i < n; ++i) {
       std::vector<int> cells = {position[i]};
-      if (remaining[i] > 0) cells.push_back(adg.action(adg.ActionsOf(i)[next[i]]).to);
+      if (remaining[i] > 0) cells.push_back(adg.action(adg.graph().ActionsOf(i)[next[i]]).to);
       for (int c : cells) {
         if (holder[c] != -1 && holder[c] != i) out.collision_free = false;
         holder[c] = i;
@@ -77,7 +77,7 @@ ExecutionOutcome ExecuteWithDelays(const MapfInstance& inst, const ActionDepende
     out.ticks = tick;
     if (!any_running) {
       bool finished = true;
-      for (int i = 0; i < n; ++i) finished = finished && next[i] == adg.ActionsOf(i).size();
+      for (int i = 0; i < n; ++i) finished = finished && next[i] == adg.graph().ActionsOf(i).size();
       out.deadlocked = !finished;
       break;
     }
@@ -93,11 +93,12 @@ TEST(AdgTest, CompilesMovesAndCrossDependencies) {
   MapfSolution sol{{{1, 2, 3}, {0, 1, 2}}};
   absl::StatusOr<ActionDependencyGraph> adg = ActionDependencyGraph::Compile(inst, sol);
   ASSERT_TRUE(adg.ok()) << adg.status();
-  EXPECT_EQ(adg->num_actions(), 4);
-  EXPECT_EQ(adg->num_cross_dependencies(), 2);
+  EXPECT_EQ(adg->graph().num_actions(), 4);
+  EXPECT_EQ(adg->graph().num_cross_dependencies(), 2);
   // Agent 1's move into cell 1 waits for agent 0's move out of it.
-  const int enter1 = adg->ActionsOf(1)[0];
-  EXPECT_THAT(adg->DependenciesOf(enter1), ::testing::Contains(adg->ActionsOf(0)[0]));
+  const int enter1 = adg->graph().ActionsOf(1)[0];
+  EXPECT_THAT(adg->graph().DependenciesOf(enter1),
+              ::testing::Contains(adg->graph().ActionsOf(0)[0]));
 }
 
 TEST(AdgTest, WaitsAreNotActions) {
@@ -106,7 +107,7 @@ TEST(AdgTest, WaitsAreNotActions) {
   absl::StatusOr<ActionDependencyGraph> adg =
       ActionDependencyGraph::Compile(inst, {{{0, 0, 1, 1, 2}}});
   ASSERT_TRUE(adg.ok());
-  EXPECT_EQ(adg->num_actions(), 2);
+  EXPECT_EQ(adg->graph().num_actions(), 2);
   EXPECT_EQ(adg->action(1).planned_step, 4);
 }
 
@@ -139,7 +140,7 @@ TEST_P(AdgDelayTest, FiftyRobotsWithRandomDelaysNeverCollideAndAllArrive) {
   ASSERT_TRUE(plan.ok()) << plan.status();
   absl::StatusOr<ActionDependencyGraph> adg = ActionDependencyGraph::Compile(*inst, plan->solution);
   ASSERT_TRUE(adg.ok()) << adg.status();
-  EXPECT_GT(adg->num_cross_dependencies(), 0);
+  EXPECT_GT(adg->graph().num_cross_dependencies(), 0);
   for (uint64_t delay_seed = 0; delay_seed < 4; ++delay_seed) {
     const ExecutionOutcome out =
         ExecuteWithDelays(*inst, *adg, GetParam() * 100 + delay_seed, 0.3, 5);
@@ -178,8 +179,8 @@ TEST(AdgDelayTest, WithoutTheGraphDelaysCauseCollisions) {
     for (int tick = 0; tick < 2000; ++tick) {
       std::vector<int> holder(g.size(), -1);
       for (int i = 0; i < n; ++i) {
-        if (next[i] < adg->ActionsOf(i).size() && tick >= ready_at[i]) {
-          const AdgAction& a = adg->action(adg->ActionsOf(i)[next[i]]);
+        if (next[i] < adg->graph().ActionsOf(i).size() && tick >= ready_at[i]) {
+          const AdgAction& a = adg->action(adg->graph().ActionsOf(i)[next[i]]);
           if (tick >= a.planned_step - 1) {
             position[i] = a.to;
             ++next[i];

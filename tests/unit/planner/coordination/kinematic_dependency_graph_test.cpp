@@ -23,7 +23,7 @@ struct Outcome {
 // previous action and (with `use_dependencies`) all its cross-robot dependencies are finished,
 // and takes 1 tick plus, with probability `delay_probability`, 1–`max_delay` more. A robot
 // covers both footprints while acting. Checks every tick for overlapping robots.
-Outcome Execute(const KinematicMapfProblem& problem, const KinematicDependencyGraph& graph,
+Outcome Execute(const KinematicMapfProblem& problem, const KinematicDependencyGraph& kdg,
                 uint64_t seed, bool use_dependencies, double delay_probability = 0.3,
                 int max_delay = 4) {
   std::mt19937_64 rng(seed);
@@ -32,7 +32,7 @@ Outcome Execute(const KinematicMapfProblem& problem, const KinematicDependencyGr
   const int n = static_cast<int>(problem.robots.size());
   std::vector<size_t> next(n, 0);
   std::vector<int> busy(n, -1), remaining(n, 0);
-  std::vector<bool> finished(graph.num_actions(), false);
+  std::vector<bool> finished(kdg.graph().num_actions(), false);
   std::vector<GridState> at(n);
   for (int r = 0; r < n; ++r) {
     at[r] = {problem.robots[r].start_x, problem.robots[r].start_y, problem.robots[r].start_heading};
@@ -42,12 +42,12 @@ Outcome Execute(const KinematicMapfProblem& problem, const KinematicDependencyGr
   for (int tick = 0; tick < 100000; ++tick) {
     bool any_left = false, any_busy = false;
     for (int r = 0; r < n; ++r) {
-      const std::vector<int>& mine = graph.ActionsOf(r);
+      const std::vector<int>& mine = kdg.graph().ActionsOf(r);
       if (busy[r] < 0 && next[r] < mine.size()) {
         const int a = mine[next[r]];
         bool ready = true;
         if (use_dependencies) {
-          for (int d : graph.DependenciesOf(a)) ready &= finished[d];
+          for (int d : kdg.graph().DependenciesOf(a)) ready &= finished[d];
         }
         if (ready) {
           busy[r] = a;
@@ -60,7 +60,7 @@ Outcome Execute(const KinematicMapfProblem& problem, const KinematicDependencyGr
     for (int r = 0; r < n; ++r) {
       CoveredCells(*problem.map, problem.robots[r].motion, at[r], &cells);
       if (busy[r] >= 0) {
-        CoveredCells(*problem.map, problem.robots[r].motion, graph.action(busy[r]).to, &more);
+        CoveredCells(*problem.map, problem.robots[r].motion, kdg.action(busy[r]).to, &more);
         cells.insert(cells.end(), more.begin(), more.end());
       }
       for (int c : cells) {
@@ -71,12 +71,12 @@ Outcome Execute(const KinematicMapfProblem& problem, const KinematicDependencyGr
     for (int r = 0; r < n; ++r) {
       if (busy[r] >= 0 && --remaining[r] == 0) {
         finished[busy[r]] = true;
-        at[r] = graph.action(busy[r]).to;
+        at[r] = kdg.action(busy[r]).to;
         busy[r] = -1;
         ++next[r];
       }
       any_busy |= busy[r] >= 0;
-      any_left |= next[r] < graph.ActionsOf(r).size();
+      any_left |= next[r] < kdg.graph().ActionsOf(r).size();
     }
     if (!any_left) {
       out.all_at_goal = true;
@@ -90,9 +90,10 @@ Outcome Execute(const KinematicMapfProblem& problem, const KinematicDependencyGr
       // Nothing running and nothing could start this tick: check whether anything can start.
       bool startable = false;
       for (int r = 0; r < n; ++r) {
-        if (next[r] >= graph.ActionsOf(r).size()) continue;
+        if (next[r] >= kdg.graph().ActionsOf(r).size()) continue;
         bool ready = true;
-        for (int d : graph.DependenciesOf(graph.ActionsOf(r)[next[r]])) ready &= finished[d];
+        for (int d : kdg.graph().DependenciesOf(kdg.graph().ActionsOf(r)[next[r]]))
+          ready &= finished[d];
         startable |= ready || !use_dependencies;
       }
       if (!startable) {
@@ -109,11 +110,11 @@ TEST(KinematicDependencyGraphTest, TheBaySwapRunsSafelyUnderDelays) {
   const MovingAiMap map = testing::BayAlley();
   const KinematicMapfProblem problem = testing::BaySwap(map);
   const KinematicMapfPlan plan = PlanKinematicMapf(problem, {}).value();
-  absl::StatusOr<KinematicDependencyGraph> graph = KinematicDependencyGraph::Compile(problem, plan);
-  ASSERT_TRUE(graph.ok()) << graph.status();
-  EXPECT_GT(graph->num_cross_dependencies(), 0);
+  absl::StatusOr<KinematicDependencyGraph> kdg = KinematicDependencyGraph::Compile(problem, plan);
+  ASSERT_TRUE(kdg.ok()) << kdg.status();
+  EXPECT_GT(kdg->graph().num_cross_dependencies(), 0);
   for (uint64_t seed = 0; seed < 20; ++seed) {
-    const Outcome out = Execute(problem, *graph, seed, /*use_dependencies=*/true);
+    const Outcome out = Execute(problem, *kdg, seed, /*use_dependencies=*/true);
     EXPECT_TRUE(out.overlap_free) << "seed " << seed;
     EXPECT_FALSE(out.deadlocked) << "seed " << seed;
     EXPECT_TRUE(out.all_at_goal) << "seed " << seed;
@@ -142,11 +143,10 @@ TEST_P(KinematicDelayTest, MixedFleetIsPlannedAndNeverOverlapsUnderDelays) {
   ASSERT_TRUE(plan.ok()) << plan.status();
   ASSERT_TRUE(ValidateKinematicPlan(problem, *plan).ok()) << ValidateKinematicPlan(problem, *plan);
   for (int i = 0; i < 3; ++i) EXPECT_TRUE(testing::NeverReverses(plan->states[i]));
-  absl::StatusOr<KinematicDependencyGraph> graph =
-      KinematicDependencyGraph::Compile(problem, *plan);
-  ASSERT_TRUE(graph.ok()) << graph.status();
+  absl::StatusOr<KinematicDependencyGraph> kdg = KinematicDependencyGraph::Compile(problem, *plan);
+  ASSERT_TRUE(kdg.ok()) << kdg.status();
   for (uint64_t seed = 0; seed < 10; ++seed) {
-    const Outcome out = Execute(problem, *graph, GetParam() * 100 + seed, true);
+    const Outcome out = Execute(problem, *kdg, GetParam() * 100 + seed, true);
     EXPECT_TRUE(out.overlap_free) << "delay seed " << seed;
     EXPECT_FALSE(out.deadlocked) << "delay seed " << seed;
     EXPECT_TRUE(out.all_at_goal) << "delay seed " << seed;
@@ -160,10 +160,10 @@ TEST(KinematicDelayTest, WithoutTheDependenciesDelaysCauseOverlaps) {
   const MovingAiMap map = testing::BayAlley();
   const KinematicMapfProblem problem = testing::BaySwap(map);
   const KinematicMapfPlan plan = PlanKinematicMapf(problem, {}).value();
-  const KinematicDependencyGraph graph = KinematicDependencyGraph::Compile(problem, plan).value();
+  const KinematicDependencyGraph kdg = KinematicDependencyGraph::Compile(problem, plan).value();
   int overlapping_runs = 0;
   for (uint64_t seed = 0; seed < 20; ++seed) {
-    overlapping_runs += !Execute(problem, graph, seed, /*use_dependencies=*/false).overlap_free;
+    overlapping_runs += !Execute(problem, kdg, seed, /*use_dependencies=*/false).overlap_free;
   }
   EXPECT_GT(overlapping_runs, 0);
 }

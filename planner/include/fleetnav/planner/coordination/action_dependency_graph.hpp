@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "fleetnav/planner/coordination/dependency_graph.hpp"
 #include "fleetnav/planner/mapf/mapf.hpp"
 
 namespace fleetnav::planner {
@@ -32,21 +33,13 @@ class ActionDependencyGraph {
   static absl::StatusOr<ActionDependencyGraph> Compile(const MapfInstance& instance,
                                                        const MapfSolution& solution);
 
-  int num_actions() const { return static_cast<int>(actions_.size()); }
-  int num_agents() const { return static_cast<int>(by_agent_.size()); }
+  /// Robots are the instance's agents; action ids index action().
+  const DependencyGraph& graph() const { return graph_; }
   const AdgAction& action(int id) const { return actions_[id]; }
-  /// The actions of one robot, in execution order.
-  const std::vector<int>& ActionsOf(int agent) const { return by_agent_[agent]; }
-  /// The actions that must be finished before `id` may start (both types).
-  const std::vector<int>& DependenciesOf(int id) const { return deps_[id]; }
-  /// Number of type-2 (cross-robot) dependencies.
-  int num_cross_dependencies() const { return cross_; }
 
  private:
+  DependencyGraph graph_;
   std::vector<AdgAction> actions_;
-  std::vector<std::vector<int>> by_agent_;
-  std::vector<std::vector<int>> deps_;
-  int cross_ = 0;
 };
 
 }  // namespace fleetnav::planner

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "fleetnav/planner/coordination/dependency_graph.hpp"
 #include "fleetnav/planner/kinematic/kinematic_mapf.hpp"
 
 namespace fleetnav::planner {
@@ -31,19 +32,13 @@ class KinematicDependencyGraph {
   static absl::StatusOr<KinematicDependencyGraph> Compile(const KinematicMapfProblem& problem,
                                                           const KinematicMapfPlan& plan);
 
-  int num_actions() const { return static_cast<int>(actions_.size()); }
+  /// Robots are the problem's robots; action ids index action().
+  const DependencyGraph& graph() const { return graph_; }
   const KinematicAction& action(int id) const { return actions_[id]; }
-  /// The actions of one robot, in execution order.
-  const std::vector<int>& ActionsOf(int robot) const { return by_robot_[robot]; }
-  /// The actions of other robots that must be finished before `id` may start.
-  const std::vector<int>& DependenciesOf(int id) const { return deps_[id]; }
-  int num_cross_dependencies() const { return cross_; }
 
  private:
+  DependencyGraph graph_;
   std::vector<KinematicAction> actions_;
-  std::vector<std::vector<int>> by_robot_;
-  std::vector<std::vector<int>> deps_;
-  int cross_ = 0;
 };
 
 }  // namespace fleetnav::planner
