@@ -30,8 +30,8 @@ grpc::Status SimServiceImpl::Attach(
   v1::AttachMessage message;
   if (!stream->Read(&message)) return grpc::Status::OK;
   if (message.payload_case() != v1::AttachMessage::kAttach) {
-    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                        "the first message on an Attach stream must be `attach`");
+    return ToGrpcStatus(
+        absl::InvalidArgumentError("the first message on an Attach stream must be `attach`"));
   }
   absl::StatusOr<std::unique_ptr<sim::Attachment>> attachment =
       lockstep_->Attach(message.attach().robot_id());
@@ -44,8 +44,8 @@ grpc::Status SimServiceImpl::Attach(
     if (!stream->Read(&message)) break;
     if (message.payload_case() == v1::AttachMessage::kDetach) break;
     if (message.payload_case() != v1::AttachMessage::kCommand) {
-      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                          "expected a `command` answering the last frame");
+      return ToGrpcStatus(
+          absl::InvalidArgumentError("expected a `command` answering the last frame"));
     }
     absl::StatusOr<ActuatorCommand> command = FromProto(message.command());
     absl::Status submitted = command.ok() ? (*attachment)->Submit(*command) : command.status();
@@ -137,9 +137,8 @@ grpc::Status SimServiceImpl::InjectFault(grpc::ServerContext*,
       fault.type = FaultType::kSlowDown;
       break;
     default:
-      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                          absl::StrCat("type: unknown or unspecified fault type ",
-                                       static_cast<int>(request->type())));
+      return ToGrpcStatus(absl::InvalidArgumentError(absl::StrCat(
+          "type: unknown or unspecified fault type ", static_cast<int>(request->type()))));
   }
   fault.region_min_m = Eigen::Vector2d(request->region_min().x_m(), request->region_min().y_m());
   fault.region_max_m = Eigen::Vector2d(request->region_max().x_m(), request->region_max().y_m());
@@ -150,8 +149,8 @@ grpc::Status SimServiceImpl::InjectFault(grpc::ServerContext*,
   fault.factor = request->factor();
   if (fault.factor == 0.0 && fault.type != FaultType::kSlowDown) fault.factor = 1.0;
   if (fault.type == FaultType::kWheelSlipRegion && request->factor() == 0.0) {
-    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                        "factor: wheel slip needs the share of traction kept, in (0, 1]");
+    return ToGrpcStatus(absl::InvalidArgumentError(
+        "factor: wheel slip needs the share of traction kept, in (0, 1]"));
   }
   return ToGrpcStatus(lockstep_->InjectFault(fault));
 }
@@ -171,8 +170,7 @@ grpc::Status SimServiceImpl::Step(grpc::ServerContext* context, const v1::StepRe
 grpc::Status SimServiceImpl::Run(grpc::ServerContext*, const v1::RunRequest* request,
                                  v1::RunResponse* response) {
   if (!(request->real_time_factor() >= 0.0) || !std::isfinite(request->real_time_factor())) {
-    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                        "real_time_factor: must be finite and >= 0");
+    return ToGrpcStatus(absl::InvalidArgumentError("real_time_factor: must be finite and >= 0"));
   }
   lockstep_->SetRealTimeFactor(request->real_time_factor());
   response->set_tick(lockstep_->tick());

@@ -197,8 +197,8 @@ grpc::Status FleetServiceImpl::ListJobs(grpc::ServerContext*, const v1::ListJobs
   for (int state : request->states()) {
     absl::StatusOr<JobState> parsed = JobStateFromProto(state);
     if (!parsed.ok()) {
-      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                          absl::StrCat("states: unspecified or unknown value ", state));
+      return ToGrpcStatus(
+          absl::InvalidArgumentError(absl::StrCat("states: unspecified or unknown value ", state)));
     }
     filter.states.push_back(*parsed);
   }

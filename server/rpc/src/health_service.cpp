@@ -4,6 +4,8 @@
 #include <chrono>
 #include <thread>
 
+#include "fleetnav/proto/grpc_status.hpp"
+
 namespace fleetnav::server {
 
 using grpc::health::v1::HealthCheckResponse;
@@ -21,8 +23,7 @@ grpc::Status HealthServiceImpl::Check(grpc::ServerContext*,
                                       HealthCheckResponse* response) {
   const HealthCheckResponse::ServingStatus status = StatusOf(request->service());
   if (status == HealthCheckResponse::SERVICE_UNKNOWN) {
-    return grpc::Status(grpc::StatusCode::NOT_FOUND,
-                        "service '" + request->service() + "' unknown");
+    return ToGrpcStatus(absl::NotFoundError("service '" + request->service() + "' unknown"));
   }
   response->set_status(status);
   return grpc::Status::OK;

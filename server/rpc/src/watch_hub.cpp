@@ -193,8 +193,8 @@ class FleetWatcher final : public TypedWatchStream<v1::WatchFleetRequest, v1::Fl
     hub_->AcceptFleetWatcher();
     const double rate_hz = request_.rate_hz() == 0.0 ? 10.0 : request_.rate_hz();
     if (!std::isfinite(rate_hz) || rate_hz < 0.0 || rate_hz > 100.0) {
-      End(grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                       absl::StrCat("rate_hz: must be in (0, 100], got ", request_.rate_hz())));
+      End(ToGrpcStatus(absl::InvalidArgumentError(
+          absl::StrCat("rate_hz: must be in (0, 100], got ", request_.rate_hz()))));
       return;
     }
     period_ = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
