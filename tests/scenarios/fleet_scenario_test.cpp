@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -14,7 +15,9 @@
 #include <string>
 #include <vector>
 
+#include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_split.h"
 #include "fleetnav/core/pose2.hpp"
 #include "fleetnav/scenario/child_process.hpp"
 
@@ -159,6 +162,46 @@ std::vector<std::pair<double, Pose2>> TruePath(const std::string& truth_csv,
 // The store (issue: fleet in the loop): three mecanum platforms and one Ackermann robot, 40
 // goal jobs at once, their ways crossing in pairs: every job ends succeeded, no contact, the
 // footprints never closer than 0.3 m (the truth), and each robot is back home.
+// The hybrid controller over error case B of the Lely thesis (§7.1.2): the north feeding fence
+// is missing for x in [2, 4] m, so the left ultrasonic loses it; the robot must hold the line it
+// followed before the gap (map-based navigation) and pick the fence up again after it. Judged
+// by the simulator's true trajectory.
+TEST(FleetScenario, TheLelyHoldsItsLineAcrossTheFenceGap) {
+  const std::string keep = TempPath("fence-gap.keep");
+  int code = -1;
+  const nlohmann::json report = RunShipped("barn_fence_gap.yaml", keep, &code);
+  EXPECT_EQ(code, 0) << report.dump();
+  EXPECT_EQ(report.value("contacts", -1), 0);
+  ASSERT_EQ(report["robots"].size(), 1u);
+  const nlohmann::json& end = report["robots"][0]["final_pose"];
+  EXPECT_NEAR(end.value("x_m", 1e9), -7.0 + 13.0, 0.3) << end.dump();  // 13 m along the fence
+  // The true trajectory (robot_id,truth,x,y,t_s): the line held along the fence before the
+  // gap, and the largest departure from it in and just after the gap.
+  std::ifstream truth(keep + "/truth.csv");
+  ASSERT_TRUE(truth.good()) << keep;
+  std::vector<double> before_gap_y, gap_y;
+  std::string line;
+  while (std::getline(truth, line)) {
+    const std::vector<std::string> f = absl::StrSplit(line, ',');
+    double x = 0.0, y = 0.0;
+    if (f.size() < 5 || f[1] != "truth" || !absl::SimpleAtod(f[2], &x) ||
+        !absl::SimpleAtod(f[3], &y) || y < 3.0) {
+      continue;  // the approach from the start, below the alley
+    }
+    if (x > -4.0 && x < 1.5) before_gap_y.push_back(y);
+    if (x > 1.5 && x < 5.5) gap_y.push_back(y);
+  }
+  ASSERT_GT(before_gap_y.size(), 50u);
+  ASSERT_GT(gap_y.size(), 50u);
+  double line_y = 0.0;
+  for (double y : before_gap_y) line_y += y / static_cast<double>(before_gap_y.size());
+  double departure_m = 0.0;
+  for (double y : gap_y) departure_m = std::max(departure_m, std::abs(y - line_y));
+  std::printf("[ figures  ] fence line y %.3f m, largest departure across the gap %.3f m\n", line_y,
+              departure_m);
+  EXPECT_LT(departure_m, 0.05);
+}
+
 TEST(FleetScenario, AStoreFleetOfFourRunsFortyGoalJobsWithoutContact) {
   int code = -1;
   const nlohmann::json report = RunShipped("store_fleet.yaml", TempPath("store-fleet"), &code);
