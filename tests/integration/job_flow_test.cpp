@@ -262,7 +262,7 @@ TEST_F(JobFlowTest, ARobotThatDropsMidJobPausesItAndTheJobFailsAfterTheTimeout) 
       ActuatorCommand command;
       command.tick = (*frame)->tick;
       ASSERT_TRUE(hal.Send(command).ok());
-      if (std::optional<agent::JobAssignment> assignment = link.TakeAssignment()) {
+      if (std::optional<JobAssignment> assignment = link.TakeAssignment()) {
         link.SetCurrentJob(assignment->job.job_id);
         JobEvent started;
         started.job_id = assignment->job.job_id;

@@ -116,7 +116,7 @@ void Agent::ServeJobs(const ExecutorOutput& output, AgentResult* result) {
         executor_->Abort(site);
         return;
       }
-      StartRoute(std::move(assignment->route), assignment->resume);
+      StartRoute(*assignment->route, assignment->resume);
       // A job from the server waits for its traffic clearance.
       executor_->SetClearedUpTo(
           clearance_.job_id == current_job_id_ ? clearance_.cleared_up_to_action : -1);
@@ -130,7 +130,7 @@ void Agent::ServeJobs(const ExecutorOutput& output, AgentResult* result) {
 }
 
 absl::Status Agent::PrepareSite(const JobAssignment& assignment) {
-  const std::string& map_id = assignment.map_id.empty() ? assignment.job.map_id : assignment.map_id;
+  const std::string& map_id = assignment.job.map_id;
   if (ports_.sites == nullptr || !ports_.make_localizer || map_id.empty()) {
     return absl::OkStatus();
   }

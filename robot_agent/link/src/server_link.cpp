@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "fleetnav/proto/assignment_convert.hpp"
 #include "fleetnav/proto/job_convert.hpp"
 #include "fleetnav/proto/route_convert.hpp"
 #include "fleetnav/proto/telemetry_convert.hpp"
@@ -56,34 +57,24 @@ void ServerLink::SetCurrentJob(const std::string& job_id) {
 void ServerLink::OnServerMessage(const v1::ServerMessage& message) {
   absl::MutexLock lock(&mutex_);
   if (message.has_assignment()) {
-    absl::StatusOr<Job> job = FromProto(message.assignment().job());
-    absl::StatusOr<Route> route = FromProto(message.assignment().route());
-    const RoutePosition resume{message.assignment().resume_action_index(),
-                               message.assignment().resume_action_fraction()};
-    const absl::Status usable = !job.ok() ? job.status() : route.status();
-    if (usable.ok()) {
-      assignments_.push_back(JobAssignment{*job, *route, message.assignment().map_id(),
-                                           message.assignment().map_version(),
-                                           message.assignment().marker_set_version(), resume});
+    absl::StatusOr<JobAssignment> assignment = FromProto(message.assignment());
+    if (assignment.ok()) {
+      assignments_.push_back(*std::move(assignment));
     } else {
       // The job cannot run here: say so, so the server fails it rather than waiting.
       JobEvent failed;
       failed.job_id = message.assignment().job().job_id();
       failed.type = JobEventType::kFailed;
-      failed.reason = std::string(usable.message());
+      failed.reason = std::string(assignment.status().message());
       events_.push_back(failed);
     }
   } else if (message.has_command()) {
-    const v1::Command& command = message.command();
-    const JobCommandType type = command.type() == v1::Command::TYPE_PAUSE ? JobCommandType::kPause
-                                : command.type() == v1::Command::TYPE_RESUME
-                                    ? JobCommandType::kResume
-                                    : JobCommandType::kCancel;
-    commands_.push_back(JobCommand{type, command.job_id(), command.reason()});
+    // An unknown command type (a newer server) is not acted on.
+    if (absl::StatusOr<JobCommand> command = FromProto(message.command()); command.ok()) {
+      commands_.push_back(*std::move(command));
+    }
   } else if (message.has_clearance()) {
-    const v1::TrafficClearance& clearance = message.clearance();
-    commands_.push_back(JobCommand{JobCommandType::kClearance, clearance.job_id(),
-                                   clearance.wait_reason(), clearance.cleared_up_to_action()});
+    commands_.push_back(FromProto(message.clearance()));
   }
 }
 

@@ -124,7 +124,7 @@ absl::Status JobService::Recover() {
       // Coordinated from where the robot reports when it is back; until then it holds the
       // others on its map (it may stand in their way).
       if (traffic_ != nullptr) {
-        if (absl::StatusOr<Assignment> held = Resolve(job); held.ok()) {
+        if (absl::StatusOr<JobAssignment> held = Resolve(job); held.ok()) {
           traffic_->Begin(job.assigned_robot_id, *held, TrafficCoordinator::kResumeWhereReported);
         }
       }
@@ -211,7 +211,7 @@ absl::StatusOr<Job> JobService::Cancel(const std::string& job_id, const std::str
   lost_since_ns_.erase(job_id);
   EndTraffic(job_id);
   if (!robot.empty()) {
-    mailbox_->SendCommand(robot, RobotCommandType::kCancel, job_id, why);
+    mailbox_->SendCommand(robot, JobCommand{JobCommandType::kCancel, job_id, why});
     registry_->SetCurrentJob(robot, "");
     WakeDispatcher();  // the robot is free for the next job
   }
@@ -229,7 +229,7 @@ absl::StatusOr<Job> JobService::Pause(const std::string& job_id, const std::stri
   const std::string why = reason.empty() ? "paused by operator" : reason;
   RETURN_IF_ERROR(
       Transition(job, JobState::kPaused, JobEventType::kPaused, why, job.assigned_robot_id));
-  mailbox_->SendCommand(job.assigned_robot_id, RobotCommandType::kPause, job_id, why);
+  mailbox_->SendCommand(job.assigned_robot_id, JobCommand{JobCommandType::kPause, job_id, why});
   return job;
 }
 
@@ -249,8 +249,8 @@ absl::StatusOr<Job> JobService::Resume(const std::string& job_id) {
   }
   RETURN_IF_ERROR(Transition(job, JobState::kRunning, JobEventType::kResumed, "resumed by operator",
                              job.assigned_robot_id));
-  mailbox_->SendCommand(job.assigned_robot_id, RobotCommandType::kResume, job_id,
-                        "resumed by operator");
+  mailbox_->SendCommand(job.assigned_robot_id,
+                        JobCommand{JobCommandType::kResume, job_id, "resumed by operator"});
   return job;
 }
 
@@ -278,7 +278,8 @@ void JobService::OnRobotConnected(const RobotIdentity& identity, const std::stri
     lost_since_ns_.erase(job.job_id);
     if (job.job_id == resume_job_id) {
       if (held_by_operator) {
-        mailbox_->SendCommand(identity.robot_id, RobotCommandType::kPause, job.job_id, job.reason);
+        mailbox_->SendCommand(identity.robot_id,
+                              JobCommand{JobCommandType::kPause, job.job_id, job.reason});
       } else {
         (void)Transition(job, JobState::kRunning, JobEventType::kResumed, "robot reconnected",
                          identity.robot_id);
@@ -287,7 +288,7 @@ void JobService::OnRobotConnected(const RobotIdentity& identity, const std::stri
       if (traffic_ != nullptr) {
         if (traffic_->Tracks(job.job_id)) {
           traffic_->Resend(identity.robot_id);
-        } else if (absl::StatusOr<Assignment> resumed = Resolve(job); resumed.ok()) {
+        } else if (absl::StatusOr<JobAssignment> resumed = Resolve(job); resumed.ok()) {
           // The server restarted: coordinate the job again from where the robot reports.
           traffic_->Begin(identity.robot_id, *resumed, TrafficCoordinator::kResumeWhereReported);
         }
@@ -326,7 +327,7 @@ std::optional<RoutePosition> JobService::WhereRobotLeftOff(const std::string& ro
 
 bool JobService::SendAgain(const std::string& robot_id, Job& job, const RoutePosition& from,
                            bool held_by_operator) {
-  absl::StatusOr<Assignment> assignment = Resolve(job);
+  absl::StatusOr<JobAssignment> assignment = Resolve(job);
   if (!assignment.ok() || !CheckRoutePosition(*assignment->route, from).ok()) return false;
   assignment->resume = from;
   if (!mailbox_->SendAssignment(robot_id, *assignment)) return false;
@@ -335,7 +336,7 @@ bool JobService::SendAgain(const std::string& robot_id, Job& job, const RoutePos
       "action %d, %.0f %% of it done",
       from.action_index, 100.0 * from.action_fraction);
   if (held_by_operator) {
-    mailbox_->SendCommand(robot_id, RobotCommandType::kPause, job.job_id, job.reason);
+    mailbox_->SendCommand(robot_id, JobCommand{JobCommandType::kPause, job.job_id, job.reason});
     (void)jobs_->UpdateJob(job, MakeEvent(job, JobEventType::kPaused, why, robot_id));
   } else {
     (void)Transition(job, JobState::kRunning, JobEventType::kResumed, why, robot_id);
@@ -366,7 +367,7 @@ void JobService::CancelJobNoLongerHeld(const std::string& robot_id, const std::s
   } else {
     why = "the job was re-queued while this robot was away";
   }
-  mailbox_->SendCommand(robot_id, RobotCommandType::kCancel, job_id, why);
+  mailbox_->SendCommand(robot_id, JobCommand{JobCommandType::kCancel, job_id, why});
 }
 
 void JobService::OnRobotDisconnected(const std::string& robot_id) {
@@ -487,8 +488,8 @@ JobService::RouteFacts JobService::FactsOf(const Job& job) {
   return route_facts_.emplace(key, std::move(facts)).first->second;
 }
 
-absl::StatusOr<Assignment> JobService::Resolve(const Job& job) {
-  Assignment assignment;
+absl::StatusOr<JobAssignment> JobService::Resolve(const Job& job) {
+  JobAssignment assignment;
   assignment.job = job;
   if (!job.route_name.empty()) {
     ASSIGN_OR_RETURN(std::shared_ptr<const storage::StoredRoute> route,
@@ -705,7 +706,7 @@ int JobService::AssignQueued() {
     job.assigned_robot_id = robot;
     robot_map_[robot] = job.map_id;
     if (!Transition(job, JobState::kAssigned, JobEventType::kAssigned, "", robot).ok()) continue;
-    absl::StatusOr<Assignment> assignment = Resolve(job);
+    absl::StatusOr<JobAssignment> assignment = Resolve(job);
     if (!assignment.ok() || !mailbox_->SendAssignment(robot, *assignment)) {
       job.assigned_robot_id.clear();
       (void)Transition(job, JobState::kQueued, JobEventType::kQueued,

@@ -35,7 +35,7 @@ TrafficCoordinator::TrafficCoordinator(SiteCache* site_data, FleetRegistry* regi
       clock_(clock),
       params_(params) {}
 
-void TrafficCoordinator::Begin(const std::string& robot_id, const Assignment& assignment,
+void TrafficCoordinator::Begin(const std::string& robot_id, const JobAssignment& assignment,
                                int resume_action) {
   absl::StatusOr<RobotRecord> record = registry_->Get(robot_id);
   absl::MutexLock lock(&mutex_);

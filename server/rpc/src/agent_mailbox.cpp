@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "fleetnav/proto/assignment_convert.hpp"
 #include "fleetnav/proto/job_convert.hpp"
 #include "fleetnav/proto/route_convert.hpp"
 
@@ -65,29 +66,15 @@ bool AgentMailbox::Send(const std::string& robot_id, v1::ServerMessage message) 
   return true;
 }
 
-bool AgentMailbox::SendAssignment(const std::string& robot_id, const Assignment& assignment) {
+bool AgentMailbox::SendAssignment(const std::string& robot_id, const JobAssignment& assignment) {
   v1::ServerMessage message;
-  v1::Assignment* wire = message.mutable_assignment();
-  *wire->mutable_job() = ToProto(assignment.job);
-  *wire->mutable_route() = ToProto(*assignment.route);
-  wire->set_route_version(assignment.route_version);
-  wire->set_map_id(assignment.job.map_id);
-  wire->set_map_version(assignment.map_version);
-  wire->set_marker_set_version(assignment.marker_set_version);
-  wire->set_resume_action_index(assignment.resume.action_index);
-  wire->set_resume_action_fraction(assignment.resume.action_fraction);
+  *message.mutable_assignment() = ToProto(assignment);
   return Send(robot_id, std::move(message));
 }
 
-bool AgentMailbox::SendCommand(const std::string& robot_id, RobotCommandType type,
-                               const std::string& job_id, const std::string& reason) {
+bool AgentMailbox::SendCommand(const std::string& robot_id, const JobCommand& command) {
   v1::ServerMessage message;
-  v1::Command* command = message.mutable_command();
-  command->set_type(type == RobotCommandType::kPause    ? v1::Command::TYPE_PAUSE
-                    : type == RobotCommandType::kResume ? v1::Command::TYPE_RESUME
-                                                        : v1::Command::TYPE_CANCEL);
-  command->set_job_id(job_id);
-  command->set_reason(reason);
+  *message.mutable_command() = ToProto(command);
   return Send(robot_id, std::move(message));
 }
 

@@ -325,7 +325,7 @@ JobAssignment FeedJob(uint32_t map_version) {
   JobAssignment assignment;
   assignment.job.job_id = "job-1";
   assignment.job.map_id = "barn";
-  assignment.route = FeedRoute();
+  assignment.route = std::make_shared<const Route>(FeedRoute());
   assignment.map_version = map_version;
   assignment.marker_set_version = 2;
   return assignment;

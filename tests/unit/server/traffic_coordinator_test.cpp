@@ -18,11 +18,8 @@ using ::testing::HasSubstr;
 /// Records what would be sent to the robots.
 class RecordingMailbox : public RobotMailbox {
  public:
-  bool SendAssignment(const std::string&, const Assignment&) override { return true; }
-  bool SendCommand(const std::string&, RobotCommandType, const std::string&,
-                   const std::string&) override {
-    return true;
-  }
+  bool SendAssignment(const std::string&, const JobAssignment&) override { return true; }
+  bool SendCommand(const std::string&, const JobCommand&) override { return true; }
   bool SendClearance(const std::string& robot_id, const ClearanceNotice& clearance) override {
     sent[robot_id].push_back(clearance);
     return true;
@@ -60,8 +57,8 @@ class TrafficCoordinatorTest : public ::testing::Test {
     ASSERT_TRUE(registry_.RecordTelemetry(robot_id, sessions_[robot_id], telemetry).ok());
   }
 
-  Assignment Job(const std::string& job_id, std::vector<RouteAction> actions) {
-    Assignment a;
+  JobAssignment Job(const std::string& job_id, std::vector<RouteAction> actions) {
+    JobAssignment a;
     a.job.job_id = job_id;
     a.job.map_id = "hall";
     auto route = std::make_shared<Route>();

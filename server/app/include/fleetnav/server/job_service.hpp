@@ -110,7 +110,7 @@ class JobService {
     std::vector<std::string> needed;
     std::optional<Eigen::Vector2d> start;
   };
-  absl::StatusOr<Assignment> Resolve(const Job& job);
+  absl::StatusOr<JobAssignment> Resolve(const Job& job);
   /// A route's facts are kept by (route, version), which never changes, so a queued job costs
   /// nothing per pass however long its route.
   RouteFacts FactsOf(const Job& job) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);

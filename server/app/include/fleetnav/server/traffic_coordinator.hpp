@@ -63,7 +63,7 @@ class TrafficCoordinator {
   static constexpr int kResumeWhereReported = -2;
   /// Starts coordinating a job the robot was given (resume_action -1), or one it is already
   /// running in action `resume_action` (or kResumeWhereReported).
-  void Begin(const std::string& robot_id, const Assignment& assignment, int resume_action = -1);
+  void Begin(const std::string& robot_id, const JobAssignment& assignment, int resume_action = -1);
   /// Whether the job is coordinated.
   bool Tracks(const std::string& job_id);
   /// The robot finished `action_index` of `job_id`.
@@ -80,7 +80,7 @@ class TrafficCoordinator {
  private:
   struct Tracked {
     std::string robot_id;
-    Assignment assignment;
+    JobAssignment assignment;
     RobotModel model;
     double assigned_s = 0.0;  ///< when the current window was predicted
     int start_action = 0;     ///< actions before it had run before coordination began

@@ -42,9 +42,8 @@ class AgentMailbox final : public RobotMailbox {
   /// Removes the robot's outbox if it is still `outbox`, and closes it.
   void Close(const std::string& robot_id, const std::shared_ptr<AgentOutbox>& outbox);
 
-  bool SendAssignment(const std::string& robot_id, const Assignment& assignment) override;
-  bool SendCommand(const std::string& robot_id, RobotCommandType type, const std::string& job_id,
-                   const std::string& reason) override;
+  bool SendAssignment(const std::string& robot_id, const JobAssignment& assignment) override;
+  bool SendCommand(const std::string& robot_id, const JobCommand& command) override;
   bool SendClearance(const std::string& robot_id, const ClearanceNotice& clearance) override;
   void BroadcastMapUpdate(const std::string& map_id, uint32_t map_version,
                           uint32_t marker_set_version) override;

@@ -1,0 +1,76 @@
+#include "fleetnav/proto/assignment_convert.hpp"
+
+#include <memory>
+#include <string>
+
+#include "absl/strings/str_cat.h"
+#include "fleetnav/core/status_macros.hpp"
+#include "fleetnav/proto/job_convert.hpp"
+#include "fleetnav/proto/route_convert.hpp"
+
+namespace fleetnav {
+
+v1::Assignment ToProto(const JobAssignment& assignment) {
+  v1::Assignment wire;
+  *wire.mutable_job() = ToProto(assignment.job);
+  *wire.mutable_route() = ToProto(*assignment.route);
+  wire.set_route_version(assignment.route_version);
+  wire.set_map_id(assignment.job.map_id);
+  wire.set_map_version(assignment.map_version);
+  wire.set_marker_set_version(assignment.marker_set_version);
+  wire.set_resume_action_index(assignment.resume.action_index);
+  wire.set_resume_action_fraction(assignment.resume.action_fraction);
+  return wire;
+}
+
+absl::StatusOr<JobAssignment> FromProto(const v1::Assignment& wire) {
+  JobAssignment assignment;
+  ASSIGN_OR_RETURN(assignment.job, FromProto(wire.job()));
+  ASSIGN_OR_RETURN(Route route, FromProto(wire.route()));
+  assignment.route = std::make_shared<const Route>(std::move(route));
+  // The assignment's map is the job's; an older server sent it only here.
+  if (assignment.job.map_id.empty()) assignment.job.map_id = wire.map_id();
+  assignment.route_version = wire.route_version();
+  assignment.map_version = wire.map_version();
+  assignment.marker_set_version = wire.marker_set_version();
+  assignment.resume = RoutePosition{wire.resume_action_index(), wire.resume_action_fraction()};
+  return assignment;
+}
+
+v1::Command ToProto(const JobCommand& command) {
+  v1::Command wire;
+  wire.set_type(command.type == JobCommandType::kPause    ? v1::Command::TYPE_PAUSE
+                : command.type == JobCommandType::kResume ? v1::Command::TYPE_RESUME
+                                                          : v1::Command::TYPE_CANCEL);
+  wire.set_job_id(command.job_id);
+  wire.set_reason(command.reason);
+  return wire;
+}
+
+absl::StatusOr<JobCommand> FromProto(const v1::Command& wire) {
+  JobCommand command;
+  switch (wire.type()) {
+    case v1::Command::TYPE_PAUSE:
+      command.type = JobCommandType::kPause;
+      break;
+    case v1::Command::TYPE_RESUME:
+      command.type = JobCommandType::kResume;
+      break;
+    case v1::Command::TYPE_CANCEL:
+      command.type = JobCommandType::kCancel;
+      break;
+    default:
+      return absl::InvalidArgumentError(absl::StrCat("command.type: unspecified or unknown value ",
+                                                     static_cast<int>(wire.type())));
+  }
+  command.job_id = wire.job_id();
+  command.reason = wire.reason();
+  return command;
+}
+
+JobCommand FromProto(const v1::TrafficClearance& clearance) {
+  return JobCommand{JobCommandType::kClearance, clearance.job_id(), clearance.wait_reason(),
+                    clearance.cleared_up_to_action()};
+}
+
+}  // namespace fleetnav

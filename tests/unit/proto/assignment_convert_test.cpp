@@ -1,0 +1,84 @@
+#include "fleetnav/proto/assignment_convert.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+
+namespace fleetnav {
+namespace {
+
+using ::testing::HasSubstr;
+
+JobAssignment Feeding() {
+  JobAssignment a;
+  a.job.job_id = "job-7";
+  a.job.route_name = "feed";
+  a.job.map_id = "barn";
+  a.job.assigned_robot_id = "lely1";
+  Route route;
+  route.name = "feed";
+  route.map_id = "barn";
+  route.actions = {RouteAction{StraightAction{5.0, 0.25}, {}},
+                   RouteAction{TurnAction{1.5, 0.3}, {}}};
+  a.route = std::make_shared<const Route>(route);
+  a.route_version = 4;
+  a.map_version = 3;
+  a.marker_set_version = 2;
+  a.resume = RoutePosition{1, 0.25};
+  return a;
+}
+
+TEST(AssignmentConvertTest, AnAssignmentCrossesTheWireUnchanged) {
+  const JobAssignment sent = Feeding();
+  const v1::Assignment wire = ToProto(sent);
+  EXPECT_EQ(wire.map_id(), "barn");
+  absl::StatusOr<JobAssignment> got = FromProto(wire);
+  ASSERT_TRUE(got.ok()) << got.status();
+  EXPECT_EQ(got->job.job_id, "job-7");
+  EXPECT_EQ(got->job.map_id, "barn");
+  EXPECT_EQ(got->job.assigned_robot_id, "lely1");
+  ASSERT_EQ(got->route->actions.size(), 2u);
+  EXPECT_EQ(got->route->name, "feed");
+  EXPECT_EQ(got->route_version, 4u);
+  EXPECT_EQ(got->map_version, 3u);
+  EXPECT_EQ(got->marker_set_version, 2u);
+  EXPECT_EQ(got->resume.action_index, 1);
+  EXPECT_DOUBLE_EQ(got->resume.action_fraction, 0.25);
+}
+
+TEST(AssignmentConvertTest, ABadRouteIsRefusedNamingIt) {
+  v1::Assignment wire = ToProto(Feeding());
+  wire.mutable_route()->mutable_actions(0)->mutable_straight()->set_speed_mps(-1.0);
+  absl::StatusOr<JobAssignment> got = FromProto(wire);
+  ASSERT_FALSE(got.ok());
+  EXPECT_EQ(got.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(got.status().message()), HasSubstr("speed"));
+}
+
+TEST(AssignmentConvertTest, CommandsAndClearancesBecomeJobCommands) {
+  for (JobCommandType type :
+       {JobCommandType::kPause, JobCommandType::kResume, JobCommandType::kCancel}) {
+    absl::StatusOr<JobCommand> got = FromProto(ToProto(JobCommand{type, "job-7", "why"}));
+    ASSERT_TRUE(got.ok()) << got.status();
+    EXPECT_EQ(got->type, type);
+    EXPECT_EQ(got->job_id, "job-7");
+    EXPECT_EQ(got->reason, "why");
+  }
+  v1::Command unknown;
+  unknown.set_job_id("job-7");
+  EXPECT_EQ(FromProto(unknown).status().code(), absl::StatusCode::kInvalidArgument);
+
+  v1::TrafficClearance clearance;
+  clearance.set_job_id("job-7");
+  clearance.set_cleared_up_to_action(3);
+  clearance.set_wait_reason("waits for lely2");
+  const JobCommand cleared = FromProto(clearance);
+  EXPECT_EQ(cleared.type, JobCommandType::kClearance);
+  EXPECT_EQ(cleared.cleared_up_to_action, 3);
+  EXPECT_EQ(cleared.reason, "waits for lely2");
+}
+
+}  // namespace
+}  // namespace fleetnav
