@@ -456,12 +456,15 @@ void JobService::HandleLostRobots() {
     const std::string robot = job->assigned_robot_id;
     registry_->SetCurrentJob(robot, "");
     EndTraffic(job->job_id);
+    // The reason names the robot and how long it was away.
+    const std::string lost =
+        absl::StrCat("robot ", robot, " lost for ", params_.lost_robot_timeout_s, " s");
     if (job->on_robot_lost == RequeuePolicy::kRequeue) {
       job->assigned_robot_id.clear();
       (void)Transition(*job, JobState::kQueued, JobEventType::kQueued,
-                       "robot lost; re-queued by policy", robot);
+                       lost + "; re-queued by policy", robot);
     } else {
-      (void)Transition(*job, JobState::kFailed, JobEventType::kFailed, "robot lost", robot);
+      (void)Transition(*job, JobState::kFailed, JobEventType::kFailed, lost, robot);
     }
   }
 }

@@ -1,0 +1,169 @@
+// JobService as the use-case layer, without gRPC: in-memory repositories, a mailbox that records
+// what robots are told, and a ManualClock, so that lost-robot timeouts are checked in injected
+// time rather than by waiting.
+#include "fleetnav/server/job_service.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "fleetnav/core/clock.hpp"
+#include "fleetnav/core/robot_model.hpp"
+#include "fleetnav/server/fleet_registry.hpp"
+#include "fleetnav/server/map_catalog.hpp"
+#include "fleetnav/server/site_cache.hpp"
+#include "fleetnav/server/site_catalog.hpp"
+#include "fleetnav/storage/memory/memory_fleet_repositories.hpp"
+#include "fleetnav/storage/memory/memory_map_repository.hpp"
+
+namespace fleetnav::server {
+namespace {
+
+using ::testing::HasSubstr;
+
+constexpr int64_t kSecondNs = 1'000'000'000;
+
+/// What the service told each robot, in order.
+class RecordingMailbox : public RobotMailbox {
+ public:
+  bool SendAssignment(const std::string& robot_id, const JobAssignment& assignment) override {
+    assignments[robot_id].push_back(assignment);
+    return true;
+  }
+  bool SendCommand(const std::string& robot_id, const JobCommand& command) override {
+    commands[robot_id].push_back(command);
+    return true;
+  }
+  bool SendClearance(const std::string&, const ClearanceNotice&) override { return true; }
+  void BroadcastMapUpdate(const std::string&, uint32_t, uint32_t) override {}
+
+  std::map<std::string, std::vector<JobAssignment>> assignments;
+  std::map<std::string, std::vector<JobCommand>> commands;
+};
+
+class JobServiceTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    OccupancyGrid grid = OccupancyGrid::Filled(100, 100, 0.1, Pose2(), 0).value();
+    ASSERT_TRUE(MapCatalog(&site_data_).Put("hall", grid, "").ok());
+    Route alley;
+    alley.name = "alley";
+    alley.map_id = "hall";
+    alley.actions.push_back(RouteAction{StraightAction{3.0, 0.25}, {}});
+    ASSERT_TRUE(site_.PutRoute(alley).ok());
+    JobServiceParams params;
+    params.lost_robot_timeout_s = 30.0;
+    jobs_ = std::make_unique<JobService>(&job_store_, &robot_store_, &site_data_, &site_,
+                                         &registry_, &mailbox_, &clock_, params);
+    ASSERT_TRUE(jobs_->Recover().ok());
+  }
+
+  /// A robot connecting as the agent service connects it.
+  uint64_t Connect(const std::string& robot_id) {
+    RobotIdentity identity;
+    identity.robot_id = robot_id;
+    identity.model = LelyVectorModel();
+    identity.capabilities = {"straight", "turn"};
+    jobs_->OnRobotConnected(identity, "");
+    return registry_.Connect(identity);
+  }
+
+  std::string Submit(RequeuePolicy on_lost) {
+    SubmitJobRequest request;
+    request.route_name = "alley";
+    request.on_robot_lost = on_lost;
+    absl::StatusOr<storage::CreatedJob> created = jobs_->Submit(request);
+    EXPECT_TRUE(created.ok()) << created.status();
+    return created.ok() ? created->job.job_id : "";
+  }
+
+  JobState StateOf(const std::string& job_id) { return jobs_->Get(job_id).value().state; }
+
+  /// Submits, assigns to `robot`, has it start, then cuts it off.
+  std::string RunningJobWhoseRobotDrops(const std::string& robot, RequeuePolicy on_lost) {
+    const uint64_t session = Connect(robot);
+    const std::string job_id = Submit(on_lost);
+    EXPECT_EQ(jobs_->DispatchOnce(), 1);
+    EXPECT_EQ(mailbox_.assignments[robot].size(), 1u);
+    JobEvent started;
+    started.job_id = job_id;
+    started.type = JobEventType::kActionStarted;
+    started.action_index = 0;
+    jobs_->OnRobotEvent(robot, started);
+    EXPECT_EQ(StateOf(job_id), JobState::kRunning);
+    EXPECT_TRUE(registry_.Disconnect(robot, session));
+    jobs_->OnRobotDisconnected(robot);
+    EXPECT_EQ(StateOf(job_id), JobState::kPaused);
+    return job_id;
+  }
+
+  ManualClock clock_{1000 * kSecondNs};
+  storage::MemoryMapRepository map_store_;
+  storage::MemoryMarkerSetRepository marker_store_;
+  storage::MemoryRouteRepository route_store_;
+  storage::MemoryRobotRepository robot_store_;
+  storage::MemoryJobRepository job_store_;
+  SiteCache site_data_{&map_store_, &marker_store_, &route_store_};
+  SiteCatalog site_{&site_data_, &job_store_};
+  FleetRegistry registry_{&clock_, FleetRegistryParams{}};
+  RecordingMailbox mailbox_;
+  std::unique_ptr<JobService> jobs_;
+};
+
+TEST_F(JobServiceTest, AQueuedJobGoesToTheIdleCapableRobot) {
+  const std::string job_id = Submit(RequeuePolicy::kFail);
+  EXPECT_EQ(jobs_->DispatchOnce(), 0);  // nobody connected
+  EXPECT_EQ(StateOf(job_id), JobState::kQueued);
+  Connect("lely1");
+  EXPECT_EQ(jobs_->DispatchOnce(), 1);
+  EXPECT_EQ(StateOf(job_id), JobState::kAssigned);
+  ASSERT_EQ(mailbox_.assignments["lely1"].size(), 1u);
+  const JobAssignment& sent = mailbox_.assignments["lely1"][0];
+  EXPECT_EQ(sent.job.job_id, job_id);
+  EXPECT_EQ(sent.route->name, "alley");
+  EXPECT_EQ(sent.map_version, 1u);
+}
+
+TEST_F(JobServiceTest, ALostRobotsJobFailsAfterTheTimeoutOfTheInjectedClock) {
+  const std::string job_id = RunningJobWhoseRobotDrops("lely1", RequeuePolicy::kFail);
+  clock_.AdvanceNs(29 * kSecondNs);
+  jobs_->DispatchOnce();
+  EXPECT_EQ(StateOf(job_id), JobState::kPaused);  // 29 s: still waiting for the robot
+  clock_.AdvanceNs(2 * kSecondNs);
+  jobs_->DispatchOnce();
+  const Job job = jobs_->Get(job_id).value();
+  EXPECT_EQ(job.state, JobState::kFailed);
+  EXPECT_THAT(job.reason, HasSubstr("robot lely1 lost for 30 s"));
+}
+
+TEST_F(JobServiceTest, ALostRobotsJobIsQueuedAgainWhenItsPolicySaysSo) {
+  const std::string job_id = RunningJobWhoseRobotDrops("lely1", RequeuePolicy::kRequeue);
+  clock_.AdvanceNs(31 * kSecondNs);
+  jobs_->DispatchOnce();
+  EXPECT_EQ(StateOf(job_id), JobState::kQueued);
+  // Another robot takes it.
+  Connect("lely2");
+  EXPECT_EQ(jobs_->DispatchOnce(), 1);
+  EXPECT_EQ(jobs_->Get(job_id).value().assigned_robot_id, "lely2");
+}
+
+TEST_F(JobServiceTest, ARobotBackBeforeTheTimeoutResumesItsJob) {
+  const std::string job_id = RunningJobWhoseRobotDrops("lely1", RequeuePolicy::kFail);
+  clock_.AdvanceNs(20 * kSecondNs);
+  RobotIdentity identity;
+  identity.robot_id = "lely1";
+  identity.model = LelyVectorModel();
+  identity.capabilities = {"straight", "turn"};
+  jobs_->OnRobotConnected(identity, job_id);
+  registry_.Connect(identity);
+  EXPECT_EQ(StateOf(job_id), JobState::kRunning);
+  clock_.AdvanceNs(60 * kSecondNs);
+  jobs_->DispatchOnce();
+  EXPECT_EQ(StateOf(job_id), JobState::kRunning);  // the timeout no longer runs
+}
+
+}  // namespace
+}  // namespace fleetnav::server
