@@ -111,23 +111,8 @@ absl::StatusOr<int> FleetServer::Start() {
   }
   agent_service_->Start();
   watch_hub_->Start();
-  // The dispatcher only dispatches, so that a submitted job waits for nothing else.
-  dispatcher_ = std::thread([this] {
-    while (!stopping_.load()) {
-      const absl::Time start = absl::Now();
-      if (jobs_->DispatchOnce() > 0) {
-        const double ms = absl::ToDoubleMilliseconds(absl::Now() - start);
-        // The latest kAssigningPassSamples only: a server runs for months.
-        if (assigning_pass_ms_.size() < kAssigningPassSamples) {
-          assigning_pass_ms_.push_back(ms);
-        } else {
-          assigning_pass_ms_[assigning_passes_ % kAssigningPassSamples] = ms;
-        }
-        ++assigning_passes_;
-      }
-      jobs_->WaitForWork(absl::Seconds(params_.dispatch_period_s));
-    }
-  });
+  dispatcher_ = std::make_unique<DispatcherLoop>(jobs_.get(), params_.dispatch_period_s);
+  dispatcher_->Start();
   housekeeper_ = std::thread([this] {
     const absl::Duration history_period = absl::Seconds(params_.pose_history.period_s);
     const absl::Duration stale_period = absl::Seconds(params_.dispatch_period_s);
@@ -159,29 +144,21 @@ absl::StatusOr<int> FleetServer::Start() {
   return port;
 }
 
-AssigningPassFigures FleetServer::assigning_passes() const {
-  AssigningPassFigures figures;
-  std::vector<double> ms = assigning_pass_ms_;
-  figures.count = assigning_passes_;
-  if (ms.empty()) return figures;
-  std::sort(ms.begin(), ms.end());
-  const auto at = [&](double q) {
-    return ms[std::min(ms.size() - 1, static_cast<size_t>(q * static_cast<double>(ms.size())))];
-  };
-  figures.p50_ms = at(0.5);
-  figures.p99_ms = at(0.99);
-  figures.max_ms = ms.back();
-  return figures;
+PassFigures FleetServer::assigning_passes() const {
+  return dispatcher_ ? dispatcher_->assigning_passes() : PassFigures{};
+}
+
+PassFigures FleetServer::one_job_passes() const {
+  return dispatcher_ ? dispatcher_->one_job_passes() : PassFigures{};
 }
 
 void FleetServer::Shutdown() {
   if (server_ == nullptr || stopping_.exchange(true)) return;
   server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
-  if (jobs_ != nullptr) jobs_->WakeDispatcher();
   agent_service_->Shutdown();
   watch_hub_->Shutdown();
   registry_.SetChangeListener(nullptr);
-  if (dispatcher_.joinable()) dispatcher_.join();
+  if (dispatcher_ != nullptr) dispatcher_->Stop();
   stop_housekeeping_.Notify();
   if (housekeeper_.joinable()) housekeeper_.join();
   if (sim_clock_feed_ != nullptr) sim_clock_feed_->Stop();

@@ -6,12 +6,15 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <map>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "fleetnav/core/clock.hpp"
 #include "fleetnav/core/robot_model.hpp"
+#include "fleetnav/server/dispatcher_loop.hpp"
 #include "fleetnav/server/fleet_registry.hpp"
 #include "fleetnav/server/map_catalog.hpp"
 #include "fleetnav/server/site_cache.hpp"
@@ -163,6 +166,37 @@ TEST_F(JobServiceTest, ARobotBackBeforeTheTimeoutResumesItsJob) {
   clock_.AdvanceNs(60 * kSecondNs);
   jobs_->DispatchOnce();
   EXPECT_EQ(StateOf(job_id), JobState::kRunning);  // the timeout no longer runs
+}
+
+TEST_F(JobServiceTest, TheDispatcherLoopAssignsOnItsThreadAndTimesTheOneJobPass) {
+  DispatcherLoop loop(jobs_.get(), /*period_s=*/60.0);
+  loop.Start();
+  Connect("lely1");
+  const std::string job_id = Submit(RequeuePolicy::kFail);  // wakes the dispatcher at once
+  // The period is a minute: only the wake-up can have assigned it within the 10 s waited here.
+  for (int i = 0; i < 1000 && StateOf(job_id) == JobState::kQueued; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  loop.Stop();
+  EXPECT_EQ(StateOf(job_id), JobState::kAssigned);
+  EXPECT_EQ(loop.assigning_passes().count, 1);
+  EXPECT_EQ(loop.one_job_passes().count, 1);
+  EXPECT_GE(loop.one_job_passes().max_ms, loop.one_job_passes().p50_ms);
+}
+
+TEST(PassTimingsTest, KeepsTheLatestSamplesAndCountsThemAll) {
+  PassTimings timings(/*capacity=*/100);
+  for (int i = 1; i <= 100; ++i) timings.Add(i);
+  PassFigures f = timings.Figures();
+  EXPECT_EQ(f.count, 100);
+  EXPECT_DOUBLE_EQ(f.p50_ms, 51.0);
+  EXPECT_DOUBLE_EQ(f.p99_ms, 100.0);
+  EXPECT_DOUBLE_EQ(f.max_ms, 100.0);
+  // 100 more of 1 ms overwrite the old ones: the figures are of the latest hundred.
+  for (int i = 0; i < 100; ++i) timings.Add(1.0);
+  f = timings.Figures();
+  EXPECT_EQ(f.count, 200);
+  EXPECT_DOUBLE_EQ(f.max_ms, 1.0);
 }
 
 }  // namespace

@@ -32,7 +32,8 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-/// fleetnavd's exit line "N assigning dispatch passes, p50 X ms, p99 Y ms, max Z ms".
+/// fleetnavd's exit line "N assigning dispatch passes, p50 X ms, p99 Y ms, max Z ms; M one-job
+/// passes, p50 A ms, p99 B ms, max C ms".
 void ReadAssigningPasses(const std::string& log, ScenarioReport* report) {
   const size_t at = log.rfind(" assigning dispatch passes, ");
   if (at == std::string::npos) return;
@@ -46,6 +47,17 @@ void ReadAssigningPasses(const std::string& log, ScenarioReport* report) {
     report->assigning_pass_ms_p50 = p50;
     report->assigning_pass_ms_p99 = p99;
     report->assigning_pass_ms_max = max;
+  }
+  const size_t one = log.find(" one-job passes, ", at);
+  if (one == std::string::npos) return;
+  const size_t one_line = log.rfind(' ', one - 1);
+  if (std::sscanf(log.c_str() + one_line + 1,
+                  "%lld one-job passes, p50 %lf ms, p99 %lf ms, max %lf ms", &count, &p50, &p99,
+                  &max) == 4) {
+    report->one_job_passes = count;
+    report->one_job_pass_ms_p50 = p50;
+    report->one_job_pass_ms_p99 = p99;
+    report->one_job_pass_ms_max = max;
   }
 }
 

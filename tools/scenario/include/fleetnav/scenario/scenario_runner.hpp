@@ -78,6 +78,12 @@ struct ScenarioReport {
   double assigning_pass_ms_p50 = 0.0;
   double assigning_pass_ms_p99 = 0.0;
   double assigning_pass_ms_max = 0.0;
+  /// Of those, the passes that assigned exactly one job: the replanning latency when a job is
+  /// added (its route predicted, every robot's clearances decided again).
+  int64_t one_job_passes = 0;
+  double one_job_pass_ms_p50 = 0.0;
+  double one_job_pass_ms_p99 = 0.0;
+  double one_job_pass_ms_max = 0.0;
   std::string work_dir;  ///< kept only with RunOptions::keep_dir
 };
 

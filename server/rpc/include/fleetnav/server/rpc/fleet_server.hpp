@@ -11,6 +11,7 @@
 #include "absl/status/statusor.h"
 #include "absl/synchronization/notification.h"
 #include "fleetnav/core/clock.hpp"
+#include "fleetnav/server/dispatcher_loop.hpp"
 #include "fleetnav/server/fleet_registry.hpp"
 #include "fleetnav/server/job_service.hpp"
 #include "fleetnav/server/map_catalog.hpp"
@@ -55,17 +56,6 @@ struct FleetServerParams {
 /// runs the dispatcher on a thread of its own and the pose-history recorder on a housekeeping
 /// one. Used by main() and by integration tests (real gRPC over loopback). Start once;
 /// Shutdown() ends open streams within a second.
-/// How long the dispatcher's passes that assigned at least one job took (wall clock): the
-/// assignment, then traffic coordination replanned with the new job (its route predicted, the
-/// clearances of every robot decided again). count is every such pass; the percentiles are
-/// over the latest 100,000.
-struct AssigningPassFigures {
-  int64_t count = 0;
-  double p50_ms = 0.0;
-  double p99_ms = 0.0;
-  double max_ms = 0.0;
-};
-
 class FleetServer {
  public:
   explicit FleetServer(FleetServerParams params);
@@ -75,8 +65,10 @@ class FleetServer {
   absl::StatusOr<int> Start();
   void Shutdown();
   void Wait();
-  /// The dispatcher's assigning passes so far; call after Shutdown().
-  AssigningPassFigures assigning_passes() const;
+  /// The dispatcher's passes that assigned jobs, and those that assigned exactly one (the
+  /// replanning latency when a job is added); call after Shutdown().
+  PassFigures assigning_passes() const;
+  PassFigures one_job_passes() const;
   FleetRegistry& registry() { return registry_; }
   JobService& jobs() { return *jobs_; }
   storage::PoseHistoryRepository& pose_history() { return *pose_history_repository_; }
@@ -105,11 +97,7 @@ class FleetServer {
   std::unique_ptr<TrafficCoordinator> coordinator_;
   std::unique_ptr<JobService> jobs_;
   std::unique_ptr<TrafficPlanner> traffic_;
-  std::thread dispatcher_;
-  /// Durations of the passes that assigned jobs (written by the dispatcher thread only).
-  static constexpr size_t kAssigningPassSamples = 100'000;
-  std::vector<double> assigning_pass_ms_;  ///< the latest kAssigningPassSamples
-  int64_t assigning_passes_ = 0;
+  std::unique_ptr<DispatcherLoop> dispatcher_;
   /// Stale robots, pose history and returning freed memory, off the dispatcher's thread.
   std::thread housekeeper_;
   absl::Notification stop_housekeeping_;

@@ -1,0 +1,64 @@
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <thread>
+#include <vector>
+
+#include "fleetnav/server/job_service.hpp"
+
+namespace fleetnav::server {
+
+/// Latency figures of one kind of dispatcher pass: how many there were, and percentiles over
+/// the latest ones (milliseconds of computing time).
+struct PassFigures {
+  int64_t count = 0;
+  double p50_ms = 0.0;
+  double p99_ms = 0.0;
+  double max_ms = 0.0;
+};
+
+/// The latest `capacity` durations of one kind of pass and how many there were in all: a
+/// server runs for months, so older samples are overwritten. Not thread-safe.
+class PassTimings {
+ public:
+  explicit PassTimings(size_t capacity = 100'000) : capacity_(capacity) {}
+  void Add(double ms);
+  PassFigures Figures() const;
+
+ private:
+  size_t capacity_;
+  std::vector<double> ms_;
+  int64_t count_ = 0;
+};
+
+/// Runs JobService's dispatcher on a thread of its own: one pass (DispatchOnce), then a wait
+/// until there may be work (a job submitted, a robot idle) or `period_s` passed. It times the
+/// passes that assigned jobs — each is the assignment and traffic coordination replanned with
+/// the new jobs — and separately those that assigned exactly one, the replanning latency when
+/// a job is added. The dispatcher only dispatches, so a submitted job waits for nothing else.
+/// Start once; Stop wakes and joins the thread.
+class DispatcherLoop {
+ public:
+  DispatcherLoop(JobService* jobs, double period_s) : jobs_(jobs), period_s_(period_s) {}
+  ~DispatcherLoop() { Stop(); }
+  DispatcherLoop(const DispatcherLoop&) = delete;
+  DispatcherLoop& operator=(const DispatcherLoop&) = delete;
+
+  void Start();
+  void Stop();
+  /// Read after Stop (the figures belong to the dispatcher thread while it runs).
+  PassFigures assigning_passes() const { return assigning_.Figures(); }
+  PassFigures one_job_passes() const { return one_job_.Figures(); }
+
+ private:
+  JobService* jobs_;
+  double period_s_;
+  std::atomic<bool> stopping_{false};
+  std::thread thread_;
+  PassTimings assigning_;
+  PassTimings one_job_;
+};
+
+}  // namespace fleetnav::server

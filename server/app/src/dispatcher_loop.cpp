@@ -1,0 +1,57 @@
+#include "fleetnav/server/dispatcher_loop.hpp"
+
+#include <algorithm>
+
+#include "absl/time/clock.h"
+#include "absl/time/time.h"
+
+namespace fleetnav::server {
+
+void PassTimings::Add(double ms) {
+  if (ms_.size() < capacity_) {
+    ms_.push_back(ms);
+  } else {
+    ms_[static_cast<size_t>(count_) % capacity_] = ms;
+  }
+  ++count_;
+}
+
+PassFigures PassTimings::Figures() const {
+  PassFigures figures;
+  figures.count = count_;
+  if (ms_.empty()) return figures;
+  std::vector<double> sorted = ms_;
+  std::sort(sorted.begin(), sorted.end());
+  const auto at = [&](double q) {
+    return sorted[std::min(sorted.size() - 1,
+                           static_cast<size_t>(q * static_cast<double>(sorted.size())))];
+  };
+  figures.p50_ms = at(0.5);
+  figures.p99_ms = at(0.99);
+  figures.max_ms = sorted.back();
+  return figures;
+}
+
+void DispatcherLoop::Start() {
+  thread_ = std::thread([this] {
+    while (!stopping_.load()) {
+      // Computing time of the pass: the wall clock is right here, whatever clock the jobs use.
+      const absl::Time start = absl::Now();
+      const int assigned = jobs_->DispatchOnce();
+      if (assigned > 0) {
+        const double ms = absl::ToDoubleMilliseconds(absl::Now() - start);
+        assigning_.Add(ms);
+        if (assigned == 1) one_job_.Add(ms);
+      }
+      jobs_->WaitForWork(absl::Seconds(period_s_));
+    }
+  });
+}
+
+void DispatcherLoop::Stop() {
+  if (stopping_.exchange(true)) return;
+  jobs_->WakeDispatcher();
+  if (thread_.joinable()) thread_.join();
+}
+
+}  // namespace fleetnav::server
