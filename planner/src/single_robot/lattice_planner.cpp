@@ -150,37 +150,33 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
     return absl::InvalidArgumentError("goal: outside the map");
   }
 
-  // Heuristic: 8-connected Dijkstra from the goal over cells with the inscribed clearance. It
-  // stops once it has gone well past the start (kHeuristicReach): a short trip on a large map
-  // does not pay for the whole map. Cells it did not settle are at least `frontier` away, which
-  // keeps the heuristic a lower bound.
+  // Heuristic: 8-connected Dijkstra from the goal over cells with the inscribed clearance, run
+  // lazily (as LaCAM's distance tables): a query resumes the search only until its cell is
+  // settled, so a short trip settles a disc about as large as the trip, not the whole map. It
+  // never goes further than kHeuristicReach times the start's distance; cells beyond the
+  // frontier are at least `frontier` away, which keeps the heuristic a lower bound.
   const size_t cells = static_cast<size_t>(w) * h;
   std::vector<float> hdist(cells, std::numeric_limits<float>::infinity());
-  float frontier = std::numeric_limits<float>::infinity();
-  {
-    const size_t start_cell = static_cast<size_t>(sy) * w + sx;
-    float stop_at = std::numeric_limits<float>::infinity();
-    const double need = std::max(0.0, costmap_->inscribed_radius_m() - res);
-    using Item = std::pair<float, int>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
-    hdist[static_cast<size_t>(gy) * w + gx] = 0.0f;
-    open.push({0.0f, gy * w + gx});
+  using Item = std::pair<float, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> hopen;
+  float frontier = 0.0f;  // every cell with hdist <= frontier is settled
+  float reach = std::numeric_limits<float>::infinity();
+  const double need = std::max(0.0, costmap_->inscribed_radius_m() - res);
+  hdist[static_cast<size_t>(gy) * w + gx] = 0.0f;
+  hopen.push({0.0f, gy * w + gx});
+  // Settles cells until `cell` is settled, the search is exhausted or has reached `reach`.
+  auto settle = [&](size_t cell) {
     static constexpr int kDx[] = {1, -1, 0, 0, 1, 1, -1, -1};
     static constexpr int kDy[] = {0, 0, 1, -1, 1, -1, 1, -1};
-    while (!open.empty()) {
-      auto [d, c] = open.top();
+    while (hdist[cell] > frontier && !hopen.empty()) {
+      auto [d, c] = hopen.top();
       if (d > hdist[c]) {
-        open.pop();
+        hopen.pop();
         continue;
       }
-      if (d > stop_at) {
-        frontier = d;
-        break;
-      }
-      open.pop();
-      if (static_cast<size_t>(c) == start_cell) {
-        stop_at = static_cast<float>(kHeuristicReachFactor * d + kHeuristicReachMarginM);
-      }
+      if (d > reach) return;
+      hopen.pop();
+      frontier = d;
       const int cx = c % w, cy = c / w;
       for (int k = 0; k < 8; ++k) {
         const int nx = cx + kDx[k], ny = cy + kDy[k];
@@ -192,15 +188,23 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
         const size_t n = static_cast<size_t>(ny) * w + nx;
         if (nd < hdist[n]) {
           hdist[n] = nd;
-          open.push({nd, static_cast<int>(n)});
+          hopen.push({nd, static_cast<int>(n)});
         }
       }
     }
+    if (hopen.empty()) frontier = std::numeric_limits<float>::infinity();
+  };
+  const size_t start_cell = static_cast<size_t>(sy) * w + sx;
+  settle(start_cell);
+  if (std::isfinite(hdist[start_cell])) {
+    reach = static_cast<float>(kHeuristicReachFactor * hdist[start_cell] + kHeuristicReachMarginM);
   }
   auto heuristic = [&](const Pose2& p) -> double {
     int cx, cy;
     if (!cell_of(p.x_m(), p.y_m(), &cx, &cy)) return std::numeric_limits<double>::infinity();
-    const float d = hdist[static_cast<size_t>(cy) * w + cx];
+    const size_t cell = static_cast<size_t>(cy) * w + cx;
+    settle(cell);
+    const float d = hdist[cell];
     const double euclid = std::hypot(p.x_m() - request.goal.x_m(), p.y_m() - request.goal.y_m());
     if (d <= frontier) return std::max<double>(d - res, euclid);  // settled: exact
     if (std::isfinite(frontier)) return std::max<double>(frontier - res, euclid);
