@@ -84,9 +84,8 @@ double MapfPlanner::SuboptimalityBound() const {
              : 0.0;
 }
 
-absl::StatusOr<MapfResult> MapfPlanner::Solve(const MapfInstance& requested,
-                                              const MapfStopCondition& stop,
-                                              const MapfPlanObserver& on_plan) {
+absl::StatusOr<MapfInstance> MapfPlanner::Prepare(const MapfInstance& requested,
+                                                  const MapfStopCondition& stop) const {
   if (absl::Status s = params_.Validate(); !s.ok()) return s;
   if (absl::Status s = stop.Validate(); !s.ok()) return s;
   const MapfInstance instance =
@@ -94,6 +93,15 @@ absl::StatusOr<MapfResult> MapfPlanner::Solve(const MapfInstance& requested,
           ? ResolveDuplicateGoals(requested)
           : requested;
   if (absl::Status s = instance.Validate(); !s.ok()) return s;
+  return instance;
+}
+
+absl::StatusOr<MapfResult> MapfPlanner::Solve(const MapfInstance& requested,
+                                              const MapfStopCondition& stop,
+                                              const MapfPlanObserver& on_plan) {
+  absl::StatusOr<MapfInstance> prepared = Prepare(requested, stop);
+  if (!prepared.ok()) return prepared.status();
+  const MapfInstance& instance = *prepared;
   const MapfStopwatch watch(stop);
   using Selection = MapfPlannerParams::Selection;
   EecbsParams eecbs;

@@ -65,13 +65,9 @@ absl::Status ValidatePrefixes(const MapfInstance& instance,
 absl::StatusOr<MapfResult> MapfPlanner::Replan(const MapfInstance& requested,
                                                const std::vector<std::vector<int>>& committed,
                                                const MapfStopCondition& stop) {
-  if (absl::Status s = params_.Validate(); !s.ok()) return s;
-  if (absl::Status s = stop.Validate(); !s.ok()) return s;
-  const MapfInstance instance =
-      params_.duplicate_goals == MapfPlannerParams::DuplicateGoals::kWaitNearby
-          ? ResolveDuplicateGoals(requested)
-          : requested;
-  if (absl::Status s = instance.Validate(); !s.ok()) return s;
+  absl::StatusOr<MapfInstance> prepared = Prepare(requested, stop);
+  if (!prepared.ok()) return prepared.status();
+  const MapfInstance& instance = *prepared;
   if (absl::Status s = ValidatePrefixes(instance, committed); !s.ok()) return s;
   const MapfStopwatch watch(stop);
   const int n = instance.num_agents();

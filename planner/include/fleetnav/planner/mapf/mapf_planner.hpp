@@ -75,6 +75,10 @@ class MapfPlanner : public MapfSolver {
                                     const MapfStopCondition& stop);
 
  private:
+  // What Solve and Replan check first: the parameters, the stop condition and the instance with
+  // its duplicate goals resolved (as duplicate_goals says).
+  absl::StatusOr<MapfInstance> Prepare(const MapfInstance& requested,
+                                       const MapfStopCondition& stop) const;
   // The steps Solve and Replan share: rotations out (with forbid_rotations), then LNS
   // refinement with the budget `watch` has left; fixed_steps as LnsRefiner takes them. Hands
   // each changed plan to `on_plan`.
