@@ -50,6 +50,9 @@ TEST(FleetScenario, TwoLelyRobotsShareTheBarnWithoutContact) {
   EXPECT_TRUE(report["passed"].get<bool>()) << report["failures"].dump();
   EXPECT_EQ(report["contacts"].get<int>(), 0);
   EXPECT_GE(report["min_separation_m"].get<double>(), 0.5);
+  // The no-coordination lower bound of the end lies before the end (somebody waited).
+  EXPECT_GT(report.value("no_wait_end_s", 0.0), 0.0);
+  EXPECT_LT(report.value("no_wait_end_s", 1e9), report["sim_time_s"].get<double>());
   ASSERT_EQ(report["jobs"].size(), 2u);
   for (const auto& job : report["jobs"]) EXPECT_EQ(job["state"], "succeeded") << job.dump();
   // The routes cross: one robot was held by traffic coordination for a while.

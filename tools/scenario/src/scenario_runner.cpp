@@ -629,6 +629,15 @@ void Run::Finish(ScenarioReport* report) {
   if (!figures_.empty() && report->sim_time_s > 0.0) {
     report->waiting_share = waited_s / (static_cast<double>(figures_.size()) * report->sim_time_s);
   }
+  for (const RobotFigures& f : report->robots) {
+    double last_end_s = -1.0;
+    for (const JobOutcome& job : jobs_) {
+      if (job.robot_id == f.robot_id) last_end_s = std::max(last_end_s, job.end_sim_s);
+    }
+    if (last_end_s >= 0.0) {
+      report->no_wait_end_s = std::max(report->no_wait_end_s, last_end_s - f.waiting_s);
+    }
+  }
   report->jobs = jobs_;
   // Expectations.
   for (const JobOutcome& job : jobs_) {

@@ -67,6 +67,10 @@ struct ScenarioReport {
   double real_time_factor = 0.0;
   /// Share of the robots' sim time spent held by traffic coordination (all robots together).
   double waiting_share = 0.0;
+  /// The no-coordination lower bound of the run's end: the latest, over the robots, of the
+  /// robot's last job end minus the time it was held — when the work would have ended had
+  /// traffic coordination never held anyone (0 when no job ended).
+  double no_wait_end_s = 0.0;
   /// CPU time (user + system) of fleetnavd, the simulator and all agents over the run (every
   /// start of each counted), the machine's cost of the run.
   double server_cpu_s = 0.0;
