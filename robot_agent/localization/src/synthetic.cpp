@@ -134,6 +134,7 @@ absl::StatusOr<Experiment2Result> RunExperiment2(const Experiment2Params& params
   if (!amcl.ok()) return amcl.status();
   SamclParams samcl_params;
   samcl_params.mode = params.samcl_mode;
+  samcl_params.marker_half_width_m = 0.5 * params.marker_width_m;
   absl::StatusOr<Samcl> samcl =
       Samcl::Create(*std::move(amcl), Experiment2Markers(), model, samcl_params);
   if (!samcl.ok()) return samcl.status();
@@ -153,8 +154,8 @@ absl::StatusOr<Experiment2Result> RunExperiment2(const Experiment2Params& params
   int64_t stamp = 0;
   const int64_t tick_ns = static_cast<int64_t>(params.tick_s * 1e9);
   bool mid_done = false;
+  bool over_marker = false;  // the inductive sensor's last sample
   while (truth.x_m() < params.end_x_m) {
-    const Pose2 previous_truth = truth;
     const double step = params.speed_mps * params.tick_s;
     truth = truth * Pose2(step, 0.0, 0.0);
     odom = odom * Pose2(step * scale, 0.0, params.yaw_noise_per_tick_rad * rng.Normal());
@@ -167,23 +168,29 @@ absl::StatusOr<Experiment2Result> RunExperiment2(const Experiment2Params& params
     if (absl::StatusOr<bool> u = samcl->Update(odom, *observation, stamp); !u.ok()) {
       return u.status();
     }
-    // Inductive edge: the sensor point crossed a marker during this tick.
-    const double s0 = (previous_truth * inductive).x_m();
+    // The inductive sensor, sampled once a tick: metal while its point is over a strip. A
+    // rising edge is the first sample over one, stamped with the tick (as the simulator's
+    // sensor is); the check after it counts only when the filter applied a calibration.
     const double s1 = (truth * inductive).x_m();
-    for (double mx : marker_x) {
-      if (!(s0 < mx && s1 >= mx)) continue;
-      const double fraction = (mx - s0) / (s1 - s0);
-      const int64_t edge_ns = stamp - tick_ns + static_cast<int64_t>(fraction * tick_ns);
+    bool over = false;
+    for (double mx : marker_x) over = over || std::abs(s1 - mx) <= 0.5 * params.marker_width_m;
+    const bool rising = over && !over_marker;
+    over_marker = over;
+    if (rising) {
       const double before = std::abs(samcl->amcl().PoseInMap(odom).x_m() - truth.x_m());
+      result.along_track_before_marker_m.push_back(before);
+      bool applied = !params.use_samcl;
       if (params.use_samcl) {
         absl::StatusOr<CalibrationResult> c =
-            samcl->OnInductiveEdge(InductiveEdge{"inductive_left", edge_ns});
+            samcl->OnInductiveEdge(InductiveEdge{"inductive_left", stamp});
         if (!c.ok()) return c.status();
-        if (c->outcome == CalibrationOutcome::kApplied) ++result.calibrations;
+        applied = c->outcome == CalibrationOutcome::kApplied;
+        if (applied) ++result.calibrations;
       }
-      result.along_track_before_marker_m.push_back(before);
-      result.along_track_after_marker_m.push_back(
-          std::abs(samcl->amcl().PoseInMap(odom).x_m() - truth.x_m()));
+      if (applied) {
+        result.along_track_after_marker_m.push_back(
+            std::abs(samcl->amcl().PoseInMap(odom).x_m() - truth.x_m()));
+      }
     }
     const Pose2 estimate = samcl->amcl().PoseInMap(odom);
     result.lateral_max_m = std::max(result.lateral_max_m, std::abs(estimate.y_m() - truth.y_m()));

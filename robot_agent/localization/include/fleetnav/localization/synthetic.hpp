@@ -40,10 +40,14 @@ std::vector<RangeReading> SimulateUltrasonics(const OccupancyGrid& map, const Po
 struct Experiment2Params {
   double speed_mps = 0.25;
   double end_x_m = 6.5;
-  double tick_s = 0.1;
+  /// The simulator's sensor rate (50 Hz): the inductive sensor is sampled once a tick.
+  double tick_s = 0.02;
+  /// Width of the marker strips: the sensor reads metal while its point is over one.
+  double marker_width_m = 0.05;
   double scale_error_min = 0.01;
   double scale_error_max = 0.02;
-  double yaw_noise_per_tick_rad = 2e-4;
+  /// Heading noise per tick: the random walk of 2e-4 rad per 0.1 s tick, at 50 Hz.
+  double yaw_noise_per_tick_rad = 8.9e-5;
   double ultrasonic_range_max_m = 2.5;
   double ultrasonic_noise_m = 0.01;
   size_t particles = 500;
@@ -52,8 +56,10 @@ struct Experiment2Params {
 };
 
 struct Experiment2Result {
-  std::vector<double> along_track_after_marker_m;   ///< |error| right after each calibration
-  std::vector<double> along_track_before_marker_m;  ///< |error| just before each calibration
+  /// |error| right after each calibration the filter applied (SAMCL), or right after each
+  /// sampled rising edge (plain AMCL, which uses none).
+  std::vector<double> along_track_after_marker_m;
+  std::vector<double> along_track_before_marker_m;  ///< |error| at each sampled rising edge
   double along_track_final_m = 0.0;
   double along_track_mid_m = 0.0;  ///< at x = 0.5 (half way)
   double lateral_max_m = 0.0;
