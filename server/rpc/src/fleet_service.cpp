@@ -14,7 +14,6 @@
 #include "fleetnav/proto/robot_convert.hpp"
 #include "fleetnav/proto/route_convert.hpp"
 #include "fleetnav/proto/telemetry_convert.hpp"
-#include "fleetnav/server/rpc/robot_state_convert.hpp"
 
 namespace fleetnav::server {
 namespace {

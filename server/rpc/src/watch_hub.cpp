@@ -10,7 +10,7 @@
 #include "absl/strings/str_cat.h"
 #include "fleetnav/proto/grpc_status.hpp"
 #include "fleetnav/proto/job_convert.hpp"
-#include "fleetnav/server/rpc/robot_state_convert.hpp"
+#include "fleetnav/proto/telemetry_convert.hpp"
 
 namespace fleetnav::server {
 namespace {

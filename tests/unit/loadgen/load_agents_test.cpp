@@ -91,8 +91,7 @@ TEST_F(LoadWorkerTest, AgentsRegisterAndEveryDueMessageIsDeliveredOrCountedAsSki
   auto recorded = [&] {
     uint64_t count = 0;
     for (const int i : params.indices) {
-      absl::StatusOr<server::RobotRecord> record =
-          server_->registry().Get("load-" + std::to_string(i));
+      absl::StatusOr<RobotRecord> record = server_->registry().Get("load-" + std::to_string(i));
       if (record.ok()) count += record->telemetry_count;
     }
     return count;

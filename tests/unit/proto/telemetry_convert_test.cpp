@@ -179,5 +179,34 @@ TEST(AgentHelloConvertTest, RefusesHelloWithoutModel) {
   ExpectInvalid(FromProto(wire), "model.kinematics");
 }
 
+TEST(TelemetryConvertTest, ARobotRecordBecomesTheOperatorsRobotState) {
+  RobotRecord record;
+  record.identity.robot_id = "lely1";
+  record.identity.model = LelyVectorModel();
+  record.identity.capabilities = {"straight", "turn"};
+  record.identity.software_version = "0.1.0";
+  record.connection = ConnectionState::kStale;
+  Telemetry telemetry;
+  telemetry.battery_fraction = 0.5;
+  record.last_telemetry = telemetry;
+  record.last_seen_ns = 42;
+  record.current_job_id = "job-7";
+  record.traffic_wait = "waits for lely2";
+  const v1::RobotState wire = ToProto(record);
+  EXPECT_EQ(wire.robot_id(), "lely1");
+  EXPECT_EQ(wire.kind_name(), record.identity.model.kind_name);
+  ASSERT_EQ(wire.capabilities_size(), 2);
+  EXPECT_EQ(wire.capabilities(1), "turn");
+  EXPECT_EQ(wire.software_version(), "0.1.0");
+  EXPECT_EQ(wire.connection(), v1::CONNECTION_STATE_STALE);
+  ASSERT_TRUE(wire.has_last_telemetry());
+  EXPECT_DOUBLE_EQ(wire.last_telemetry().battery_fraction(), 0.5);
+  EXPECT_EQ(wire.last_seen_ns(), 42);
+  EXPECT_EQ(wire.current_job_id(), "job-7");
+  EXPECT_EQ(wire.traffic_wait(), "waits for lely2");
+  record.last_telemetry.reset();
+  EXPECT_FALSE(ToProto(record).has_last_telemetry());
+}
+
 }  // namespace
 }  // namespace fleetnav

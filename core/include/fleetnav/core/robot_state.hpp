@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -64,6 +65,19 @@ struct RobotIdentity {
   RobotModel model;
   std::vector<std::string> capabilities;
   std::string software_version;
+};
+
+/// What the fleet server knows about one robot at one moment (its registry entry, also sent
+/// to operators as RobotState).
+struct RobotRecord {
+  RobotIdentity identity;
+  ConnectionState connection = ConnectionState::kOffline;
+  std::optional<Telemetry> last_telemetry;
+  int64_t last_seen_ns = 0;      ///< server clock
+  uint64_t telemetry_count = 0;  ///< messages accepted since the server started
+  std::string current_job_id;
+  std::string traffic_wait;  ///< why traffic coordination holds the robot; empty when not
+  uint64_t revision = 0;     ///< grows on every change; lets watchers send only what changed
 };
 
 }  // namespace fleetnav

@@ -16,6 +16,8 @@ v1::NavigationMode ToProto(NavigationMode mode);
 absl::StatusOr<NavigationMode> NavigationModeFromProto(int value);
 
 v1::ConnectionState ToProto(ConnectionState state);
+/// The wire form of the fleet server's record of a robot.
+v1::RobotState ToProto(const RobotRecord& record);
 
 /// The identity in an agent's hello; the robot id must be non-empty ([A-Za-z0-9_.-]{1,64}).
 absl::StatusOr<RobotIdentity> FromProto(const v1::AgentHello& hello);

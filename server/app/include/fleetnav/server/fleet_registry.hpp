@@ -17,18 +17,6 @@
 
 namespace fleetnav::server {
 
-/// What the server knows about one robot at one moment.
-struct RobotRecord {
-  RobotIdentity identity;
-  ConnectionState connection = ConnectionState::kOffline;
-  std::optional<Telemetry> last_telemetry;
-  int64_t last_seen_ns = 0;      ///< server clock
-  uint64_t telemetry_count = 0;  ///< messages accepted since the server started
-  std::string current_job_id;
-  std::string traffic_wait;  ///< why traffic coordination holds the robot; empty when not
-  uint64_t revision = 0;     ///< grows on every change; lets watchers send only what changed
-};
-
 struct FleetRegistryParams {
   /// A connected robot with no telemetry for this long is shown as stale.
   double stale_after_s = 2.0;
