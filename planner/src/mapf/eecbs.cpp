@@ -106,8 +106,7 @@ absl::StatusOr<MapfResult> EecbsSolver::Solve(const MapfInstance& instance,
                                               const MapfStopCondition& stop,
                                               const MapfPlanObserver& on_plan) {
   if (absl::Status s = params_.Validate(); !s.ok()) return s;
-  if (absl::Status s = stop.Validate(); !s.ok()) return s;
-  if (absl::Status s = instance.Validate(); !s.ok()) return s;
+  if (absl::Status s = ValidateSolveInput(instance, stop); !s.ok()) return s;
   const MapfStopwatch watch(stop);
   const GridGraph& g = *instance.graph;
   const int n = instance.num_agents();

@@ -14,6 +14,11 @@ absl::Status MapfStopCondition::Validate() const {
   return absl::OkStatus();
 }
 
+absl::Status ValidateSolveInput(const MapfInstance& instance, const MapfStopCondition& stop) {
+  if (absl::Status s = stop.Validate(); !s.ok()) return s;
+  return instance.Validate();
+}
+
 double MapfStopwatch::RemainingS(double floor_s) const {
   return std::max(stop_.time_limit_s - ElapsedMs() * 1e-3, floor_s);
 }

@@ -47,6 +47,10 @@ class MapfSolver {
                                            const MapfPlanObserver& on_plan = nullptr) = 0;
 };
 
+/// What every MapfSolver checks before it searches: the stop condition, then the instance
+/// (InvalidArgument naming the field).
+absl::Status ValidateSolveInput(const MapfInstance& instance, const MapfStopCondition& stop);
+
 /// The running side of a MapfStopCondition: started when a Solve begins, asked by its loops.
 class MapfStopwatch {
  public:
