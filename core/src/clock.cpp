@@ -10,6 +10,14 @@ int64_t SystemClock::NowNs() const {
       .count();
 }
 
+int64_t SystemClock::UnixMs() const {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+int64_t ManualClock::UnixMs() const { return unix_ms_at_zero_ + NowNs() / 1'000'000; }
+
 int64_t ManualClock::NowNs() const {
   absl::MutexLock lock(&mutex_);
   return now_ns_;

@@ -1,7 +1,6 @@
 #include "fleetnav/server/map_catalog.hpp"
 
 #include "absl/strings/str_cat.h"
-#include "absl/time/clock.h"
 #include "fleetnav/core/echo_input.hpp"
 #include "fleetnav/core/status_macros.hpp"
 
@@ -25,8 +24,7 @@ absl::StatusOr<storage::MapInfo> MapCatalog::Put(const std::string& map_id,
   RETURN_IF_ERROR(ValidateMapId(map_id));
   RETURN_IF_ERROR(limits_.CheckMap(grid));
   RETURN_IF_ERROR(limits_.CheckMapDescription(description));
-  const int64_t now_ms = absl::ToUnixMillis(absl::Now());
-  return site_data_->PutMap(map_id, grid, description, now_ms);
+  return site_data_->PutMap(map_id, grid, description, clock_->UnixMs());
 }
 
 absl::StatusOr<std::shared_ptr<const storage::StoredMap>> MapCatalog::Get(const std::string& map_id,

@@ -3,15 +3,12 @@
 #include "absl/container/flat_hash_set.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "absl/time/clock.h"
 #include "fleetnav/core/echo_input.hpp"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/server/map_catalog.hpp"
 
 namespace fleetnav::server {
 namespace {
-
-int64_t NowUnixMs() { return absl::ToUnixMillis(absl::Now()); }
 
 absl::Status CheckPointFree(const OccupancyGrid& grid, const Eigen::Vector2d& point, int index,
                             const std::string& action, const std::string& what) {
@@ -45,7 +42,7 @@ absl::StatusOr<uint32_t> SiteCatalog::PutMarkerSet(const MarkerSet& markers) {
   RETURN_IF_ERROR(limits_.CheckMarkers(markers));
   RETURN_IF_ERROR(markers.Validate());
   RETURN_IF_ERROR(site_data_->LatestMapVersion(markers.map_id).status());
-  return site_data_->PutMarkerSet(markers, NowUnixMs());
+  return site_data_->PutMarkerSet(markers, clock_->UnixMs());
 }
 
 absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> SiteCatalog::GetMarkerSet(
@@ -93,7 +90,7 @@ absl::StatusOr<uint32_t> SiteCatalog::PutRoute(const Route& route) {
   RETURN_IF_ERROR(limits_.CheckRoute(route));
   RETURN_IF_ERROR(route.Validate());
   RETURN_IF_ERROR(CheckRouteAgainstSite(route));
-  return site_data_->PutRoute(route, NowUnixMs());
+  return site_data_->PutRoute(route, clock_->UnixMs());
 }
 
 absl::StatusOr<std::shared_ptr<const storage::StoredRoute>> SiteCatalog::GetRoute(

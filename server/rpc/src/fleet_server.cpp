@@ -40,6 +40,9 @@ absl::Status FleetServerParams::Validate() const {
 
 FleetServer::FleetServer(FleetServerParams params)
     : params_(std::move(params)),
+      // On the simulator's clock, records are stamped from the server's start on in simulated
+      // time.
+      sim_clock_(0, SystemClock().UnixMs()),
       clock_(params_.sim_clock_address.empty() ? static_cast<const Clock*>(&system_clock_)
                                                : &sim_clock_),
       registry_(clock_, params_.registry) {}
@@ -66,8 +69,9 @@ absl::StatusOr<int> FleetServer::Start() {
                                                          params_.pose_history);
   site_data_ = std::make_unique<SiteCache>(map_repository_.get(), marker_repository_.get(),
                                            route_repository_.get(), params_.site_cache);
-  maps_ = std::make_unique<MapCatalog>(site_data_.get(), params_.limits);
-  site_ = std::make_unique<SiteCatalog>(site_data_.get(), job_repository_.get(), params_.limits);
+  maps_ = std::make_unique<MapCatalog>(site_data_.get(), clock_, params_.limits);
+  site_ = std::make_unique<SiteCatalog>(site_data_.get(), job_repository_.get(), clock_,
+                                        params_.limits);
   coordinator_ = std::make_unique<TrafficCoordinator>(site_data_.get(), &registry_, &mailbox_,
                                                       clock_, params_.traffic);
   jobs_ = std::make_unique<JobService>(job_repository_.get(), robot_repository_.get(),

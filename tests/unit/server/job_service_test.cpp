@@ -51,7 +51,7 @@ class JobServiceTest : public ::testing::Test {
  protected:
   void SetUp() override {
     OccupancyGrid grid = OccupancyGrid::Filled(100, 100, 0.1, Pose2(), 0).value();
-    ASSERT_TRUE(MapCatalog(&site_data_).Put("hall", grid, "").ok());
+    ASSERT_TRUE(MapCatalog(&site_data_, &clock_).Put("hall", grid, "").ok());
     Route alley;
     alley.name = "alley";
     alley.map_id = "hall";
@@ -110,7 +110,7 @@ class JobServiceTest : public ::testing::Test {
   storage::MemoryRobotRepository robot_store_;
   storage::MemoryJobRepository job_store_;
   SiteCache site_data_{&map_store_, &marker_store_, &route_store_};
-  SiteCatalog site_{&site_data_, &job_store_};
+  SiteCatalog site_{&site_data_, &job_store_, &clock_};
   FleetRegistry registry_{&clock_, FleetRegistryParams{}};
   RecordingMailbox mailbox_;
   std::unique_ptr<JobService> jobs_;
@@ -128,6 +128,23 @@ TEST_F(JobServiceTest, AQueuedJobGoesToTheIdleCapableRobot) {
   EXPECT_EQ(sent.job.job_id, job_id);
   EXPECT_EQ(sent.route->name, "alley");
   EXPECT_EQ(sent.map_version, 1u);
+}
+
+TEST_F(JobServiceTest, JobAndEventTimesAreTheInjectedClocksCalendar) {
+  const std::string job_id = Submit(RequeuePolicy::kFail);
+  clock_.AdvanceNs(7 * kSecondNs);
+  Connect("lely1");
+  ASSERT_EQ(jobs_->DispatchOnce(), 1);
+  const Job job = jobs_->Get(job_id).value();
+  // The clock starts at 1000 s with its calendar origin at 1970: no wall time gets in.
+  EXPECT_EQ(job.created_unix_ms, 1'000'000);
+  EXPECT_EQ(job.updated_unix_ms, 1'007'000);
+  const std::vector<JobEvent> events = jobs_->Events(job_id, 0).value();
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(events[0].type, JobEventType::kQueued);
+  EXPECT_EQ(events[0].unix_ms, 1'000'000);
+  EXPECT_EQ(events[1].type, JobEventType::kAssigned);
+  EXPECT_EQ(events[1].unix_ms, 1'007'000);
 }
 
 TEST_F(JobServiceTest, ALostRobotsJobFailsAfterTheTimeoutOfTheInjectedClock) {

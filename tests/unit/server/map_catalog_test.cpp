@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "absl/time/clock.h"
+#include "fleetnav/core/clock.hpp"
 #include "fleetnav/storage/memory/memory_fleet_repositories.hpp"
 #include "fleetnav/storage/memory/memory_map_repository.hpp"
 
@@ -53,17 +53,15 @@ TEST(MapCatalogTest, ValidateMapIdRejectsBadIdsNamingTheField) {
 TEST(MapCatalogTest, PutReturnsVersionOneThenTwo) {
   storage::MemoryMapRepository repository;
   SiteData site(&repository);
-  MapCatalog catalog(&site.cache);
-  const int64_t before_ms = absl::ToUnixMillis(absl::Now());
+  // A clock at 12.5 s past 2026-11-25 00:00 UTC: the stamp is its calendar, not the wall's.
+  const ManualClock clock(12'500'000'000, 1'795'564'800'000);
+  MapCatalog catalog(&site.cache, &clock);
   absl::StatusOr<storage::MapInfo> first = catalog.Put("barn", SampleGrid(0), "empty barn");
-  const int64_t after_ms = absl::ToUnixMillis(absl::Now());
   ASSERT_TRUE(first.ok()) << first.status();
   EXPECT_EQ(first->map_id, "barn");
   EXPECT_EQ(first->version, 1u);
   EXPECT_EQ(first->description, "empty barn");
-  // Stamped with the Unix wall time of the call.
-  EXPECT_GE(first->created_unix_ms, before_ms);
-  EXPECT_LE(first->created_unix_ms, after_ms);
+  EXPECT_EQ(first->created_unix_ms, 1'795'564'812'500);
 
   absl::StatusOr<storage::MapInfo> second = catalog.Put("barn", SampleGrid(100), "walls");
   ASSERT_TRUE(second.ok()) << second.status();
@@ -81,7 +79,8 @@ TEST(MapCatalogTest, PutReturnsVersionOneThenTwo) {
 TEST(MapCatalogTest, PutWithBadIdStoresNothing) {
   storage::MemoryMapRepository repository;
   SiteData site(&repository);
-  MapCatalog catalog(&site.cache);
+  const SystemClock clock;
+  MapCatalog catalog(&site.cache, &clock);
   ExpectBadMapId(catalog.Put("Barn", SampleGrid(0), "").status());
   ExpectBadMapId(catalog.Put("", SampleGrid(0), "").status());
   absl::StatusOr<std::vector<storage::MapInfo>> list = repository.ListMaps();
@@ -92,7 +91,8 @@ TEST(MapCatalogTest, PutWithBadIdStoresNothing) {
 TEST(MapCatalogTest, GetAndDeleteCheckTheIdFirst) {
   storage::MemoryMapRepository repository;
   SiteData site(&repository);
-  MapCatalog catalog(&site.cache);
+  const SystemClock clock;
+  MapCatalog catalog(&site.cache, &clock);
   ASSERT_TRUE(catalog.Put("barn", SampleGrid(0), "").ok());
   ExpectBadMapId(catalog.Get("a/b", 0).status());
   ExpectBadMapId(catalog.Delete("BARN"));
@@ -102,7 +102,8 @@ TEST(MapCatalogTest, GetAndDeleteCheckTheIdFirst) {
 TEST(MapCatalogTest, ListAndDeletePassThrough) {
   storage::MemoryMapRepository repository;
   SiteData site(&repository);
-  MapCatalog catalog(&site.cache);
+  const SystemClock clock;
+  MapCatalog catalog(&site.cache, &clock);
   ASSERT_TRUE(catalog.Put("store", SampleGrid(0), "").ok());
   ASSERT_TRUE(catalog.Put("barn", SampleGrid(0), "").ok());
   absl::StatusOr<std::vector<storage::MapInfo>> list = catalog.List();

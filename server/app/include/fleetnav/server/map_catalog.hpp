@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "fleetnav/core/clock.hpp"
 #include "fleetnav/core/occupancy_grid.hpp"
 #include "fleetnav/server/input_limits.hpp"
 #include "fleetnav/server/site_cache.hpp"
@@ -12,12 +13,12 @@
 
 namespace fleetnav::server {
 
-/// The use cases around maps: checks map ids, stamps creation time (Unix wall time), and stores
-/// through a MapRepository. Thread-safe as its repository is.
+/// The use cases around maps: checks map ids, stamps creation time (the injected clock's calendar),
+/// and stores through a MapRepository. Thread-safe as its repository is.
 class MapCatalog {
  public:
-  MapCatalog(SiteCache* site_data, InputLimits limits = {})
-      : site_data_(site_data), limits_(limits) {}
+  MapCatalog(SiteCache* site_data, const Clock* clock, InputLimits limits = {})
+      : site_data_(site_data), clock_(clock), limits_(limits) {}
 
   absl::StatusOr<storage::MapInfo> Put(const std::string& map_id, const OccupancyGrid& grid,
                                        const std::string& description);
@@ -34,6 +35,7 @@ class MapCatalog {
 
  private:
   SiteCache* site_data_;
+  const Clock* clock_;
   const InputLimits limits_;
 };
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "fleetnav/core/clock.hpp"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
 #include "fleetnav/server/input_limits.hpp"
@@ -23,8 +24,9 @@ namespace fleetnav::server {
 /// deleting it can be refused. Thread-safe as its repositories are.
 class SiteCatalog {
  public:
-  SiteCatalog(SiteCache* site_data, storage::JobRepository* jobs, InputLimits limits = {})
-      : site_data_(site_data), jobs_(jobs), limits_(limits) {}
+  SiteCatalog(SiteCache* site_data, storage::JobRepository* jobs, const Clock* clock,
+              InputLimits limits = {})
+      : site_data_(site_data), jobs_(jobs), clock_(clock), limits_(limits) {}
 
   absl::StatusOr<uint32_t> PutMarkerSet(const MarkerSet& markers);
   /// version 0: the latest. Shared with the cache: never copied.
@@ -47,6 +49,7 @@ class SiteCatalog {
 
   SiteCache* site_data_;
   storage::JobRepository* jobs_;
+  const Clock* clock_;  ///< stamps the upload time of marker sets and routes
   const InputLimits limits_;
 };
 
