@@ -109,7 +109,7 @@ absl::StatusOr<TrafficPlan> PlanKinematicTraffic(const OccupancyGrid& grid,
   const double step_s = coarse.cell_m / speed_mps;
   for (size_t i = 0; i < agents.size(); ++i) {
     const std::vector<planner::GridState>& states = solution->states[i];
-    std::vector<TimedPose> path;
+    std::vector<PlannedPose> path;
     for (size_t t = 0; t < states.size(); ++t) {
       const Eigen::Vector2d at = coarse.CenterOf(states[t].x, states[t].y);
       const double yaw = problem.robots[i].motion.has_heading

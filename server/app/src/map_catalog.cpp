@@ -18,9 +18,8 @@ absl::Status MapCatalog::ValidateMapId(const std::string& map_id) {
   return absl::OkStatus();
 }
 
-absl::StatusOr<storage::MapInfo> MapCatalog::Put(const std::string& map_id,
-                                                 const OccupancyGrid& grid,
-                                                 const std::string& description) {
+absl::StatusOr<MapInfo> MapCatalog::Put(const std::string& map_id, const OccupancyGrid& grid,
+                                        const std::string& description) {
   RETURN_IF_ERROR(ValidateMapId(map_id));
   RETURN_IF_ERROR(limits_.CheckMap(grid));
   RETURN_IF_ERROR(limits_.CheckMapDescription(description));
@@ -38,7 +37,7 @@ absl::StatusOr<uint32_t> MapCatalog::LatestVersion(const std::string& map_id) {
   return site_data_->LatestMapVersion(map_id);
 }
 
-absl::StatusOr<std::vector<storage::MapInfo>> MapCatalog::List() { return site_data_->ListMaps(); }
+absl::StatusOr<std::vector<MapInfo>> MapCatalog::List() { return site_data_->ListMaps(); }
 
 absl::Status MapCatalog::Delete(const std::string& map_id) {
   RETURN_IF_ERROR(ValidateMapId(map_id));

@@ -131,12 +131,9 @@ uint32_t SiteCache::LatestMarkerSetVersion(const std::string& map_id) {
   return 0;
 }
 
-absl::StatusOr<storage::MapInfo> SiteCache::PutMap(const std::string& map_id,
-                                                   const OccupancyGrid& grid,
-                                                   const std::string& description,
-                                                   int64_t created_unix_ms) {
-  ASSIGN_OR_RETURN(storage::MapInfo info,
-                   maps_->PutMap(map_id, grid, description, created_unix_ms));
+absl::StatusOr<MapInfo> SiteCache::PutMap(const std::string& map_id, const OccupancyGrid& grid,
+                                          const std::string& description, int64_t created_unix_ms) {
+  ASSIGN_OR_RETURN(MapInfo info, maps_->PutMap(map_id, grid, description, created_unix_ms));
   NoteLatest(Kind::kMap, map_id, info.version);
   return info;
 }
@@ -146,7 +143,7 @@ absl::StatusOr<storage::StoredMap> SiteCache::GetMap(const std::string& map_id, 
   return *map;
 }
 
-absl::StatusOr<std::vector<storage::MapInfo>> SiteCache::ListMaps() { return maps_->ListMaps(); }
+absl::StatusOr<std::vector<MapInfo>> SiteCache::ListMaps() { return maps_->ListMaps(); }
 
 absl::Status SiteCache::DeleteMap(const std::string& map_id) {
   absl::Status deleted = maps_->DeleteMap(map_id);

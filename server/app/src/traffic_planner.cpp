@@ -114,7 +114,7 @@ absl::StatusOr<TrafficPlan> TrafficPlanner::Plan(const std::string& map_id, uint
   const double step_s = coarse.cell_m / speed_mps;
   for (int i = 0; i < instance.num_agents(); ++i) {
     const std::vector<int>& cells = result->solution.paths[i];
-    std::vector<TimedPose> path;
+    std::vector<PlannedPose> path;
     double yaw = agents[i].start.yaw_rad();
     for (size_t t = 0; t < cells.size(); ++t) {
       if (t + 1 < cells.size() && cells[t + 1] != cells[t]) {

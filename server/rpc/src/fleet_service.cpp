@@ -14,19 +14,10 @@
 #include "fleetnav/proto/robot_convert.hpp"
 #include "fleetnav/proto/route_convert.hpp"
 #include "fleetnav/proto/telemetry_convert.hpp"
+#include "fleetnav/proto/traffic_plan_convert.hpp"
 
 namespace fleetnav::server {
 namespace {
-
-void FillInfo(const storage::MapInfo& info, v1::MapInfo* out) {
-  out->set_map_id(info.map_id);
-  out->set_version(info.version);
-  out->set_width(static_cast<uint32_t>(info.width));
-  out->set_height(static_cast<uint32_t>(info.height));
-  out->set_resolution_m(info.resolution_m);
-  out->set_description(info.description);
-  out->set_created_unix_ms(info.created_unix_ms);
-}
 
 absl::StatusOr<OccupancyGrid> GridFromRequest(const v1::PutMapRequest& request) {
   switch (request.source_case()) {
@@ -48,8 +39,7 @@ grpc::Status FleetServiceImpl::PutMap(grpc::ServerContext*, const v1::PutMapRequ
   if (!id_status.ok()) return ToGrpcStatus(id_status);
   absl::StatusOr<OccupancyGrid> grid = GridFromRequest(*request);
   if (!grid.ok()) return ToGrpcStatus(grid.status());
-  absl::StatusOr<storage::MapInfo> info =
-      maps_->Put(request->map_id(), *grid, request->description());
+  absl::StatusOr<MapInfo> info = maps_->Put(request->map_id(), *grid, request->description());
   if (!info.ok()) return ToGrpcStatus(info.status());
   response->set_map_id(info->map_id);
   response->set_version(info->version);
@@ -63,16 +53,16 @@ grpc::Status FleetServiceImpl::GetMap(grpc::ServerContext*, const v1::GetMapRequ
   absl::StatusOr<std::shared_ptr<const storage::StoredMap>> stored =
       maps_->Get(request->map_id(), request->version());
   if (!stored.ok()) return ToGrpcStatus(stored.status());
-  FillInfo((*stored)->info, response->mutable_info());
+  *response->mutable_info() = ToProto((*stored)->info);
   *response->mutable_grid() = fleetnav::ToProto((*stored)->grid);
   return grpc::Status::OK;
 }
 
 grpc::Status FleetServiceImpl::ListMaps(grpc::ServerContext*, const v1::ListMapsRequest*,
                                         v1::ListMapsResponse* response) {
-  absl::StatusOr<std::vector<storage::MapInfo>> maps = maps_->List();
+  absl::StatusOr<std::vector<MapInfo>> maps = maps_->List();
   if (!maps.ok()) return ToGrpcStatus(maps.status());
-  for (const storage::MapInfo& info : *maps) FillInfo(info, response->add_maps());
+  for (const MapInfo& info : *maps) *response->add_maps() = ToProto(info);
   return grpc::Status::OK;
 }
 
@@ -239,40 +229,16 @@ grpc::Status FleetServiceImpl::PlanPaths(grpc::ServerContext*, const v1::PlanPat
                                          v1::PlanPathsResponse* response) {
   std::vector<TrafficAgent> agents;
   for (int i = 0; i < request->agents_size(); ++i) {
-    const v1::PlanPathsRequest::Agent& wire = request->agents(i);
-    const std::string field = absl::StrCat("agents[", i, "]");
-    absl::StatusOr<Pose2> start = FromProto(wire.start(), field + ".start");
-    if (!start.ok()) return ToGrpcStatus(start.status());
-    absl::StatusOr<Pose2> goal = FromProto(wire.goal(), field + ".goal");
-    if (!goal.ok()) return ToGrpcStatus(goal.status());
-    agents.push_back({wire.robot_id(), wire.kind_name(), *start, *goal});
+    absl::StatusOr<TrafficAgent> agent =
+        FromProto(request->agents(i), absl::StrCat("agents[", i, "]"));
+    if (!agent.ok()) return ToGrpcStatus(agent.status());
+    agents.push_back(*std::move(agent));
   }
   const double time_limit_s = request->time_limit_s() == 0.0 ? 1.0 : request->time_limit_s();
   absl::StatusOr<TrafficPlan> plan =
       traffic_->Plan(request->map_id(), request->map_version(), agents, time_limit_s);
   if (!plan.ok()) return ToGrpcStatus(plan.status());
-  for (size_t i = 0; i < plan->paths.size(); ++i) {
-    v1::PlannedPath* path = response->add_paths();
-    path->set_robot_id(agents[i].robot_id);
-    path->set_waits_beside_goal(plan->waits_beside_goal[i]);
-    for (const TimedPose& step : plan->paths[i]) {
-      v1::TimedPose* wire = path->add_poses();
-      wire->set_t_s(step.t_s);
-      *wire->mutable_pose() = fleetnav::ToProto(step.pose);
-    }
-  }
-  for (const TrafficDependency& d : plan->dependencies) {
-    v1::DependencyEdge* edge = response->add_dependencies();
-    edge->set_from_robot_id(d.from_robot_id);
-    edge->set_from_action(static_cast<uint32_t>(d.from_action));
-    edge->set_to_robot_id(d.to_robot_id);
-    edge->set_to_action(static_cast<uint32_t>(d.to_action));
-  }
-  response->set_sum_of_costs_s(plan->sum_of_costs_s);
-  response->set_makespan_s(plan->makespan_s);
-  response->set_planning_ms(plan->planning_ms);
-  response->set_cell_size_m(plan->cell_size_m);
-  response->set_solver(plan->solver);
+  *response = ToProto(*plan, agents);
   return grpc::Status::OK;
 }
 

@@ -56,14 +56,14 @@ TEST(MapCatalogTest, PutReturnsVersionOneThenTwo) {
   // A clock at 12.5 s past 2026-11-25 00:00 UTC: the stamp is its calendar, not the wall's.
   const ManualClock clock(12'500'000'000, 1'795'564'800'000);
   MapCatalog catalog(&site.cache, &clock);
-  absl::StatusOr<storage::MapInfo> first = catalog.Put("barn", SampleGrid(0), "empty barn");
+  absl::StatusOr<MapInfo> first = catalog.Put("barn", SampleGrid(0), "empty barn");
   ASSERT_TRUE(first.ok()) << first.status();
   EXPECT_EQ(first->map_id, "barn");
   EXPECT_EQ(first->version, 1u);
   EXPECT_EQ(first->description, "empty barn");
   EXPECT_EQ(first->created_unix_ms, 1'795'564'812'500);
 
-  absl::StatusOr<storage::MapInfo> second = catalog.Put("barn", SampleGrid(100), "walls");
+  absl::StatusOr<MapInfo> second = catalog.Put("barn", SampleGrid(100), "walls");
   ASSERT_TRUE(second.ok()) << second.status();
   EXPECT_EQ(second->version, 2u);
 
@@ -83,7 +83,7 @@ TEST(MapCatalogTest, PutWithBadIdStoresNothing) {
   MapCatalog catalog(&site.cache, &clock);
   ExpectBadMapId(catalog.Put("Barn", SampleGrid(0), "").status());
   ExpectBadMapId(catalog.Put("", SampleGrid(0), "").status());
-  absl::StatusOr<std::vector<storage::MapInfo>> list = repository.ListMaps();
+  absl::StatusOr<std::vector<MapInfo>> list = repository.ListMaps();
   ASSERT_TRUE(list.ok());
   EXPECT_TRUE(list->empty());
 }
@@ -106,7 +106,7 @@ TEST(MapCatalogTest, ListAndDeletePassThrough) {
   MapCatalog catalog(&site.cache, &clock);
   ASSERT_TRUE(catalog.Put("store", SampleGrid(0), "").ok());
   ASSERT_TRUE(catalog.Put("barn", SampleGrid(0), "").ok());
-  absl::StatusOr<std::vector<storage::MapInfo>> list = catalog.List();
+  absl::StatusOr<std::vector<MapInfo>> list = catalog.List();
   ASSERT_TRUE(list.ok()) << list.status();
   ASSERT_EQ(list->size(), 2u);
   EXPECT_EQ((*list)[0].map_id, "barn");

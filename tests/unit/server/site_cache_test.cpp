@@ -17,16 +17,15 @@ namespace {
 /// Counts the reads that reach the store.
 class CountingMaps : public storage::MapRepository {
  public:
-  absl::StatusOr<storage::MapInfo> PutMap(const std::string& id, const OccupancyGrid& grid,
-                                          const std::string& description,
-                                          int64_t created_unix_ms) override {
+  absl::StatusOr<MapInfo> PutMap(const std::string& id, const OccupancyGrid& grid,
+                                 const std::string& description, int64_t created_unix_ms) override {
     return inner.PutMap(id, grid, description, created_unix_ms);
   }
   absl::StatusOr<storage::StoredMap> GetMap(const std::string& id, uint32_t version) override {
     ++reads;
     return inner.GetMap(id, version);
   }
-  absl::StatusOr<std::vector<storage::MapInfo>> ListMaps() override { return inner.ListMaps(); }
+  absl::StatusOr<std::vector<MapInfo>> ListMaps() override { return inner.ListMaps(); }
   absl::Status DeleteMap(const std::string& id) override { return inner.DeleteMap(id); }
 
   storage::MemoryMapRepository inner;

@@ -6,20 +6,10 @@
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
+#include "fleetnav/core/map_info.hpp"
 #include "fleetnav/core/occupancy_grid.hpp"
 
 namespace fleetnav::storage {
-
-/// What the store knows about one version of a map, without its cells.
-struct MapInfo {
-  std::string map_id;
-  uint32_t version = 0;
-  int width = 0;
-  int height = 0;
-  double resolution_m = 0.0;
-  std::string description;
-  int64_t created_unix_ms = 0;
-};
 
 struct StoredMap {
   MapInfo info;

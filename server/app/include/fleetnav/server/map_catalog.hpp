@@ -20,14 +20,14 @@ class MapCatalog {
   MapCatalog(SiteCache* site_data, const Clock* clock, InputLimits limits = {})
       : site_data_(site_data), clock_(clock), limits_(limits) {}
 
-  absl::StatusOr<storage::MapInfo> Put(const std::string& map_id, const OccupancyGrid& grid,
-                                       const std::string& description);
+  absl::StatusOr<MapInfo> Put(const std::string& map_id, const OccupancyGrid& grid,
+                              const std::string& description);
   /// version 0: the latest. Shared with the cache: never copied.
   absl::StatusOr<std::shared_ptr<const storage::StoredMap>> Get(const std::string& map_id,
                                                                 uint32_t version);
   /// NotFound when the map has no version.
   absl::StatusOr<uint32_t> LatestVersion(const std::string& map_id);
-  absl::StatusOr<std::vector<storage::MapInfo>> List();
+  absl::StatusOr<std::vector<MapInfo>> List();
   absl::Status Delete(const std::string& map_id);
 
   /// Map ids are 1-64 characters of [a-z0-9_-]; InvalidArgument names `map_id` otherwise.

@@ -51,11 +51,10 @@ class SiteCache : public storage::MapRepository,
   uint32_t LatestMarkerSetVersion(const std::string& map_id);
 
   // storage::MapRepository
-  absl::StatusOr<storage::MapInfo> PutMap(const std::string& map_id, const OccupancyGrid& grid,
-                                          const std::string& description,
-                                          int64_t created_unix_ms) override;
+  absl::StatusOr<MapInfo> PutMap(const std::string& map_id, const OccupancyGrid& grid,
+                                 const std::string& description, int64_t created_unix_ms) override;
   absl::StatusOr<storage::StoredMap> GetMap(const std::string& map_id, uint32_t version) override;
-  absl::StatusOr<std::vector<storage::MapInfo>> ListMaps() override;
+  absl::StatusOr<std::vector<MapInfo>> ListMaps() override;
   absl::Status DeleteMap(const std::string& map_id) override;
   // storage::MarkerSetRepository
   absl::StatusOr<uint32_t> PutMarkerSet(const MarkerSet& markers, int64_t created_unix_ms) override;

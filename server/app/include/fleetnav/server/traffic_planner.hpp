@@ -5,42 +5,10 @@
 
 #include "absl/status/statusor.h"
 #include "fleetnav/core/pose2.hpp"
+#include "fleetnav/core/traffic_plan.hpp"
 #include "fleetnav/server/site_cache.hpp"
 
 namespace fleetnav::server {
-
-struct TrafficAgent {
-  std::string robot_id;
-  std::string kind_name;  ///< a RobotModel preset (sets the cell size, speed and motion)
-  Pose2 start;
-  Pose2 goal;
-};
-
-struct TimedPose {
-  double t_s = 0.0;
-  Pose2 pose;
-};
-
-/// "Action `to_action` of robot `to` may start only after action `from_action` of robot `from`
-/// has finished" (an edge of the action dependency graph).
-struct TrafficDependency {
-  std::string from_robot_id;
-  int from_action = 0;
-  std::string to_robot_id;
-  int to_action = 0;
-};
-
-struct TrafficPlan {
-  std::vector<std::vector<TimedPose>> paths;  ///< per agent, in request order
-  std::vector<TrafficDependency> dependencies;
-  /// Per agent: another robot kept this agent's goal, so it was planned to the cell beside it.
-  std::vector<bool> waits_beside_goal;
-  double sum_of_costs_s = 0.0;
-  double makespan_s = 0.0;
-  double planning_ms = 0.0;
-  double cell_size_m = 0.0;
-  std::string solver;
-};
 
 /// Coordinated paths for several robots on one map (PlanPaths). Up to 12 robots of which some
 /// drive differentially (the Lely must not reverse) are first planned with headings
