@@ -6,11 +6,14 @@ BUILD_TYPE ?= RelWithDebInfo
 FLEETNAV_WERROR ?= OFF
 
 # Test programs built with ASan + UBSan by `make sanitize`: the pure libraries with the most
-# index arithmetic. No TSan build: Debian's abseil is not built with TSan, so every absl::Mutex
-# section is reported as a race (docs/testing.md).
+# index arithmetic.
 SANITIZE_TESTS ?= core_test planner_test storage_test localization_test
+# Test programs built with TSan by `make tsan`: the libraries whose classes are shared between
+# threads (clocks, the SQLite store, the registry, the job services and the dispatcher thread),
+# linked with an Abseil built with TSan (scripts/tsan-abseil; Debian's is not instrumented).
+TSAN_TESTS ?= core_test storage_test server_app_test
 
-.PHONY: all bootstrap configure build test demo bench format format-check tidy sanitize clean
+.PHONY: all bootstrap configure build test demo bench format format-check tidy sanitize tsan clean
 
 all: build
 
@@ -49,5 +52,10 @@ tidy: configure
 sanitize: bootstrap
 	JOBS=$(JOBS) ./scripts/sanitized-tests address,undefined build-asan $(SANITIZE_TESTS)
 
+tsan: bootstrap
+	absl_dir=$$(./scripts/tsan-abseil build-tsan/abseil) && \
+	  CMAKE_ARGS="-Dabsl_DIR=$$absl_dir" JOBS=$(JOBS) \
+	  ./scripts/sanitized-tests thread build-tsan/fleetnav $(TSAN_TESTS)
+
 clean:
-	rm -rf $(BUILD_DIR) build-asan
+	rm -rf $(BUILD_DIR) build-asan build-tsan
