@@ -9,11 +9,13 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "fleetnav/core/version.hpp"
 #include "fleetnav/scenario/scenario.hpp"
 #include "fleetnav/scenario/scenario_runner.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"fleetnav-scenario: run a multi-robot scenario in the simulator and check it"};
+  app.set_version_flag("--version", std::string(fleetnav::Version()));
   app.require_subcommand(1);
   CLI::App* run = app.add_subcommand("run", "run a scenario file");
   std::string file;

@@ -15,7 +15,10 @@ absl::Status JobLedger::Transition(Job& job, JobState state, JobEventType type,
   job.state = state;
   job.updated_unix_ms = NowUnixMs();
   if (!reason.empty()) job.reason = reason;
-  if (IsTerminal(state)) progress_decile_.erase(job.job_id);
+  if (IsTerminal(state)) {
+    absl::MutexLock lock(&progress_mutex_);
+    progress_decile_.erase(job.job_id);
+  }
   return jobs_->UpdateJob(job, MakeEvent(job, type, reason, robot_id)).status();
 }
 
@@ -41,11 +44,13 @@ int Decile(double fraction) { return static_cast<int>(std::floor(fraction * 10.0
 }  // namespace
 
 bool JobLedger::IsNewProgressStep(const std::string& job_id, double fraction) const {
+  absl::MutexLock lock(&progress_mutex_);
   auto it = progress_decile_.find(job_id);
   return it == progress_decile_.end() || Decile(fraction) > it->second;
 }
 
 void JobLedger::NoteProgressStored(const std::string& job_id, double fraction) {
+  absl::MutexLock lock(&progress_mutex_);
   progress_decile_[job_id] = Decile(fraction);
 }
 

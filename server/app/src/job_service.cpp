@@ -104,7 +104,12 @@ void JobService::OnRobotEvent(const std::string& robot_id, const JobEvent& event
 }
 
 void JobService::OnTelemetry(const std::string& robot_id, const Telemetry& telemetry) {
-  if (telemetry.job_id.empty()) return;
+  // Most telemetry reaches no new 10 % step: it is let go without JobService's lock, which the
+  // dispatcher and the job's writers hold.
+  if (telemetry.job_id.empty() ||
+      !ledger_.IsNewProgressStep(telemetry.job_id, telemetry.job_progress_fraction)) {
+    return;
+  }
   absl::MutexLock lock(&mutex_);
   lifecycle_.OnTelemetry(robot_id, telemetry);
 }

@@ -156,6 +156,10 @@ PassFigures FleetServer::one_job_passes() const {
   return dispatcher_ ? dispatcher_->one_job_passes() : PassFigures{};
 }
 
+PassFigures FleetServer::one_job_pass_cpu() const {
+  return dispatcher_ ? dispatcher_->one_job_pass_cpu() : PassFigures{};
+}
+
 void FleetServer::Shutdown() {
   if (server_ == nullptr || stopping_.exchange(true)) return;
   server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));

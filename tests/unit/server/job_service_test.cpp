@@ -199,6 +199,11 @@ TEST_F(JobServiceTest, TheDispatcherLoopAssignsOnItsThreadAndTimesTheOneJobPass)
   EXPECT_EQ(loop.assigning_passes().count, 1);
   EXPECT_EQ(loop.one_job_passes().count, 1);
   EXPECT_GE(loop.one_job_passes().max_ms, loop.one_job_passes().p50_ms);
+  // The pass's CPU time is counted for the same pass, and a thread cannot use more CPU than
+  // the wall time it ran (1 ms of slack for the two clocks' reads).
+  EXPECT_EQ(loop.one_job_pass_cpu().count, 1);
+  EXPECT_GT(loop.one_job_pass_cpu().max_ms, 0.0);
+  EXPECT_LE(loop.one_job_pass_cpu().max_ms, loop.one_job_passes().max_ms + 1.0);
 }
 
 TEST(PassTimingsTest, KeepsTheLatestSamplesAndCountsThemAll) {

@@ -33,7 +33,7 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 /// fleetnavd's exit line "N assigning dispatch passes, p50 X ms, p99 Y ms, max Z ms; M one-job
-/// passes, p50 A ms, p99 B ms, max C ms".
+/// passes, p50 A ms, p99 B ms, max C ms; one-job pass CPU p50 D ms, p99 E ms, max F ms".
 void ReadAssigningPasses(const std::string& log, ScenarioReport* report) {
   const size_t at = log.rfind(" assigning dispatch passes, ");
   if (at == std::string::npos) return;
@@ -58,6 +58,14 @@ void ReadAssigningPasses(const std::string& log, ScenarioReport* report) {
     report->one_job_pass_ms_p50 = p50;
     report->one_job_pass_ms_p99 = p99;
     report->one_job_pass_ms_max = max;
+  }
+  const size_t cpu = log.find("one-job pass CPU ", one);
+  if (cpu != std::string::npos &&
+      std::sscanf(log.c_str() + cpu, "one-job pass CPU p50 %lf ms, p99 %lf ms, max %lf ms", &p50,
+                  &p99, &max) == 3) {
+    report->one_job_pass_cpu_ms_p50 = p50;
+    report->one_job_pass_cpu_ms_p99 = p99;
+    report->one_job_pass_cpu_ms_max = max;
   }
 }
 

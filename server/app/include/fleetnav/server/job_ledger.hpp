@@ -4,6 +4,7 @@
 #include <string>
 
 #include "absl/status/statusor.h"
+#include "absl/synchronization/mutex.h"
 #include "fleetnav/core/clock.hpp"
 #include "fleetnav/core/job.hpp"
 #include "fleetnav/storage/job_repository.hpp"
@@ -13,7 +14,8 @@ namespace fleetnav::server {
 /// The job store as the job services write it: every state change is stored together with its
 /// event, stamped by the injected clock (simulated time in a simulated run), and progress is
 /// kept in steps of 10 % so that telemetry at 10 Hz does not become a write per message. Reads
-/// (Get, List, Events) are thread-safe; JobService serialises the writes.
+/// (Get, List, Events) and the progress steps are thread-safe; JobService serialises the
+/// writes.
 class JobLedger {
  public:
   JobLedger(storage::JobRepository* jobs, const Clock* clock) : jobs_(jobs), clock_(clock) {}
@@ -49,7 +51,9 @@ class JobLedger {
  private:
   storage::JobRepository* jobs_;
   const Clock* clock_;
-  std::map<std::string, int> progress_decile_;  ///< by job id, while the job runs
+  /// Its own lock, so that telemetry that reaches no new step never waits for JobService's.
+  mutable absl::Mutex progress_mutex_;
+  std::map<std::string, int> progress_decile_ ABSL_GUARDED_BY(progress_mutex_);  ///< by job id
 };
 
 }  // namespace fleetnav::server

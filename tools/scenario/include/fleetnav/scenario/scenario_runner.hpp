@@ -88,6 +88,10 @@ struct ScenarioReport {
   double one_job_pass_ms_p50 = 0.0;
   double one_job_pass_ms_p99 = 0.0;
   double one_job_pass_ms_max = 0.0;
+  /// The same passes in fleetnavd's dispatcher-thread CPU time.
+  double one_job_pass_cpu_ms_p50 = 0.0;
+  double one_job_pass_cpu_ms_p99 = 0.0;
+  double one_job_pass_cpu_ms_max = 0.0;
   std::string work_dir;  ///< kept only with RunOptions::keep_dir
 };
 

@@ -69,6 +69,8 @@ class FleetServer {
   /// replanning latency when a job is added); call after Shutdown().
   PassFigures assigning_passes() const;
   PassFigures one_job_passes() const;
+  /// The same passes in the dispatcher thread's CPU time.
+  PassFigures one_job_pass_cpu() const;
   FleetRegistry& registry() { return registry_; }
   JobService& jobs() { return *jobs_; }
   storage::PoseHistoryRepository& pose_history() { return *pose_history_repository_; }
