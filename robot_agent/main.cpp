@@ -13,6 +13,7 @@
 #include "fleetnav/core/map_io.hpp"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
+#include "fleetnav/core/version.hpp"
 #include "fleetnav/localization/dead_reckoning_localizer.hpp"
 #include "fleetnav/localization/samcl_localizer.hpp"
 #include "fleetnav/robot_agent/agent.hpp"
@@ -50,6 +51,7 @@ int main(int argc, char** argv) {
   fleetnav::agent::AgentParams params;
   double telemetry_hz = 1.0 / params.telemetry_period_s;
   CLI::App app{"fleetnav-agent: robot daemon (HAL over SimService, telemetry to fleetnavd)"};
+  app.set_version_flag("--version", std::string(fleetnav::Version()));
   app.add_option("--robot-id", robot_id, "this robot's id")->capture_default_str();
   app.add_option("--kind", kind, "robot kind: lely-vector | mecanum-platform | ackermann-delivery")
       ->capture_default_str();

@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "fleetnav/core/version.hpp"
 #include "fleetnav/sim/lockstep.hpp"
 #include "fleetnav/sim/simulation.hpp"
 
@@ -74,6 +75,7 @@ int main(int argc, char** argv) {
   bool json = false;
   uint64_t seed = 1;
   CLI::App app{"fleetnav-sim-bench: lockstep simulator throughput for a mixed fleet"};
+  app.set_version_flag("--version", std::string(fleetnav::Version()));
   app.add_option("--robots", robots, "number of robots")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();

@@ -13,6 +13,7 @@
 #include "fleetnav/core/map_io.hpp"
 #include "fleetnav/core/port_file.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
+#include "fleetnav/core/version.hpp"
 #include "fleetnav/sim/sim_server.hpp"
 #include "fleetnav/sim/world_rasterizer.hpp"
 #include "fleetnav/sim/world_render.hpp"
@@ -57,6 +58,7 @@ int main(int argc, char** argv) {
   double map_resolution_m = 0.05;
   std::string port_file;
   CLI::App app{"fleetnav-sim: ODE simulator serving SimService in lockstep"};
+  app.set_version_flag("--version", std::string(fleetnav::Version()));
   app.add_option("--world", world_path, "world YAML file")->required();
   app.add_option("--listen", params.listen_address, "address to serve on (port 0 = any)")
       ->capture_default_str();

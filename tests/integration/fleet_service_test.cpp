@@ -85,6 +85,9 @@ TEST_F(FleetServiceTest, PutInlineGridThenGetReturnsItExactlyWithGrowingVersions
   ASSERT_TRUE(Put(request, &response).ok());
   EXPECT_EQ(response.version(), 1u);
   ASSERT_TRUE(Put(request, &response).ok());
+  EXPECT_EQ(response.version(), 1u);  // the same content is the version that holds it
+  request.set_description("second survey");
+  ASSERT_TRUE(Put(request, &response).ok());
   EXPECT_EQ(response.version(), 2u);
 
   grpc::ClientContext context;

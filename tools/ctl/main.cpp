@@ -4,18 +4,30 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "fleetnav/core/version.hpp"
 #include "fleetnav/ctl/commands.hpp"
+#include "fleetnav/ctl/outcome.hpp"
 #include "fleetnav/ctl/sim_commands.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"fleetnavctl: operate a fleetnav fleet server"};
   app.require_subcommand(1);
+  // Global flags may come anywhere on the line: a subcommand hands what it does not know on.
+  app.fallthrough();
+  app.set_version_flag("--version", std::string(fleetnav::Version()));
   std::string server = "127.0.0.1:50051";
+  std::string token;
   bool json = false;
   double timeout_s = 10.0;
-  app.add_option("--server", server, "fleetnavd address")->capture_default_str();
+  app.add_option("--server", server, "fleetnavd address (or FLEETNAV_SERVER)")
+      ->envname("FLEETNAV_SERVER")
+      ->capture_default_str();
+  app.add_option("--token", token, "operator bearer token (or FLEETNAV_TOKEN)")
+      ->envname("FLEETNAV_TOKEN");
   app.add_flag("--json", json, "print JSON for scripts instead of tables");
-  app.add_option("--timeout-s", timeout_s, "deadline of each call")->capture_default_str();
+  app.add_option("--timeout-s", timeout_s, "deadline of each call, > 0")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
 
   CLI::App* map = app.add_subcommand("map", "maps: import, list, export, delete");
   map->require_subcommand(1);
@@ -118,10 +130,18 @@ int main(int argc, char** argv) {
   CLI::App* sim_compare =
       sim->add_subcommand("compare", "the pose fleetnavd holds beside the true pose");
   sim_compare->add_option("--robot", robot_id, "robot id")->required();
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);  // --help, --version
+  } catch (const CLI::ParseError& e) {
+    (void)app.exit(e);
+    return static_cast<int>(fleetnav::ctl::ExitCode::kUsage);
+  }
 
   fleetnav::ctl::CommandContext context{
-      grpc::CreateChannel(server, grpc::InsecureChannelCredentials()), &std::cout, json, timeout_s};
+      grpc::CreateChannel(server, grpc::InsecureChannelCredentials()), &std::cout, json, timeout_s,
+      token};
   absl::Status status;
   if (map_import->parsed()) {
     status = fleetnav::ctl::ImportMap(context, map_id, yaml_path, description);
@@ -142,8 +162,9 @@ int main(int argc, char** argv) {
   } else if (routes_list->parsed()) {
     status = fleetnav::ctl::ListRoutes(context, marker_map);
   } else if (job_submit->parsed() && submit.route_name.empty() && submit.goal.empty()) {
-    status = absl::InvalidArgumentError(
-        "job submit: give --route NAME, or --goal X Y YAW_DEG with --map ID");
+    std::cerr
+        << "fleetnavctl: job submit: give --route NAME, or --goal X Y YAW_DEG with --map ID\n";
+    return static_cast<int>(fleetnav::ctl::ExitCode::kUsage);
   } else if (job_submit->parsed()) {
     absl::StatusOr<std::string> id = fleetnav::ctl::SubmitJob(context, submit);
     status = id.status();
@@ -174,8 +195,7 @@ int main(int argc, char** argv) {
     status = fleetnav::ctl::WatchFleet(context, rate_hz, count, duration_s);
   }
   if (!status.ok()) {
-    std::cerr << "fleetnavctl: " << status.ToString() << '\n';
-    return 1;
+    std::cerr << "fleetnavctl: " << fleetnav::ctl::DescribeFailure(status, server) << '\n';
   }
-  return 0;
+  return static_cast<int>(fleetnav::ctl::ExitCodeFor(status));
 }

@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "absl/synchronization/mutex.h"
+#include "fleetnav/core/version.hpp"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
 #include "load_agents.hpp"
 #include "load_report.hpp"
@@ -362,6 +363,7 @@ int main(int argc, char** argv) {
   int capable_agents = 0, idle_watchers = 0;
   OperatorOptions operator_options;
   CLI::App app{"fleetnav-loadgen: load fleetnavd with agents and operators"};
+  app.set_version_flag("--version", std::string(fleetnav::Version()));
   app.add_option("--server", server, "fleetnavd address")->capture_default_str();
   app.add_option("--agents", agents, "agent streams")->capture_default_str();
   app.add_option("--rate-hz", rate_hz, "telemetry per agent per second")->capture_default_str();

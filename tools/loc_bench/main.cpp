@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bench_world.hpp"
+#include "fleetnav/core/version.hpp"
 #include "fleetnav/localization/amcl.hpp"
 #include "fleetnav/localization/synthetic.hpp"
 
@@ -184,6 +185,10 @@ int main(int argc, char** argv) {
   bool json = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
+    if (arg == "--version") {
+      std::printf("%s\n", std::string(fleetnav::Version()).c_str());
+      return 0;
+    }
     if (arg == "--json") {
       json = true;
     } else if (arg == "--experiment" && i + 1 < argc) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/version.hpp"
 #include "fleetnav/planner/grid/movingai.hpp"
 #include "fleetnav/planner/mapf/mapf.hpp"
 #include "fleetnav/planner/mapf/mapf_planner.hpp"
@@ -18,6 +19,7 @@ namespace fp = fleetnav::planner;
 
 int main(int argc, char** argv) {
   CLI::App app{"fleetnav-mapf-bench: multi-robot path finding on MovingAI benchmarks"};
+  app.set_version_flag("--version", std::string(fleetnav::Version()));
   std::string map_path, scen_path, paths_out, solver = "auto";
   std::optional<uint64_t> seed;
   int agents = 0;

@@ -20,6 +20,7 @@
 
 #include "bench_map.hpp"
 #include "fleetnav/core/robot_model.hpp"
+#include "fleetnav/core/version.hpp"
 #include "fleetnav/planner/grid/costmap.hpp"
 #include "fleetnav/planner/single_robot/planner_factory.hpp"
 #include "ompl_benchmark_adapter.hpp"
@@ -63,6 +64,7 @@ double Median(std::vector<double> v) {
 
 int main(int argc, char** argv) {
   CLI::App app{"fleetnav-plan-bench: single-robot planners under ompl::tools::Benchmark"};
+  app.set_version_flag("--version", std::string(fleetnav::Version()));
   std::string map_path, start_text = "4,4,0", goal_text = "78,69,0", log_out, planners_text;
   double resolution_m = 0.5, padding_m = 0.15, time_limit_s = 5.0;
   unsigned runs = 10;

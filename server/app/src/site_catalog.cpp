@@ -42,6 +42,12 @@ absl::StatusOr<uint32_t> SiteCatalog::PutMarkerSet(const MarkerSet& markers) {
   RETURN_IF_ERROR(limits_.CheckMarkers(markers));
   RETURN_IF_ERROR(markers.Validate());
   RETURN_IF_ERROR(site_data_->LatestMapVersion(markers.map_id).status());
+  // The same content again is the version that holds it, not a new one.
+  if (absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> latest =
+          site_data_->MarkerSetVersion(markers.map_id, 0);
+      latest.ok() && MarkerSetToYaml((*latest)->markers) == MarkerSetToYaml(markers)) {
+    return (*latest)->version;
+  }
   return site_data_->PutMarkerSet(markers, clock_->UnixMs());
 }
 
@@ -90,6 +96,12 @@ absl::StatusOr<uint32_t> SiteCatalog::PutRoute(const Route& route) {
   RETURN_IF_ERROR(limits_.CheckRoute(route));
   RETURN_IF_ERROR(route.Validate());
   RETURN_IF_ERROR(CheckRouteAgainstSite(route));
+  // The same content again is the version that holds it, not a new one.
+  if (absl::StatusOr<std::shared_ptr<const storage::StoredRoute>> latest =
+          site_data_->RouteVersion(route.name, 0);
+      latest.ok() && RouteToYaml((*latest)->route) == RouteToYaml(route)) {
+    return (*latest)->version;
+  }
   return site_data_->PutRoute(route, clock_->UnixMs());
 }
 

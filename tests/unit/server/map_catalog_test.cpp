@@ -125,3 +125,24 @@ TEST(MapCatalogTest, ListAndDeletePassThrough) {
 
 }  // namespace
 }  // namespace fleetnav::server
+
+namespace fleetnav::server {
+namespace {
+
+TEST(MapCatalogTest, TheSameMapAgainIsTheVersionThatHoldsIt) {
+  storage::MemoryMapRepository repository;
+  SiteData site(&repository);
+  const SystemClock clock;
+  MapCatalog catalog(&site.cache, &clock);
+  ASSERT_EQ(catalog.Put("barn", SampleGrid(0), "empty").value().version, 1u);
+  EXPECT_EQ(catalog.Put("barn", SampleGrid(0), "empty").value().version, 1u);
+  // A changed cell or description is a new version.
+  EXPECT_EQ(catalog.Put("barn", SampleGrid(100), "empty").value().version, 2u);
+  EXPECT_EQ(catalog.Put("barn", SampleGrid(100), "walls").value().version, 3u);
+  EXPECT_EQ(catalog.Put("barn", SampleGrid(100), "walls").value().version, 3u);
+  // Back to an older content is new: only the latest version is compared.
+  EXPECT_EQ(catalog.Put("barn", SampleGrid(0), "empty").value().version, 4u);
+}
+
+}  // namespace
+}  // namespace fleetnav::server

@@ -11,20 +11,27 @@
 
 namespace fleetnav::ctl {
 
-/// Gives a unary call the command's deadline (--timeout-s).
+/// Sends the operator's token with a call (`authorization: Bearer TOKEN`).
+inline void AddToken(const CommandContext& context, grpc::ClientContext* rpc) {
+  if (!context.token.empty()) rpc->AddMetadata("authorization", "Bearer " + context.token);
+}
+
+/// Gives a unary call the command's deadline (--timeout-s) and the operator's token
+/// (`authorization: Bearer TOKEN`, --token or FLEETNAV_TOKEN).
 inline void SetDeadline(const CommandContext& context, grpc::ClientContext* rpc) {
   rpc->set_deadline(std::chrono::system_clock::now() +
                     std::chrono::milliseconds(static_cast<int64_t>(context.timeout_s * 1000)));
+  AddToken(context, rpc);
 }
 
-/// One FleetService call with the command's deadline; prints `done` on success.
-template <typename Call>
-absl::Status CallAndSay(const CommandContext& context, const std::string& done, Call call) {
+/// One FleetService call with the command's deadline; prints what `done()` says on success.
+template <typename Done, typename Call>
+absl::Status CallAndSay(const CommandContext& context, Done done, Call call) {
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;
   SetDeadline(context, &rpc);
   if (absl::Status s = FromGrpcStatus(call(*stub, &rpc)); !s.ok()) return s;
-  *context.out << done << '\n';
+  *context.out << done() << '\n';
   return absl::OkStatus();
 }
 

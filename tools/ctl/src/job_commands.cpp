@@ -1,3 +1,4 @@
+#include <google/protobuf/util/json_util.h>
 #include <grpcpp/client_context.h>
 
 #include <chrono>
@@ -33,6 +34,16 @@ std::string StateName(v1::JobState state) { return Lower(v1::JobState_Name(state
 
 std::string EventName(v1::JobEventType type) {
   return Lower(v1::JobEventType_Name(type), "JOB_EVENT_TYPE_");
+}
+
+/// The message as protobuf's JSON mapping (lowerCamelCase field names), on one line.
+absl::Status PrintJson(const CommandContext& context, const google::protobuf::Message& message) {
+  std::string text;
+  if (!google::protobuf::util::MessageToJsonString(message, &text).ok()) {
+    return absl::InternalError("cannot print the answer as JSON");
+  }
+  *context.out << text << '\n';
+  return absl::OkStatus();
 }
 
 std::string TimeText(int64_t unix_ms) {
@@ -75,6 +86,14 @@ absl::Status PutMarkers(const CommandContext& context, const std::string& map_id
   if (absl::Status s = FromGrpcStatus(stub->PutMarkerSet(&rpc, request, &response)); !s.ok()) {
     return s;
   }
+  if (context.json) {
+    *context.out << nlohmann::json{{"map_id", response.map_id()},
+                                   {"version", response.version()},
+                                   {"markers", markers->markers.size()}}
+                        .dump()
+                 << '\n';
+    return absl::OkStatus();
+  }
   *context.out << "stored " << markers->markers.size() << " marker(s) of map '" << response.map_id()
                << "' as version " << response.version() << '\n';
   return absl::OkStatus();
@@ -92,6 +111,7 @@ absl::Status GetMarkers(const CommandContext& context, const std::string& map_id
   if (absl::Status s = FromGrpcStatus(stub->GetMarkerSet(&rpc, request, &response)); !s.ok()) {
     return s;
   }
+  if (context.json) return PrintJson(context, response);
   absl::StatusOr<MarkerSet> markers = FromProto(response.marker_set());
   if (!markers.ok()) return markers.status();
   *context.out << "# version " << response.version() << '\n' << MarkerSetToYaml(*markers);
@@ -108,6 +128,14 @@ absl::Status PutRoute(const CommandContext& context, const std::string& yaml_pat
   *request.mutable_route() = ToProto(*route);
   v1::PutRouteResponse response;
   if (absl::Status s = FromGrpcStatus(stub->PutRoute(&rpc, request, &response)); !s.ok()) return s;
+  if (context.json) {
+    *context.out << nlohmann::json{{"name", response.name()},
+                                   {"version", response.version()},
+                                   {"actions", route->actions.size()}}
+                        .dump()
+                 << '\n';
+    return absl::OkStatus();
+  }
   *context.out << "stored route '" << response.name() << "' (" << route->actions.size()
                << " actions) as version " << response.version() << '\n';
   return absl::OkStatus();
@@ -121,6 +149,7 @@ absl::Status GetRoute(const CommandContext& context, const std::string& name) {
   request.set_name(name);
   v1::GetRouteResponse response;
   if (absl::Status s = FromGrpcStatus(stub->GetRoute(&rpc, request, &response)); !s.ok()) return s;
+  if (context.json) return PrintJson(context, response);
   absl::StatusOr<Route> route = FromProto(response.route());
   if (!route.ok()) return route.status();
   *context.out << "# version " << response.version() << '\n' << RouteToYaml(*route);
@@ -248,8 +277,10 @@ absl::Status CancelJob(const CommandContext& context, const std::string& job_id,
   request.set_job_id(job_id);
   request.set_reason(reason);
   v1::CancelJobResponse response;
-  return CallAndSay(context, "cancelled " + job_id,
-                    [&](auto& stub, auto* rpc) { return stub.CancelJob(rpc, request, &response); });
+  return CallAndSay(
+      context,
+      [&] { return context.json ? JobJson(response.job()).dump() : "cancelled " + job_id; },
+      [&](auto& stub, auto* rpc) { return stub.CancelJob(rpc, request, &response); });
 }
 
 absl::Status PauseJob(const CommandContext& context, const std::string& job_id,
@@ -258,21 +289,24 @@ absl::Status PauseJob(const CommandContext& context, const std::string& job_id,
   request.set_job_id(job_id);
   request.set_reason(reason);
   v1::PauseJobResponse response;
-  return CallAndSay(context, "paused " + job_id,
-                    [&](auto& stub, auto* rpc) { return stub.PauseJob(rpc, request, &response); });
+  return CallAndSay(
+      context, [&] { return context.json ? JobJson(response.job()).dump() : "paused " + job_id; },
+      [&](auto& stub, auto* rpc) { return stub.PauseJob(rpc, request, &response); });
 }
 
 absl::Status ResumeJob(const CommandContext& context, const std::string& job_id) {
   v1::ResumeJobRequest request;
   request.set_job_id(job_id);
   v1::ResumeJobResponse response;
-  return CallAndSay(context, "resumed " + job_id,
-                    [&](auto& stub, auto* rpc) { return stub.ResumeJob(rpc, request, &response); });
+  return CallAndSay(
+      context, [&] { return context.json ? JobJson(response.job()).dump() : "resumed " + job_id; },
+      [&](auto& stub, auto* rpc) { return stub.ResumeJob(rpc, request, &response); });
 }
 
 absl::Status WatchJob(const CommandContext& context, const std::string& job_id) {
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;
+  AddToken(context, &rpc);
   v1::WatchJobRequest request;
   request.set_job_id(job_id);
   auto reader = stub->WatchJob(&rpc, request);

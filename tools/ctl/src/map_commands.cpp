@@ -110,6 +110,14 @@ absl::Status ExportMap(const CommandContext& context, const std::string& map_id,
   absl::StatusOr<OccupancyGrid> grid = FromProto(response.grid());
   if (!grid.ok()) return grid.status();
   if (absl::Status s = SaveMapServer(*grid, yaml_path); !s.ok()) return s;
+  if (context.json) {
+    *context.out << nlohmann::json{{"map_id", map_id},
+                                   {"version", response.info().version()},
+                                   {"yaml", yaml_path}}
+                        .dump()
+                 << '\n';
+    return absl::OkStatus();
+  }
   *context.out << "wrote map '" << map_id << "' version " << response.info().version() << " to "
                << yaml_path << '\n';
   return absl::OkStatus();
@@ -123,7 +131,11 @@ absl::Status DeleteMap(const CommandContext& context, const std::string& map_id)
   request.set_map_id(map_id);
   v1::DeleteMapResponse response;
   if (absl::Status s = FromGrpcStatus(stub->DeleteMap(&rpc, request, &response)); !s.ok()) return s;
-  *context.out << "deleted map '" << map_id << "'\n";
+  if (context.json) {
+    *context.out << nlohmann::json{{"deleted", map_id}}.dump() << '\n';
+  } else {
+    *context.out << "deleted map '" << map_id << "'\n";
+  }
   return absl::OkStatus();
 }
 

@@ -88,15 +88,16 @@ absl::Status ForgetRobot(const CommandContext& context, const std::string& robot
   v1::ForgetRobotResponse response;
   const std::string done = context.json ? nlohmann::json{{"forgotten", robot_id}}.dump()
                                         : "forgot robot '" + robot_id + "'";
-  return CallAndSay(context, done, [&](auto& stub, auto* rpc) {
-    return stub.ForgetRobot(rpc, request, &response);
-  });
+  return CallAndSay(
+      context, [&] { return done; },
+      [&](auto& stub, auto* rpc) { return stub.ForgetRobot(rpc, request, &response); });
 }
 
 absl::Status WatchFleet(const CommandContext& context, double rate_hz, int max_updates,
                         double duration_s) {
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;
+  AddToken(context, &rpc);
   if (duration_s > 0) {
     rpc.set_deadline(std::chrono::system_clock::now() +
                      std::chrono::milliseconds(static_cast<int64_t>(duration_s * 1000)));

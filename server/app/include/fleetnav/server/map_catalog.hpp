@@ -20,6 +20,7 @@ class MapCatalog {
   MapCatalog(SiteCache* site_data, const Clock* clock, InputLimits limits = {})
       : site_data_(site_data), clock_(clock), limits_(limits) {}
 
+  /// A new version, or the latest one when it holds the same cells and description.
   absl::StatusOr<MapInfo> Put(const std::string& map_id, const OccupancyGrid& grid,
                               const std::string& description);
   /// version 0: the latest. Shared with the cache: never copied.

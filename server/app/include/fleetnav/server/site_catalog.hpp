@@ -28,12 +28,14 @@ class SiteCatalog {
               InputLimits limits = {})
       : site_data_(site_data), jobs_(jobs), clock_(clock), limits_(limits) {}
 
+  /// A new version, or the latest one when it holds the same markers.
   absl::StatusOr<uint32_t> PutMarkerSet(const MarkerSet& markers);
   /// version 0: the latest. Shared with the cache: never copied.
   absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> GetMarkerSet(
       const std::string& map_id, uint32_t version);
   /// The latest marker-set version of the map; 0 when it has none.
   uint32_t LatestMarkerSetVersion(const std::string& map_id);
+  /// A new version, or the latest one when it holds the same route.
   absl::StatusOr<uint32_t> PutRoute(const Route& route);
   absl::StatusOr<std::shared_ptr<const storage::StoredRoute>> GetRoute(const std::string& name,
                                                                        uint32_t version);

@@ -13,12 +13,14 @@
 
 namespace fleetnav::ctl {
 
-/// What every fleetnavctl command needs: the server channel, the output stream, the format.
+/// What every fleetnavctl command needs: the server channel, the output stream, the format,
+/// and the operator's bearer token (sent with every call when not empty).
 struct CommandContext {
   std::shared_ptr<grpc::Channel> channel;
   std::ostream* out = nullptr;
   bool json = false;
   double timeout_s = 10.0;
+  std::string token;
 };
 
 /// Uploads a ROS map_server map (YAML and the PGM it names) as a new version of `map_id`.

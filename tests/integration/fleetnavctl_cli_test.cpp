@@ -1,0 +1,116 @@
+// fleetnavctl as operators and scripts run it: the real binary against a fleetnavd on loopback,
+// judged by exit codes (docs/binaries.md), stdout and stderr.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "fleet_fixture.hpp"
+#include "fleetnav/core/map_io.hpp"
+#include "fleetnav/scenario/child_process.hpp"
+
+namespace fleetnav {
+namespace {
+
+using ::testing::HasSubstr;
+
+/// What one fleetnavctl run printed and how it ended.
+struct CliRun {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+class FleetnavctlCliTest : public testing::FleetServerFixture {
+ protected:
+  std::string Address() const { return "127.0.0.1:" + std::to_string(port_); }
+
+  CliRun Run(std::vector<std::string> args) {
+    args.insert(args.begin(), FLEETNAV_FLEETNAVCTL_PATH);
+    const std::string base = testing::UniqueTempPath("ctl-run");
+    scenario::ChildProcess child(args, base + ".out", base + ".err");
+    EXPECT_TRUE(child.started());
+    CliRun run;
+    run.exit_code = child.Wait(30.0).value_or(-1);
+    run.out = child.Stdout();
+    run.err = child.Stderr();
+    return run;
+  }
+
+  std::string WriteFile(const std::string& name, const std::string& text) {
+    const std::string path = testing::UniqueTempPath(name);
+    std::ofstream(path) << text;
+    return path;
+  }
+};
+
+TEST_F(FleetnavctlCliTest, ExitCodesSayHowACommandEnded) {
+  EXPECT_EQ(Run({"--version"}).exit_code, 0);
+  EXPECT_THAT(Run({"--version"}).out, HasSubstr("0.1.0"));
+  EXPECT_EQ(Run({}).exit_code, 2);                                        // no command
+  EXPECT_EQ(Run({"map", "frobnicate"}).exit_code, 2);                     // unknown command
+  EXPECT_EQ(Run({"--server", Address(), "job", "submit"}).exit_code, 2);  // neither route nor goal
+  EXPECT_EQ(Run({"--timeout-s", "-1", "robots"}).exit_code, 2);
+  // Global flags anywhere on the line.
+  const CliRun missing = Run({"job", "get", "job-424242", "--server", Address()});
+  EXPECT_EQ(missing.exit_code, 3) << missing.err;
+  EXPECT_THAT(missing.err, HasSubstr("job-424242"));
+  const std::string bad_route =
+      WriteFile("bad-route.yaml", "name: alley\nmap: barn\nactions:\n  - fly: {}\n");
+  EXPECT_EQ(Run({"routes", "put", bad_route, "--server", Address()}).exit_code, 4);
+  EXPECT_EQ(Run({"--server", Address(), "robots", "forget", "nobody"}).exit_code, 3);
+}
+
+TEST_F(FleetnavctlCliTest, AnUnreachableServerIsSaidInOneLine) {
+  // Port 1 on loopback: nothing listens there.
+  const CliRun run = Run({"--server", "127.0.0.1:1", "--timeout-s", "3", "robots"});
+  EXPECT_EQ(run.exit_code, 5);
+  EXPECT_EQ(run.err,
+            "fleetnavctl: cannot reach fleetnavd at 127.0.0.1:1: connection refused — is it "
+            "running?\n");
+}
+
+TEST_F(FleetnavctlCliTest, TheServerAddressComesFromTheEnvironment) {
+  ASSERT_EQ(setenv("FLEETNAV_SERVER", Address().c_str(), 1), 0);
+  const CliRun run = Run({"map", "list", "--json"});
+  unsetenv("FLEETNAV_SERVER");
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(nlohmann::json::parse(run.out), nlohmann::json::array());
+}
+
+TEST_F(FleetnavctlCliTest, JsonForEveryAnswer) {
+  absl::StatusOr<OccupancyGrid> grid = OccupancyGrid::Filled(40, 30, 0.1, Pose2(), 0);
+  const std::string map_yaml = testing::UniqueTempPath("cli-map") + ".yaml";
+  ASSERT_TRUE(SaveMapServer(*grid, map_yaml).ok());
+  const auto json_of = [&](std::vector<std::string> args) {
+    args.push_back("--json");
+    args.push_back("--server=" + Address());
+    const CliRun run = Run(args);
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    return nlohmann::json::parse(run.out);
+  };
+  EXPECT_EQ(json_of({"map", "import", "--id", "barn", map_yaml})["version"], 1);
+  const std::string markers =
+      WriteFile("cli-markers.yaml",
+                "map: barn\nmarkers:\n  - id: 1\n    position: {x: 1.0, y: 1.0, z: 0.0}\n"
+                "    orientation: {a: 0.0, b: 0.0, c: 0.0, d: 1.0}\n");
+  EXPECT_EQ(json_of({"markers", "put", markers})["version"], 1);
+  EXPECT_EQ(json_of({"markers", "get", "--map", "barn"})["version"], 1);
+  const std::string route = WriteFile(
+      "cli-route.yaml", "name: alley\nmap: barn\nactions:\n  - straight: {distance: 1.0}\n");
+  EXPECT_EQ(json_of({"routes", "put", route})["actions"], 1);
+  const nlohmann::json got = json_of({"routes", "get", "alley"});
+  EXPECT_EQ(got["route"]["name"], "alley");
+  EXPECT_EQ(got["version"], 1);
+  const nlohmann::json job = json_of({"job", "submit", "--route", "alley"});
+  const std::string job_id = job["job_id"];
+  EXPECT_EQ(json_of({"job", "cancel", job_id})["state"], "cancelled");
+  EXPECT_EQ(json_of({"map", "export", "--id", "barn", map_yaml + ".out.yaml"})["version"], 1);
+}
+
+}  // namespace
+}  // namespace fleetnav
