@@ -110,6 +110,12 @@ TEST_F(FleetnavctlCliTest, JsonForEveryAnswer) {
   const std::string job_id = job["job_id"];
   EXPECT_EQ(json_of({"job", "cancel", job_id})["state"], "cancelled");
   EXPECT_EQ(json_of({"map", "export", "--id", "barn", map_yaml + ".out.yaml"})["version"], 1);
+  // The same route again is its version 1; deleted, it is gone, and the map can go.
+  EXPECT_EQ(json_of({"routes", "put", route})["version"], 1);
+  EXPECT_EQ(json_of({"routes", "delete", "alley"})["deleted"], "alley");
+  EXPECT_EQ(Run({"routes", "get", "alley", "--server", Address()}).exit_code, 3);
+  EXPECT_EQ(Run({"routes", "delete", "alley", "--server", Address()}).exit_code, 3);
+  EXPECT_EQ(json_of({"map", "delete", "--id", "barn"})["deleted"], "barn");
 }
 
 }  // namespace

@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
   markers_get->add_option("--map", marker_map, "map id")->required();
   markers_get->add_option("--version", version, "version (0 = latest)");
 
-  CLI::App* routes = app.add_subcommand("routes", "routes: put, get, list");
+  CLI::App* routes = app.add_subcommand("routes", "routes: put, get, list, delete");
   routes->require_subcommand(1);
   std::string route_name;
   CLI::App* routes_put = routes->add_subcommand("put", "upload a route YAML as a new version");
@@ -63,6 +63,9 @@ int main(int argc, char** argv) {
   CLI::App* routes_get = routes->add_subcommand("get", "print a route as YAML");
   routes_get->add_option("name", route_name, "route name")->required();
   CLI::App* routes_list = routes->add_subcommand("list", "list routes");
+  CLI::App* routes_delete = routes->add_subcommand(
+      "delete", "delete every version of a route (refused while an unfinished job runs it)");
+  routes_delete->add_option("name", route_name, "route name")->required();
   routes_list->add_option("--map", marker_map, "only routes on this map");
 
   CLI::App* jobs =
@@ -159,6 +162,8 @@ int main(int argc, char** argv) {
     status = fleetnav::ctl::PutRoute(context, yaml_path);
   } else if (routes_get->parsed()) {
     status = fleetnav::ctl::GetRoute(context, route_name);
+  } else if (routes_delete->parsed()) {
+    status = fleetnav::ctl::DeleteRoute(context, route_name);
   } else if (routes_list->parsed()) {
     status = fleetnav::ctl::ListRoutes(context, marker_map);
   } else if (job_submit->parsed() && submit.route_name.empty() && submit.goal.empty()) {

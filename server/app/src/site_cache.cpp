@@ -145,18 +145,27 @@ absl::StatusOr<storage::StoredMap> SiteCache::GetMap(const std::string& map_id, 
 
 absl::StatusOr<std::vector<MapInfo>> SiteCache::ListMaps() { return maps_->ListMaps(); }
 
-absl::Status SiteCache::DeleteMap(const std::string& map_id) {
-  absl::Status deleted = maps_->DeleteMap(map_id);
+void SiteCache::Forget(Kind kind, const std::string& id) {
   absl::MutexLock lock(&mutex_);
-  // Forgotten even when the delete failed part way: the next read asks the store again.
-  latest_.erase({Kind::kMap, map_id});
-  for (auto it = entries_.lower_bound({Kind::kMap, map_id, 0});
-       it != entries_.end() && std::get<0>(it->first) == Kind::kMap &&
-       std::get<1>(it->first) == map_id;) {
+  latest_.erase({kind, id});
+  for (auto it = entries_.lower_bound({kind, id, 0});
+       it != entries_.end() && std::get<0>(it->first) == kind && std::get<1>(it->first) == id;) {
     held_bytes_ -= it->second.bytes;
     recency_.erase(it->second.recency);
     it = entries_.erase(it);
   }
+}
+
+absl::Status SiteCache::DeleteMap(const std::string& map_id) {
+  absl::Status deleted = maps_->DeleteMap(map_id);
+  // Forgotten even when the delete failed part way: the next read asks the store again.
+  Forget(Kind::kMap, map_id);
+  return deleted;
+}
+
+absl::Status SiteCache::DeleteRoute(const std::string& name) {
+  absl::Status deleted = routes_->DeleteRoute(name);
+  Forget(Kind::kRoute, name);
   return deleted;
 }
 

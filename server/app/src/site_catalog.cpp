@@ -117,6 +117,30 @@ absl::StatusOr<std::vector<storage::StoredRoute>> SiteCatalog::ListRoutes(
   return site_data_->ListRoutes(map_id);
 }
 
+absl::Status SiteCatalog::DeleteRoute(const std::string& name) {
+  RETURN_IF_ERROR(ValidateRouteName(name));
+  ASSIGN_OR_RETURN(std::shared_ptr<const storage::StoredRoute> latest,
+                   site_data_->RouteVersion(name, 0));
+  storage::JobFilter unfinished;
+  unfinished.map_id = latest->route.map_id;
+  unfinished.states = {JobState::kQueued, JobState::kAssigned, JobState::kRunning,
+                       JobState::kPaused};
+  unfinished.page_size = 1000;
+  while (true) {
+    ASSIGN_OR_RETURN(storage::JobPage page, jobs_->ListJobs(unfinished));
+    for (const Job& job : page.jobs) {
+      if (job.route_name == name) {
+        return absl::FailedPreconditionError(
+            absl::StrCat("route '", name, "' is run by unfinished job ", job.job_id, " (",
+                         std::string(JobStateName(job.state)), ")"));
+      }
+    }
+    if (page.next_page_token.empty()) break;
+    unfinished.page_token = page.next_page_token;
+  }
+  return site_data_->DeleteRoute(name);
+}
+
 absl::Status SiteCatalog::DeleteMap(const std::string& map_id) {
   RETURN_IF_ERROR(MapCatalog::ValidateMapId(map_id));
   ASSIGN_OR_RETURN(int routes, site_data_->CountRoutesOnMap(map_id));

@@ -66,6 +66,12 @@ grpc::Status FleetServiceImpl::ListMaps(grpc::ServerContext*, const v1::ListMaps
   return grpc::Status::OK;
 }
 
+grpc::Status FleetServiceImpl::DeleteRoute(grpc::ServerContext*,
+                                           const v1::DeleteRouteRequest* request,
+                                           v1::DeleteRouteResponse*) {
+  return ToGrpcStatus(site_->DeleteRoute(request->name()));
+}
+
 grpc::Status FleetServiceImpl::DeleteMap(grpc::ServerContext*, const v1::DeleteMapRequest* request,
                                          v1::DeleteMapResponse*) {
   return ToGrpcStatus(site_->DeleteMap(request->map_id()));

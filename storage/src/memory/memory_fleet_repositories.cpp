@@ -88,6 +88,16 @@ absl::StatusOr<int> MemoryRouteRepository::CountRoutesOnMap(const std::string& m
   return count;
 }
 
+absl::Status MemoryRouteRepository::DeleteRoute(const std::string& name) {
+  absl::MutexLock lock(&mutex_);
+  auto it = routes_.find(name);
+  if (it == routes_.end() || it->second.empty()) {
+    return absl::NotFoundError(absl::StrCat("route '", EchoInput(name), "' not found"));
+  }
+  routes_.erase(it);
+  return absl::OkStatus();
+}
+
 absl::Status MemoryRobotRepository::UpsertRobot(const StoredRobot& robot) {
   absl::MutexLock lock(&mutex_);
   robots_[robot.robot_id] = robot;

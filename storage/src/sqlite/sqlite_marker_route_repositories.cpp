@@ -146,6 +146,20 @@ absl::StatusOr<int> SqliteRouteRepository::CountRoutesOnMap(const std::string& m
   return count;
 }
 
+absl::Status SqliteRouteRepository::DeleteRoute(const std::string& name) {
+  return db_->Transaction([&]() -> absl::Status {
+    ASSIGN_OR_RETURN(SqliteStatement remove, db_->Prepare("DELETE FROM routes WHERE name = ?"));
+    remove.Bind(1, name);
+    RETURN_IF_ERROR(remove.Run());
+    ASSIGN_OR_RETURN(SqliteStatement changes, db_->Prepare("SELECT changes()"));
+    ASSIGN_OR_RETURN(bool has_row, changes.Step());
+    if (!has_row || changes.ColumnInt(0) == 0) {
+      return absl::NotFoundError(absl::StrCat("route '", EchoInput(name), "' not found"));
+    }
+    return absl::OkStatus();
+  });
+}
+
 absl::Status SqliteRobotRepository::UpsertRobot(const StoredRobot& robot) {
   return db_->Transaction([&]() -> absl::Status {
     ASSIGN_OR_RETURN(

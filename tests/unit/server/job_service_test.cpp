@@ -21,6 +21,7 @@
 #include "fleetnav/server/site_catalog.hpp"
 #include "fleetnav/storage/memory/memory_fleet_repositories.hpp"
 #include "fleetnav/storage/memory/memory_map_repository.hpp"
+#include "memory_site.hpp"
 
 namespace fleetnav::server {
 namespace {
@@ -50,8 +51,7 @@ class RecordingMailbox : public RobotMailbox {
 class JobServiceTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    OccupancyGrid grid = OccupancyGrid::Filled(100, 100, 0.1, Pose2(), 0).value();
-    ASSERT_TRUE(MapCatalog(&site_data_, &clock_).Put("hall", grid, "").ok());
+    ASSERT_TRUE(memory_.hall_ok);
     Route alley;
     alley.name = "alley";
     alley.map_id = "hall";
@@ -59,7 +59,7 @@ class JobServiceTest : public ::testing::Test {
     ASSERT_TRUE(site_.PutRoute(alley).ok());
     JobServiceParams params;
     params.lost_robot_timeout_s = 30.0;
-    jobs_ = std::make_unique<JobService>(&job_store_, &robot_store_, &site_data_, &site_,
+    jobs_ = std::make_unique<JobService>(&job_store_, &memory_.robots, &site_data_, &site_,
                                          &registry_, &mailbox_, &clock_, params);
     ASSERT_TRUE(jobs_->Recover().ok());
   }
@@ -104,13 +104,10 @@ class JobServiceTest : public ::testing::Test {
   }
 
   ManualClock clock_{1000 * kSecondNs};
-  storage::MemoryMapRepository map_store_;
-  storage::MemoryMarkerSetRepository marker_store_;
-  storage::MemoryRouteRepository route_store_;
-  storage::MemoryRobotRepository robot_store_;
-  storage::MemoryJobRepository job_store_;
-  SiteCache site_data_{&map_store_, &marker_store_, &route_store_};
-  SiteCatalog site_{&site_data_, &job_store_, &clock_};
+  testing::MemorySite memory_{&clock_};
+  storage::MemoryJobRepository& job_store_ = memory_.jobs;
+  SiteCache& site_data_ = memory_.cache;
+  SiteCatalog& site_ = memory_.catalog;
   FleetRegistry registry_{&clock_, FleetRegistryParams{}};
   RecordingMailbox mailbox_;
   std::unique_ptr<JobService> jobs_;

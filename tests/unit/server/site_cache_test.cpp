@@ -48,6 +48,7 @@ class CountingRoutes : public storage::RouteRepository {
   absl::StatusOr<int> CountRoutesOnMap(const std::string& map) override {
     return inner.CountRoutesOnMap(map);
   }
+  absl::Status DeleteRoute(const std::string& name) override { return inner.DeleteRoute(name); }
 
   storage::MemoryRouteRepository inner;
   int reads = 0;

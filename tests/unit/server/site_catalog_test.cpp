@@ -4,20 +4,14 @@
 #include <gtest/gtest.h>
 
 #include "fleetnav/core/clock.hpp"
-#include "fleetnav/server/map_catalog.hpp"
-#include "fleetnav/server/site_cache.hpp"
-#include "fleetnav/storage/memory/memory_fleet_repositories.hpp"
-#include "fleetnav/storage/memory/memory_map_repository.hpp"
+#include "memory_site.hpp"
 
 namespace fleetnav::server {
 namespace {
 
 class SiteCatalogTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    OccupancyGrid grid = OccupancyGrid::Filled(100, 100, 0.1, Pose2(), 0).value();
-    ASSERT_TRUE(MapCatalog(&site_data_, &clock_).Put("hall", grid, "").ok());
-  }
+  void SetUp() override { ASSERT_TRUE(memory_.hall_ok); }
 
   static Route Alley(double distance_m) {
     Route route;
@@ -37,12 +31,8 @@ class SiteCatalogTest : public ::testing::Test {
   }
 
   ManualClock clock_;
-  storage::MemoryMapRepository map_store_;
-  storage::MemoryMarkerSetRepository marker_store_;
-  storage::MemoryRouteRepository route_store_;
-  storage::MemoryJobRepository job_store_;
-  SiteCache site_data_{&map_store_, &marker_store_, &route_store_};
-  SiteCatalog site_{&site_data_, &job_store_, &clock_};
+  testing::MemorySite memory_{&clock_};
+  SiteCatalog& site_ = memory_.catalog;
 };
 
 TEST_F(SiteCatalogTest, TheSameRouteAgainIsTheVersionThatHoldsIt) {
@@ -58,6 +48,32 @@ TEST_F(SiteCatalogTest, TheSameMarkerSetAgainIsTheVersionThatHoldsIt) {
   EXPECT_EQ(site_.PutMarkerSet(Markers(1.0)).value(), 1u);
   EXPECT_EQ(site_.PutMarkerSet(Markers(1.5)).value(), 2u);
   EXPECT_EQ(site_.LatestMarkerSetVersion("hall"), 2u);
+}
+
+TEST_F(SiteCatalogTest, ARouteIsDeletedOnlyWhenNoUnfinishedJobRunsIt) {
+  ASSERT_TRUE(site_.PutRoute(Alley(3.0)).ok());
+  Job job;
+  job.route_name = "alley";
+  job.route_version = 1;
+  job.map_id = "hall";
+  job.state = JobState::kRunning;
+  JobEvent queued;
+  queued.type = JobEventType::kQueued;
+  const std::string job_id = memory_.jobs.CreateJob(job, queued).value().job.job_id;
+  const absl::Status refused = site_.DeleteRoute("alley");
+  EXPECT_EQ(refused.code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_NE(refused.message().find(job_id), std::string::npos) << refused;
+  // The map cannot go while the route is there.
+  EXPECT_EQ(site_.DeleteMap("hall").code(), absl::StatusCode::kFailedPrecondition);
+
+  job = memory_.jobs.GetJob(job_id).value();
+  job.state = JobState::kSucceeded;
+  ASSERT_TRUE(memory_.jobs.UpdateJob(job, queued).ok());
+  EXPECT_TRUE(site_.DeleteRoute("alley").ok());
+  EXPECT_EQ(site_.GetRoute("alley", 0).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(site_.DeleteRoute("alley").code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(site_.DeleteRoute("no/such").code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_TRUE(site_.DeleteMap("hall").ok());
 }
 
 }  // namespace

@@ -106,6 +106,20 @@ TEST_P(FleetRepositoriesTest, RoutesAreVersionedListedAndCountedPerMap) {
   EXPECT_EQ(routes_->GetRoute("c-route", 0).status().code(), absl::StatusCode::kNotFound);
 }
 
+TEST_P(FleetRepositoriesTest, ADeletedRouteIsGoneWithEveryVersionAndStartsAgainAtOne) {
+  ASSERT_TRUE(routes_->PutRoute(StraightRoute("a-route", "barn", 1.0), 1).ok());
+  ASSERT_TRUE(routes_->PutRoute(StraightRoute("a-route", "barn", 2.0), 2).ok());
+  ASSERT_TRUE(routes_->PutRoute(StraightRoute("b-route", "barn", 1.0), 3).ok());
+  ASSERT_TRUE(routes_->DeleteRoute("a-route").ok());
+  EXPECT_EQ(routes_->GetRoute("a-route", 0).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(routes_->GetRoute("a-route", 1).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(*routes_->CountRoutesOnMap("barn"), 1);  // the other route stays
+  const absl::Status again = routes_->DeleteRoute("a-route");
+  EXPECT_EQ(again.code(), absl::StatusCode::kNotFound);
+  EXPECT_THAT(again.message(), HasSubstr("a-route"));
+  EXPECT_EQ(*routes_->PutRoute(StraightRoute("a-route", "barn", 4.0), 4), 1u);
+}
+
 TEST_P(FleetRepositoriesTest, RobotsAreUpsertedAndListedById) {
   ASSERT_TRUE(robots_->UpsertRobot({"lely2", "lely-vector", {"straight", "turn"}, "1", 5}).ok());
   ASSERT_TRUE(robots_->UpsertRobot({"lely1", "lely-vector", {}, "1", 6}).ok());

@@ -182,6 +182,19 @@ absl::Status ListRoutes(const CommandContext& context, const std::string& map_id
   return absl::OkStatus();
 }
 
+absl::Status DeleteRoute(const CommandContext& context, const std::string& name) {
+  v1::DeleteRouteRequest request;
+  request.set_name(name);
+  v1::DeleteRouteResponse response;
+  return CallAndSay(
+      context,
+      [&] {
+        return context.json ? nlohmann::json{{"deleted", name}}.dump()
+                            : "deleted route '" + name + "'";
+      },
+      [&](auto& stub, auto* rpc) { return stub.DeleteRoute(rpc, request, &response); });
+}
+
 absl::StatusOr<std::string> SubmitJob(const CommandContext& context, const SubmitOptions& options) {
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;

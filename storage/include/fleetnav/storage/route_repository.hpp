@@ -27,6 +27,8 @@ class RouteRepository {
   virtual absl::StatusOr<std::vector<StoredRoute>> ListRoutes(const std::string& map_id) = 0;
   /// How many routes (any version) are on `map_id`.
   virtual absl::StatusOr<int> CountRoutesOnMap(const std::string& map_id) = 0;
+  /// Deletes every version of the route (a new one starts again at 1); NotFound names it.
+  virtual absl::Status DeleteRoute(const std::string& name) = 0;
 };
 
 }  // namespace fleetnav::storage

@@ -65,6 +65,7 @@ class SiteCache : public storage::MapRepository,
   absl::StatusOr<storage::StoredRoute> GetRoute(const std::string& name, uint32_t version) override;
   absl::StatusOr<std::vector<storage::StoredRoute>> ListRoutes(const std::string& map_id) override;
   absl::StatusOr<int> CountRoutesOnMap(const std::string& map_id) override;
+  absl::Status DeleteRoute(const std::string& name) override;
 
   /// Bytes held now (approximate), for tests and figures.
   int64_t held_bytes() const;
@@ -90,6 +91,8 @@ class SiteCache : public storage::MapRepository,
   absl::StatusOr<std::shared_ptr<const Stored>> ReadThrough(Kind kind, const std::string& id,
                                                             uint32_t version, ReadFn read)
       ABSL_LOCKS_EXCLUDED(mutex_);
+  /// Drops every cached version of (kind, id) and what is known of its latest.
+  void Forget(Kind kind, const std::string& id) ABSL_LOCKS_EXCLUDED(mutex_);
   /// Resolves version 0 to the latest known version, or 0 when not yet known.
   uint32_t Resolve(Kind kind, const std::string& id, uint32_t version) ABSL_LOCKS_EXCLUDED(mutex_);
 

@@ -40,6 +40,9 @@ class SiteCatalog {
   absl::StatusOr<std::shared_ptr<const storage::StoredRoute>> GetRoute(const std::string& name,
                                                                        uint32_t version);
   absl::StatusOr<std::vector<storage::StoredRoute>> ListRoutes(const std::string& map_id);
+  /// Deletes every version of a route: NotFound for an unknown one, FailedPrecondition naming
+  /// an unfinished job that runs it.
+  absl::Status DeleteRoute(const std::string& name);
   /// FailedPrecondition naming what still uses the map (routes, unfinished jobs), else deletes.
   absl::Status DeleteMap(const std::string& map_id);
 

@@ -29,6 +29,7 @@ class SqliteRouteRepository final : public RouteRepository {
   absl::StatusOr<StoredRoute> GetRoute(const std::string& name, uint32_t version) override;
   absl::StatusOr<std::vector<StoredRoute>> ListRoutes(const std::string& map_id) override;
   absl::StatusOr<int> CountRoutesOnMap(const std::string& map_id) override;
+  absl::Status DeleteRoute(const std::string& name) override;
 
  private:
   SqliteDatabase* db_;

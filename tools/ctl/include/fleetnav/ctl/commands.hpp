@@ -55,6 +55,8 @@ absl::Status GetMarkers(const CommandContext& context, const std::string& map_id
 absl::Status PutRoute(const CommandContext& context, const std::string& yaml_path);
 absl::Status GetRoute(const CommandContext& context, const std::string& name);
 absl::Status ListRoutes(const CommandContext& context, const std::string& map_id);
+/// Deletes every version of a route (refused while an unfinished job runs it).
+absl::Status DeleteRoute(const CommandContext& context, const std::string& name);
 
 struct SubmitOptions {
   std::string route_name;    ///< either a route …
