@@ -118,5 +118,32 @@ TEST_F(FleetnavctlCliTest, JsonForEveryAnswer) {
   EXPECT_EQ(json_of({"map", "delete", "--id", "barn"})["deleted"], "barn");
 }
 
+TEST_F(FleetnavctlCliTest, BashCompletesCommandsAndFlagsAtEachLevel) {
+  const CliRun script = Run({"completion", "bash"});
+  ASSERT_EQ(script.exit_code, 0) << script.err;
+  const std::string path = WriteFile("fleetnavctl.bash", script.out);
+  // What bash offers after the words typed so far (the last one being completed).
+  const auto offered = [&](const std::string& words) {
+    const std::string probe =
+        WriteFile("probe.sh", "source " + path + "\nCOMP_WORDS=(" + words +
+                                  ")\nCOMP_CWORD=$((${#COMP_WORDS[@]} - 1))\n_fleetnavctl\n"
+                                  "echo \"${COMPREPLY[*]}\"\n");
+    const std::string base = testing::UniqueTempPath("bash");
+    scenario::ChildProcess bash({"/bin/bash", probe}, base + ".out", base + ".err");
+    EXPECT_EQ(bash.Wait(10.0).value_or(-1), 0) << bash.Stderr();
+    std::string out = bash.Stdout();
+    if (!out.empty() && out.back() == '\n') out.pop_back();
+    return out;
+  };
+  EXPECT_EQ(offered("fleetnavctl ro"), "routes robots");
+  EXPECT_EQ(offered("fleetnavctl routes d"), "delete");
+  EXPECT_EQ(offered("fleetnavctl --json routes --server x d"), "delete");
+  EXPECT_EQ(offered("fleetnavctl job submit --ro"), "--route --robot");
+  EXPECT_EQ(offered("fleetnavctl job get --ser"), "--server");  // a global flag, anywhere
+  EXPECT_EQ(offered("fleetnavctl --js"), "--json");
+  EXPECT_EQ(offered("fleetnavctl map export --v"), "--version");  // once, though global too
+  EXPECT_EQ(Run({"completion", "fish"}).exit_code, 2);
+}
+
 }  // namespace
 }  // namespace fleetnav

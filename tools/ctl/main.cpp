@@ -6,6 +6,7 @@
 
 #include "fleetnav/core/version.hpp"
 #include "fleetnav/ctl/commands.hpp"
+#include "fleetnav/ctl/completion.hpp"
 #include "fleetnav/ctl/outcome.hpp"
 #include "fleetnav/ctl/sim_commands.hpp"
 
@@ -133,6 +134,12 @@ int main(int argc, char** argv) {
   CLI::App* sim_compare =
       sim->add_subcommand("compare", "the pose fleetnavd holds beside the true pose");
   sim_compare->add_option("--robot", robot_id, "robot id")->required();
+  std::string shell;
+  CLI::App* completion =
+      app.add_subcommand("completion", "print a shell completion script (source it)");
+  completion->add_option("shell", shell, "the shell: bash")
+      ->check(CLI::IsMember({"bash"}))
+      ->required();
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
@@ -142,6 +149,10 @@ int main(int argc, char** argv) {
     return static_cast<int>(fleetnav::ctl::ExitCode::kUsage);
   }
 
+  if (completion->parsed()) {
+    std::cout << fleetnav::ctl::BashCompletionScript(app, "fleetnavctl");
+    return 0;
+  }
   fleetnav::ctl::CommandContext context{
       grpc::CreateChannel(server, grpc::InsecureChannelCredentials()), &std::cout, json, timeout_s,
       token};
