@@ -115,6 +115,8 @@ TEST_F(FleetnavctlCliTest, JsonForEveryAnswer) {
   EXPECT_EQ(json_of({"routes", "delete", "alley"})["deleted"], "alley");
   EXPECT_EQ(Run({"routes", "get", "alley", "--server", Address()}).exit_code, 3);
   EXPECT_EQ(Run({"routes", "delete", "alley", "--server", Address()}).exit_code, 3);
+  EXPECT_EQ(json_of({"markers", "delete", "--map", "barn"})["deleted_markers_of"], "barn");
+  EXPECT_EQ(Run({"markers", "get", "--map", "barn", "--server", Address()}).exit_code, 3);
   EXPECT_EQ(json_of({"map", "delete", "--id", "barn"})["deleted"], "barn");
 }
 

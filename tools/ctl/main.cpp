@@ -46,12 +46,15 @@ int main(int argc, char** argv) {
   CLI::App* map_delete = map->add_subcommand("delete", "delete every version of a map");
   map_delete->add_option("--id", map_id, "map id")->required();
 
-  CLI::App* markers = app.add_subcommand("markers", "stripe-marker sets: put, get");
+  CLI::App* markers = app.add_subcommand("markers", "stripe-marker sets: put, get, delete");
   markers->require_subcommand(1);
   CLI::App* markers_put = markers->add_subcommand("put", "upload a marker YAML as a new version");
   std::string marker_map;
   markers_put->add_option("--map", marker_map, "map id (default: the file's `map:`)");
   markers_put->add_option("yaml", yaml_path, "marker YAML file")->required();
+  CLI::App* markers_delete = markers->add_subcommand(
+      "delete", "delete every version of a map's marker set (refused while routes use it)");
+  markers_delete->add_option("--map", marker_map, "map id")->required();
   CLI::App* markers_get = markers->add_subcommand("get", "print a map's marker set as YAML");
   markers_get->add_option("--map", marker_map, "map id")->required();
   markers_get->add_option("--version", version, "version (0 = latest)");
@@ -167,6 +170,8 @@ int main(int argc, char** argv) {
     status = fleetnav::ctl::DeleteMap(context, map_id);
   } else if (markers_put->parsed()) {
     status = fleetnav::ctl::PutMarkers(context, marker_map, yaml_path);
+  } else if (markers_delete->parsed()) {
+    status = fleetnav::ctl::DeleteMarkers(context, marker_map);
   } else if (markers_get->parsed()) {
     status = fleetnav::ctl::GetMarkers(context, marker_map, version);
   } else if (routes_put->parsed()) {

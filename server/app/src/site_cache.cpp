@@ -163,6 +163,12 @@ absl::Status SiteCache::DeleteMap(const std::string& map_id) {
   return deleted;
 }
 
+absl::Status SiteCache::DeleteMarkerSet(const std::string& map_id) {
+  absl::Status deleted = markers_->DeleteMarkerSet(map_id);
+  Forget(Kind::kMarkers, map_id);
+  return deleted;
+}
+
 absl::Status SiteCache::DeleteRoute(const std::string& name) {
   absl::Status deleted = routes_->DeleteRoute(name);
   Forget(Kind::kRoute, name);

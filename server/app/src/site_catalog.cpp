@@ -117,6 +117,31 @@ absl::StatusOr<std::vector<storage::StoredRoute>> SiteCatalog::ListRoutes(
   return site_data_->ListRoutes(map_id);
 }
 
+absl::Status SiteCatalog::DeleteMarkerSet(const std::string& map_id) {
+  RETURN_IF_ERROR(MapCatalog::ValidateMapId(map_id));
+  RETURN_IF_ERROR(site_data_->MarkerSetVersion(map_id, 0).status());
+  ASSIGN_OR_RETURN(std::vector<storage::StoredRoute> routes, site_data_->ListRoutes(map_id));
+  for (const storage::StoredRoute& stored : routes) {
+    for (const RouteAction& action : stored.route.actions) {
+      if (action.end.kind == EndConditionKind::kMarkerDetected ||
+          std::holds_alternative<StripeNavigationAction>(action.params)) {
+        return absl::FailedPreconditionError(absl::StrCat(
+            "the markers of map '", map_id, "' are used by route '", stored.route.name, "'"));
+      }
+    }
+  }
+  storage::JobFilter active;
+  active.map_id = map_id;
+  active.states = {JobState::kQueued, JobState::kAssigned, JobState::kRunning, JobState::kPaused};
+  active.page_size = 1;
+  ASSIGN_OR_RETURN(storage::JobPage page, jobs_->ListJobs(active));
+  if (!page.jobs.empty()) {
+    return absl::FailedPreconditionError(absl::StrCat(
+        "the markers of map '", map_id, "' are used by unfinished job ", page.jobs[0].job_id));
+  }
+  return site_data_->DeleteMarkerSet(map_id);
+}
+
 absl::Status SiteCatalog::DeleteRoute(const std::string& name) {
   RETURN_IF_ERROR(ValidateRouteName(name));
   ASSIGN_OR_RETURN(std::shared_ptr<const storage::StoredRoute> latest,

@@ -66,6 +66,12 @@ grpc::Status FleetServiceImpl::ListMaps(grpc::ServerContext*, const v1::ListMaps
   return grpc::Status::OK;
 }
 
+grpc::Status FleetServiceImpl::DeleteMarkerSet(grpc::ServerContext*,
+                                               const v1::DeleteMarkerSetRequest* request,
+                                               v1::DeleteMarkerSetResponse*) {
+  return ToGrpcStatus(site_->DeleteMarkerSet(request->map_id()));
+}
+
 grpc::Status FleetServiceImpl::DeleteRoute(grpc::ServerContext*,
                                            const v1::DeleteRouteRequest* request,
                                            v1::DeleteRouteResponse*) {

@@ -51,6 +51,17 @@ absl::StatusOr<StoredMarkerSet> MemoryMarkerSetRepository::GetMarkerSet(const st
                      absl::StrCat("marker set of map '", EchoInput(map_id), "'"));
 }
 
+absl::Status MemoryMarkerSetRepository::DeleteMarkerSet(const std::string& map_id) {
+  absl::MutexLock lock(&mutex_);
+  auto it = sets_.find(map_id);
+  if (it == sets_.end() || it->second.empty()) {
+    return absl::NotFoundError(
+        absl::StrCat("marker set of map '", EchoInput(map_id), "' not found"));
+  }
+  sets_.erase(it);
+  return absl::OkStatus();
+}
+
 absl::StatusOr<uint32_t> MemoryRouteRepository::PutRoute(const Route& route,
                                                          int64_t created_unix_ms) {
   absl::MutexLock lock(&mutex_);

@@ -68,6 +68,22 @@ absl::StatusOr<StoredMarkerSet> SqliteMarkerSetRepository::GetMarkerSet(const st
   return *std::move(found);
 }
 
+absl::Status SqliteMarkerSetRepository::DeleteMarkerSet(const std::string& map_id) {
+  return db_->Transaction([&]() -> absl::Status {
+    ASSIGN_OR_RETURN(SqliteStatement remove,
+                     db_->Prepare("DELETE FROM marker_sets WHERE map_id = ?"));
+    remove.Bind(1, map_id);
+    RETURN_IF_ERROR(remove.Run());
+    ASSIGN_OR_RETURN(SqliteStatement changes, db_->Prepare("SELECT changes()"));
+    ASSIGN_OR_RETURN(bool has_row, changes.Step());
+    if (!has_row || changes.ColumnInt(0) == 0) {
+      return absl::NotFoundError(
+          absl::StrCat("marker set of map '", EchoInput(map_id), "' not found"));
+    }
+    return absl::OkStatus();
+  });
+}
+
 absl::StatusOr<uint32_t> SqliteRouteRepository::PutRoute(const Route& route,
                                                          int64_t created_unix_ms) {
   uint32_t version = 0;

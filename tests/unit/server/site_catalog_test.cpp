@@ -76,5 +76,22 @@ TEST_F(SiteCatalogTest, ARouteIsDeletedOnlyWhenNoUnfinishedJobRunsIt) {
   EXPECT_TRUE(site_.DeleteMap("hall").ok());
 }
 
+TEST_F(SiteCatalogTest, MarkersAreDeletedOnlyWhenNoRouteNeedsThem) {
+  ASSERT_TRUE(site_.PutMarkerSet(Markers(1.0)).ok());
+  Route to_marker = Alley(3.0);
+  to_marker.name = "to-marker";
+  to_marker.actions[0].end = EndCondition{EndConditionKind::kMarkerDetected, 1};
+  ASSERT_TRUE(site_.PutRoute(to_marker).ok());
+  ASSERT_TRUE(site_.PutRoute(Alley(3.0)).ok());  // needs no marker
+  const absl::Status refused = site_.DeleteMarkerSet("hall");
+  EXPECT_EQ(refused.code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_NE(refused.message().find("to-marker"), std::string::npos) << refused;
+  ASSERT_TRUE(site_.DeleteRoute("to-marker").ok());
+  EXPECT_TRUE(site_.DeleteMarkerSet("hall").ok());
+  EXPECT_EQ(site_.LatestMarkerSetVersion("hall"), 0u);
+  EXPECT_EQ(site_.DeleteMarkerSet("hall").code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(site_.DeleteMarkerSet("Hall!").code(), absl::StatusCode::kInvalidArgument);
+}
+
 }  // namespace
 }  // namespace fleetnav::server

@@ -106,6 +106,24 @@ TEST_P(FleetRepositoriesTest, RoutesAreVersionedListedAndCountedPerMap) {
   EXPECT_EQ(routes_->GetRoute("c-route", 0).status().code(), absl::StatusCode::kNotFound);
 }
 
+TEST_P(FleetRepositoriesTest, ADeletedMarkerSetIsGoneWithEveryVersionOfItsMapOnly) {
+  MarkerSet barn;
+  barn.map_id = "barn";
+  MarkerSet shop;
+  shop.map_id = "shop";
+  ASSERT_TRUE(markers_->PutMarkerSet(barn, 1).ok());
+  ASSERT_TRUE(markers_->PutMarkerSet(barn, 2).ok());
+  ASSERT_TRUE(markers_->PutMarkerSet(shop, 3).ok());
+  ASSERT_TRUE(markers_->DeleteMarkerSet("barn").ok());
+  EXPECT_EQ(markers_->GetMarkerSet("barn", 0).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(markers_->GetMarkerSet("barn", 2).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_TRUE(markers_->GetMarkerSet("shop", 0).ok());
+  const absl::Status again = markers_->DeleteMarkerSet("barn");
+  EXPECT_EQ(again.code(), absl::StatusCode::kNotFound);
+  EXPECT_THAT(again.message(), HasSubstr("barn"));
+  EXPECT_EQ(*markers_->PutMarkerSet(barn, 4), 1u);
+}
+
 TEST_P(FleetRepositoriesTest, ADeletedRouteIsGoneWithEveryVersionAndStartsAgainAtOne) {
   ASSERT_TRUE(routes_->PutRoute(StraightRoute("a-route", "barn", 1.0), 1).ok());
   ASSERT_TRUE(routes_->PutRoute(StraightRoute("a-route", "barn", 2.0), 2).ok());

@@ -118,6 +118,19 @@ absl::Status GetMarkers(const CommandContext& context, const std::string& map_id
   return absl::OkStatus();
 }
 
+absl::Status DeleteMarkers(const CommandContext& context, const std::string& map_id) {
+  v1::DeleteMarkerSetRequest request;
+  request.set_map_id(map_id);
+  v1::DeleteMarkerSetResponse response;
+  return CallAndSay(
+      context,
+      [&] {
+        return context.json ? nlohmann::json{{"deleted_markers_of", map_id}}.dump()
+                            : "deleted the marker set of map '" + map_id + "'";
+      },
+      [&](auto& stub, auto* rpc) { return stub.DeleteMarkerSet(rpc, request, &response); });
+}
+
 absl::Status PutRoute(const CommandContext& context, const std::string& yaml_path) {
   absl::StatusOr<Route> route = LoadRoute(yaml_path);
   if (!route.ok()) return route.status();

@@ -24,6 +24,9 @@ class MarkerSetRepository {
   /// version 0 reads the latest; NotFound names the map (and version).
   virtual absl::StatusOr<StoredMarkerSet> GetMarkerSet(const std::string& map_id,
                                                        uint32_t version) = 0;
+  /// Deletes every version of the map's marker set (a new one starts again at 1); NotFound
+  /// names the map.
+  virtual absl::Status DeleteMarkerSet(const std::string& map_id) = 0;
 };
 
 }  // namespace fleetnav::storage

@@ -60,6 +60,7 @@ class SiteCache : public storage::MapRepository,
   absl::StatusOr<uint32_t> PutMarkerSet(const MarkerSet& markers, int64_t created_unix_ms) override;
   absl::StatusOr<storage::StoredMarkerSet> GetMarkerSet(const std::string& map_id,
                                                         uint32_t version) override;
+  absl::Status DeleteMarkerSet(const std::string& map_id) override;
   // storage::RouteRepository
   absl::StatusOr<uint32_t> PutRoute(const Route& route, int64_t created_unix_ms) override;
   absl::StatusOr<storage::StoredRoute> GetRoute(const std::string& name, uint32_t version) override;

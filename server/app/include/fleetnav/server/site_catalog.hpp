@@ -40,6 +40,10 @@ class SiteCatalog {
   absl::StatusOr<std::shared_ptr<const storage::StoredRoute>> GetRoute(const std::string& name,
                                                                        uint32_t version);
   absl::StatusOr<std::vector<storage::StoredRoute>> ListRoutes(const std::string& map_id);
+  /// Deletes every version of a map's marker set: NotFound when it has none,
+  /// FailedPrecondition naming a route of the map that ends at one of its markers or follows
+  /// one of its stripes, or an unfinished job on the map.
+  absl::Status DeleteMarkerSet(const std::string& map_id);
   /// Deletes every version of a route: NotFound for an unknown one, FailedPrecondition naming
   /// an unfinished job that runs it.
   absl::Status DeleteRoute(const std::string& name);

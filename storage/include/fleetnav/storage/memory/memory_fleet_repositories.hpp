@@ -18,6 +18,7 @@ class MemoryMarkerSetRepository final : public MarkerSetRepository {
   absl::StatusOr<uint32_t> PutMarkerSet(const MarkerSet& markers, int64_t created_unix_ms) override;
   absl::StatusOr<StoredMarkerSet> GetMarkerSet(const std::string& map_id,
                                                uint32_t version) override;
+  absl::Status DeleteMarkerSet(const std::string& map_id) override;
 
  private:
   absl::Mutex mutex_;

@@ -51,6 +51,8 @@ namespace fleetnav::ctl {
 absl::Status PutMarkers(const CommandContext& context, const std::string& map_id,
                         const std::string& yaml_path);
 absl::Status GetMarkers(const CommandContext& context, const std::string& map_id, uint32_t version);
+/// Deletes every version of a map's marker set (refused while routes or unfinished jobs use it).
+absl::Status DeleteMarkers(const CommandContext& context, const std::string& map_id);
 /// Uploads a route YAML file as a new version of its route.
 absl::Status PutRoute(const CommandContext& context, const std::string& yaml_path);
 absl::Status GetRoute(const CommandContext& context, const std::string& name);

@@ -43,6 +43,9 @@ class FleetServiceImpl final : public FleetServiceBase {
                             v1::PutMarkerSetResponse* response) override;
   grpc::Status GetMarkerSet(grpc::ServerContext* context, const v1::GetMarkerSetRequest* request,
                             v1::GetMarkerSetResponse* response) override;
+  grpc::Status DeleteMarkerSet(grpc::ServerContext* context,
+                               const v1::DeleteMarkerSetRequest* request,
+                               v1::DeleteMarkerSetResponse* response) override;
   grpc::Status PutRoute(grpc::ServerContext* context, const v1::PutRouteRequest* request,
                         v1::PutRouteResponse* response) override;
   grpc::Status GetRoute(grpc::ServerContext* context, const v1::GetRouteRequest* request,
