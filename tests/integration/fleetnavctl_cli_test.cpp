@@ -11,6 +11,7 @@
 
 #include "fleet_fixture.hpp"
 #include "fleetnav/core/map_io.hpp"
+#include "fleetnav/ctl/progress.hpp"
 #include "fleetnav/scenario/child_process.hpp"
 
 namespace fleetnav {
@@ -47,6 +48,18 @@ class FleetnavctlCliTest : public testing::FleetServerFixture {
     return path;
   }
 };
+
+TEST(ProgressTest, TheEtaIsTheTimeStillNeededAtThePaceSoFar) {
+  // A quarter done after 60 s: 180 s to go.
+  EXPECT_EQ(ctl::EtaText(1'000'000, 1'060'000, 0.25), "ETA 3m00s");
+  EXPECT_EQ(ctl::EtaText(0, 10'000, 0.5), "ETA 0m10s");
+  EXPECT_EQ(ctl::EtaText(0, 3'600'000, 0.4), "ETA 1h30m");
+  // Nothing to say before any progress, at the end, or without elapsed time.
+  EXPECT_EQ(ctl::EtaText(0, 60'000, 0.0), "");
+  EXPECT_EQ(ctl::EtaText(0, 60'000, 1.0), "");
+  EXPECT_EQ(ctl::EtaText(5'000, 5'000, 0.5), "");
+  EXPECT_EQ(ctl::ProgressBar(0.5), "[###############...............]  50%");
+}
 
 TEST_F(FleetnavctlCliTest, ExitCodesSayHowACommandEnded) {
   EXPECT_EQ(Run({"--version"}).exit_code, 0);

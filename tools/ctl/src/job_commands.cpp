@@ -15,6 +15,7 @@
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
 #include "fleetnav/ctl/commands.hpp"
+#include "fleetnav/ctl/progress.hpp"
 #include "fleetnav/ctl/table.hpp"
 #include "fleetnav/proto/grpc_status.hpp"
 #include "fleetnav/proto/map_convert.hpp"
@@ -61,13 +62,6 @@ nlohmann::json JobJson(const v1::Job& job) {
           {"idempotency_key", job.idempotency_key()},
           {"created_unix_ms", job.created_unix_ms()},
           {"reason", job.reason()}};
-}
-
-std::string ProgressBar(double fraction) {
-  const int width = 30;
-  const int filled = static_cast<int>(fraction * width + 0.5);
-  return absl::StrCat("[", std::string(filled, '#'), std::string(width - filled, '.'), "]",
-                      absl::StrFormat(" %3.0f%%", fraction * 100.0));
 }
 
 }  // namespace
@@ -338,8 +332,10 @@ absl::Status WatchJob(const CommandContext& context, const std::string& job_id) 
   auto reader = stub->WatchJob(&rpc, request);
   v1::JobEvent event;
   v1::JobEvent last;
+  int64_t started_unix_ms = 0;  // the job's STARTED event: the pace is measured from it
   while (reader->Read(&event)) {
     last = event;
+    if (event.type() == v1::JOB_EVENT_TYPE_STARTED) started_unix_ms = event.unix_ms();
     if (context.json) {
       *context.out << nlohmann::json{{"job_id", event.job_id()},
                                      {"event", EventName(event.type())},
@@ -358,9 +354,15 @@ absl::Status WatchJob(const CommandContext& context, const std::string& job_id) 
         absl::StrAppend(&detail, " action ", event.action_index());
       }
       if (!event.reason().empty()) absl::StrAppend(&detail, " — ", event.reason());
+      std::string bar = ProgressBar(event.progress_fraction());
+      if (started_unix_ms > 0 && event.state() == v1::JOB_STATE_RUNNING) {
+        const std::string eta =
+            EtaText(started_unix_ms, event.unix_ms(), event.progress_fraction());
+        if (!eta.empty()) absl::StrAppend(&bar, " ", eta);
+      }
       *context.out << absl::StrFormat("%s  %-16s %-10s %s  %s\n", TimeText(event.unix_ms()),
-                                      EventName(event.type()), StateName(event.state()),
-                                      ProgressBar(event.progress_fraction()), detail);
+                                      EventName(event.type()), StateName(event.state()), bar,
+                                      detail);
     }
     context.out->flush();
   }
