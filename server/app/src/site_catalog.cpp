@@ -117,6 +117,17 @@ absl::StatusOr<std::vector<storage::StoredRoute>> SiteCatalog::ListRoutes(
   return site_data_->ListRoutes(map_id);
 }
 
+absl::StatusOr<std::optional<std::string>> SiteCatalog::UnfinishedJobOnMap(
+    const std::string& map_id) {
+  storage::JobFilter active;
+  active.map_id = map_id;
+  active.states = {JobState::kQueued, JobState::kAssigned, JobState::kRunning, JobState::kPaused};
+  active.page_size = 1;
+  ASSIGN_OR_RETURN(storage::JobPage page, jobs_->ListJobs(active));
+  if (page.jobs.empty()) return std::nullopt;
+  return page.jobs[0].job_id;
+}
+
 absl::Status SiteCatalog::DeleteMarkerSet(const std::string& map_id) {
   RETURN_IF_ERROR(MapCatalog::ValidateMapId(map_id));
   RETURN_IF_ERROR(site_data_->MarkerSetVersion(map_id, 0).status());
@@ -130,14 +141,10 @@ absl::Status SiteCatalog::DeleteMarkerSet(const std::string& map_id) {
       }
     }
   }
-  storage::JobFilter active;
-  active.map_id = map_id;
-  active.states = {JobState::kQueued, JobState::kAssigned, JobState::kRunning, JobState::kPaused};
-  active.page_size = 1;
-  ASSIGN_OR_RETURN(storage::JobPage page, jobs_->ListJobs(active));
-  if (!page.jobs.empty()) {
-    return absl::FailedPreconditionError(absl::StrCat(
-        "the markers of map '", map_id, "' are used by unfinished job ", page.jobs[0].job_id));
+  ASSIGN_OR_RETURN(std::optional<std::string> job_id, UnfinishedJobOnMap(map_id));
+  if (job_id) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("the markers of map '", map_id, "' are used by unfinished job ", *job_id));
   }
   return site_data_->DeleteMarkerSet(map_id);
 }
@@ -173,14 +180,10 @@ absl::Status SiteCatalog::DeleteMap(const std::string& map_id) {
     return absl::FailedPreconditionError(
         absl::StrCat("map '", map_id, "' is used by ", routes, " route(s)"));
   }
-  storage::JobFilter active;
-  active.map_id = map_id;
-  active.states = {JobState::kQueued, JobState::kAssigned, JobState::kRunning, JobState::kPaused};
-  active.page_size = 1;
-  ASSIGN_OR_RETURN(storage::JobPage page, jobs_->ListJobs(active));
-  if (!page.jobs.empty()) {
+  ASSIGN_OR_RETURN(std::optional<std::string> job_id, UnfinishedJobOnMap(map_id));
+  if (job_id) {
     return absl::FailedPreconditionError(
-        absl::StrCat("map '", map_id, "' is used by unfinished job ", page.jobs[0].job_id));
+        absl::StrCat("map '", map_id, "' is used by unfinished job ", *job_id));
   }
   return site_data_->DeleteMap(map_id);
 }

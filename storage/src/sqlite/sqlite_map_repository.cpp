@@ -1,6 +1,7 @@
 #include "fleetnav/storage/sqlite/sqlite_map_repository.hpp"
 
 #include "absl/strings/str_cat.h"
+#include "delete_rows_internal.hpp"
 #include "fleetnav/core/echo_input.hpp"
 #include "fleetnav/core/status_macros.hpp"
 
@@ -107,17 +108,8 @@ absl::StatusOr<std::vector<MapInfo>> SqliteMapRepository::ListMaps() {
 }
 
 absl::Status SqliteMapRepository::DeleteMap(const std::string& map_id) {
-  return db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement remove, db_->Prepare("DELETE FROM maps WHERE map_id = ?"));
-    remove.Bind(1, map_id);
-    RETURN_IF_ERROR(remove.Run());
-    ASSIGN_OR_RETURN(SqliteStatement changes, db_->Prepare("SELECT changes()"));
-    ASSIGN_OR_RETURN(bool has_row, changes.Step());
-    if (!has_row || changes.ColumnInt(0) == 0) {
-      return absl::NotFoundError(absl::StrCat("map '", EchoInput(map_id), "' not found"));
-    }
-    return absl::OkStatus();
-  });
+  return DeleteRowsOrNotFound(db_, "DELETE FROM maps WHERE map_id = ?", map_id,
+                              absl::StrCat("map '", EchoInput(map_id), "'"));
 }
 
 }  // namespace fleetnav::storage

@@ -1,4 +1,5 @@
 #include "absl/strings/str_cat.h"
+#include "delete_rows_internal.hpp"
 #include "fleetnav/core/echo_input.hpp"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/storage/sqlite/sqlite_fleet_repositories.hpp"
@@ -69,19 +70,8 @@ absl::StatusOr<StoredMarkerSet> SqliteMarkerSetRepository::GetMarkerSet(const st
 }
 
 absl::Status SqliteMarkerSetRepository::DeleteMarkerSet(const std::string& map_id) {
-  return db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement remove,
-                     db_->Prepare("DELETE FROM marker_sets WHERE map_id = ?"));
-    remove.Bind(1, map_id);
-    RETURN_IF_ERROR(remove.Run());
-    ASSIGN_OR_RETURN(SqliteStatement changes, db_->Prepare("SELECT changes()"));
-    ASSIGN_OR_RETURN(bool has_row, changes.Step());
-    if (!has_row || changes.ColumnInt(0) == 0) {
-      return absl::NotFoundError(
-          absl::StrCat("marker set of map '", EchoInput(map_id), "' not found"));
-    }
-    return absl::OkStatus();
-  });
+  return DeleteRowsOrNotFound(db_, "DELETE FROM marker_sets WHERE map_id = ?", map_id,
+                              absl::StrCat("marker set of map '", EchoInput(map_id), "'"));
 }
 
 absl::StatusOr<uint32_t> SqliteRouteRepository::PutRoute(const Route& route,
@@ -163,17 +153,8 @@ absl::StatusOr<int> SqliteRouteRepository::CountRoutesOnMap(const std::string& m
 }
 
 absl::Status SqliteRouteRepository::DeleteRoute(const std::string& name) {
-  return db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement remove, db_->Prepare("DELETE FROM routes WHERE name = ?"));
-    remove.Bind(1, name);
-    RETURN_IF_ERROR(remove.Run());
-    ASSIGN_OR_RETURN(SqliteStatement changes, db_->Prepare("SELECT changes()"));
-    ASSIGN_OR_RETURN(bool has_row, changes.Step());
-    if (!has_row || changes.ColumnInt(0) == 0) {
-      return absl::NotFoundError(absl::StrCat("route '", EchoInput(name), "' not found"));
-    }
-    return absl::OkStatus();
-  });
+  return DeleteRowsOrNotFound(db_, "DELETE FROM routes WHERE name = ?", name,
+                              absl::StrCat("route '", EchoInput(name), "'"));
 }
 
 absl::Status SqliteRobotRepository::UpsertRobot(const StoredRobot& robot) {

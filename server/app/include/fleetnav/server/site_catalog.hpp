@@ -1,6 +1,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,8 @@ class SiteCatalog {
   static absl::Status ValidateRouteName(const std::string& name);
 
  private:
+  /// The id of an unfinished job on the map, if there is one.
+  absl::StatusOr<std::optional<std::string>> UnfinishedJobOnMap(const std::string& map_id);
   absl::Status CheckRouteAgainstSite(const Route& route);
 
   SiteCache* site_data_;
