@@ -149,6 +149,8 @@ void JobLifecycle::OnRobotEvent(const std::string& robot_id, const JobEvent& eve
 
 void JobLifecycle::OnTelemetry(const std::string& robot_id, const Telemetry& telemetry) {
   if (telemetry.job_id.empty()) return;
+  // JobService checked this before taking its lock; checked again here, under it, so that two
+  // reports of the same step racing to the lock store one event.
   if (!ledger_->IsNewProgressStep(telemetry.job_id, telemetry.job_progress_fraction)) return;
   absl::StatusOr<Job> job = ledger_->Get(telemetry.job_id);
   if (!job.ok() || job->assigned_robot_id != robot_id || job->state != JobState::kRunning) return;

@@ -11,7 +11,7 @@
 #include "absl/strings/str_format.h"
 #include "absl/time/clock.h"
 #include "absl/time/time.h"
-#include "deadline_internal.hpp"
+#include "call_internal.hpp"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
 #include "fleetnav/ctl/commands.hpp"
@@ -73,7 +73,7 @@ absl::Status PutMarkers(const CommandContext& context, const std::string& map_id
   if (!map_id.empty()) markers->map_id = map_id;
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
+  PrepareCall(context, &rpc);
   v1::PutMarkerSetRequest request;
   *request.mutable_marker_set() = ToProto(*markers);
   v1::PutMarkerSetResponse response;
@@ -97,7 +97,7 @@ absl::Status GetMarkers(const CommandContext& context, const std::string& map_id
                         uint32_t version) {
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
+  PrepareCall(context, &rpc);
   v1::GetMarkerSetRequest request;
   request.set_map_id(map_id);
   request.set_version(version);
@@ -130,7 +130,7 @@ absl::Status PutRoute(const CommandContext& context, const std::string& yaml_pat
   if (!route.ok()) return route.status();
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
+  PrepareCall(context, &rpc);
   v1::PutRouteRequest request;
   *request.mutable_route() = ToProto(*route);
   v1::PutRouteResponse response;
@@ -151,7 +151,7 @@ absl::Status PutRoute(const CommandContext& context, const std::string& yaml_pat
 absl::Status GetRoute(const CommandContext& context, const std::string& name) {
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
+  PrepareCall(context, &rpc);
   v1::GetRouteRequest request;
   request.set_name(name);
   v1::GetRouteResponse response;
@@ -166,7 +166,7 @@ absl::Status GetRoute(const CommandContext& context, const std::string& name) {
 absl::Status ListRoutes(const CommandContext& context, const std::string& map_id) {
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
+  PrepareCall(context, &rpc);
   v1::ListRoutesRequest request;
   request.set_map_id(map_id);
   v1::ListRoutesResponse response;
@@ -205,7 +205,7 @@ absl::Status DeleteRoute(const CommandContext& context, const std::string& name)
 absl::StatusOr<std::string> SubmitJob(const CommandContext& context, const SubmitOptions& options) {
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
+  PrepareCall(context, &rpc);
   v1::SubmitJobRequest request;
   if (options.goal.empty()) {
     request.set_route_name(options.route_name);
@@ -241,7 +241,7 @@ absl::StatusOr<std::string> SubmitJob(const CommandContext& context, const Submi
 absl::Status GetJob(const CommandContext& context, const std::string& job_id) {
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
+  PrepareCall(context, &rpc);
   v1::GetJobRequest request;
   request.set_job_id(job_id);
   v1::GetJobResponse response;
@@ -268,7 +268,7 @@ absl::Status ListJobs(const CommandContext& context, const std::string& state,
   std::vector<v1::Job> jobs;
   do {
     grpc::ClientContext rpc;
-    SetDeadline(context, &rpc);
+    PrepareCall(context, &rpc);
     v1::ListJobsResponse page;
     if (absl::Status s = FromGrpcStatus(stub->ListJobs(&rpc, request, &page)); !s.ok()) return s;
     jobs.insert(jobs.end(), page.jobs().begin(), page.jobs().end());

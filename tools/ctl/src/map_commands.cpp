@@ -8,7 +8,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "deadline_internal.hpp"
+#include "call_internal.hpp"
 #include "fleetnav/core/map_io.hpp"
 #include "fleetnav/ctl/commands.hpp"
 #include "fleetnav/ctl/table.hpp"
@@ -51,7 +51,7 @@ absl::Status ImportMap(const CommandContext& context, const std::string& map_id,
 
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
+  PrepareCall(context, &rpc);
   v1::PutMapResponse response;
   if (absl::Status s = FromGrpcStatus(stub->PutMap(&rpc, request, &response)); !s.ok()) return s;
   if (context.json) {
@@ -67,7 +67,7 @@ absl::Status ImportMap(const CommandContext& context, const std::string& map_id,
 absl::Status ListMaps(const CommandContext& context) {
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
+  PrepareCall(context, &rpc);
   v1::ListMapsResponse response;
   if (absl::Status s = FromGrpcStatus(stub->ListMaps(&rpc, {}, &response)); !s.ok()) return s;
   if (context.json) {
@@ -101,7 +101,7 @@ absl::Status ExportMap(const CommandContext& context, const std::string& map_id,
                        const std::string& yaml_path) {
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
+  PrepareCall(context, &rpc);
   v1::GetMapRequest request;
   request.set_map_id(map_id);
   request.set_version(version);
@@ -126,7 +126,7 @@ absl::Status ExportMap(const CommandContext& context, const std::string& map_id,
 absl::Status DeleteMap(const CommandContext& context, const std::string& map_id) {
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
+  PrepareCall(context, &rpc);
   v1::DeleteMapRequest request;
   request.set_map_id(map_id);
   v1::DeleteMapResponse response;

@@ -6,7 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "deadline_internal.hpp"
+#include "call_internal.hpp"
 #include "fleetnav/ctl/commands.hpp"
 #include "fleetnav/ctl/table.hpp"
 #include "fleetnav/proto/grpc_status.hpp"
@@ -61,7 +61,7 @@ std::string PoseCell(const v1::RobotState& robot) {
 absl::Status ListRobots(const CommandContext& context) {
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
+  PrepareCall(context, &rpc);
   v1::ListRobotsResponse response;
   if (absl::Status s = FromGrpcStatus(stub->ListRobots(&rpc, {}, &response)); !s.ok()) return s;
   if (context.json) {

@@ -9,7 +9,7 @@
 #include "absl/status/statusor.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "deadline_internal.hpp"
+#include "call_internal.hpp"
 #include "fleetnav/core/angles.hpp"
 #include "fleetnav/ctl/table.hpp"
 #include "fleetnav/proto/grpc_status.hpp"
@@ -23,7 +23,7 @@ absl::StatusOr<v1::GroundTruth> FetchTruth(const CommandContext& context,
                                            const std::shared_ptr<grpc::Channel>& sim_channel) {
   auto stub = v1::SimService::NewStub(sim_channel);
   grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
+  PrepareCall(context, &rpc);
   v1::GroundTruth truth;
   absl::Status status = FromGrpcStatus(stub->GetGroundTruth(&rpc, {}, &truth));
   if (!status.ok()) return status;
@@ -88,7 +88,7 @@ absl::Status CompareWithTruth(const CommandContext& context,
   }
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
+  PrepareCall(context, &rpc);
   v1::GetRobotRequest request;
   request.set_robot_id(robot_id);
   v1::GetRobotResponse response;

@@ -16,9 +16,9 @@ inline void AddToken(const CommandContext& context, grpc::ClientContext* rpc) {
   if (!context.token.empty()) rpc->AddMetadata("authorization", "Bearer " + context.token);
 }
 
-/// Gives a unary call the command's deadline (--timeout-s) and the operator's token
+/// Prepares a unary call: the command's deadline (--timeout-s) and the operator's token
 /// (`authorization: Bearer TOKEN`, --token or FLEETNAV_TOKEN).
-inline void SetDeadline(const CommandContext& context, grpc::ClientContext* rpc) {
+inline void PrepareCall(const CommandContext& context, grpc::ClientContext* rpc) {
   rpc->set_deadline(std::chrono::system_clock::now() +
                     std::chrono::milliseconds(static_cast<int64_t>(context.timeout_s * 1000)));
   AddToken(context, rpc);
@@ -29,7 +29,7 @@ template <typename Done, typename Call>
 absl::Status CallAndSay(const CommandContext& context, Done done, Call call) {
   auto stub = v1::FleetService::NewStub(context.channel);
   grpc::ClientContext rpc;
-  SetDeadline(context, &rpc);
+  PrepareCall(context, &rpc);
   if (absl::Status s = FromGrpcStatus(call(*stub, &rpc)); !s.ok()) return s;
   *context.out << done() << '\n';
   return absl::OkStatus();
