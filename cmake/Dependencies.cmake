@@ -9,6 +9,7 @@ find_package(gRPC CONFIG REQUIRED)
 find_package(SQLite3 REQUIRED)
 find_package(PNG REQUIRED)  # map images (libpng-dev)
 pkg_check_modules(ODE REQUIRED IMPORTED_TARGET ode)
+pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET GLOBAL cairo)  # PNG and SVG pictures
 find_package(spdlog REQUIRED)
 find_package(CLI11 CONFIG REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)

@@ -133,6 +133,44 @@ TEST_F(FleetnavctlCliTest, JsonForEveryAnswer) {
   EXPECT_EQ(json_of({"map", "delete", "--id", "barn"})["deleted"], "barn");
 }
 
+TEST_F(FleetnavctlCliTest, MapRenderDrawsTheSiteIntoAPng) {
+  absl::StatusOr<OccupancyGrid> grid = OccupancyGrid::Filled(60, 40, 0.1, Pose2(), 0);
+  const std::string map_yaml = testing::UniqueTempPath("render-map") + ".yaml";
+  ASSERT_TRUE(SaveMapServer(*grid, map_yaml).ok());
+  const std::string server = "--server=" + Address();
+  ASSERT_EQ(Run({"map", "import", "--id", "yard", map_yaml, server}).exit_code, 0);
+  const std::string markers =
+      WriteFile("render-markers.yaml",
+                "map: yard\nmarkers:\n  - id: 1\n    position: {x: 1.0, y: 1.0, z: 0.0}\n"
+                "    orientation: {a: 0.0, b: 0.0, c: 0.0, d: 1.0}\n");
+  ASSERT_EQ(Run({"markers", "put", markers, server}).exit_code, 0);
+  const std::string route = WriteFile(
+      "render-route.yaml",
+      "name: lap\nmap: yard\nactions:\n"
+      "  - free_navigation: {waypoints: [[1, 2]], goal: {x: 4, y: 2, yaw_deg: 0}}\n");
+  ASSERT_EQ(Run({"routes", "put", route, server}).exit_code, 0);
+
+  const std::string png = testing::UniqueTempPath("yard") + ".png";
+  const CliRun run = Run({"map", "render", "yard", png, "--pixels-per-cell", "5", "--json", server});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const nlohmann::json said = nlohmann::json::parse(run.out);
+  EXPECT_EQ(said["width_px"], 300);
+  EXPECT_EQ(said["height_px"], 200);
+  EXPECT_EQ(said["markers"], 1);
+  EXPECT_EQ(said["routes"], 1);
+  std::ifstream file(png, std::ios::binary);
+  std::string magic(8, '\0');
+  file.read(magic.data(), 8);
+  EXPECT_EQ(magic, "\x89PNG\r\n\x1a\n");
+
+  // An unknown map is "not found"; a scale out of range and a non-PNG name are usage errors.
+  EXPECT_EQ(Run({"map", "render", "nowhere", png, server}).exit_code, 3);
+  EXPECT_EQ(Run({"map", "render", "yard", png, "--pixels-per-cell", "0", server}).exit_code, 2);
+  const CliRun svg = Run({"map", "render", "yard", png + ".svg", server});
+  EXPECT_EQ(svg.exit_code, 2);
+  EXPECT_THAT(svg.err, HasSubstr(".png"));
+}
+
 TEST_F(FleetnavctlCliTest, BashCompletesCommandsAndFlagsAtEachLevel) {
   const CliRun script = Run({"completion", "bash"});
   ASSERT_EQ(script.exit_code, 0) << script.err;

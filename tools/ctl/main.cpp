@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
 
-  CLI::App* map = app.add_subcommand("map", "maps: import, list, export, delete");
+  CLI::App* map = app.add_subcommand("map", "maps: import, list, export, render, delete");
   map->require_subcommand(1);
   std::string map_id, yaml_path, description;
   uint32_t version = 0;
@@ -43,6 +43,24 @@ int main(int argc, char** argv) {
   map_export->add_option("--id", map_id, "map id")->required();
   map_export->add_option("--version", version, "version (0 = latest)");
   map_export->add_option("yaml", yaml_path, "output YAML path (PGM written beside it)")->required();
+  CLI::App* map_render =
+      map->add_subcommand("render", "draw a map with its markers and routes as a PNG");
+  std::string png_path;
+  int pixels_per_cell = 0;
+  map_render->add_option("map_id", map_id, "map id")->required();
+  map_render->add_option("png", png_path, "output PNG path")
+      ->required()
+      ->check(CLI::Validator(
+          [](const std::string& path) -> std::string {
+            return path.size() > 4 && path.substr(path.size() - 4) == ".png"
+                       ? ""
+                       : "'" + path + "' must end in .png (the only format written)";
+          },
+          "PATH.png"));
+  map_render->add_option("--version", version, "map version (0 = latest)");
+  map_render->add_option("--pixels-per-cell", pixels_per_cell,
+                         "image pixels per grid cell, 1..64 (default: longer side about 1600 px)")
+      ->check(CLI::Range(1, 64));
   CLI::App* map_delete = map->add_subcommand("delete", "delete every version of a map");
   map_delete->add_option("--id", map_id, "map id")->required();
 
@@ -180,6 +198,8 @@ int main(int argc, char** argv) {
     status = fleetnav::ctl::GetRoute(context, route_name);
   } else if (routes_delete->parsed()) {
     status = fleetnav::ctl::DeleteRoute(context, route_name);
+  } else if (map_render->parsed()) {
+    status = fleetnav::ctl::RenderMap(context, map_id, version, png_path, pixels_per_cell);
   } else if (routes_list->parsed()) {
     status = fleetnav::ctl::ListRoutes(context, marker_map);
   } else if (job_submit->parsed() && submit.route_name.empty() && submit.goal.empty()) {

@@ -11,9 +11,11 @@
 #include "call_internal.hpp"
 #include "fleetnav/core/map_io.hpp"
 #include "fleetnav/ctl/commands.hpp"
+#include "fleetnav/ctl/map_render.hpp"
 #include "fleetnav/ctl/table.hpp"
 #include "fleetnav/proto/grpc_status.hpp"
 #include "fleetnav/proto/map_convert.hpp"
+#include "fleetnav/proto/route_convert.hpp"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
 
 namespace fleetnav::ctl {
@@ -136,6 +138,100 @@ absl::Status DeleteMap(const CommandContext& context, const std::string& map_id)
   } else {
     *context.out << "deleted map '" << map_id << "'\n";
   }
+  return absl::OkStatus();
+}
+
+
+namespace {
+
+absl::StatusOr<std::pair<OccupancyGrid, uint32_t>> FetchGrid(const CommandContext& context,
+                                                             v1::FleetService::Stub& stub,
+                                                             const std::string& map_id,
+                                                             uint32_t version) {
+  grpc::ClientContext rpc;
+  PrepareCall(context, &rpc);
+  v1::GetMapRequest request;
+  request.set_map_id(map_id);
+  request.set_version(version);
+  v1::GetMapResponse response;
+  if (absl::Status s = FromGrpcStatus(stub.GetMap(&rpc, request, &response)); !s.ok()) return s;
+  absl::StatusOr<OccupancyGrid> grid = FromProto(response.grid());
+  if (!grid.ok()) return grid.status();
+  return std::make_pair(*std::move(grid), response.info().version());
+}
+
+/// The map's latest marker set, or none when the site has no markers.
+absl::StatusOr<std::optional<MarkerSet>> FetchMarkers(const CommandContext& context,
+                                                      v1::FleetService::Stub& stub,
+                                                      const std::string& map_id) {
+  grpc::ClientContext rpc;
+  PrepareCall(context, &rpc);
+  v1::GetMarkerSetRequest request;
+  request.set_map_id(map_id);
+  v1::GetMarkerSetResponse response;
+  const absl::Status s = FromGrpcStatus(stub.GetMarkerSet(&rpc, request, &response));
+  if (absl::IsNotFound(s)) return std::nullopt;
+  if (!s.ok()) return s;
+  absl::StatusOr<MarkerSet> markers = FromProto(response.marker_set());
+  if (!markers.ok()) return markers.status();
+  return *std::move(markers);
+}
+
+absl::StatusOr<std::vector<Route>> FetchRoutes(const CommandContext& context,
+                                               v1::FleetService::Stub& stub,
+                                               const std::string& map_id) {
+  grpc::ClientContext rpc;
+  PrepareCall(context, &rpc);
+  v1::ListRoutesRequest request;
+  request.set_map_id(map_id);
+  v1::ListRoutesResponse response;
+  if (absl::Status s = FromGrpcStatus(stub.ListRoutes(&rpc, request, &response)); !s.ok()) {
+    return s;
+  }
+  std::vector<Route> routes;
+  for (const v1::Route& wire : response.routes()) {
+    absl::StatusOr<Route> route = FromProto(wire);
+    if (!route.ok()) return route.status();
+    routes.push_back(*std::move(route));
+  }
+  return routes;
+}
+
+}  // namespace
+
+absl::Status RenderMap(const CommandContext& context, const std::string& map_id, uint32_t version,
+                       const std::string& png_path, int pixels_per_cell) {
+  auto stub = v1::FleetService::NewStub(context.channel);
+  absl::StatusOr<std::pair<OccupancyGrid, uint32_t>> grid =
+      FetchGrid(context, *stub, map_id, version);
+  if (!grid.ok()) return grid.status();
+  absl::StatusOr<std::optional<MarkerSet>> markers = FetchMarkers(context, *stub, map_id);
+  if (!markers.ok()) return markers.status();
+  absl::StatusOr<std::vector<Route>> routes = FetchRoutes(context, *stub, map_id);
+  if (!routes.ok()) return routes.status();
+  const SiteDrawing drawing{grid->first, *std::move(markers), *std::move(routes)};
+  MapRenderParams params;
+  params.pixels_per_cell = pixels_per_cell;
+  if (absl::Status s = RenderSiteMapPng(drawing, png_path, params); !s.ok()) return s;
+  const int scale = PixelsPerCell(drawing.grid, params);
+  const int width_px = drawing.grid.width() * scale;
+  const int height_px = drawing.grid.height() * scale;
+  const size_t marker_count = drawing.markers ? drawing.markers->markers.size() : 0;
+  if (context.json) {
+    *context.out << nlohmann::json{{"map_id", map_id},
+                                   {"version", grid->second},
+                                   {"png", png_path},
+                                   {"width_px", width_px},
+                                   {"height_px", height_px},
+                                   {"markers", marker_count},
+                                   {"routes", drawing.routes.size()}}
+                        .dump()
+                 << '\n';
+    return absl::OkStatus();
+  }
+  *context.out << "drew map '" << map_id << "' version " << grid->second << " (" << marker_count
+               << " markers, " << drawing.routes.size() << " routes) to " << png_path << " ("
+               << width_px << "x" << height_px << " px)\n";
   return absl::OkStatus();
 }
 

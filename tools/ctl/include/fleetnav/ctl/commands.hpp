@@ -31,6 +31,10 @@ absl::Status ListMaps(const CommandContext& context);
 /// Downloads a map version (0 = latest) and writes it as map_server YAML + PGM.
 absl::Status ExportMap(const CommandContext& context, const std::string& map_id, uint32_t version,
                        const std::string& yaml_path);
+/// Draws a map version (0 = latest) with the site's latest marker set and the routes on the
+/// map into a PNG (see RenderSiteMapPng); pixels_per_cell 0 picks a size.
+absl::Status RenderMap(const CommandContext& context, const std::string& map_id, uint32_t version,
+                       const std::string& png_path, int pixels_per_cell);
 absl::Status DeleteMap(const CommandContext& context, const std::string& map_id);
 
 /// Lists robots with their connection state and last pose.
