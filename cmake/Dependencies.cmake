@@ -8,6 +8,7 @@ find_package(Protobuf REQUIRED)
 find_package(gRPC CONFIG REQUIRED)
 find_package(SQLite3 REQUIRED)
 find_package(PNG REQUIRED)  # map images (libpng-dev)
+find_package(OpenSSL REQUIRED)  # token hashes (libssl-dev); gRPC itself uses it for TLS
 pkg_check_modules(ODE REQUIRED IMPORTED_TARGET ode)
 pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET GLOBAL cairo)  # PNG and SVG pictures
 find_package(spdlog REQUIRED)

@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 
+#include "fleetnav/proto/channel_credentials.hpp"
 #include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/map_io.hpp"
 #include "fleetnav/core/route.hpp"
@@ -59,6 +60,14 @@ int main(int argc, char** argv) {
   app.add_option("--server", server_address,
                  "fleetnavd address (AgentService); telemetry to an absent server is dropped")
       ->capture_default_str();
+  fleetnav::ClientTlsFiles tls;
+  app.add_option("--tls-ca", tls.ca_path,
+                 "connect to fleetnavd with TLS, trusting this CA (plaintext without it)");
+  app.add_option("--tls-cert", tls.cert_path,
+                 "this robot's client certificate (PEM; its common name must be --robot-id)");
+  app.add_option("--tls-key", tls.key_path, "the client certificate's private key (PEM)");
+  app.add_option("--tls-server-name", tls.server_name,
+                 "the name fleetnavd's certificate must carry, when not the --server host");
   app.add_option("--route", route_path,
                  "route YAML to run once, then exit 0 if every action completed, 1 otherwise; "
                  "without it the agent takes jobs from fleetnavd");
@@ -169,8 +178,13 @@ int main(int argc, char** argv) {
   // What this agent can execute: a job needs every one of its route's action types here.
   fleetnav::RobotIdentity identity{robot_id, *model, fleetnav::agent::SupportedActionTypes(*model),
                                    "0.2.0"};
-  auto server_channel = grpc::CreateCustomChannel(
-      server_address, grpc::InsecureChannelCredentials(), quick_reconnect);
+  absl::StatusOr<std::shared_ptr<grpc::ChannelCredentials>> server_credentials =
+      fleetnav::MakeChannelCredentials(tls);
+  if (!server_credentials.ok()) return Fail(server_credentials.status().ToString());
+  grpc::ChannelArguments server_arguments = quick_reconnect;
+  fleetnav::AddTlsChannelArguments(tls, &server_arguments);
+  auto server_channel =
+      grpc::CreateCustomChannel(server_address, *server_credentials, server_arguments);
   fleetnav::agent::ServerLink link(server_channel, identity);
   fleetnav::agent::SimHal hal(sim_channel, robot_id);
   std::ofstream record;

@@ -59,7 +59,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string(fleetnav::Version()));
   std::string config_path, listen, db, log_level, port_file, clock = "system", sim_address;
   double stale_after_s = 0, lost_robot_timeout_s = 0;
-  bool check_db = false;
+  bool check_db = false, insecure = false;
+  fleetnav::server::ServerSecurityFiles tls;
   int max_message_bytes = 0, agent_threads = 0;
   app.add_option("--config", config_path, "YAML configuration file (see docs/server.md)");
   app.add_option("--listen", listen,
@@ -73,6 +74,16 @@ int main(int argc, char** argv) {
   app.add_option("--agent-threads", agent_threads,
                  "threads serving robot streams, each with its own completion queue [2]");
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error [info]");
+  app.add_option("--tls-cert", tls.cert_path, "the server's certificate chain (PEM)");
+  app.add_option("--tls-key", tls.key_path, "the server certificate's private key (PEM)");
+  app.add_option("--tls-client-ca", tls.client_ca_path,
+                 "the CA that signs robot certificates (PEM); a robot's certificate common name "
+                 "is its robot id");
+  app.add_option("--tokens", tls.tokens_path,
+                 "operator tokens with their roles (YAML, see docs/security.md)");
+  app.add_flag("--insecure", insecure,
+               "serve plaintext without authentication (demo and tests only): any client can "
+               "drive robots");
   app.add_option("--port-file", port_file, "write the bound port to this file once serving");
   app.add_option("--clock", clock,
                  "time source of timeouts and pose history: system, or sim (the simulator's "
@@ -106,16 +117,34 @@ int main(int argc, char** argv) {
   if (agent_threads > 0) params.agent_stream_threads = agent_threads;
   params.sim_clock_address = sim_address;
   if (!log_level.empty()) config->log_level = log_level;
+  if (!tls.cert_path.empty()) params.security.cert_path = tls.cert_path;
+  if (!tls.key_path.empty()) params.security.key_path = tls.key_path;
+  if (!tls.client_ca_path.empty()) params.security.client_ca_path = tls.client_ca_path;
+  if (!tls.tokens_path.empty()) params.security.tokens_path = tls.tokens_path;
+  insecure = insecure || config->insecure;
+  if (!check_db && insecure == !params.security.empty()) {
+    spdlog::error(
+        insecure ? "fleetnavd: --insecure and TLS files (--tls-cert, --tls-key, --tls-client-ca, "
+                   "--tokens) exclude each other"
+                 : "fleetnavd: give --tls-cert, --tls-key, --tls-client-ca and --tokens (see "
+                   "docs/security.md), or --insecure to serve plaintext without authentication");
+    return 2;
+  }
   if (check_db) return CheckDatabase(params.db_path);
   spdlog::set_level(spdlog::level::from_str(config->log_level));
 
+  params.on_access_refused = [](const std::string& why) {
+    spdlog::warn("fleetnavd: refused: {}", why);
+  };
   fleetnav::server::FleetServer server(params);
   absl::StatusOr<int> port = server.Start();
   if (!port.ok()) {
     spdlog::error("fleetnavd: {}", port.status().ToString());
     return 1;
   }
-  spdlog::info("fleetnavd serving on port {} (db {})", *port, params.db_path);
+  spdlog::info("fleetnavd serving on port {} (db {}, {})", *port, params.db_path,
+               server.secure() ? "TLS, robot certificates and operator tokens"
+                               : "INSECURE: plaintext, no authentication");
   if (!port_file.empty()) {
     if (absl::Status written = fleetnav::WritePortFile(port_file, *port); !written.ok()) {
       spdlog::warn("fleetnavd: {}", std::string(written.message()));
@@ -130,6 +159,11 @@ int main(int argc, char** argv) {
   const fleetnav::server::PassFigures passes = server.assigning_passes();
   const fleetnav::server::PassFigures one_job = server.one_job_passes();
   const fleetnav::server::PassFigures one_job_cpu = server.one_job_pass_cpu();
+  if (server.secure()) {
+    const fleetnav::server::AccessCounts access = server.access_counts();
+    spdlog::info("fleetnavd: calls admitted {}, unauthenticated {}, denied {}", access.admitted,
+                 access.unauthenticated, access.denied);
+  }
   // Read by fleetnav-scenario (docs/scenarios.md): keep the wording.
   spdlog::info(
       "fleetnavd: {} assigning dispatch passes, p50 {:.2f} ms, p99 {:.2f} ms, max {:.2f} ms; {} "

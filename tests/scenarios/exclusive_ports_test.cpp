@@ -44,8 +44,9 @@ void ExpectSecondOnThePortRefused(std::vector<std::string> first, std::vector<st
 }
 
 TEST(ExclusivePortsTest, SecondFleetnavdOnABoundPortExits) {
-  ExpectSecondOnThePortRefused({FLEETNAV_FLEETNAVD_PATH, "--db", TempPath("a.db")},
-                               {FLEETNAV_FLEETNAVD_PATH, "--db", TempPath("b.db")}, "fleetnavd");
+  ExpectSecondOnThePortRefused({FLEETNAV_FLEETNAVD_PATH, "--insecure", "--db", TempPath("a.db")},
+                               {FLEETNAV_FLEETNAVD_PATH, "--insecure", "--db", TempPath("b.db")},
+                               "fleetnavd");
 }
 
 TEST(ExclusivePortsTest, SecondSimulatorOnABoundPortExits) {

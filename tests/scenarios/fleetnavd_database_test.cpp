@@ -39,7 +39,7 @@ struct RunResult {
 };
 
 RunResult RunFleetnavd(const std::vector<std::string>& args, const std::string& name) {
-  std::vector<std::string> argv = {FLEETNAV_FLEETNAVD_PATH};
+  std::vector<std::string> argv = {FLEETNAV_FLEETNAVD_PATH, "--insecure"};
   argv.insert(argv.end(), args.begin(), args.end());
   ChildProcess child(argv, TempPath(name + ".out"), TempPath(name + ".err"));
   const std::optional<int> code = child.Wait(30.0);

@@ -9,6 +9,7 @@
 #include "fleetnav/ctl/completion.hpp"
 #include "fleetnav/ctl/outcome.hpp"
 #include "fleetnav/ctl/sim_commands.hpp"
+#include "fleetnav/proto/channel_credentials.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"fleetnavctl: operate a fleetnav fleet server"};
@@ -25,6 +26,13 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--token", token, "operator bearer token (or FLEETNAV_TOKEN)")
       ->envname("FLEETNAV_TOKEN");
+  fleetnav::ClientTlsFiles tls;
+  app.add_option("--tls-ca", tls.ca_path,
+                 "connect with TLS, trusting this CA for fleetnavd's certificate (or "
+                 "FLEETNAV_TLS_CA); plaintext without it")
+      ->envname("FLEETNAV_TLS_CA");
+  app.add_option("--tls-server-name", tls.server_name,
+                 "the name fleetnavd's certificate must carry, when not the --server host");
   app.add_flag("--json", json, "print JSON for scripts instead of tables");
   app.add_option("--timeout-s", timeout_s, "deadline of each call, > 0")
       ->check(CLI::PositiveNumber)
@@ -174,9 +182,17 @@ int main(int argc, char** argv) {
     std::cout << fleetnav::ctl::BashCompletionScript(app, "fleetnavctl");
     return 0;
   }
+  absl::StatusOr<std::shared_ptr<grpc::ChannelCredentials>> credentials =
+      fleetnav::MakeChannelCredentials(tls);
+  if (!credentials.ok()) {
+    std::cerr << "fleetnavctl: " << credentials.status().message() << '\n';
+    return static_cast<int>(fleetnav::ctl::ExitCode::kUsage);
+  }
+  grpc::ChannelArguments channel_arguments;
+  fleetnav::AddTlsChannelArguments(tls, &channel_arguments);
   fleetnav::ctl::CommandContext context{
-      grpc::CreateChannel(server, grpc::InsecureChannelCredentials()), &std::cout, json, timeout_s,
-      token};
+      grpc::CreateCustomChannel(server, *credentials, channel_arguments), &std::cout, json,
+      timeout_s, token};
   absl::Status status;
   if (map_import->parsed()) {
     status = fleetnav::ctl::ImportMap(context, map_id, yaml_path, description);

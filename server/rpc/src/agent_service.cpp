@@ -119,6 +119,11 @@ class AgentConnection final {
     if (absl::Status limited = service_->limits_.CheckIdentity(*identity); !limited.ok()) {
       return limited;
     }
+    if (service_->gate_ != nullptr) {
+      absl::Status claim =
+          service_->gate_->CheckRobotClaim(*context_.auth_context(), identity->robot_id);
+      if (!claim.ok()) return claim;
+    }
     robot_id_ = identity->robot_id;
     hello_seen_ = true;
     v1::ServerMessage welcome;
@@ -226,11 +231,12 @@ class AgentConnection final {
 };
 
 AgentServiceImpl::AgentServiceImpl(FleetRegistry* registry, JobService* jobs, AgentMailbox* mailbox,
-                                   int threads, InputLimits limits)
+                                   int threads, InputLimits limits, AccessGate* gate)
     : registry_(registry),
       jobs_(jobs),
       mailbox_(mailbox),
       limits_(limits),
+      gate_(gate),
       thread_count_(std::max(1, threads)) {}
 
 AgentServiceImpl::~AgentServiceImpl() { Shutdown(); }

@@ -2,6 +2,7 @@
 
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/health_check_service_interface.h>
+#include <grpcpp/security/server_credentials.h>
 #include <grpcpp/server_builder.h>
 #include <malloc.h>
 
@@ -51,6 +52,20 @@ FleetServer::~FleetServer() { Shutdown(); }
 
 absl::StatusOr<int> FleetServer::Start() {
   RETURN_IF_ERROR(params_.Validate());
+  // Credentials first: a bad certificate or token file must not leave a database behind.
+  std::shared_ptr<grpc::ServerCredentials> credentials = grpc::InsecureServerCredentials();
+  if (!params_.security.empty()) {
+    ASSIGN_OR_RETURN(const ServerSecurity security, LoadServerSecurity(params_.security));
+    ASSIGN_OR_RETURN(AccessPolicy policy, AccessPolicy::Create(security.tokens));
+    access_gate_ = std::make_shared<AccessGate>(std::move(policy), params_.on_access_refused);
+    // Robots present certificates of the robot CA; operators present tokens over TLS without
+    // one. A certificate that is presented must verify.
+    grpc::SslServerCredentialsOptions options(GRPC_SSL_REQUEST_CLIENT_CERTIFICATE_AND_VERIFY);
+    options.pem_root_certs = security.client_ca_pem;
+    options.pem_key_cert_pairs.push_back({security.private_key_pem, security.cert_chain_pem});
+    credentials = grpc::SslServerCredentials(options);
+    credentials->SetAuthMetadataProcessor(access_gate_);
+  }
   if (!params_.sim_clock_address.empty()) {
     sim_clock_feed_ = std::make_unique<SimClockFeed>(params_.sim_clock_address, &sim_clock_);
     RETURN_IF_ERROR(sim_clock_feed_->Start());
@@ -82,7 +97,8 @@ absl::StatusOr<int> FleetServer::Start() {
   fleet_service_ = std::make_unique<FleetServiceImpl>(maps_.get(), site_.get(), jobs_.get(),
                                                       traffic_.get(), &registry_, &mailbox_);
   agent_service_ = std::make_unique<AgentServiceImpl>(&registry_, jobs_.get(), &mailbox_,
-                                                      params_.agent_stream_threads, params_.limits);
+                                                      params_.agent_stream_threads, params_.limits,
+                                                      access_gate_.get());
   watch_hub_ = std::make_unique<WatchHub>(fleet_service_.get(), &registry_, jobs_.get());
   registry_.SetChangeListener([hub = watch_hub_.get()] { hub->OnFleetChanged(); });
   job_repository_->SetListener(
@@ -98,7 +114,7 @@ absl::StatusOr<int> FleetServer::Start() {
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   int port = 0;
-  builder.AddListeningPort(params_.listen_address, grpc::InsecureServerCredentials(), &port);
+  builder.AddListeningPort(params_.listen_address, credentials, &port);
   // gRPC binds with SO_REUSEPORT by default: a second server on a bound port would start and
   // the kernel would split the clients between the two. The port must be this server's alone.
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
@@ -150,6 +166,10 @@ absl::StatusOr<int> FleetServer::Start() {
 
 PassFigures FleetServer::assigning_passes() const {
   return dispatcher_ ? dispatcher_->assigning_passes() : PassFigures{};
+}
+
+AccessCounts FleetServer::access_counts() const {
+  return access_gate_ ? access_gate_->counts() : AccessCounts{};
 }
 
 PassFigures FleetServer::one_job_passes() const {

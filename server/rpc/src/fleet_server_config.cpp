@@ -48,13 +48,23 @@ absl::StatusOr<FleetServerConfig> ParseFleetServerConfig(std::string_view yaml_t
   }
   if (root.IsNull()) return config;
   RETURN_IF_ERROR(CheckKeys(
-      root, {"listen", "db", "log_level", "agent_threads", "limits", "timeouts", "charging"},
+      root,
+      {"listen", "db", "log_level", "agent_threads", "insecure", "tls", "limits", "timeouts",
+       "charging"},
       "config"));
   FleetServerParams& p = config.params;
   RETURN_IF_ERROR(Read(root, "listen", "", &p.listen_address));
   RETURN_IF_ERROR(Read(root, "db", "", &p.db_path));
   RETURN_IF_ERROR(Read(root, "log_level", "", &config.log_level));
   RETURN_IF_ERROR(Read(root, "agent_threads", "", &p.agent_stream_threads));
+  RETURN_IF_ERROR(Read(root, "insecure", "", &config.insecure));
+  if (const YAML::Node tls = root["tls"]) {
+    RETURN_IF_ERROR(CheckKeys(tls, {"cert", "key", "client_ca", "tokens"}, "tls"));
+    RETURN_IF_ERROR(Read(tls, "cert", "tls.", &p.security.cert_path));
+    RETURN_IF_ERROR(Read(tls, "key", "tls.", &p.security.key_path));
+    RETURN_IF_ERROR(Read(tls, "client_ca", "tls.", &p.security.client_ca_path));
+    RETURN_IF_ERROR(Read(tls, "tokens", "tls.", &p.security.tokens_path));
+  }
   if (p.agent_stream_threads < 1 || p.agent_stream_threads > 64) {
     return absl::InvalidArgumentError(
         absl::StrCat("agent_threads: must be in [1, 64], got ", p.agent_stream_threads));

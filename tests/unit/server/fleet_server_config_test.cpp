@@ -37,6 +37,22 @@ timeouts: {stale_after_s: 1.5, lost_robot_timeout_s: 9, dispatch_period_s: 0.1}
   EXPECT_DOUBLE_EQ(config->params.dispatch_period_s, 0.1);
 }
 
+TEST(FleetServerConfigTest, TlsFilesAndInsecureAreRead) {
+  absl::StatusOr<FleetServerConfig> config = ParseFleetServerConfig(R"(
+tls: {cert: /etc/fleetnav/server.crt, key: /etc/fleetnav/server.key,
+      client_ca: /etc/fleetnav/robot-ca.crt, tokens: /etc/fleetnav/tokens.yaml}
+)");
+  ASSERT_TRUE(config.ok()) << config.status();
+  EXPECT_EQ(config->params.security.cert_path, "/etc/fleetnav/server.crt");
+  EXPECT_EQ(config->params.security.key_path, "/etc/fleetnav/server.key");
+  EXPECT_EQ(config->params.security.client_ca_path, "/etc/fleetnav/robot-ca.crt");
+  EXPECT_EQ(config->params.security.tokens_path, "/etc/fleetnav/tokens.yaml");
+  EXPECT_FALSE(config->insecure);
+  EXPECT_TRUE(ParseFleetServerConfig("insecure: true")->insecure);
+  EXPECT_THAT(ParseFleetServerConfig("tls: {certificate: a}").status().message(),
+              HasSubstr("tls: unknown key 'certificate'"));
+}
+
 TEST(FleetServerConfigTest, BadConfigsNameTheKey) {
   for (const auto& [yaml, text] : std::vector<std::pair<std::string, std::string>>{
            {"lissten: x", "lissten"},

@@ -213,7 +213,7 @@ absl::Status Run::StartServer() {
   ++server_starts_;
   server_ = std::make_unique<ChildProcess>(
       std::vector<std::string>{bin_.server, "--listen", absl::StrCat("127.0.0.1:", server_port_),
-                               "--db", Path("fleet.db"), "--port-file", port_file},
+                               "--db", Path("fleet.db"), "--port-file", port_file, "--insecure"},
       Path(absl::StrCat("fleetnavd.", server_starts_, ".out")),
       Path(absl::StrCat("fleetnavd.", server_starts_, ".log")));
   const int port = WaitForPortFile(port_file);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "absl/synchronization/mutex.h"
+#include "fleetnav/server/rpc/access_gate.hpp"
 #include "fleetnav/server/fleet_registry.hpp"
 #include "fleetnav/server/input_limits.hpp"
 #include "fleetnav/server/job_service.hpp"
@@ -36,8 +37,10 @@ class AgentConnection;
 /// server's Shutdown(). Thread-safe.
 class AgentServiceImpl final {
  public:
+  /// `gate` (may be null: no TLS) checks each hello's robot id against the stream's client
+  /// certificate.
   AgentServiceImpl(FleetRegistry* registry, JobService* jobs, AgentMailbox* mailbox, int threads,
-                   InputLimits limits = {});
+                   InputLimits limits = {}, AccessGate* gate = nullptr);
   ~AgentServiceImpl();
   AgentServiceImpl(const AgentServiceImpl&) = delete;
   AgentServiceImpl& operator=(const AgentServiceImpl&) = delete;
@@ -61,6 +64,7 @@ class AgentServiceImpl final {
   JobService* jobs_;
   AgentMailbox* mailbox_;
   const InputLimits limits_;  ///< on what a hello may announce
+  AccessGate* const gate_;    ///< null without TLS
   const int thread_count_;
   v1::AgentService::AsyncService service_;
   std::vector<std::unique_ptr<grpc::ServerCompletionQueue>> cqs_;

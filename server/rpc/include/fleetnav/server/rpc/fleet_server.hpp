@@ -3,6 +3,7 @@
 #include <grpcpp/server.h>
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <string>
 #include <thread>
@@ -17,9 +18,11 @@
 #include "fleetnav/server/map_catalog.hpp"
 #include "fleetnav/server/notifying_job_repository.hpp"
 #include "fleetnav/server/pose_history_recorder.hpp"
+#include "fleetnav/server/rpc/access_gate.hpp"
 #include "fleetnav/server/rpc/agent_mailbox.hpp"
 #include "fleetnav/server/rpc/agent_service.hpp"
 #include "fleetnav/server/rpc/fleet_service.hpp"
+#include "fleetnav/server/rpc/server_security.hpp"
 #include "fleetnav/server/rpc/sim_clock_feed.hpp"
 #include "fleetnav/server/rpc/watch_hub.hpp"
 #include "fleetnav/server/site_cache.hpp"
@@ -48,6 +51,11 @@ struct FleetServerParams {
   /// A SimService address: take time from the simulator (fleetnavd --clock sim); "": the
   /// system clock.
   std::string sim_clock_address;
+  /// TLS and credentials; all empty: plaintext without authentication (fleetnavd only allows
+  /// that with --insecure).
+  ServerSecurityFiles security;
+  /// Told about every refused call (method, caller and reason), for the log.
+  std::function<void(const std::string&)> on_access_refused;
   absl::Status Validate() const;
 };
 
@@ -71,6 +79,9 @@ class FleetServer {
   PassFigures one_job_passes() const;
   /// The same passes in the dispatcher thread's CPU time.
   PassFigures one_job_pass_cpu() const;
+  /// Calls the TLS gate admitted and refused so far (all zero without TLS).
+  AccessCounts access_counts() const;
+  bool secure() const { return access_gate_ != nullptr; }
   FleetRegistry& registry() { return registry_; }
   JobService& jobs() { return *jobs_; }
   storage::PoseHistoryRepository& pose_history() { return *pose_history_repository_; }
@@ -103,6 +114,7 @@ class FleetServer {
   /// Stale robots, pose history and returning freed memory, off the dispatcher's thread.
   std::thread housekeeper_;
   absl::Notification stop_housekeeping_;
+  std::shared_ptr<AccessGate> access_gate_;  ///< null without TLS
   std::unique_ptr<grpc::Service> health_service_;
   std::unique_ptr<FleetServiceImpl> fleet_service_;
   std::unique_ptr<AgentServiceImpl> agent_service_;

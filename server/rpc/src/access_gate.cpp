@@ -1,0 +1,66 @@
+#include "fleetnav/server/rpc/access_gate.hpp"
+
+#include "absl/strings/str_cat.h"
+#include "fleetnav/proto/grpc_status.hpp"
+
+namespace fleetnav::server {
+namespace {
+
+absl::string_view Find(const grpc::AuthMetadataProcessor::InputMetadata& metadata,
+                      absl::string_view key) {
+  const auto found = metadata.find(grpc::string_ref(key.data(), key.size()));
+  if (found == metadata.end()) return {};
+  return {found->second.data(), found->second.size()};
+}
+
+}  // namespace
+
+std::string CertificateIdentity(const grpc::AuthContext& context) {
+  for (const grpc::string_ref& name : context.FindPropertyValues("x509_common_name")) {
+    return {name.data(), name.size()};
+  }
+  return {};
+}
+
+grpc::Status AccessGate::Process(const InputMetadata& auth_metadata, grpc::AuthContext* context,
+                                 OutputMetadata* /*consumed_auth_metadata*/,
+                                 OutputMetadata* /*response_metadata*/) {
+  CallerCredentials credentials;
+  credentials.authorization = std::string(Find(auth_metadata, "authorization"));
+  credentials.certificate_identity = CertificateIdentity(*context);
+  const absl::string_view method = Find(auth_metadata, ":path");
+  absl::StatusOr<Caller> caller = policy_.Authorize(method, credentials);
+  if (!caller.ok()) {
+    Refused(caller.status());
+    return ToGrpcStatus(caller.status());
+  }
+  admitted_.fetch_add(1, std::memory_order_relaxed);
+  return grpc::Status::OK;
+}
+
+absl::Status AccessGate::CheckRobotClaim(const grpc::AuthContext& context,
+                                         absl::string_view robot_id) {
+  const std::string identity = CertificateIdentity(context);
+  if (identity == robot_id) return absl::OkStatus();
+  const absl::Status denied = absl::PermissionDeniedError(
+      absl::StrCat("hello: this stream's certificate is robot '", identity,
+                   "'; it cannot speak for robot '", robot_id, "'"));
+  Refused(denied);
+  return denied;
+}
+
+void AccessGate::Refused(const absl::Status& status) {
+  if (absl::IsUnauthenticated(status)) {
+    unauthenticated_.fetch_add(1, std::memory_order_relaxed);
+  } else {
+    denied_.fetch_add(1, std::memory_order_relaxed);
+  }
+  if (on_refusal_) on_refusal_(status.ToString());
+}
+
+AccessCounts AccessGate::counts() const {
+  return {admitted_.load(std::memory_order_relaxed), unauthenticated_.load(std::memory_order_relaxed),
+          denied_.load(std::memory_order_relaxed)};
+}
+
+}  // namespace fleetnav::server

@@ -1,0 +1,304 @@
+// fleetnavd with TLS, robot certificates and operator tokens, over real TLS on loopback: every
+// RPC refuses missing, malformed and wrong credentials; a robot cannot speak for another; a
+// certificate of a foreign CA does not get in; and the server keeps serving throughout.
+#include <gmock/gmock.h>
+#include <google/protobuf/descriptor.h>
+#include <grpcpp/create_channel.h>
+#include <grpcpp/generic/generic_stub.h>
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <set>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/strip.h"
+#include "fleetnav/proto/channel_credentials.hpp"
+#include "fleetnav/scenario/child_process.hpp"
+#include "fleetnav/proto/telemetry_convert.hpp"
+#include "fleetnav/server/rpc/fleet_server.hpp"
+#include "fleetnav/v1/agent_service.grpc.pb.h"
+#include "fleetnav/v1/fleet_service.grpc.pb.h"
+#include "test_paths.hpp"
+
+namespace fleetnav {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::string ReadText(const std::string& path) {
+  std::ifstream in(path);
+  std::string text;
+  std::getline(in, text);
+  return text;
+}
+
+/// A development PKI made by deploy/certs/make-dev-certs, and a second one whose CA fleetnavd
+/// does not know.
+class SecurityTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    pki_ = new std::string(testing::UniqueTempPath("pki"));
+    foreign_ = new std::string(testing::UniqueTempPath("foreign-pki"));
+    for (const std::string* dir : {pki_, foreign_}) {
+      const std::string command = absl::StrCat(FLEETNAV_DEV_CERTS_SCRIPT, " ", *dir,
+                                               " lely1 lely2 >/dev/null");
+      ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    }
+  }
+  static void TearDownTestSuite() {
+    std::filesystem::remove_all(*pki_);
+    std::filesystem::remove_all(*foreign_);
+    delete pki_;
+    delete foreign_;
+  }
+
+  void SetUp() override {
+    db_path_ = testing::UniqueTempPath("secure") + ".db";
+    server::FleetServerParams params;
+    params.listen_address = "127.0.0.1:0";
+    params.db_path = db_path_;
+    params.security = {Pki("server.crt"), Pki("server.key"), Pki("robot-ca.crt"),
+                       Pki("tokens.yaml")};
+    params.on_access_refused = [this](const std::string& why) {
+      absl::MutexLock lock(&log_mutex_);
+      refusal_log_.push_back(why);
+    };
+    server_ = std::make_unique<server::FleetServer>(params);
+    absl::StatusOr<int> port = server_->Start();
+    ASSERT_TRUE(port.ok()) << port.status();
+    address_ = absl::StrCat("127.0.0.1:", *port);
+  }
+  void TearDown() override {
+    server_->Shutdown();
+    server_.reset();
+    std::filesystem::remove(db_path_);
+  }
+
+  static std::string Pki(const std::string& name) { return *pki_ + "/" + name; }
+  static std::string Token(const std::string& role) { return ReadText(Pki(role + ".token")); }
+
+  /// A TLS channel trusting the server's CA, with a robot's certificate when `robot` is set.
+  std::shared_ptr<grpc::Channel> Channel(const std::string& robot = "",
+                                         const std::string& pki = *pki_) {
+    ClientTlsFiles files;
+    files.ca_path = Pki("server-ca.crt");
+    if (!robot.empty()) {
+      files.cert_path = pki + "/robot-" + robot + ".crt";
+      files.key_path = pki + "/robot-" + robot + ".key";
+    }
+    absl::StatusOr<std::shared_ptr<grpc::ChannelCredentials>> credentials =
+        MakeChannelCredentials(files);
+    EXPECT_TRUE(credentials.ok()) << credentials.status();
+    return grpc::CreateChannel(address_, *credentials);
+  }
+
+  /// Calls `method` with an empty request and `authorization` (none when empty).
+  grpc::Status Call(const std::shared_ptr<grpc::Channel>& channel, const std::string& method,
+                    const std::string& authorization) {
+    grpc::GenericStub stub(channel);
+    grpc::ClientContext context;
+    // Refusals come at once; an admitted watch stream would run until the deadline.
+    context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(1));
+    if (!authorization.empty()) context.AddMetadata("authorization", authorization);
+    grpc::Slice empty_message("");  // the encoding of a message with every field at its default
+    grpc::ByteBuffer request(&empty_message, 1), response;
+    std::promise<grpc::Status> done;
+    stub.UnaryCall(&context, method, grpc::StubOptions(), &request, &response,
+                   [&](grpc::Status status) { done.set_value(std::move(status)); });
+    return done.get_future().get();
+  }
+
+  static v1::AgentMessage Hello(const std::string& robot_id) {
+    v1::AgentMessage message;
+    *message.mutable_hello() = ToProto(RobotIdentity{robot_id, LelyVectorModel(), {}, "test"});
+    return message;
+  }
+
+  /// Opens an agent stream, says hello as `robot_id` and returns how the server answered: OK
+  /// once welcomed, else the stream's status.
+  grpc::Status ConnectAs(const std::shared_ptr<grpc::Channel>& channel,
+                         const std::string& robot_id) {
+    auto agents = v1::AgentService::NewStub(channel);
+    grpc::ClientContext context;
+    context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(5));
+    auto stream = agents->Connect(&context);
+    stream->Write(Hello(robot_id));
+    v1::ServerMessage reply;
+    if (stream->Read(&reply) && reply.has_welcome()) {
+      context.TryCancel();
+      return grpc::Status::OK;
+    }
+    return stream->Finish();
+  }
+
+  static std::string* pki_;
+  static std::string* foreign_;
+  std::string db_path_;
+  std::string address_;
+  std::unique_ptr<server::FleetServer> server_;
+  absl::Mutex log_mutex_;
+  std::vector<std::string> refusal_log_ ABSL_GUARDED_BY(log_mutex_);
+};
+
+std::string* SecurityTest::pki_ = nullptr;
+std::string* SecurityTest::foreign_ = nullptr;
+
+int RoleRank(const std::string& role) {
+  return role == "viewer" ? 0 : role == "operator" ? 1 : 2;
+}
+
+/// The role each FleetService method needs (docs/security.md); a method missing here fails.
+int NeededRank(const std::string& method) {
+  static const std::set<std::string> kOperator = {"SubmitJob", "CancelJob", "PauseJob",
+                                                  "ResumeJob"};
+  static const std::set<std::string> kAdmin = {"PutMap",       "DeleteMap",       "PutMarkerSet",
+                                               "DeleteMarkerSet", "PutRoute",     "DeleteRoute",
+                                               "ForgetRobot"};
+  if (kAdmin.count(method) != 0) return 2;
+  if (kOperator.count(method) != 0) return 1;
+  return 0;
+}
+
+TEST_F(SecurityTest, EveryRpcRefusesMissingMalformedAndUnderprivilegedCredentials) {
+  const google::protobuf::ServiceDescriptor* service =
+      google::protobuf::DescriptorPool::generated_pool()->FindServiceByName(
+          "fleetnav.v1.FleetService");
+  ASSERT_NE(service, nullptr);
+  const std::shared_ptr<grpc::Channel> channel = Channel();
+  int refused = 0, tried_refusals = 0;
+  for (int i = 0; i < service->method_count(); ++i) {
+    const std::string name = service->method(i)->name();
+    const std::string method = absl::StrCat("/fleetnav.v1.FleetService/", name);
+    SCOPED_TRACE(method);
+    // No credentials, a malformed header, an unknown token: UNAUTHENTICATED, naming the method.
+    for (const std::string& authorization :
+         {std::string(), std::string("Basic abc"), std::string("Bearer not-a-token"),
+          std::string("Bearer ")}) {
+      const grpc::Status status = Call(channel, method, authorization);
+      ++tried_refusals;
+      refused += status.error_code() == grpc::StatusCode::UNAUTHENTICATED;
+      EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAUTHENTICATED) << authorization;
+      EXPECT_THAT(status.error_message(), HasSubstr(name));
+    }
+    // Each role: refused below the method's role, admitted at or above it (whatever the empty
+    // request then makes of it).
+    for (const std::string role : {"viewer", "operator", "admin"}) {
+      const grpc::Status status = Call(channel, method, "Bearer " + Token(role));
+      if (RoleRank(role) < NeededRank(name)) {
+        ++tried_refusals;
+        refused += status.error_code() == grpc::StatusCode::PERMISSION_DENIED;
+        EXPECT_EQ(status.error_code(), grpc::StatusCode::PERMISSION_DENIED) << role;
+        EXPECT_THAT(status.error_message(), HasSubstr("role " + role));
+      } else {
+        EXPECT_NE(status.error_code(), grpc::StatusCode::PERMISSION_DENIED) << role;
+        EXPECT_NE(status.error_code(), grpc::StatusCode::UNAUTHENTICATED) << role;
+      }
+    }
+  }
+  std::printf("[ security ] %d FleetService methods; %d of %d calls with missing, malformed, "
+              "unknown or under-privileged credentials refused\n",
+              service->method_count(), refused, tried_refusals);
+  EXPECT_EQ(refused, tried_refusals);
+  const server::AccessCounts counts = server_->access_counts();
+  EXPECT_EQ(counts.unauthenticated + counts.denied, static_cast<uint64_t>(tried_refusals));
+  absl::MutexLock lock(&log_mutex_);
+  EXPECT_EQ(refusal_log_.size(), static_cast<size_t>(tried_refusals));
+}
+
+TEST_F(SecurityTest, ARobotCertificateOpensOnlyItsOwnStreamAndTheSiteReads) {
+  EXPECT_TRUE(ConnectAs(Channel("lely1"), "lely1").ok());
+  // lely1's certificate cannot say hello as lely2.
+  const grpc::Status impersonation = ConnectAs(Channel("lely1"), "lely2");
+  EXPECT_EQ(impersonation.error_code(), grpc::StatusCode::PERMISSION_DENIED);
+  EXPECT_THAT(impersonation.error_message(), HasSubstr("lely2"));
+  // No certificate, only a token: no agent stream.
+  const grpc::Status tokens_only = ConnectAs(Channel(), "lely1");
+  EXPECT_EQ(tokens_only.error_code(), grpc::StatusCode::UNAUTHENTICATED);
+  // A robot reads its site (a missing map is then "not found", not a refusal) but cannot
+  // submit jobs or change the site.
+  const std::shared_ptr<grpc::Channel> robot = Channel("lely2");
+  EXPECT_EQ(Call(robot, "/fleetnav.v1.FleetService/ListMaps", "").error_code(),
+            grpc::StatusCode::OK);
+  EXPECT_EQ(Call(robot, "/fleetnav.v1.FleetService/SubmitJob", "").error_code(),
+            grpc::StatusCode::UNAUTHENTICATED);
+  EXPECT_EQ(Call(robot, "/fleetnav.v1.FleetService/DeleteMap", "").error_code(),
+            grpc::StatusCode::UNAUTHENTICATED);
+  // Only lely1 ever registered.
+  const std::vector<RobotRecord> robots = server_->registry().Snapshot();
+  ASSERT_EQ(robots.size(), 1u);
+  EXPECT_EQ(robots[0].identity.robot_id, "lely1");
+}
+
+TEST_F(SecurityTest, ACertificateOfAForeignCaDoesNotGetInAndTheServerKeepsServing) {
+  const grpc::Status foreign = ConnectAs(Channel("lely1", *foreign_), "lely1");
+  EXPECT_EQ(foreign.error_code(), grpc::StatusCode::UNAVAILABLE) << foreign.error_message();
+  EXPECT_TRUE(server_->registry().Snapshot().empty());
+  // A plaintext client gets nowhere either.
+  auto plaintext = grpc::CreateChannel(address_, grpc::InsecureChannelCredentials());
+  EXPECT_EQ(Call(plaintext, "/fleetnav.v1.FleetService/ListMaps", "Bearer " + Token("admin"))
+                .error_code(),
+            grpc::StatusCode::UNAVAILABLE);
+  // The health service is open; the server still serves the right credentials.
+  EXPECT_EQ(Call(Channel(), "/grpc.health.v1.Health/Check", "").error_code(),
+            grpc::StatusCode::OK);
+  EXPECT_EQ(Call(Channel(), "/fleetnav.v1.FleetService/ListMaps", "Bearer " + Token("viewer"))
+                .error_code(),
+            grpc::StatusCode::OK);
+  EXPECT_TRUE(ConnectAs(Channel("lely1"), "lely1").ok());
+}
+
+TEST_F(SecurityTest, FleetnavctlSpeaksTlsWithATokenAndSaysWhenItIsRefused) {
+  const auto run = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), {FLEETNAV_FLEETNAVCTL_PATH, "--server", address_});
+    const std::string base = testing::UniqueTempPath("ctl-tls");
+    scenario::ChildProcess child(args, base + ".out", base + ".err");
+    const int code = child.Wait(30.0).value_or(-1);
+    return std::make_pair(code, child.Stderr());
+  };
+  const std::string ca = "--tls-ca=" + Pki("server-ca.crt");
+  EXPECT_EQ(run({"robots", ca, "--token", Token("viewer")}).first, 0);
+  const auto denied = run({"map", "delete", "--id", "barn", ca, "--token", Token("viewer")});
+  EXPECT_EQ(denied.first, 6);
+  EXPECT_THAT(denied.second, HasSubstr("needs admin"));
+  EXPECT_EQ(run({"robots", ca}).first, 6);  // no token
+  EXPECT_EQ(run({"robots", ca, "--token", "wrong"}).first, 6);
+  // A missing CA file is a usage error, said before any call.
+  const auto missing = run({"robots", "--tls-ca", Pki("nowhere.crt")});
+  EXPECT_EQ(missing.first, 2);
+  EXPECT_THAT(missing.second, HasSubstr("nowhere.crt"));
+}
+
+TEST_F(SecurityTest, BadSecurityFilesStopTheServerBeforeItOpensTheDatabase) {
+  const auto start_with = [&](server::ServerSecurityFiles files) {
+    server::FleetServerParams params;
+    params.listen_address = "127.0.0.1:0";
+    params.db_path = testing::UniqueTempPath("never") + ".db";
+    params.security = std::move(files);
+    server::FleetServer server(params);
+    const absl::Status status = server.Start().status();
+    EXPECT_FALSE(std::filesystem::exists(params.db_path)) << status;
+    return status;
+  };
+  const server::ServerSecurityFiles good{Pki("server.crt"), Pki("server.key"),
+                                         Pki("robot-ca.crt"), Pki("tokens.yaml")};
+  server::ServerSecurityFiles files = good;
+  files.key_path = Pki("robot-lely1.key");  // another certificate's key
+  const absl::Status mismatch = start_with(files);
+  EXPECT_EQ(mismatch.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(mismatch.message(), HasSubstr("is not the key of the certificate"));
+  files = good;
+  files.client_ca_path = Pki("tokens.yaml");  // not a certificate
+  EXPECT_THAT(start_with(files).message(), HasSubstr("holds no PEM certificate"));
+  files = good;
+  files.tokens_path = Pki("missing.yaml");
+  EXPECT_EQ(start_with(files).code(), absl::StatusCode::kNotFound);
+  files = good;
+  files.cert_path.clear();
+  EXPECT_THAT(start_with(files).message(), HasSubstr("tls cert: no file given"));
+}
+
+}  // namespace
+}  // namespace fleetnav
