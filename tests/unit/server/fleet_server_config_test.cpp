@@ -53,6 +53,17 @@ tls: {cert: /etc/fleetnav/server.crt, key: /etc/fleetnav/server.key,
               HasSubstr("tls: unknown key 'certificate'"));
 }
 
+TEST(FleetServerConfigTest, TheShippedConfigServesTls) {
+  const absl::StatusOr<FleetServerConfig> config =
+      LoadFleetServerConfig(std::string(FLEETNAV_DEPLOY_DIR) + "/fleetnavd.yaml");
+  ASSERT_TRUE(config.ok()) << config.status();
+  EXPECT_FALSE(config->insecure);
+  EXPECT_FALSE(config->params.security.cert_path.empty());
+  EXPECT_FALSE(config->params.security.key_path.empty());
+  EXPECT_FALSE(config->params.security.client_ca_path.empty());
+  EXPECT_FALSE(config->params.security.tokens_path.empty());
+}
+
 TEST(FleetServerConfigTest, BadConfigsNameTheKey) {
   for (const auto& [yaml, text] : std::vector<std::pair<std::string, std::string>>{
            {"lissten: x", "lissten"},
