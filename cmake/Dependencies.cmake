@@ -12,6 +12,8 @@ find_package(OpenSSL REQUIRED)  # token hashes (libssl-dev); gRPC itself uses it
 pkg_check_modules(ODE REQUIRED IMPORTED_TARGET ode)
 pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET GLOBAL cairo)  # PNG and SVG pictures
 find_package(spdlog REQUIRED)
+find_package(prometheus-cpp CONFIG REQUIRED)  # fleetnavd's /metrics (prometheus-cpp-dev)
+pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET GLOBAL cpp-httplib)  # fleetnavd's HTTP port
 find_package(CLI11 CONFIG REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
 

@@ -11,6 +11,8 @@
 #include "absl/synchronization/mutex.h"
 #include "fleetnav/core/port_file.hpp"
 #include "fleetnav/core/version.hpp"
+#include "fleetnav/server/http/http_gateway.hpp"
+#include "fleetnav/server/log/log_format.hpp"
 #include "fleetnav/server/rpc/fleet_server.hpp"
 #include "fleetnav/server/rpc/fleet_server_config.hpp"
 #include "fleetnav/storage/sqlite/schema.hpp"
@@ -58,6 +60,7 @@ int main(int argc, char** argv) {
   CLI::App app{"fleetnavd: fleet navigation server (FleetService + AgentService)"};
   app.set_version_flag("--version", std::string(fleetnav::Version()));
   std::string config_path, listen, db, log_level, port_file, clock = "system", sim_address;
+  std::string http_listen, http_port_file, log_format_text = "text";
   double stale_after_s = 0, lost_robot_timeout_s = 0;
   bool check_db = false, insecure = false;
   fleetnav::server::ServerSecurityFiles tls;
@@ -74,6 +77,16 @@ int main(int argc, char** argv) {
   app.add_option("--agent-threads", agent_threads,
                  "threads serving robot streams, each with its own completion queue [2]");
   app.add_option("--log-level", log_level, "trace|debug|info|warn|error [info]");
+  app.add_option("--log-format", log_format_text,
+                 "text, or json: one JSON object per line (ts, level, msg and fields such as "
+                 "job_id and robot_id)")
+      ->check(CLI::IsMember({"text", "json"}))
+      ->capture_default_str();
+  app.add_option("--http-listen", http_listen,
+                 "serve the web dashboard, its API and /metrics on host:port (HTTPS with the TLS "
+                 "files; port 0 = any) [off]");
+  app.add_option("--http-port-file", http_port_file,
+                 "write the HTTP port to this file once serving");
   app.add_option("--tls-cert", tls.cert_path, "the server's certificate chain (PEM)");
   app.add_option("--tls-key", tls.key_path, "the server certificate's private key (PEM)");
   app.add_option("--tls-client-ca", tls.client_ca_path,
@@ -132,6 +145,18 @@ int main(int argc, char** argv) {
   }
   if (check_db) return CheckDatabase(params.db_path);
   spdlog::set_level(spdlog::level::from_str(config->log_level));
+  const fleetnav::server::log::LogFormat log_format =
+      *fleetnav::server::log::ParseLogFormat(log_format_text);
+  if (log_format == fleetnav::server::log::LogFormat::kJson) {
+    spdlog::set_formatter(std::make_unique<fleetnav::server::log::JsonLogFormatter>());
+  }
+  // One line per job transition, with the job's and robot's ids as fields.
+  params.on_job_event = [log_format](const fleetnav::Job& job, const fleetnav::JobEvent& event) {
+    if (std::optional<fleetnav::server::log::LogFields> line =
+            fleetnav::server::log::JobTransitionLine(job, event)) {
+      spdlog::info("{}", fleetnav::server::log::FormatLogPayload(log_format, *line));
+    }
+  };
 
   params.on_access_refused = [](const std::string& why) {
     spdlog::warn("fleetnavd: refused: {}", why);
@@ -145,6 +170,29 @@ int main(int argc, char** argv) {
   spdlog::info("fleetnavd serving on port {} (db {}, {})", *port, params.db_path,
                server.secure() ? "TLS, robot certificates and operator tokens"
                                : "INSECURE: plaintext, no authentication");
+  std::unique_ptr<fleetnav::server::http::HttpGateway> http;
+  if (!http_listen.empty()) {
+    fleetnav::server::http::HttpGatewayParams http_params;
+    http_params.listen_address = http_listen;
+    http_params.cert_path = params.security.cert_path;
+    http_params.key_path = params.security.key_path;
+    http = std::make_unique<fleetnav::server::http::HttpGateway>(&server, http_params);
+    absl::StatusOr<int> http_port = http->Start();
+    if (!http_port.ok()) {
+      spdlog::error("fleetnavd: {}", http_port.status().ToString());
+      server.Shutdown();
+      return 1;
+    }
+    spdlog::info("fleetnavd dashboard and /metrics on {}://{}:{}/",
+                 server.secure() ? "https" : "http",
+                 http_listen.substr(0, http_listen.rfind(':')), *http_port);
+    if (!http_port_file.empty()) {
+      if (absl::Status written = fleetnav::WritePortFile(http_port_file, *http_port);
+          !written.ok()) {
+        spdlog::warn("fleetnavd: {}", std::string(written.message()));
+      }
+    }
+  }
   if (!port_file.empty()) {
     if (absl::Status written = fleetnav::WritePortFile(port_file, *port); !written.ok()) {
       spdlog::warn("fleetnavd: {}", std::string(written.message()));
@@ -154,6 +202,7 @@ int main(int argc, char** argv) {
   int signal_number = 0;
   sigwait(&stop_signals, &signal_number);
   spdlog::info("fleetnavd: signal {}, shutting down", signal_number);
+  if (http != nullptr) http->Stop();
   server.Shutdown();
   server.Wait();
   const fleetnav::server::PassFigures passes = server.assigning_passes();

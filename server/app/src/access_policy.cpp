@@ -28,6 +28,8 @@ struct MethodRule {
 };
 
 constexpr absl::string_view kFleet = "/fleetnav.v1.FleetService/";
+constexpr absl::string_view kHttpRead = "/fleetnav.http/Read";
+constexpr absl::string_view kHttpAct = "/fleetnav.http/Act";
 
 // Every RPC fleetnavd serves; a method not listed is refused (tests call every method of the
 // services' descriptors, so a new RPC without a rule fails them).
@@ -37,6 +39,9 @@ constexpr std::array kRules = {
     MethodRule{"/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo",
                Requirement::kViewer},
     MethodRule{"/fleetnav.v1.AgentService/Connect", Requirement::kRobotStream},
+    // The HTTP port (dashboard, /metrics): reads, and the dashboard's job buttons.
+    MethodRule{kHttpRead, Requirement::kViewer},
+    MethodRule{kHttpAct, Requirement::kOperator},
     MethodRule{"GetMap", Requirement::kSiteRead},
     MethodRule{"ListMaps", Requirement::kSiteRead},
     MethodRule{"GetMarkerSet", Requirement::kSiteRead},

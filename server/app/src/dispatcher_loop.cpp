@@ -56,6 +56,7 @@ void DispatcherLoop::Start() {
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
                 .count();
         assigning_.Add(ms);
+        if (on_assigning_pass_) on_assigning_pass_(ms / 1000.0);
         if (assigned == 1) {
           one_job_.Add(ms);
           one_job_cpu_.Add(ThreadCpuMs() - start_cpu_ms);

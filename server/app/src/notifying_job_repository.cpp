@@ -4,9 +4,13 @@ namespace fleetnav::server {
 
 absl::StatusOr<storage::CreatedJob> NotifyingJobRepository::CreateJob(Job job,
                                                                       JobEvent first_event) {
-  absl::StatusOr<storage::CreatedJob> created =
-      inner_->CreateJob(std::move(job), std::move(first_event));
-  if (created.ok() && !created->deduplicated && listener_) listener_(created->job.job_id);
+  absl::StatusOr<storage::CreatedJob> created = inner_->CreateJob(std::move(job), first_event);
+  if (!created.ok() || created->deduplicated) return created;
+  if (listener_) listener_(created->job.job_id);
+  if (on_event_) {
+    first_event.job_id = created->job.job_id;
+    on_event_(created->job, first_event);
+  }
   return created;
 }
 
@@ -20,8 +24,10 @@ absl::StatusOr<storage::JobPage> NotifyingJobRepository::ListJobs(
 }
 
 absl::StatusOr<int64_t> NotifyingJobRepository::UpdateJob(const Job& job, JobEvent event) {
-  absl::StatusOr<int64_t> sequence = inner_->UpdateJob(job, std::move(event));
-  if (sequence.ok() && listener_) listener_(job.job_id);
+  absl::StatusOr<int64_t> sequence = inner_->UpdateJob(job, event);
+  if (!sequence.ok()) return sequence;
+  if (listener_) listener_(job.job_id);
+  if (on_event_) on_event_(job, event);
   return sequence;
 }
 

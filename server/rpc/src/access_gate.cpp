@@ -58,6 +58,19 @@ void AccessGate::Refused(const absl::Status& status) {
   if (on_refusal_) on_refusal_(status.ToString());
 }
 
+absl::StatusOr<Caller> AccessGate::AuthorizeHttp(bool action, absl::string_view authorization) {
+  CallerCredentials credentials;
+  credentials.authorization = std::string(authorization);
+  absl::StatusOr<Caller> caller =
+      policy_.Authorize(action ? "/fleetnav.http/Act" : "/fleetnav.http/Read", credentials);
+  if (!caller.ok()) {
+    Refused(caller.status());
+  } else {
+    admitted_.fetch_add(1, std::memory_order_relaxed);
+  }
+  return caller;
+}
+
 AccessCounts AccessGate::counts() const {
   return {admitted_.load(std::memory_order_relaxed), unauthenticated_.load(std::memory_order_relaxed),
           denied_.load(std::memory_order_relaxed)};

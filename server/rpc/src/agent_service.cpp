@@ -154,7 +154,10 @@ class AgentConnection final {
         absl::StatusOr<Telemetry> telemetry = FromProto(message.telemetry());
         if (!telemetry.ok()) return telemetry.status();
         absl::Status recorded = registry_->RecordTelemetry(robot_id_, session_, *telemetry);
-        if (recorded.ok()) jobs_->OnTelemetry(robot_id_, *telemetry);
+        if (recorded.ok()) {
+          jobs_->OnTelemetry(robot_id_, *telemetry);
+          service_->telemetry_messages_.fetch_add(1, std::memory_order_relaxed);
+        }
         return recorded;
       }
       case v1::AgentMessage::kEvent: {

@@ -73,12 +73,14 @@ absl::StatusOr<int> FleetServer::Start() {
   ASSIGN_OR_RETURN(db_,
                    storage::SqliteDatabase::Open(params_.db_path, storage::FleetSchemaMigrations(),
                                                  storage::FleetDatabaseOptions()));
+  db_->SetTransactionObserver([this](double seconds) { metrics_.ObserveStoreTransaction(seconds); });
   map_repository_ = std::make_unique<storage::SqliteMapRepository>(db_.get());
   marker_repository_ = std::make_unique<storage::SqliteMarkerSetRepository>(db_.get());
   route_repository_ = std::make_unique<storage::SqliteRouteRepository>(db_.get());
   robot_repository_ = std::make_unique<storage::SqliteRobotRepository>(db_.get());
   stored_jobs_ = std::make_unique<storage::SqliteJobRepository>(db_.get());
-  job_repository_ = std::make_unique<NotifyingJobRepository>(stored_jobs_.get());
+  job_repository_ =
+      std::make_unique<NotifyingJobRepository>(stored_jobs_.get(), params_.on_job_event);
   pose_history_repository_ = std::make_unique<storage::SqlitePoseHistoryRepository>(db_.get());
   pose_recorder_ = std::make_unique<PoseHistoryRecorder>(&registry_, pose_history_repository_.get(),
                                                          params_.pose_history);
@@ -120,6 +122,9 @@ absl::StatusOr<int> FleetServer::Start() {
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.SetMaxReceiveMessageSize(params_.max_message_bytes);
   builder.SetMaxSendMessageSize(params_.max_message_bytes);
+  std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> counting;
+  counting.push_back(metrics_.InterceptorFactory());
+  builder.experimental().SetInterceptorCreators(std::move(counting));
   builder.RegisterService(health_service_.get());
   builder.RegisterService(fleet_service_.get());
   agent_service_->Register(&builder);
@@ -131,7 +136,9 @@ absl::StatusOr<int> FleetServer::Start() {
   }
   agent_service_->Start();
   watch_hub_->Start();
-  dispatcher_ = std::make_unique<DispatcherLoop>(jobs_.get(), params_.dispatch_period_s);
+  dispatcher_ = std::make_unique<DispatcherLoop>(
+      jobs_.get(), params_.dispatch_period_s,
+      [this](double seconds) { metrics_.ObserveDispatchPass(seconds); });
   dispatcher_->Start();
   housekeeper_ = std::thread([this] {
     const absl::Duration history_period = absl::Seconds(params_.pose_history.period_s);
@@ -166,6 +173,27 @@ absl::StatusOr<int> FleetServer::Start() {
 
 PassFigures FleetServer::assigning_passes() const {
   return dispatcher_ ? dispatcher_->assigning_passes() : PassFigures{};
+}
+
+std::string FleetServer::RenderMetrics() const {
+  FleetStateFigures state;
+  for (const RobotRecord& robot : registry_.Snapshot()) {
+    const char* name = robot.connection == ConnectionState::kOnline  ? "online"
+                       : robot.connection == ConnectionState::kStale ? "stale"
+                                                                     : "offline";
+    ++state.robots_by_state[name];
+  }
+  if (job_repository_ != nullptr) {
+    if (absl::StatusOr<std::map<JobState, int64_t>> jobs = job_repository_->CountJobsByState();
+        jobs.ok()) {
+      for (const auto& [job_state, count] : *jobs) {
+        state.jobs_by_state[std::string(JobStateName(job_state))] = count;
+      }
+    }
+  }
+  state.telemetry_messages = agent_service_ ? agent_service_->telemetry_messages() : 0;
+  state.access = access_counts();
+  return metrics_.Render(state);
 }
 
 AccessCounts FleetServer::access_counts() const {

@@ -153,6 +153,13 @@ absl::StatusOr<Job> MemoryJobRepository::GetJob(const std::string& job_id) {
   return absl::NotFoundError(absl::StrCat("job '", EchoInput(job_id), "' not found"));
 }
 
+absl::StatusOr<std::map<JobState, int64_t>> MemoryJobRepository::CountJobsByState() {
+  absl::MutexLock lock(&mutex_);
+  std::map<JobState, int64_t> counts;
+  for (const Job& job : jobs_) ++counts[job.state];
+  return counts;
+}
+
 absl::StatusOr<JobPage> MemoryJobRepository::ListJobs(const JobFilter& filter) {
   int64_t after_seq = 0;
   if (!filter.page_token.empty()) {

@@ -2,6 +2,7 @@
 
 #include <sqlite3.h>
 
+#include <chrono>
 #include <mutex>
 
 #include "absl/strings/str_cat.h"
@@ -236,6 +237,7 @@ absl::Status SqliteDatabase::Execute(std::string_view sql) {
 
 absl::Status SqliteDatabase::Transaction(const std::function<absl::Status()>& body) {
   // SQLite's own mutex serialises statements; this one keeps a whole transaction together.
+  const auto started = std::chrono::steady_clock::now();
   sqlite3_mutex* mutex = sqlite3_db_mutex(db_);
   sqlite3_mutex_enter(mutex);
   absl::Status status = Execute("BEGIN IMMEDIATE");
@@ -249,6 +251,10 @@ absl::Status SqliteDatabase::Transaction(const std::function<absl::Status()>& bo
     }
   }
   sqlite3_mutex_leave(mutex);
+  if (status.ok() && transaction_observer_) {
+    transaction_observer_(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+  }
   return status;
 }
 

@@ -139,6 +139,21 @@ absl::StatusOr<Job> SqliteJobRepository::GetJob(const std::string& job_id) {
   return *std::move(found);
 }
 
+absl::StatusOr<std::map<JobState, int64_t>> SqliteJobRepository::CountJobsByState() {
+  std::map<JobState, int64_t> counts;
+  RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
+    ASSIGN_OR_RETURN(SqliteStatement query,
+                     db_->Prepare("SELECT state, COUNT(*) FROM jobs GROUP BY state"));
+    while (true) {
+      ASSIGN_OR_RETURN(bool has_row, query.Step());
+      if (!has_row) break;
+      counts[static_cast<JobState>(query.ColumnInt(0))] = query.ColumnInt(1);
+    }
+    return absl::OkStatus();
+  }));
+  return counts;
+}
+
 absl::StatusOr<JobPage> SqliteJobRepository::ListJobs(const JobFilter& filter) {
   int64_t after_seq = 0;
   if (!filter.page_token.empty()) {

@@ -210,6 +210,9 @@ TEST_P(FleetRepositoriesTest, ListJobsFiltersAndPagesInCreationOrder) {
   EXPECT_THAT(ids, ::testing::ElementsAre("job-000001", "job-000002", "job-000003", "job-000004",
                                           "job-000005", "job-000006", "job-000007"));
 
+  const std::map<JobState, int64_t> counts = *jobs_->CountJobsByState();
+  EXPECT_EQ(counts, (std::map<JobState, int64_t>{{JobState::kQueued, 6}, {JobState::kRunning, 1}}));
+
   JobFilter by_state;
   by_state.states = {JobState::kRunning};
   EXPECT_EQ(jobs_->ListJobs(by_state)->jobs.size(), 1u);

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,8 @@ class JobRepository {
   virtual absl::StatusOr<CreatedJob> CreateJob(Job job, JobEvent first_event) = 0;
   virtual absl::StatusOr<Job> GetJob(const std::string& job_id) = 0;
   virtual absl::StatusOr<JobPage> ListJobs(const JobFilter& filter) = 0;
+  /// How many jobs are in each state (states without a job are left out).
+  virtual absl::StatusOr<std::map<JobState, int64_t>> CountJobsByState() = 0;
   /// Replaces the stored job with `job` and appends `event` (sequence assigned, returned).
   /// NotFound for an unknown job.
   virtual absl::StatusOr<int64_t> UpdateJob(const Job& job, JobEvent event) = 0;

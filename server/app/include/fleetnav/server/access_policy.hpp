@@ -47,7 +47,9 @@ struct Caller {
 /// fleetnavd's authorization rules, one per RPC, deny by default. Operators present bearer
 /// tokens bound to roles: viewer reads (Get*, List*, Watch*, PlanPaths), operator also runs jobs
 /// (SubmitJob, CancelJob, PauseJob, ResumeJob), admin also changes the site and the fleet
-/// (Put*/Delete* of maps, marker sets and routes, ForgetRobot). Robots present a client
+/// (Put*/Delete* of maps, marker sets and routes, ForgetRobot). The HTTP port's reads (the
+/// dashboard, /metrics) count as the method "/fleetnav.http/Read" (viewer) and the dashboard's
+/// pause, resume and cancel buttons as "/fleetnav.http/Act" (operator). Robots present a client
 /// certificate: it admits the agent stream (AgentService/Connect; that the certificate's id
 /// equals the robot id the stream's hello claims is checked by the stream) and the reads an
 /// agent makes of its site (maps, marker sets, routes). The health service is open to all (load

@@ -3,6 +3,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <thread>
 #include <vector>
 
@@ -43,7 +44,11 @@ class PassTimings {
 /// Start once; Stop wakes and joins the thread.
 class DispatcherLoop {
  public:
-  DispatcherLoop(JobService* jobs, double period_s) : jobs_(jobs), period_s_(period_s) {}
+  /// `on_assigning_pass` (may be empty) is told each assigning pass's wall time in seconds, on
+  /// the dispatcher's thread.
+  DispatcherLoop(JobService* jobs, double period_s,
+                 std::function<void(double seconds)> on_assigning_pass = {})
+      : jobs_(jobs), period_s_(period_s), on_assigning_pass_(std::move(on_assigning_pass)) {}
   ~DispatcherLoop() { Stop(); }
   DispatcherLoop(const DispatcherLoop&) = delete;
   DispatcherLoop& operator=(const DispatcherLoop&) = delete;
@@ -58,6 +63,7 @@ class DispatcherLoop {
  private:
   JobService* jobs_;
   double period_s_;
+  std::function<void(double seconds)> on_assigning_pass_;
   std::atomic<bool> stopping_{false};
   std::thread thread_;
   PassTimings assigning_;

@@ -98,6 +98,11 @@ class SqliteDatabase {
   absl::Status Execute(std::string_view sql);
   /// Runs `body` inside BEGIN IMMEDIATE … COMMIT; rolls back when it returns an error.
   absl::Status Transaction(const std::function<absl::Status()>& body);
+  /// Told how long each committed transaction took, lock wait included (fleetnavd's store write
+  /// latency metric). Set once, before the database is shared between threads.
+  void SetTransactionObserver(std::function<void(double seconds)> observer) {
+    transaction_observer_ = std::move(observer);
+  }
   int user_version();
 
  private:
@@ -108,6 +113,7 @@ class SqliteDatabase {
   absl::Status Migrate(const std::vector<std::string>& migrations);
 
   sqlite3* db_;
+  std::function<void(double seconds)> transaction_observer_;
 };
 
 /// Converts an SQLite result code and the connection's message into a Status.

@@ -56,6 +56,7 @@ class SqliteJobRepository final : public JobRepository {
   absl::StatusOr<CreatedJob> CreateJob(Job job, JobEvent first_event) override;
   absl::StatusOr<Job> GetJob(const std::string& job_id) override;
   absl::StatusOr<JobPage> ListJobs(const JobFilter& filter) override;
+  absl::StatusOr<std::map<JobState, int64_t>> CountJobsByState() override;
   absl::StatusOr<int64_t> UpdateJob(const Job& job, JobEvent event) override;
   absl::StatusOr<std::vector<JobEvent>> ListEvents(const std::string& job_id,
                                                    int64_t after_sequence) override;

@@ -46,6 +46,10 @@ class AccessGate final : public grpc::AuthMetadataProcessor {
   /// impersonate another).
   absl::Status CheckRobotClaim(const grpc::AuthContext& context, absl::string_view robot_id);
 
+  /// The HTTP port's check of an `Authorization` header: `action` for the dashboard's buttons
+  /// (operator), else a read (viewer). Counted and reported like the RPCs.
+  absl::StatusOr<Caller> AuthorizeHttp(bool action, absl::string_view authorization);
+
   AccessCounts counts() const;
 
  private:

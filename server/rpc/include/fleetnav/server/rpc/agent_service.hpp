@@ -52,6 +52,10 @@ class AgentServiceImpl final {
   /// Ends the completion queues and joins their threads; call after the server's Shutdown()
   /// (which ends the open streams). Idempotent.
   void Shutdown();
+  /// Telemetry messages accepted since the start.
+  uint64_t telemetry_messages() const {
+    return telemetry_messages_.load(std::memory_order_relaxed);
+  }
 
  private:
   friend class AgentConnection;
@@ -71,6 +75,7 @@ class AgentServiceImpl final {
   std::vector<std::thread> threads_;
   bool shut_down_ = false;
   std::atomic<bool> stopping_{false};
+  std::atomic<uint64_t> telemetry_messages_{0};
   absl::Mutex live_mutex_;
   int live_connections_ ABSL_GUARDED_BY(live_mutex_) = 0;  ///< including calls awaited
 };

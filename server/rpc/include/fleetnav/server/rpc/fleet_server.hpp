@@ -22,6 +22,7 @@
 #include "fleetnav/server/rpc/agent_mailbox.hpp"
 #include "fleetnav/server/rpc/agent_service.hpp"
 #include "fleetnav/server/rpc/fleet_service.hpp"
+#include "fleetnav/server/rpc/server_metrics.hpp"
 #include "fleetnav/server/rpc/server_security.hpp"
 #include "fleetnav/server/rpc/sim_clock_feed.hpp"
 #include "fleetnav/server/rpc/watch_hub.hpp"
@@ -56,6 +57,8 @@ struct FleetServerParams {
   ServerSecurityFiles security;
   /// Told about every refused call (method, caller and reason), for the log.
   std::function<void(const std::string&)> on_access_refused;
+  /// Told about every job event stored (state changes and progress), for the log. Quick.
+  std::function<void(const Job&, const JobEvent&)> on_job_event;
   absl::Status Validate() const;
 };
 
@@ -79,9 +82,16 @@ class FleetServer {
   PassFigures one_job_passes() const;
   /// The same passes in the dispatcher thread's CPU time.
   PassFigures one_job_pass_cpu() const;
+  /// The Prometheus text exposition of the server's metrics now (docs/metrics.md).
+  std::string RenderMetrics() const;
   /// Calls the TLS gate admitted and refused so far (all zero without TLS).
   AccessCounts access_counts() const;
   bool secure() const { return access_gate_ != nullptr; }
+  /// The TLS gate (null without TLS), for the HTTP port's checks.
+  AccessGate* access_gate() { return access_gate_.get(); }
+  MapCatalog& maps() { return *maps_; }
+  SiteCatalog& site() { return *site_; }
+  const Clock& clock() const { return *clock_; }
   FleetRegistry& registry() { return registry_; }
   JobService& jobs() { return *jobs_; }
   storage::PoseHistoryRepository& pose_history() { return *pose_history_repository_; }
@@ -115,6 +125,7 @@ class FleetServer {
   std::thread housekeeper_;
   absl::Notification stop_housekeeping_;
   std::shared_ptr<AccessGate> access_gate_;  ///< null without TLS
+  ServerMetrics metrics_;
   std::unique_ptr<grpc::Service> health_service_;
   std::unique_ptr<FleetServiceImpl> fleet_service_;
   std::unique_ptr<AgentServiceImpl> agent_service_;

@@ -1,0 +1,58 @@
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "absl/status/statusor.h"
+#include "fleetnav/server/rpc/fleet_server.hpp"
+
+namespace httplib {
+class Server;
+}
+
+namespace fleetnav::server::http {
+
+struct HttpGatewayParams {
+  std::string listen_address;  ///< host:port; port 0 picks a free one
+  /// HTTPS with these (fleetnavd passes its own TLS certificate and key); plain HTTP when empty.
+  std::string cert_path;
+  std::string key_path;
+  double push_rate_hz = 5.0;              ///< dashboard updates per second
+  size_t max_request_bytes = 64 * 1024;   ///< larger bodies: 413
+  absl::Status Validate() const;
+};
+
+/// fleetnavd's HTTP port (`--http-listen`): the live web dashboard (its assets compiled into the
+/// binary), its JSON API with updates pushed as server-sent events, the dashboard's pause,
+/// resume and cancel buttons, `/metrics` for Prometheus and `/healthz`. On a TLS server it
+/// serves HTTPS and every request but `/healthz` and the static assets needs a bearer token:
+/// reads a viewer's, the buttons an operator's (AccessGate). Unknown paths are 404, oversized
+/// requests 413; nothing is read from the file system. Start once; Stop ends the event streams
+/// and joins the listener. Thread-safe (cpp-httplib's worker threads).
+class HttpGateway {
+ public:
+  HttpGateway(FleetServer* server, HttpGatewayParams params);
+  ~HttpGateway();
+  HttpGateway(const HttpGateway&) = delete;
+  HttpGateway& operator=(const HttpGateway&) = delete;
+
+  /// Binds and starts serving; returns the bound port. InvalidArgument for bad parameters or
+  /// unreadable certificate files, Unavailable when the address cannot be bound.
+  absl::StatusOr<int> Start();
+  void Stop();
+
+ private:
+  void AddHandlers();
+  /// The state document the dashboard draws (FleetStateJson).
+  std::string StateJson();
+
+  FleetServer* server_;
+  HttpGatewayParams params_;
+  std::unique_ptr<httplib::Server> http_;
+  std::thread listener_;
+  std::atomic<bool> stopping_{false};
+};
+
+}  // namespace fleetnav::server::http

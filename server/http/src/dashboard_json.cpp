@@ -1,0 +1,160 @@
+#include "fleetnav/server/http/dashboard_json.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "fleetnav/proto/job_convert.hpp"
+
+namespace fleetnav::server::http {
+namespace {
+
+const char* ConnectionName(ConnectionState state) {
+  switch (state) {
+    case ConnectionState::kOnline:
+      return "online";
+    case ConnectionState::kStale:
+      return "stale";
+    case ConnectionState::kOffline:
+      break;
+  }
+  return "offline";
+}
+
+std::string Base64(const std::vector<uint8_t>& bytes) {
+  static constexpr char kAlphabet[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    const uint32_t chunk = (static_cast<uint32_t>(bytes[i]) << 16) |
+                           (i + 1 < bytes.size() ? static_cast<uint32_t>(bytes[i + 1]) << 8 : 0) |
+                           (i + 2 < bytes.size() ? static_cast<uint32_t>(bytes[i + 2]) : 0);
+    out.push_back(kAlphabet[(chunk >> 18) & 63]);
+    out.push_back(kAlphabet[(chunk >> 12) & 63]);
+    out.push_back(i + 1 < bytes.size() ? kAlphabet[(chunk >> 6) & 63] : '=');
+    out.push_back(i + 2 < bytes.size() ? kAlphabet[chunk & 63] : '=');
+  }
+  return out;
+}
+
+nlohmann::json PointJson(const Eigen::Vector2d& p) { return {p.x(), p.y()}; }
+
+}  // namespace
+
+CovarianceEllipse EllipseOf(const std::array<double, 9>& covariance) {
+  const double a = covariance[0], b = covariance[1], d = covariance[4];
+  const double mean = 0.5 * (a + d);
+  const double spread = std::sqrt(std::max(0.0, 0.25 * (a - d) * (a - d) + b * b));
+  CovarianceEllipse ellipse;
+  ellipse.major_m = std::sqrt(std::max(0.0, mean + spread));
+  ellipse.minor_m = std::sqrt(std::max(0.0, mean - spread));
+  ellipse.angle_rad = 0.5 * std::atan2(2.0 * b, a - d);
+  return ellipse;
+}
+
+nlohmann::json FleetStateJson(const std::vector<RobotRecord>& robots, const std::vector<Job>& jobs,
+                              int64_t server_unix_ms) {
+  nlohmann::json robot_list = nlohmann::json::array();
+  for (const RobotRecord& robot : robots) {
+    nlohmann::json entry = {{"robot_id", robot.identity.robot_id},
+                            {"kind", robot.identity.model.kind_name},
+                            {"connection", ConnectionName(robot.connection)},
+                            {"job_id", robot.current_job_id},
+                            {"traffic_wait", robot.traffic_wait}};
+    if (robot.last_telemetry) {
+      const Telemetry& t = *robot.last_telemetry;
+      const CovarianceEllipse ellipse = EllipseOf(t.covariance);
+      entry["pose"] = {{"x_m", t.pose_in_map.x_m()},
+                       {"y_m", t.pose_in_map.y_m()},
+                       {"yaw_rad", t.pose_in_map.yaw_rad()}};
+      entry["ellipse"] = {{"major_m", ellipse.major_m},
+                          {"minor_m", ellipse.minor_m},
+                          {"angle_rad", ellipse.angle_rad}};
+      entry["mode"] = std::string(NavigationModeName(t.mode));
+      entry["battery"] = t.battery_fraction;
+      entry["speed_mps"] = std::hypot(t.velocity.vx_mps, t.velocity.vy_mps);
+      entry["confidence"] = t.localization_confidence;
+    }
+    robot_list.push_back(std::move(entry));
+  }
+  nlohmann::json job_list = nlohmann::json::array();
+  for (const Job& job : jobs) {
+    job_list.push_back({{"job_id", job.job_id},
+                        {"state", std::string(JobStateName(job.state))},
+                        {"progress", job.progress_fraction},
+                        {"robot_id", job.assigned_robot_id},
+                        {"route", job.route_name},
+                        {"map_id", job.map_id},
+                        {"reason", job.reason}});
+  }
+  return {{"server_unix_ms", server_unix_ms}, {"robots", robot_list}, {"jobs", job_list}};
+}
+
+nlohmann::json MapJson(const std::string& map_id, uint32_t version, const OccupancyGrid& grid) {
+  std::vector<uint8_t> greys;
+  greys.reserve(static_cast<size_t>(grid.width()) * grid.height());
+  for (int y = grid.height() - 1; y >= 0; --y) {
+    for (int x = 0; x < grid.width(); ++x) {
+      const int8_t value = grid.Value({x, y});
+      greys.push_back(value < 0 ? 205 : static_cast<uint8_t>(std::lround(254.0 * (100 - value) / 100.0)));
+    }
+  }
+  return {{"map_id", map_id},
+          {"version", version},
+          {"width", grid.width()},
+          {"height", grid.height()},
+          {"resolution_m", grid.resolution_m()},
+          {"origin", {grid.origin().x_m(), grid.origin().y_m(), grid.origin().yaw_rad()}},
+          {"cells", Base64(greys)}};
+}
+
+nlohmann::json SiteJson(const MarkerSet* markers, const std::vector<Route>& routes) {
+  nlohmann::json marker_list = nlohmann::json::array();
+  if (markers != nullptr) {
+    for (const StripeMarker& marker : markers->markers) {
+      const char* kind = marker.kind == MarkerKind::kFollowStripe    ? "follow_stripe"
+                         : marker.kind == MarkerKind::kChargerStripe ? "charger_stripe"
+                                                                     : "calibration";
+      marker_list.push_back({{"id", marker.id},
+                             {"x_m", marker.position_m.x()},
+                             {"y_m", marker.position_m.y()},
+                             {"yaw_rad", marker.yaw_rad},
+                             {"length_m", marker.length_m},
+                             {"kind", kind},
+                             {"stripe_id", marker.stripe_id}});
+    }
+  }
+  nlohmann::json route_list = nlohmann::json::array();
+  for (const Route& route : routes) {
+    nlohmann::json legs = nlohmann::json::array();
+    nlohmann::json stripes = nlohmann::json::array();
+    for (const RouteAction& action : route.actions) {
+      if (const auto* nav = std::get_if<FreeNavigationAction>(&action.params)) {
+        nlohmann::json points = nlohmann::json::array();
+        for (const Eigen::Vector2d& waypoint : nav->waypoints_m) points.push_back(PointJson(waypoint));
+        points.push_back(PointJson(nav->goal.translation()));
+        legs.push_back(std::move(points));
+      } else if (const auto* stripe = std::get_if<StripeNavigationAction>(&action.params)) {
+        stripes.push_back(stripe->stripe_id);
+      }
+    }
+    route_list.push_back({{"name", route.name}, {"legs", legs}, {"stripes", stripes}});
+  }
+  return {{"markers", marker_list}, {"routes", route_list}};
+}
+
+nlohmann::json JobEventsJson(const std::vector<JobEvent>& events) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const JobEvent& event : events) {
+    list.push_back({{"sequence", event.sequence},
+                    {"type", v1::JobEventType_Name(ToProto(event).type())},
+                    {"unix_ms", event.unix_ms},
+                    {"robot_id", event.robot_id},
+                    {"state", std::string(JobStateName(event.state))},
+                    {"progress", event.progress_fraction},
+                    {"reason", event.reason}});
+  }
+  return list;
+}
+
+}  // namespace fleetnav::server::http

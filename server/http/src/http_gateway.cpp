@@ -1,0 +1,223 @@
+#include "fleetnav/server/http/http_gateway.hpp"
+
+#include <httplib.h>
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+
+#include "absl/strings/numbers.h"
+#include "absl/strings/str_cat.h"
+#include "fleetnav/server/http/dashboard_assets.hpp"
+#include "fleetnav/server/http/dashboard_json.hpp"
+
+namespace fleetnav::server::http {
+namespace {
+
+int HttpCode(const absl::Status& status) {
+  switch (status.code()) {
+    case absl::StatusCode::kOk:
+      return 200;
+    case absl::StatusCode::kNotFound:
+      return 404;
+    case absl::StatusCode::kInvalidArgument:
+      return 400;
+    case absl::StatusCode::kFailedPrecondition:
+      return 409;
+    case absl::StatusCode::kUnauthenticated:
+      return 401;
+    case absl::StatusCode::kPermissionDenied:
+      return 403;
+    default:
+      return 500;
+  }
+}
+
+void SendError(httplib::Response& res, const absl::Status& status) {
+  res.status = HttpCode(status);
+  res.set_content(nlohmann::json{{"error", std::string(status.message())}}.dump(),
+                  "application/json");
+}
+
+void SendJson(httplib::Response& res, const nlohmann::json& body) {
+  res.set_header("Cache-Control", "no-store");
+  res.set_content(body.dump(), "application/json");
+}
+
+}  // namespace
+
+absl::Status HttpGatewayParams::Validate() const {
+  const size_t colon = listen_address.rfind(':');
+  int port = 0;
+  if (colon == std::string::npos || colon == 0 ||
+      !absl::SimpleAtoi(listen_address.substr(colon + 1), &port) || port < 0 || port > 65535) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("http listen address '", listen_address, "': expected host:port"));
+  }
+  if (cert_path.empty() != key_path.empty()) {
+    return absl::InvalidArgumentError("http: a TLS certificate needs its key");
+  }
+  if (!(push_rate_hz > 0.0 && push_rate_hz <= 50.0)) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("http push rate: must be in (0, 50] Hz, got ", push_rate_hz));
+  }
+  return absl::OkStatus();
+}
+
+HttpGateway::HttpGateway(FleetServer* server, HttpGatewayParams params)
+    : server_(server), params_(std::move(params)) {}
+
+HttpGateway::~HttpGateway() { Stop(); }
+
+absl::StatusOr<int> HttpGateway::Start() {
+  if (absl::Status valid = params_.Validate(); !valid.ok()) return valid;
+  if (params_.cert_path.empty()) {
+    http_ = std::make_unique<httplib::Server>();
+  } else {
+    auto https =
+        std::make_unique<httplib::SSLServer>(params_.cert_path.c_str(), params_.key_path.c_str());
+    if (!https->is_valid()) {
+      return absl::InvalidArgumentError(absl::StrCat("http: cannot use the certificate '",
+                                                     params_.cert_path, "' with key '",
+                                                     params_.key_path, "'"));
+    }
+    http_ = std::move(https);
+  }
+  http_->set_payload_max_length(params_.max_request_bytes);
+  http_->set_read_timeout(5, 0);
+  AddHandlers();
+  const size_t colon = params_.listen_address.rfind(':');
+  const std::string host = params_.listen_address.substr(0, colon);
+  int port = 0;
+  (void)absl::SimpleAtoi(params_.listen_address.substr(colon + 1), &port);
+  const int bound = port == 0 ? http_->bind_to_any_port(host) : (http_->bind_to_port(host, port) ? port : -1);
+  if (bound <= 0) {
+    return absl::UnavailableError(absl::StrCat("http: cannot listen on ", params_.listen_address,
+                                               ": already in use or not available"));
+  }
+  listener_ = std::thread([this] { http_->listen_after_bind(); });
+  return bound;
+}
+
+void HttpGateway::Stop() {
+  if (http_ == nullptr || stopping_.exchange(true)) return;
+  http_->stop();
+  if (listener_.joinable()) listener_.join();
+}
+
+std::string HttpGateway::StateJson() {
+  storage::JobFilter unfinished;
+  unfinished.states = {JobState::kQueued, JobState::kAssigned, JobState::kRunning,
+                       JobState::kPaused};
+  unfinished.page_size = 500;
+  std::vector<Job> jobs;
+  if (absl::StatusOr<storage::JobPage> page = server_->jobs().List(unfinished); page.ok()) {
+    jobs = std::move(page->jobs);
+  }
+  return FleetStateJson(server_->registry().Snapshot(), jobs, server_->clock().UnixMs()).dump();
+}
+
+void HttpGateway::AddHandlers() {
+  // Every request but the health check and the page's own assets shows a token on a TLS
+  // server: a viewer's to read, an operator's for the buttons.
+  const auto allowed = [this](const httplib::Request& req, httplib::Response& res, bool action) {
+    AccessGate* gate = server_->access_gate();
+    if (gate == nullptr) return true;
+    const absl::StatusOr<Caller> caller =
+        gate->AuthorizeHttp(action, req.get_header_value("Authorization"));
+    if (caller.ok()) return true;
+    SendError(res, caller.status());
+    return false;
+  };
+
+  http_->Get("/healthz", [](const httplib::Request&, httplib::Response& res) {
+    res.set_content("ok\n", "text/plain");
+  });
+  http_->Get("/metrics", [this, allowed](const httplib::Request& req, httplib::Response& res) {
+    if (!allowed(req, res, false)) return;
+    res.set_content(server_->RenderMetrics(), "text/plain; version=0.0.4");
+  });
+  for (const DashboardAsset& asset : DashboardAssets()) {
+    const std::string path = asset.path == "/index.html" ? "/" : asset.path;
+    for (const std::string& served : {path, asset.path}) {
+      http_->Get(served, [asset](const httplib::Request&, httplib::Response& res) {
+        res.set_content(std::string(asset.content), std::string(asset.content_type));
+      });
+    }
+  }
+  http_->Get("/api/state", [this, allowed](const httplib::Request& req, httplib::Response& res) {
+    if (!allowed(req, res, false)) return;
+    res.set_header("Cache-Control", "no-store");
+    res.set_content(StateJson(), "application/json");
+  });
+  http_->Get("/api/events", [this, allowed](const httplib::Request& req, httplib::Response& res) {
+    if (!allowed(req, res, false)) return;
+    res.set_header("Cache-Control", "no-store");
+    const auto period = std::chrono::duration<double>(1.0 / params_.push_rate_hz);
+    res.set_chunked_content_provider(
+        "text/event-stream", [this, period](size_t, httplib::DataSink& sink) {
+          if (stopping_.load()) return false;
+          const std::string event = absl::StrCat("event: state\ndata: ", StateJson(), "\n\n");
+          if (!sink.write(event.data(), event.size())) return false;
+          std::this_thread::sleep_for(period);
+          return !stopping_.load();
+        });
+  });
+  http_->Get("/api/maps", [this, allowed](const httplib::Request& req, httplib::Response& res) {
+    if (!allowed(req, res, false)) return;
+    absl::StatusOr<std::vector<MapInfo>> maps = server_->maps().List();
+    if (!maps.ok()) return SendError(res, maps.status());
+    nlohmann::json list = nlohmann::json::array();
+    for (const MapInfo& info : *maps) list.push_back({{"map_id", info.map_id}, {"version", info.version}});
+    SendJson(res, list);
+  });
+  http_->Get(R"(/api/maps/([a-z0-9_-]{1,64}))",
+             [this, allowed](const httplib::Request& req, httplib::Response& res) {
+               if (!allowed(req, res, false)) return;
+               const std::string map_id = req.matches[1];
+               absl::StatusOr<std::shared_ptr<const storage::StoredMap>> map =
+                   server_->maps().Get(map_id, 0);
+               if (!map.ok()) return SendError(res, map.status());
+               nlohmann::json body = MapJson(map_id, (*map)->info.version, (*map)->grid);
+               absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> markers =
+                   server_->site().GetMarkerSet(map_id, 0);
+               absl::StatusOr<std::vector<storage::StoredRoute>> stored =
+                   server_->site().ListRoutes(map_id);
+               std::vector<Route> routes;
+               if (stored.ok()) {
+                 for (const storage::StoredRoute& route : *stored) routes.push_back(route.route);
+               }
+               body["site"] = SiteJson(markers.ok() ? &(*markers)->markers : nullptr, routes);
+               SendJson(res, body);
+             });
+  http_->Get(R"(/api/jobs/([A-Za-z0-9_-]{1,64})/events)",
+             [this, allowed](const httplib::Request& req, httplib::Response& res) {
+               if (!allowed(req, res, false)) return;
+               absl::StatusOr<std::vector<JobEvent>> events =
+                   server_->jobs().Events(req.matches[1], 0);
+               if (!events.ok()) return SendError(res, events.status());
+               SendJson(res, JobEventsJson(*events));
+             });
+  http_->Post(R"(/api/jobs/([A-Za-z0-9_-]{1,64})/(pause|resume|cancel))",
+              [this, allowed](const httplib::Request& req, httplib::Response& res) {
+                if (!allowed(req, res, true)) return;
+                const std::string job_id = req.matches[1];
+                const std::string verb = req.matches[2];
+                absl::StatusOr<Job> job =
+                    verb == "pause"    ? server_->jobs().Pause(job_id, "paused from the dashboard")
+                    : verb == "resume" ? server_->jobs().Resume(job_id)
+                                       : server_->jobs().Cancel(job_id, "cancelled from the dashboard");
+                if (!job.ok()) return SendError(res, job.status());
+                SendJson(res, {{"job_id", job->job_id}, {"state", std::string(JobStateName(job->state))}});
+              });
+  http_->set_error_handler([](const httplib::Request&, httplib::Response& res) {
+    if (res.body.empty()) {
+      res.set_content(nlohmann::json{{"error", res.status == 413 ? "request too large"
+                                                : res.status == 404 ? "no such page"
+                                                                    : "bad request"}}
+                          .dump(),
+                      "application/json");
+    }
+  });
+}
+
+}  // namespace fleetnav::server::http
