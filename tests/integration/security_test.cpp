@@ -18,10 +18,13 @@
 #include "fleetnav/proto/channel_credentials.hpp"
 #include "fleetnav/scenario/child_process.hpp"
 #include "fleetnav/proto/telemetry_convert.hpp"
+#include "fleetnav/server/http/http_gateway.hpp"
 #include "fleetnav/server/rpc/fleet_server.hpp"
 #include "fleetnav/v1/agent_service.grpc.pb.h"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
 #include "test_paths.hpp"
+// Last: httplib.h includes <resolv.h>, whose `_res` macro breaks Eigen's headers.
+#include <httplib.h>
 
 namespace fleetnav {
 namespace {
@@ -269,6 +272,42 @@ TEST_F(SecurityTest, FleetnavctlSpeaksTlsWithATokenAndSaysWhenItIsRefused) {
   const auto missing = run({"robots", "--tls-ca", Pki("nowhere.crt")});
   EXPECT_EQ(missing.first, 2);
   EXPECT_THAT(missing.second, HasSubstr("nowhere.crt"));
+}
+
+TEST_F(SecurityTest, TheDashboardServesHttpsAndChecksTokensForReadsAndButtons) {
+  server::http::HttpGatewayParams params;
+  params.listen_address = "127.0.0.1:0";
+  params.cert_path = Pki("server.crt");
+  params.key_path = Pki("server.key");
+  server::http::HttpGateway gateway(server_.get(), params);
+  absl::StatusOr<int> port = gateway.Start();
+  ASSERT_TRUE(port.ok()) << port.status();
+  httplib::SSLClient https("localhost", *port);
+  https.set_ca_cert_path(Pki("server-ca.crt").c_str());
+  https.enable_server_certificate_verification(true);
+  const auto bearer = [&](const std::string& role) {
+    return httplib::Headers{{"Authorization", "Bearer " + Token(role)}};
+  };
+  EXPECT_EQ(https.Get("/healthz")->status, 200);
+  EXPECT_EQ(https.Get("/")->status, 200);  // the page itself; it asks for a token
+  EXPECT_EQ(https.Get("/api/state")->status, 401);
+  EXPECT_EQ(https.Get("/metrics")->status, 401);
+  EXPECT_EQ(https.Get("/api/state", {{"Authorization", "Bearer wrong"}})->status, 401);
+  EXPECT_EQ(https.Get("/api/state", bearer("viewer"))->status, 200);
+  EXPECT_EQ(https.Get("/metrics", bearer("viewer"))->status, 200);
+  const httplib::Result viewer_button =
+      https.Post("/api/jobs/job-000001/pause", bearer("viewer"), "", "text/plain");
+  EXPECT_EQ(viewer_button->status, 403);
+  EXPECT_THAT(viewer_button->body, HasSubstr("needs operator"));
+  // An operator gets through to the job service (which knows no such job).
+  EXPECT_EQ(https.Post("/api/jobs/job-000001/pause", bearer("operator"), "", "text/plain")->status,
+            404);
+  // Plain HTTP on the HTTPS port gets no answer.
+  httplib::Client plain("127.0.0.1", *port);
+  plain.set_read_timeout(2, 0);
+  const httplib::Result refused = plain.Get("/api/state", bearer("admin"));
+  EXPECT_TRUE(!refused || refused->status >= 400);
+  gateway.Stop();
 }
 
 TEST_F(SecurityTest, BadSecurityFilesStopTheServerBeforeItOpensTheDatabase) {
