@@ -9,7 +9,6 @@
 #include <memory>
 #include <optional>
 
-#include "fleetnav/proto/channel_credentials.hpp"
 #include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/map_io.hpp"
 #include "fleetnav/core/route.hpp"
@@ -17,6 +16,7 @@
 #include "fleetnav/core/version.hpp"
 #include "fleetnav/localization/dead_reckoning_localizer.hpp"
 #include "fleetnav/localization/samcl_localizer.hpp"
+#include "fleetnav/proto/channel_credentials.hpp"
 #include "fleetnav/robot_agent/agent.hpp"
 #include "fleetnav/robot_agent/fleet_site_source.hpp"
 #include "fleetnav/robot_agent/server_link.hpp"

@@ -184,8 +184,8 @@ int main(int argc, char** argv) {
       return 1;
     }
     spdlog::info("fleetnavd dashboard and /metrics on {}://{}:{}/",
-                 server.secure() ? "https" : "http",
-                 http_listen.substr(0, http_listen.rfind(':')), *http_port);
+                 server.secure() ? "https" : "http", http_listen.substr(0, http_listen.rfind(':')),
+                 *http_port);
     if (!http_port_file.empty()) {
       if (absl::Status written = fleetnav::WritePortFile(http_port_file, *http_port);
           !written.ok()) {

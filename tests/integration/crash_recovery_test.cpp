@@ -24,9 +24,9 @@ class ServerProcess {
  public:
   explicit ServerProcess(const std::string& db_path) {
     port_file_ = testing::UniqueTempPath("port");
-    std::vector<std::string> args = {
-        FLEETNAV_FLEETNAVD_PATH, "--insecure", "--listen", "127.0.0.1:0", "--db", db_path,
-        "--port-file",           port_file_};
+    std::vector<std::string> args = {FLEETNAV_FLEETNAVD_PATH, "--insecure", "--listen",
+                                     "127.0.0.1:0",           "--db",       db_path,
+                                     "--port-file",           port_file_};
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);

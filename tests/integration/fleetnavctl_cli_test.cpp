@@ -144,14 +144,15 @@ TEST_F(FleetnavctlCliTest, MapRenderDrawsTheSiteIntoAPng) {
                 "map: yard\nmarkers:\n  - id: 1\n    position: {x: 1.0, y: 1.0, z: 0.0}\n"
                 "    orientation: {a: 0.0, b: 0.0, c: 0.0, d: 1.0}\n");
   ASSERT_EQ(Run({"markers", "put", markers, server}).exit_code, 0);
-  const std::string route = WriteFile(
-      "render-route.yaml",
-      "name: lap\nmap: yard\nactions:\n"
-      "  - free_navigation: {waypoints: [[1, 2]], goal: {x: 4, y: 2, yaw_deg: 0}}\n");
+  const std::string route =
+      WriteFile("render-route.yaml",
+                "name: lap\nmap: yard\nactions:\n"
+                "  - free_navigation: {waypoints: [[1, 2]], goal: {x: 4, y: 2, yaw_deg: 0}}\n");
   ASSERT_EQ(Run({"routes", "put", route, server}).exit_code, 0);
 
   const std::string png = testing::UniqueTempPath("yard") + ".png";
-  const CliRun run = Run({"map", "render", "yard", png, "--pixels-per-cell", "5", "--json", server});
+  const CliRun run =
+      Run({"map", "render", "yard", png, "--pixels-per-cell", "5", "--json", server});
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const nlohmann::json said = nlohmann::json::parse(run.out);
   EXPECT_EQ(said["width_px"], 300);

@@ -16,8 +16,8 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/strip.h"
 #include "fleetnav/proto/channel_credentials.hpp"
-#include "fleetnav/scenario/child_process.hpp"
 #include "fleetnav/proto/telemetry_convert.hpp"
+#include "fleetnav/scenario/child_process.hpp"
 #include "fleetnav/server/http/http_gateway.hpp"
 #include "fleetnav/server/rpc/fleet_server.hpp"
 #include "fleetnav/v1/agent_service.grpc.pb.h"
@@ -46,8 +46,8 @@ class SecurityTest : public ::testing::Test {
     pki_ = new std::string(testing::UniqueTempPath("pki"));
     foreign_ = new std::string(testing::UniqueTempPath("foreign-pki"));
     for (const std::string* dir : {pki_, foreign_}) {
-      const std::string command = absl::StrCat(FLEETNAV_DEV_CERTS_SCRIPT, " ", *dir,
-                                               " lely1 lely2 >/dev/null");
+      const std::string command =
+          absl::StrCat(FLEETNAV_DEV_CERTS_SCRIPT, " ", *dir, " lely1 lely2 >/dev/null");
       ASSERT_EQ(std::system(command.c_str()), 0) << command;
     }
   }
@@ -149,16 +149,14 @@ class SecurityTest : public ::testing::Test {
 std::string* SecurityTest::pki_ = nullptr;
 std::string* SecurityTest::foreign_ = nullptr;
 
-int RoleRank(const std::string& role) {
-  return role == "viewer" ? 0 : role == "operator" ? 1 : 2;
-}
+int RoleRank(const std::string& role) { return role == "viewer" ? 0 : role == "operator" ? 1 : 2; }
 
 /// The role each FleetService method needs (docs/security.md); a method missing here fails.
 int NeededRank(const std::string& method) {
   static const std::set<std::string> kOperator = {"SubmitJob", "CancelJob", "PauseJob",
                                                   "ResumeJob"};
-  static const std::set<std::string> kAdmin = {"PutMap",       "DeleteMap",       "PutMarkerSet",
-                                               "DeleteMarkerSet", "PutRoute",     "DeleteRoute",
+  static const std::set<std::string> kAdmin = {"PutMap",          "DeleteMap", "PutMarkerSet",
+                                               "DeleteMarkerSet", "PutRoute",  "DeleteRoute",
                                                "ForgetRobot"};
   if (kAdmin.count(method) != 0) return 2;
   if (kOperator.count(method) != 0) return 1;
@@ -201,9 +199,10 @@ TEST_F(SecurityTest, EveryRpcRefusesMissingMalformedAndUnderprivilegedCredential
       }
     }
   }
-  std::printf("[ security ] %d FleetService methods; %d of %d calls with missing, malformed, "
-              "unknown or under-privileged credentials refused\n",
-              service->method_count(), refused, tried_refusals);
+  std::printf(
+      "[ security ] %d FleetService methods; %d of %d calls with missing, malformed, "
+      "unknown or under-privileged credentials refused\n",
+      service->method_count(), refused, tried_refusals);
   EXPECT_EQ(refused, tried_refusals);
   const server::AccessCounts counts = server_->access_counts();
   EXPECT_EQ(counts.unauthenticated + counts.denied, static_cast<uint64_t>(tried_refusals));
@@ -245,8 +244,7 @@ TEST_F(SecurityTest, ACertificateOfAForeignCaDoesNotGetInAndTheServerKeepsServin
                 .error_code(),
             grpc::StatusCode::UNAVAILABLE);
   // The health service is open; the server still serves the right credentials.
-  EXPECT_EQ(Call(Channel(), "/grpc.health.v1.Health/Check", "").error_code(),
-            grpc::StatusCode::OK);
+  EXPECT_EQ(Call(Channel(), "/grpc.health.v1.Health/Check", "").error_code(), grpc::StatusCode::OK);
   EXPECT_EQ(Call(Channel(), "/fleetnav.v1.FleetService/ListMaps", "Bearer " + Token("viewer"))
                 .error_code(),
             grpc::StatusCode::OK);
@@ -321,8 +319,8 @@ TEST_F(SecurityTest, BadSecurityFilesStopTheServerBeforeItOpensTheDatabase) {
     EXPECT_FALSE(std::filesystem::exists(params.db_path)) << status;
     return status;
   };
-  const server::ServerSecurityFiles good{Pki("server.crt"), Pki("server.key"),
-                                         Pki("robot-ca.crt"), Pki("tokens.yaml")};
+  const server::ServerSecurityFiles good{Pki("server.crt"), Pki("server.key"), Pki("robot-ca.crt"),
+                                         Pki("tokens.yaml")};
   server::ServerSecurityFiles files = good;
   files.key_path = Pki("robot-lely1.key");  // another certificate's key
   const absl::Status mismatch = start_with(files);

@@ -66,8 +66,9 @@ int main(int argc, char** argv) {
           },
           "PATH.png"));
   map_render->add_option("--version", version, "map version (0 = latest)");
-  map_render->add_option("--pixels-per-cell", pixels_per_cell,
-                         "image pixels per grid cell, 1..64 (default: longer side about 1600 px)")
+  map_render
+      ->add_option("--pixels-per-cell", pixels_per_cell,
+                   "image pixels per grid cell, 1..64 (default: longer side about 1600 px)")
       ->check(CLI::Range(1, 64));
   CLI::App* map_delete = map->add_subcommand("delete", "delete every version of a map");
   map_delete->add_option("--id", map_id, "map id")->required();

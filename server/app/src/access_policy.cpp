@@ -14,9 +14,9 @@ namespace {
 
 /// Who may call a method.
 enum class Requirement {
-  kOpen,          ///< anyone, without credentials
-  kRobotStream,   ///< a robot's certificate
-  kSiteRead,      ///< a robot's certificate or a viewer's token
+  kOpen,         ///< anyone, without credentials
+  kRobotStream,  ///< a robot's certificate
+  kSiteRead,     ///< a robot's certificate or a viewer's token
   kViewer,
   kOperator,
   kAdmin,
@@ -72,8 +72,7 @@ const MethodRule* FindRule(absl::string_view method) {
   for (const MethodRule& rule : kRules) {
     if (rule.method.front() == '/') {
       if (method == rule.method) return &rule;
-    } else if (absl::StartsWith(method, kFleet) &&
-               method.substr(kFleet.size()) == rule.method) {
+    } else if (absl::StartsWith(method, kFleet) && method.substr(kFleet.size()) == rule.method) {
       return &rule;
     }
   }
@@ -129,8 +128,9 @@ absl::StatusOr<AccessPolicy> AccessPolicy::Create(std::vector<OperatorToken> tok
   for (OperatorToken& token : tokens) {
     if (token.name.empty()) return absl::InvalidArgumentError("a token without a name");
     if (token.sha256_hex.size() != 64 || !IsLowerHex(token.sha256_hex)) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "token '", token.name, "': sha256 must be 64 lower-case hex digits (sha256sum of the token)"));
+      return absl::InvalidArgumentError(
+          absl::StrCat("token '", token.name,
+                       "': sha256 must be 64 lower-case hex digits (sha256sum of the token)"));
     }
     if (!names.insert(token.name).second) {
       return absl::InvalidArgumentError(absl::StrCat("token name '", token.name, "' given twice"));
@@ -178,9 +178,9 @@ absl::StatusOr<Caller> AccessPolicy::Authorize(absl::string_view method,
 absl::StatusOr<Caller> AccessPolicy::AuthorizeOperator(absl::string_view method, Role needed,
                                                        const CallerCredentials& credentials) const {
   if (credentials.authorization.empty()) {
-    return absl::UnauthenticatedError(absl::StrCat(
-        method, ": needs an operator token (authorization: Bearer TOKEN) of role ",
-        RoleName(needed), " or above"));
+    return absl::UnauthenticatedError(
+        absl::StrCat(method, ": needs an operator token (authorization: Bearer TOKEN) of role ",
+                     RoleName(needed), " or above"));
   }
   absl::string_view token = credentials.authorization;
   if (!absl::ConsumePrefix(&token, "Bearer ") || token.empty()) {
@@ -193,9 +193,9 @@ absl::StatusOr<Caller> AccessPolicy::AuthorizeOperator(absl::string_view method,
   }
   const OperatorToken& holder = found->second;
   if (static_cast<int>(holder.role) < static_cast<int>(needed)) {
-    return absl::PermissionDeniedError(absl::StrCat(method, ": token '", holder.name,
-                                                    "' has role ", RoleName(holder.role),
-                                                    ", the method needs ", RoleName(needed)));
+    return absl::PermissionDeniedError(absl::StrCat(method, ": token '", holder.name, "' has role ",
+                                                    RoleName(holder.role), ", the method needs ",
+                                                    RoleName(needed)));
   }
   return Caller{holder.name, false, holder.role};
 }

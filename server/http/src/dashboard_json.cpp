@@ -96,7 +96,8 @@ nlohmann::json MapJson(const std::string& map_id, uint32_t version, const Occupa
   for (int y = grid.height() - 1; y >= 0; --y) {
     for (int x = 0; x < grid.width(); ++x) {
       const int8_t value = grid.Value({x, y});
-      greys.push_back(value < 0 ? 205 : static_cast<uint8_t>(std::lround(254.0 * (100 - value) / 100.0)));
+      greys.push_back(value < 0 ? 205
+                                : static_cast<uint8_t>(std::lround(254.0 * (100 - value) / 100.0)));
     }
   }
   return {{"map_id", map_id},
@@ -131,7 +132,8 @@ nlohmann::json SiteJson(const MarkerSet* markers, const std::vector<Route>& rout
     for (const RouteAction& action : route.actions) {
       if (const auto* nav = std::get_if<FreeNavigationAction>(&action.params)) {
         nlohmann::json points = nlohmann::json::array();
-        for (const Eigen::Vector2d& waypoint : nav->waypoints_m) points.push_back(PointJson(waypoint));
+        for (const Eigen::Vector2d& waypoint : nav->waypoints_m)
+          points.push_back(PointJson(waypoint));
         points.push_back(PointJson(nav->goal.translation()));
         legs.push_back(std::move(points));
       } else if (const auto* stripe = std::get_if<StripeNavigationAction>(&action.params)) {

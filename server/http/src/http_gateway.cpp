@@ -89,7 +89,8 @@ absl::StatusOr<int> HttpGateway::Start() {
   const std::string host = params_.listen_address.substr(0, colon);
   int port = 0;
   (void)absl::SimpleAtoi(params_.listen_address.substr(colon + 1), &port);
-  const int bound = port == 0 ? http_->bind_to_any_port(host) : (http_->bind_to_port(host, port) ? port : -1);
+  const int bound =
+      port == 0 ? http_->bind_to_any_port(host) : (http_->bind_to_port(host, port) ? port : -1);
   if (bound <= 0) {
     return absl::UnavailableError(absl::StrCat("http: cannot listen on ", params_.listen_address,
                                                ": already in use or not available"));
@@ -167,28 +168,27 @@ void HttpGateway::AddHandlers() {
     absl::StatusOr<std::vector<MapInfo>> maps = server_->maps().List();
     if (!maps.ok()) return SendError(res, maps.status());
     nlohmann::json list = nlohmann::json::array();
-    for (const MapInfo& info : *maps) list.push_back({{"map_id", info.map_id}, {"version", info.version}});
+    for (const MapInfo& info : *maps)
+      list.push_back({{"map_id", info.map_id}, {"version", info.version}});
     SendJson(res, list);
   });
-  http_->Get(R"(/api/maps/([a-z0-9_-]{1,64}))",
-             [this, allowed](const httplib::Request& req, httplib::Response& res) {
-               if (!allowed(req, res, false)) return;
-               const std::string map_id = req.matches[1];
-               absl::StatusOr<std::shared_ptr<const storage::StoredMap>> map =
-                   server_->maps().Get(map_id, 0);
-               if (!map.ok()) return SendError(res, map.status());
-               nlohmann::json body = MapJson(map_id, (*map)->info.version, (*map)->grid);
-               absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> markers =
-                   server_->site().GetMarkerSet(map_id, 0);
-               absl::StatusOr<std::vector<storage::StoredRoute>> stored =
-                   server_->site().ListRoutes(map_id);
-               std::vector<Route> routes;
-               if (stored.ok()) {
-                 for (const storage::StoredRoute& route : *stored) routes.push_back(route.route);
-               }
-               body["site"] = SiteJson(markers.ok() ? &(*markers)->markers : nullptr, routes);
-               SendJson(res, body);
-             });
+  http_->Get(R"(/api/maps/([a-z0-9_-]{1,64}))", [this, allowed](const httplib::Request& req,
+                                                                httplib::Response& res) {
+    if (!allowed(req, res, false)) return;
+    const std::string map_id = req.matches[1];
+    absl::StatusOr<std::shared_ptr<const storage::StoredMap>> map = server_->maps().Get(map_id, 0);
+    if (!map.ok()) return SendError(res, map.status());
+    nlohmann::json body = MapJson(map_id, (*map)->info.version, (*map)->grid);
+    absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> markers =
+        server_->site().GetMarkerSet(map_id, 0);
+    absl::StatusOr<std::vector<storage::StoredRoute>> stored = server_->site().ListRoutes(map_id);
+    std::vector<Route> routes;
+    if (stored.ok()) {
+      for (const storage::StoredRoute& route : *stored) routes.push_back(route.route);
+    }
+    body["site"] = SiteJson(markers.ok() ? &(*markers)->markers : nullptr, routes);
+    SendJson(res, body);
+  });
   http_->Get(R"(/api/jobs/([A-Za-z0-9_-]{1,64})/events)",
              [this, allowed](const httplib::Request& req, httplib::Response& res) {
                if (!allowed(req, res, false)) return;
@@ -197,23 +197,24 @@ void HttpGateway::AddHandlers() {
                if (!events.ok()) return SendError(res, events.status());
                SendJson(res, JobEventsJson(*events));
              });
-  http_->Post(R"(/api/jobs/([A-Za-z0-9_-]{1,64})/(pause|resume|cancel))",
-              [this, allowed](const httplib::Request& req, httplib::Response& res) {
-                if (!allowed(req, res, true)) return;
-                const std::string job_id = req.matches[1];
-                const std::string verb = req.matches[2];
-                absl::StatusOr<Job> job =
-                    verb == "pause"    ? server_->jobs().Pause(job_id, "paused from the dashboard")
-                    : verb == "resume" ? server_->jobs().Resume(job_id)
-                                       : server_->jobs().Cancel(job_id, "cancelled from the dashboard");
-                if (!job.ok()) return SendError(res, job.status());
-                SendJson(res, {{"job_id", job->job_id}, {"state", std::string(JobStateName(job->state))}});
-              });
+  http_->Post(
+      R"(/api/jobs/([A-Za-z0-9_-]{1,64})/(pause|resume|cancel))",
+      [this, allowed](const httplib::Request& req, httplib::Response& res) {
+        if (!allowed(req, res, true)) return;
+        const std::string job_id = req.matches[1];
+        const std::string verb = req.matches[2];
+        absl::StatusOr<Job> job =
+            verb == "pause"    ? server_->jobs().Pause(job_id, "paused from the dashboard")
+            : verb == "resume" ? server_->jobs().Resume(job_id)
+                               : server_->jobs().Cancel(job_id, "cancelled from the dashboard");
+        if (!job.ok()) return SendError(res, job.status());
+        SendJson(res, {{"job_id", job->job_id}, {"state", std::string(JobStateName(job->state))}});
+      });
   http_->set_error_handler([](const httplib::Request&, httplib::Response& res) {
     if (res.body.empty()) {
-      res.set_content(nlohmann::json{{"error", res.status == 413 ? "request too large"
-                                                : res.status == 404 ? "no such page"
-                                                                    : "bad request"}}
+      res.set_content(nlohmann::json{{"error", res.status == 413   ? "request too large"
+                                               : res.status == 404 ? "no such page"
+                                                                   : "bad request"}}
                           .dump(),
                       "application/json");
     }

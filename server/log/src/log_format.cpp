@@ -38,9 +38,9 @@ void JsonLogFormatter::format(const spdlog::details::log_msg& msg, spdlog::memor
       std::chrono::duration_cast<std::chrono::milliseconds>(since_epoch).count() % 1000);
   std::tm utc{};
   gmtime_r(&seconds, &utc);
-  line["ts"] = absl::StrFormat("%04d-%02d-%02dT%02d:%02d:%02d.%03dZ", utc.tm_year + 1900,
-                               utc.tm_mon + 1, utc.tm_mday, utc.tm_hour, utc.tm_min, utc.tm_sec,
-                               millis);
+  line["ts"] =
+      absl::StrFormat("%04d-%02d-%02dT%02d:%02d:%02d.%03dZ", utc.tm_year + 1900, utc.tm_mon + 1,
+                      utc.tm_mday, utc.tm_hour, utc.tm_min, utc.tm_sec, millis);
   line["level"] = std::string(spdlog::level::to_string_view(msg.level).data(),
                               spdlog::level::to_string_view(msg.level).size());
   // A payload packed by FormatLogPayload: the message, a tab, the fields as a JSON object.
@@ -84,8 +84,8 @@ std::optional<LogFields> JobTransitionLine(const Job& job, const JobEvent& event
   line.message = absl::StrCat("job ", job.job_id, " ", state,
                               robot.empty() ? "" : absl::StrCat(" (robot ", robot, ")"),
                               event.reason.empty() ? "" : absl::StrCat(": ", event.reason));
-  line.fields = {{"event", "job_transition"}, {"job_id", job.job_id}, {"state", state},
-                 {"robot_id", robot}};
+  line.fields = {
+      {"event", "job_transition"}, {"job_id", job.job_id}, {"state", state}, {"robot_id", robot}};
   if (!job.route_name.empty()) line.fields.emplace_back("route", job.route_name);
   if (!event.reason.empty()) line.fields.emplace_back("reason", event.reason);
   return line;

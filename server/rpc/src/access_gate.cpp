@@ -7,7 +7,7 @@ namespace fleetnav::server {
 namespace {
 
 absl::string_view Find(const grpc::AuthMetadataProcessor::InputMetadata& metadata,
-                      absl::string_view key) {
+                       absl::string_view key) {
   const auto found = metadata.find(grpc::string_ref(key.data(), key.size()));
   if (found == metadata.end()) return {};
   return {found->second.data(), found->second.size()};
@@ -72,7 +72,8 @@ absl::StatusOr<Caller> AccessGate::AuthorizeHttp(bool action, absl::string_view 
 }
 
 AccessCounts AccessGate::counts() const {
-  return {admitted_.load(std::memory_order_relaxed), unauthenticated_.load(std::memory_order_relaxed),
+  return {admitted_.load(std::memory_order_relaxed),
+          unauthenticated_.load(std::memory_order_relaxed),
           denied_.load(std::memory_order_relaxed)};
 }
 

@@ -73,7 +73,8 @@ absl::StatusOr<int> FleetServer::Start() {
   ASSIGN_OR_RETURN(db_,
                    storage::SqliteDatabase::Open(params_.db_path, storage::FleetSchemaMigrations(),
                                                  storage::FleetDatabaseOptions()));
-  db_->SetTransactionObserver([this](double seconds) { metrics_.ObserveStoreTransaction(seconds); });
+  db_->SetTransactionObserver(
+      [this](double seconds) { metrics_.ObserveStoreTransaction(seconds); });
   map_repository_ = std::make_unique<storage::SqliteMapRepository>(db_.get());
   marker_repository_ = std::make_unique<storage::SqliteMarkerSetRepository>(db_.get());
   route_repository_ = std::make_unique<storage::SqliteRouteRepository>(db_.get());

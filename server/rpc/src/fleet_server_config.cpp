@@ -47,11 +47,10 @@ absl::StatusOr<FleetServerConfig> ParseFleetServerConfig(std::string_view yaml_t
     return absl::InvalidArgumentError(absl::StrCat("config: ", e.what()));
   }
   if (root.IsNull()) return config;
-  RETURN_IF_ERROR(CheckKeys(
-      root,
-      {"listen", "db", "log_level", "agent_threads", "insecure", "tls", "limits", "timeouts",
-       "charging"},
-      "config"));
+  RETURN_IF_ERROR(CheckKeys(root,
+                            {"listen", "db", "log_level", "agent_threads", "insecure", "tls",
+                             "limits", "timeouts", "charging"},
+                            "config"));
   FleetServerParams& p = config.params;
   RETURN_IF_ERROR(Read(root, "listen", "", &p.listen_address));
   RETURN_IF_ERROR(Read(root, "db", "", &p.db_path));

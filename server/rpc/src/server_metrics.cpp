@@ -46,12 +46,23 @@ class RpcMetricsFactory final : public grpc::experimental::ServerInterceptorFact
 
 /// gRPC's code names as Prometheus label values ("OK", "NOT_FOUND", ...).
 std::string CodeName(grpc::StatusCode code) {
-  static const char* const kNames[] = {
-      "OK",           "CANCELLED",          "UNKNOWN",           "INVALID_ARGUMENT",
-      "DEADLINE_EXCEEDED", "NOT_FOUND",     "ALREADY_EXISTS",    "PERMISSION_DENIED",
-      "RESOURCE_EXHAUSTED", "FAILED_PRECONDITION", "ABORTED",    "OUT_OF_RANGE",
-      "UNIMPLEMENTED", "INTERNAL",          "UNAVAILABLE",       "DATA_LOSS",
-      "UNAUTHENTICATED"};
+  static const char* const kNames[] = {"OK",
+                                       "CANCELLED",
+                                       "UNKNOWN",
+                                       "INVALID_ARGUMENT",
+                                       "DEADLINE_EXCEEDED",
+                                       "NOT_FOUND",
+                                       "ALREADY_EXISTS",
+                                       "PERMISSION_DENIED",
+                                       "RESOURCE_EXHAUSTED",
+                                       "FAILED_PRECONDITION",
+                                       "ABORTED",
+                                       "OUT_OF_RANGE",
+                                       "UNIMPLEMENTED",
+                                       "INTERNAL",
+                                       "UNAVAILABLE",
+                                       "DATA_LOSS",
+                                       "UNAUTHENTICATED"};
   const int index = static_cast<int>(code);
   return index >= 0 && index < 17 ? kNames[index] : "UNKNOWN";
 }
@@ -81,7 +92,7 @@ void AddSample(prometheus::MetricFamily& family, const std::string& label, const
 
 ServerMetrics::ServerMetrics()
     : buckets_{0.0001, 0.00025, 0.0005, 0.001, 0.0025, 0.005, 0.01, 0.025,
-               0.05,   0.1,     0.25,   0.5,   1,      2.5,   5,     10},
+               0.05,   0.1,     0.25,   0.5,   1,      2.5,   5,    10},
       registry_(std::make_shared<prometheus::Registry>()),
       rpcs_(prometheus::BuildCounter()
                 .Name("fleetnav_rpcs_total")
@@ -120,9 +131,9 @@ ServerMetrics::InterceptorFactory() {
 
 std::string ServerMetrics::Render(const FleetStateFigures& state) const {
   std::vector<prometheus::MetricFamily> families = registry_->Collect();
-  prometheus::MetricFamily robots = Family(
-      "fleetnav_robots", "Robots known to the server, by connection state",
-      prometheus::MetricType::Gauge);
+  prometheus::MetricFamily robots =
+      Family("fleetnav_robots", "Robots known to the server, by connection state",
+             prometheus::MetricType::Gauge);
   for (const char* connection : {"online", "stale", "offline"}) {
     const auto found = state.robots_by_state.find(connection);
     AddSample(robots, "state", connection,

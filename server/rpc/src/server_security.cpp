@@ -69,7 +69,8 @@ absl::StatusOr<std::vector<OperatorToken>> ParseOperatorTokens(absl::string_view
     OperatorToken token;
     token.name = entry["name"].as<std::string>();
     absl::StatusOr<Role> role = ParseRole(entry["role"].as<std::string>());
-    if (!role.ok()) return absl::InvalidArgumentError(absl::StrCat(where, ": ", role.status().message()));
+    if (!role.ok())
+      return absl::InvalidArgumentError(absl::StrCat(where, ": ", role.status().message()));
     token.role = *role;
     token.sha256_hex = entry["sha256"].as<std::string>();
     tokens.push_back(std::move(token));
@@ -100,9 +101,8 @@ absl::StatusOr<ServerSecurity> LoadServerSecurity(const ServerSecurityFiles& fil
         absl::StrCat("'", files.key_path, "' holds no PEM private key (or it is encrypted)"));
   }
   if (X509_check_private_key(cert.get(), key.get()) != 1) {
-    return absl::InvalidArgumentError(absl::StrCat("'", files.key_path,
-                                                   "' is not the key of the certificate '",
-                                                   files.cert_path, "'"));
+    return absl::InvalidArgumentError(absl::StrCat(
+        "'", files.key_path, "' is not the key of the certificate '", files.cert_path, "'"));
   }
   RETURN_IF_ERROR(FirstCertificate(security.client_ca_pem, files.client_ca_path).status());
   absl::StatusOr<std::vector<OperatorToken>> tokens = ParseOperatorTokens(tokens_yaml);

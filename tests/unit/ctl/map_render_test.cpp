@@ -25,8 +25,9 @@ class PngImage {
   int width() const { return cairo_image_surface_get_width(surface_.get()); }
   int height() const { return cairo_image_surface_get_height(surface_.get()); }
   Pixel At(int x, int y) const {
-    const unsigned char* row = cairo_image_surface_get_data(surface_.get()) +
-                               static_cast<size_t>(cairo_image_surface_get_stride(surface_.get())) * y;
+    const unsigned char* row =
+        cairo_image_surface_get_data(surface_.get()) +
+        static_cast<size_t>(cairo_image_surface_get_stride(surface_.get())) * y;
     const uint32_t argb = reinterpret_cast<const uint32_t*>(row)[x];
     return {static_cast<int>((argb >> 16) & 0xff), static_cast<int>((argb >> 8) & 0xff),
             static_cast<int>(argb & 0xff)};

@@ -52,9 +52,9 @@ TEST(AccessPolicyTest, MissingMalformedAndUnknownTokensAreUnauthenticated) {
   const AccessPolicy policy = Policy();
   const std::string method = std::string(kFleet) + "GetJob";
   for (const CallerCredentials& credentials :
-       {CallerCredentials{}, CallerCredentials{"vic-secret", ""},
-        CallerCredentials{"Bearer", ""}, CallerCredentials{"Bearer ", ""},
-        CallerCredentials{"bearer vic-secret", ""}, Bearer("vic-secret "), Bearer("nobody")}) {
+       {CallerCredentials{}, CallerCredentials{"vic-secret", ""}, CallerCredentials{"Bearer", ""},
+        CallerCredentials{"Bearer ", ""}, CallerCredentials{"bearer vic-secret", ""},
+        Bearer("vic-secret "), Bearer("nobody")}) {
     const absl::Status status = policy.Authorize(method, credentials).status();
     EXPECT_EQ(status.code(), absl::StatusCode::kUnauthenticated) << credentials.authorization;
     EXPECT_THAT(status.message(), HasSubstr("GetJob"));
@@ -76,10 +76,9 @@ TEST(AccessPolicyTest, RobotCertificatesOpenTheAgentStreamAndSiteReadsOnly) {
   EXPECT_EQ(policy.Authorize(std::string(kFleet) + "ListRobots", robot).status().code(),
             absl::StatusCode::kUnauthenticated);
   // A token is no robot.
-  EXPECT_EQ(policy.Authorize("/fleetnav.v1.AgentService/Connect", Bearer("ada-secret"))
-                .status()
-                .code(),
-            absl::StatusCode::kUnauthenticated);
+  EXPECT_EQ(
+      policy.Authorize("/fleetnav.v1.AgentService/Connect", Bearer("ada-secret")).status().code(),
+      absl::StatusCode::kUnauthenticated);
 }
 
 TEST(AccessPolicyTest, UnknownMethodsAreRefusedToEveryoneAndHealthIsOpen) {
@@ -88,10 +87,9 @@ TEST(AccessPolicyTest, UnknownMethodsAreRefusedToEveryoneAndHealthIsOpen) {
                 .status()
                 .code(),
             absl::StatusCode::kPermissionDenied);
-  EXPECT_EQ(policy.Authorize("/fleetnav.v1.FleetServiceX/GetJob", Bearer("ada-secret"))
-                .status()
-                .code(),
-            absl::StatusCode::kPermissionDenied);
+  EXPECT_EQ(
+      policy.Authorize("/fleetnav.v1.FleetServiceX/GetJob", Bearer("ada-secret")).status().code(),
+      absl::StatusCode::kPermissionDenied);
   EXPECT_EQ(policy.Authorize("", Bearer("ada-secret")).status().code(),
             absl::StatusCode::kPermissionDenied);
   EXPECT_TRUE(policy.Authorize("/grpc.health.v1.Health/Check", {}).ok());
@@ -102,13 +100,13 @@ TEST(AccessPolicyTest, BadTokenTablesAreRefused) {
             absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(AccessPolicy::Create({{"a", Role::kAdmin, std::string(64, 'A')}}).status().code(),
             absl::StatusCode::kInvalidArgument);
-  EXPECT_THAT(AccessPolicy::Create({{"a", Role::kAdmin, Sha256Hex("x")},
-                                    {"a", Role::kViewer, Sha256Hex("y")}})
+  EXPECT_THAT(AccessPolicy::Create(
+                  {{"a", Role::kAdmin, Sha256Hex("x")}, {"a", Role::kViewer, Sha256Hex("y")}})
                   .status()
                   .message(),
               HasSubstr("given twice"));
-  EXPECT_THAT(AccessPolicy::Create({{"a", Role::kAdmin, Sha256Hex("x")},
-                                    {"b", Role::kViewer, Sha256Hex("x")}})
+  EXPECT_THAT(AccessPolicy::Create(
+                  {{"a", Role::kAdmin, Sha256Hex("x")}, {"b", Role::kViewer, Sha256Hex("x")}})
                   .status()
                   .message(),
               HasSubstr("share one hash"));
@@ -127,11 +125,11 @@ TEST(OperatorTokensTest, TheFileNamesWhatIsWrong) {
               HasSubstr("tokens[0]: role 'root'"));
   EXPECT_THAT(ParseOperatorTokens("tokens:\n  - {name: a, role: admin}\n").status().message(),
               HasSubstr("needs name, role and sha256"));
-  EXPECT_THAT(ParseOperatorTokens("tokens:\n  - {name: a, role: admin, token: x, sha256: " +
-                                  hash + "}\n")
-                  .status()
-                  .message(),
-              HasSubstr("unknown key 'token'"));
+  EXPECT_THAT(
+      ParseOperatorTokens("tokens:\n  - {name: a, role: admin, token: x, sha256: " + hash + "}\n")
+          .status()
+          .message(),
+      HasSubstr("unknown key 'token'"));
   EXPECT_EQ(ParseOperatorTokens("users: []").status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(ParseOperatorTokens("tokens: [").status().code(), absl::StatusCode::kInvalidArgument);
 }

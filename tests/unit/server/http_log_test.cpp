@@ -74,8 +74,7 @@ TEST(DashboardJsonTest, RobotsAndJobsCarryWhatTheDashboardShows) {
 }
 
 spdlog::details::log_msg Message(const std::string& payload) {
-  return spdlog::details::log_msg(spdlog::source_loc{}, "fleetnavd", spdlog::level::warn,
-                                  payload);
+  return spdlog::details::log_msg(spdlog::source_loc{}, "fleetnavd", spdlog::level::warn, payload);
 }
 
 nlohmann::json FormatJson(const std::string& payload) {
@@ -92,8 +91,8 @@ TEST(LogFormatTest, EveryLineIsOneJsonObjectWithItsFields) {
   const nlohmann::json plain = FormatJson("a \"quoted\"\nmessage\twith\\ escapes");
   EXPECT_EQ(plain["msg"], "a \"quoted\"\nmessage\twith\\ escapes");
   EXPECT_EQ(plain["level"], "warning");
-  EXPECT_THAT(plain["ts"].get<std::string>(), ::testing::MatchesRegex(
-                                                  "[0-9]{4}-[0-9]{2}-[0-9]{2}T[0-9:]{8}\\.[0-9]{3}Z"));
+  EXPECT_THAT(plain["ts"].get<std::string>(),
+              ::testing::MatchesRegex("[0-9]{4}-[0-9]{2}-[0-9]{2}T[0-9:]{8}\\.[0-9]{3}Z"));
   Job job;
   job.job_id = "job-000003";
   job.route_name = "feed";

@@ -141,7 +141,6 @@ absl::Status DeleteMap(const CommandContext& context, const std::string& map_id)
   return absl::OkStatus();
 }
 
-
 namespace {
 
 absl::StatusOr<std::pair<OccupancyGrid, uint32_t>> FetchGrid(const CommandContext& context,

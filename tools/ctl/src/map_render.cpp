@@ -43,12 +43,14 @@ uint8_t GreyOf(int8_t value) {
 
 /// The cells, one image pixel each, in cairo's RGB24 layout with the top row first.
 cairo_surface_t* CellSurface(const OccupancyGrid& grid) {
-  cairo_surface_t* cells = cairo_image_surface_create(CAIRO_FORMAT_RGB24, grid.width(), grid.height());
+  cairo_surface_t* cells =
+      cairo_image_surface_create(CAIRO_FORMAT_RGB24, grid.width(), grid.height());
   cairo_surface_flush(cells);
   unsigned char* data = cairo_image_surface_get_data(cells);
   const int stride = cairo_image_surface_get_stride(cells);
   for (int y = 0; y < grid.height(); ++y) {
-    auto* row = reinterpret_cast<uint32_t*>(data + static_cast<size_t>(stride) * (grid.height() - 1 - y));
+    auto* row =
+        reinterpret_cast<uint32_t*>(data + static_cast<size_t>(stride) * (grid.height() - 1 - y));
     for (int x = 0; x < grid.width(); ++x) {
       const uint32_t grey = GreyOf(grid.Value({x, y}));
       row[x] = (grey << 16) | (grey << 8) | grey;
@@ -134,8 +136,9 @@ void DrawRoute(cairo_t* cr, const PixelFrame& frame, const Route& route,
       if (!markers) continue;
       for (const StripeMarker& marker : markers->markers) {
         if (marker.stripe_id != stripe->stripe_id) continue;
-        const Eigen::Vector2d half = 0.5 * marker.length_m *
-                                     Eigen::Vector2d(std::cos(marker.yaw_rad), std::sin(marker.yaw_rad));
+        const Eigen::Vector2d half =
+            0.5 * marker.length_m *
+            Eigen::Vector2d(std::cos(marker.yaw_rad), std::sin(marker.yaw_rad));
         cairo_set_line_width(cr, std::max(6.0, frame.Pixels(0.1)));
         frame.MoveTo(cr, marker.position_m - half);
         frame.LineTo(cr, marker.position_m + half);
@@ -180,8 +183,9 @@ absl::Status RenderSiteMapPng(const SiteDrawing& drawing, const std::string& png
         absl::StrCat("render: '", png_path, "' must end in .png (the only format written)"));
   }
   if (params.pixels_per_cell < 0 || params.pixels_per_cell > 64) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "render: pixels per cell must be in 1..64 (or 0 for automatic), got ", params.pixels_per_cell));
+    return absl::InvalidArgumentError(
+        absl::StrCat("render: pixels per cell must be in 1..64 (or 0 for automatic), got ",
+                     params.pixels_per_cell));
   }
   const OccupancyGrid& grid = drawing.grid;
   const int scale = PixelsPerCell(grid, params);
@@ -208,11 +212,12 @@ absl::Status RenderSiteMapPng(const SiteDrawing& drawing, const std::string& png
   cairo_destroy(cr);
   cairo_surface_flush(surface);
   cairo_status_t status = cairo_surface_status(surface);
-  if (status == CAIRO_STATUS_SUCCESS) status = cairo_surface_write_to_png(surface, png_path.c_str());
+  if (status == CAIRO_STATUS_SUCCESS)
+    status = cairo_surface_write_to_png(surface, png_path.c_str());
   cairo_surface_destroy(surface);
   if (status != CAIRO_STATUS_SUCCESS) {
-    return absl::InternalError(absl::StrCat("render: cannot write '", png_path,
-                                            "': ", cairo_status_to_string(status)));
+    return absl::InternalError(
+        absl::StrCat("render: cannot write '", png_path, "': ", cairo_status_to_string(status)));
   }
   return absl::OkStatus();
 }

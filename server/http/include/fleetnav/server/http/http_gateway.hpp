@@ -19,8 +19,8 @@ struct HttpGatewayParams {
   /// HTTPS with these (fleetnavd passes its own TLS certificate and key); plain HTTP when empty.
   std::string cert_path;
   std::string key_path;
-  double push_rate_hz = 5.0;              ///< dashboard updates per second
-  size_t max_request_bytes = 64 * 1024;   ///< larger bodies: 413
+  double push_rate_hz = 5.0;             ///< dashboard updates per second
+  size_t max_request_bytes = 64 * 1024;  ///< larger bodies: 413
   absl::Status Validate() const;
 };
 
