@@ -237,6 +237,18 @@ TEST_F(SecurityTest, ARobotCertificateOpensOnlyItsOwnStreamAndTheSiteReads) {
 TEST_F(SecurityTest, ACertificateOfAForeignCaDoesNotGetInAndTheServerKeepsServing) {
   const grpc::Status foreign = ConnectAs(Channel("lely1", *foreign_), "lely1");
   EXPECT_EQ(foreign.error_code(), grpc::StatusCode::UNAVAILABLE) << foreign.error_message();
+  // A certificate of the right CA that has expired (made valid until yesterday).
+  const std::string expired = testing::UniqueTempPath("expired");
+  std::filesystem::create_directories(expired);
+  const std::string make_expired = absl::StrCat(
+      "cd ", expired, " && openssl req -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 -nodes ",
+      "-subj /CN=lely1 -keyout robot-lely1.key -out lely1.csr 2>/dev/null && openssl x509 -req ",
+      "-in lely1.csr -CA ", Pki("robot-ca.crt"), " -CAkey ", Pki("robot-ca.key"),
+      " -CAcreateserial -days -1 -out robot-lely1.crt 2>/dev/null");
+  ASSERT_EQ(std::system(make_expired.c_str()), 0);
+  const grpc::Status stale = ConnectAs(Channel("lely1", expired), "lely1");
+  EXPECT_EQ(stale.error_code(), grpc::StatusCode::UNAVAILABLE) << stale.error_message();
+  std::filesystem::remove_all(expired);
   EXPECT_TRUE(server_->registry().Snapshot().empty());
   // A plaintext client gets nowhere either.
   auto plaintext = grpc::CreateChannel(address_, grpc::InsecureChannelCredentials());

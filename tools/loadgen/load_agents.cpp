@@ -13,13 +13,16 @@ gpr_timespec Deadline(int64_t steady_ns) {
       gpr_time_from_nanos(std::max<int64_t>(0, steady_ns - SteadyNowNs()), GPR_TIMESPAN));
 }
 
-std::shared_ptr<grpc::Channel> NewAgentChannel(const std::string& server, int index) {
+std::shared_ptr<grpc::Channel> NewAgentChannel(const LoadTarget& target, int index,
+                                               const std::string& robot_id) {
   grpc::ChannelArguments args;
   args.SetInt(GRPC_ARG_ENABLE_RETRIES, 0);             // no retry buffering on long streams
   args.SetInt(GRPC_ARG_USE_LOCAL_SUBCHANNEL_POOL, 1);  // one connection per channel
   args.SetInt("fleetnav.loadgen.channel", index);
-  return grpc::CreateCustomChannel(server, grpc::InsecureChannelCredentials(), args);
+  return grpc::CreateCustomChannel(target.address, AgentCredentials(target, robot_id), args);
 }
+
+std::string RobotId(int index) { return "load-" + std::to_string(index); }
 
 void FillHello(const std::string& robot_id, bool capable, v1::AgentMessage* message) {
   v1::AgentHello* hello = message->mutable_hello();
@@ -89,11 +92,14 @@ struct LoadWorker::Agent {
 };
 
 LoadWorker::LoadWorker(WorkerParams params) : params_(std::move(params)) {
-  const int per_connection = std::max(1, params_.streams_per_connection);
+  // On TLS a connection carries one robot's certificate, so each agent has its own.
+  const bool tls = !params_.target.tls_dir.empty();
+  const int per_connection = tls ? 1 : std::max(1, params_.streams_per_connection);
   const int mine = static_cast<int>(params_.indices.size());
   const int channel_count = std::max(1, (mine + per_connection - 1) / per_connection);
   for (int c = 0; c < channel_count; ++c) {
-    channels_.push_back(NewAgentChannel(params_.server, params_.first_channel_index + c));
+    const std::string robot_id = RobotId(params_.indices[std::min(c, mine - 1)]);
+    channels_.push_back(NewAgentChannel(params_.target, params_.first_channel_index + c, robot_id));
     stubs_.push_back(v1::AgentService::NewStub(channels_.back()));
   }
 }
@@ -109,7 +115,7 @@ int LoadWorker::Connect(int64_t deadline_ns) {
     const int index = params_.indices[k];
     auto agent = std::make_unique<Agent>();
     agent->offset_ns = 0;
-    FillHello("load-" + std::to_string(index), index < params_.capable_agents, &agent->hello);
+    FillHello(RobotId(index), index < params_.capable_agents, &agent->hello);
     FillTelemetry(index, &agent->out);
     // Neighbours in send order share a connection, so writes falling due together coalesce.
     const size_t channel = k * stubs_.size() / params_.indices.size();

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "fleetnav/v1/agent_service.grpc.pb.h"
+#include "load_tls.hpp"
 
 namespace fleetnav::loadgen {
 
@@ -30,9 +31,9 @@ struct WorkerReport {
 };
 
 struct WorkerParams {
-  std::string server;
-  int agents = 0;                    ///< agents in the whole run (for the pacing spread)
-  std::vector<int> indices;          ///< this worker's agents, ascending
+  LoadTarget target;         ///< on TLS every agent has a connection (and certificate) of its own
+  int agents = 0;            ///< agents in the whole run (for the pacing spread)
+  std::vector<int> indices;  ///< this worker's agents, ascending
   int streams_per_connection = 250;  ///< agent streams multiplexed on one HTTP/2 connection
   int first_channel_index = 0;       ///< distinguishes this worker's connections
   /// Agents with an index below this advertise "straight", so jobs on the loadgen routes are

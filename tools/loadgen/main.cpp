@@ -19,19 +19,15 @@
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
 #include "load_agents.hpp"
 #include "load_report.hpp"
+#include "load_tls.hpp"
 
 namespace {
 
 using fleetnav::loadgen::SteadyNowNs;
 namespace v1 = fleetnav::v1;
 
-std::shared_ptr<grpc::Channel> NewChannel(const std::string& server, int index) {
-  grpc::ChannelArguments args;
-  args.SetMaxSendMessageSize(64 << 20);                // the big map
-  args.SetInt(GRPC_ARG_ENABLE_RETRIES, 0);             // no retry buffering on long streams
-  args.SetInt(GRPC_ARG_USE_LOCAL_SUBCHANNEL_POOL, 1);  // one connection per channel
-  args.SetInt("fleetnav.loadgen.channel", index);
-  return grpc::CreateCustomChannel(server, grpc::InsecureChannelCredentials(), args);
+std::shared_ptr<grpc::Channel> NewChannel(const fleetnav::loadgen::LoadTarget& target, int index) {
+  return fleetnav::loadgen::NewOperatorChannel(target, index);
 }
 
 /// What the operators' site holds, beyond a small map and a one-action route.
@@ -126,8 +122,8 @@ struct OperatorOptions {
 
 /// M operators each submitting jobs at `rate_hz` (and watching every tenth job until its first
 /// event) until `stop` is set.
-OperatorReport RunOperators(const std::string& server, const OperatorOptions& options,
-                            const std::atomic<bool>& stop) {
+OperatorReport RunOperators(const fleetnav::loadgen::LoadTarget& server,
+                            const OperatorOptions& options, const std::atomic<bool>& stop) {
   const int submitters = options.submitters;
   const double rate_hz = options.rate_hz;
   std::mutex mutex;
@@ -238,7 +234,7 @@ std::string ReadAll(int fd) {
 /// the child answers with its report as JSON and exits. Forked before any gRPC or thread exists.
 class OperatorProcess {
  public:
-  bool Start(const std::string& server, const OperatorOptions& options) {
+  bool Start(const fleetnav::loadgen::LoadTarget& server, const OperatorOptions& options) {
     int to_child[2], from_child[2];
     if (pipe(to_child) != 0 || pipe(from_child) != 0) return false;
     pid_ = fork();
@@ -274,7 +270,8 @@ class OperatorProcess {
   }
 
  private:
-  static int Child(const std::string& server, const OperatorOptions& options, int in, int out) {
+  static int Child(const fleetnav::loadgen::LoadTarget& server, const OperatorOptions& options,
+                   int in, int out) {
     auto control = v1::FleetService::NewStub(NewChannel(server, -1));
     if (!PrepareRoute(control.get(), options.site)) {
       (void)WriteAll(out, "E");
@@ -308,7 +305,7 @@ class OperatorProcess {
 /// first message and then left open until the run ends.
 class IdleWatchers {
  public:
-  void Open(const std::string& server, int count) {
+  void Open(const fleetnav::loadgen::LoadTarget& server, int count) {
     auto control = v1::FleetService::NewStub(NewChannel(server, -2));
     grpc::ClientContext submit_context;
     v1::SubmitJobRequest submit;
@@ -355,7 +352,7 @@ class IdleWatchers {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string server = "127.0.0.1:50051";
+  std::string server = "127.0.0.1:50051", tls_dir;
   int agents = 100, submitters = 2, threads = 2, streams_per_connection = 250;
   double rate_hz = 10.0, duration_s = 10.0, submit_rate_hz = 20.0;
   pid_t server_pid = 0;
@@ -377,6 +374,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--server-pid", server_pid, "fleetnavd's pid, for its CPU and memory");
   app.add_flag("--json", json, "print one JSON object (the only output mode)");
+  app.add_option("--tls-dir", tls_dir,
+                 "a TLS fleetnavd: the folder deploy/certs/make-dev-certs wrote with a robot "
+                 "certificate per agent (load-0 ...); each agent then has a connection of its "
+                 "own and the operators send operator.token");
   app.add_option("--capable-agents", capable_agents,
                  "agents that advertise `straight`, so the submitted jobs are assigned to them "
                  "(each keeps one); the watched jobs are then timed until ASSIGNED")
@@ -417,7 +418,8 @@ int main(int argc, char** argv) {
           0, fleetnav::loadgen::ListeningPid(std::atoi(server.substr(colon + 1).c_str())));
     }
   }
-  if (submitters > 0 && !operators.Start(server, operator_options)) {
+  const fleetnav::loadgen::LoadTarget target{server, tls_dir};
+  if (submitters > 0 && !operators.Start(target, operator_options)) {
     std::cerr << "fleetnav-loadgen: cannot reach fleetnavd at " << server << '\n';
     return 1;
   }
@@ -428,7 +430,7 @@ int main(int argc, char** argv) {
   std::vector<std::unique_ptr<fleetnav::loadgen::LoadWorker>> workers;
   for (int w = 0; w < worker_count; ++w) {
     fleetnav::loadgen::WorkerParams params;
-    params.server = server;
+    params.target = target;
     params.agents = agents;
     for (int i = w; i < agents; i += worker_count) params.indices.push_back(i);
     params.streams_per_connection = streams_per_connection;
@@ -462,7 +464,7 @@ int main(int argc, char** argv) {
   }
   const double connect_s = (SteadyNowNs() - connect_start_ns) * 1e-9;
   IdleWatchers watchers;
-  if (idle_watchers > 0) watchers.Open(server, idle_watchers);
+  if (idle_watchers > 0) watchers.Open(target, idle_watchers);
 
   // Pacing: every agent gets one message per period, spread evenly across the period; the
   // workers start together and keep reaping completions for 200 ms after the last message.

@@ -65,7 +65,7 @@ class LoadWorkerTest : public ::testing::Test {
 
 TEST_F(LoadWorkerTest, AgentsRegisterAndEveryDueMessageIsDeliveredOrCountedAsSkipped) {
   WorkerParams params;
-  params.server = address_;
+  params.target.address = address_;
   params.agents = 12;
   params.indices = {1, 3, 5, 7, 9, 11};  // the odd half of a 12-agent run
   params.streams_per_connection = 4;     // two connections
