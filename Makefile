@@ -13,7 +13,7 @@ SANITIZE_TESTS ?= core_test planner_test storage_test localization_test
 # linked with an Abseil built with TSan (scripts/tsan-abseil; Debian's is not instrumented).
 TSAN_TESTS ?= core_test storage_test server_app_test
 
-.PHONY: all bootstrap configure build test demo bench format format-check tidy sanitize tsan clean
+.PHONY: all bootstrap configure build test demo bench format format-check tidy sanitize tsan fuzz clean
 
 all: build
 
@@ -56,6 +56,10 @@ tsan: bootstrap
 	absl_dir=$$(./scripts/tsan-abseil build-tsan/abseil) && \
 	  CMAKE_ARGS="-Dabsl_DIR=$$absl_dir" JOBS=$(JOBS) \
 	  ./scripts/sanitized-tests thread build-tsan/fleetnav $(TSAN_TESTS)
+
+# Every fuzz target (fuzz/) with libFuzzer + ASan + UBSan for FUZZ_SECONDS each (default 60).
+fuzz: bootstrap
+	JOBS=$(JOBS) ./scripts/fuzz build-fuzz
 
 clean:
 	rm -rf $(BUILD_DIR) build-asan build-tsan
