@@ -105,16 +105,26 @@ void HttpGateway::Stop() {
   if (listener_.joinable()) listener_.join();
 }
 
-std::string HttpGateway::StateJson() {
-  storage::JobFilter unfinished;
-  unfinished.states = {JobState::kQueued, JobState::kAssigned, JobState::kRunning,
-                       JobState::kPaused};
-  unfinished.page_size = 500;
-  std::vector<Job> jobs;
-  if (absl::StatusOr<storage::JobPage> page = server_->jobs().List(unfinished); page.ok()) {
-    jobs = std::move(page->jobs);
+std::vector<Job> HttpGateway::UnfinishedJobs() {
+  absl::MutexLock lock(&jobs_mutex_);
+  const uint64_t changes = server_->job_changes();
+  if (changes != jobs_read_at_) {
+    storage::JobFilter unfinished;
+    unfinished.states = {JobState::kQueued, JobState::kAssigned, JobState::kRunning,
+                         JobState::kPaused};
+    unfinished.page_size = 500;
+    if (absl::StatusOr<storage::JobPage> page = server_->jobs().List(unfinished); page.ok()) {
+      unfinished_jobs_ = std::move(page->jobs);
+      jobs_read_at_ = changes;
+    }
   }
-  return FleetStateJson(server_->registry().Snapshot(), jobs, server_->clock().UnixMs()).dump();
+  return unfinished_jobs_;
+}
+
+std::string HttpGateway::StateJson() {
+  return FleetStateJson(server_->registry().Snapshot(), UnfinishedJobs(),
+                        server_->clock().UnixMs())
+      .dump();
 }
 
 void HttpGateway::AddHandlers() {

@@ -104,8 +104,10 @@ absl::StatusOr<int> FleetServer::Start() {
                                                       access_gate_.get());
   watch_hub_ = std::make_unique<WatchHub>(fleet_service_.get(), &registry_, jobs_.get());
   registry_.SetChangeListener([hub = watch_hub_.get()] { hub->OnFleetChanged(); });
-  job_repository_->SetListener(
-      [hub = watch_hub_.get()](const std::string& job_id) { hub->OnJobChanged(job_id); });
+  job_repository_->SetListener([this, hub = watch_hub_.get()](const std::string& job_id) {
+    job_changes_.fetch_add(1, std::memory_order_release);
+    hub->OnJobChanged(job_id);
+  });
 
   // Our own synchronous health service instead of gRPC's default (see health_service.hpp); the
   // default is switched on process-wide, so switch it off for this server explicitly.

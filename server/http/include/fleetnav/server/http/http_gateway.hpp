@@ -4,8 +4,10 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "absl/status/statusor.h"
+#include "absl/synchronization/mutex.h"
 #include "fleetnav/server/rpc/fleet_server.hpp"
 
 namespace httplib {
@@ -47,12 +49,17 @@ class HttpGateway {
   void AddHandlers();
   /// The state document the dashboard draws (FleetStateJson).
   std::string StateJson();
+  /// The unfinished jobs, read from the store only when a job changed since the last read.
+  std::vector<Job> UnfinishedJobs();
 
   FleetServer* server_;
   HttpGatewayParams params_;
   std::unique_ptr<httplib::Server> http_;
   std::thread listener_;
   std::atomic<bool> stopping_{false};
+  absl::Mutex jobs_mutex_;
+  uint64_t jobs_read_at_ ABSL_GUARDED_BY(jobs_mutex_) = ~uint64_t{0};  ///< job_changes() then
+  std::vector<Job> unfinished_jobs_ ABSL_GUARDED_BY(jobs_mutex_);
 };
 
 }  // namespace fleetnav::server::http

@@ -89,6 +89,9 @@ class FleetServer {
   bool secure() const { return access_gate_ != nullptr; }
   /// The TLS gate (null without TLS), for the HTTP port's checks.
   AccessGate* access_gate() { return access_gate_.get(); }
+  /// Grows with every job or job event stored: a reader that saw the same count has seen every
+  /// job as it is.
+  uint64_t job_changes() const { return job_changes_.load(std::memory_order_acquire); }
   MapCatalog& maps() { return *maps_; }
   SiteCatalog& site() { return *site_; }
   const Clock& clock() const { return *clock_; }
@@ -103,6 +106,7 @@ class FleetServer {
   const Clock* clock_;  ///< the system clock, or the simulator's with sim_clock_address
   std::unique_ptr<SimClockFeed> sim_clock_feed_;
   std::atomic<bool> stopping_{false};
+  std::atomic<uint64_t> job_changes_{0};
   FleetRegistry registry_;
   std::unique_ptr<storage::SqliteDatabase> db_;
   std::unique_ptr<storage::SqliteMapRepository> map_repository_;
