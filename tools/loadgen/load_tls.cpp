@@ -59,10 +59,10 @@ std::shared_ptr<grpc::Channel> NewOperatorChannel(const LoadTarget& target, int 
   }
   ClientTlsFiles files;
   files.ca_path = target.tls_dir + "/server-ca.crt";
-  std::ifstream token_file(target.tls_dir + "/operator.token");
+  std::ifstream token_file(target.tls_dir + "/admin.token");
   std::string token;
   if (!std::getline(token_file, token) || token.empty()) {
-    std::cerr << "fleetnav-loadgen: cannot read " << target.tls_dir << "/operator.token\n";
+    std::cerr << "fleetnav-loadgen: cannot read " << target.tls_dir << "/admin.token\n";
     std::exit(2);
   }
   auto credentials = grpc::CompositeChannelCredentials(

@@ -377,7 +377,7 @@ int main(int argc, char** argv) {
   app.add_option("--tls-dir", tls_dir,
                  "a TLS fleetnavd: the folder deploy/certs/make-dev-certs wrote with a robot "
                  "certificate per agent (load-0 ...); each agent then has a connection of its "
-                 "own and the operators send operator.token");
+                 "own and the operators send admin.token (they store the site too)");
   app.add_option("--capable-agents", capable_agents,
                  "agents that advertise `straight`, so the submitted jobs are assigned to them "
                  "(each keeps one); the watched jobs are then timed until ASSIGNED")
