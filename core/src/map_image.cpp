@@ -93,6 +93,11 @@ absl::StatusOr<PgmImage> DecodeBmp(std::string_view b) {
     return absl::InvalidArgumentError(
         absl::StrCat("BMP: header of ", info_size, " bytes (only BITMAPINFOHEADER and later)"));
   }
+  if (kFileHeader + static_cast<size_t>(info_size) > b.size()) {
+    return absl::InvalidArgumentError(absl::StrCat("BMP: truncated header (", info_size,
+                                                   " bytes announced, ", b.size() - kFileHeader,
+                                                   " present)"));
+  }
   const int64_t width = static_cast<int32_t>(U32(b, kFileHeader + 4));
   const int64_t raw_height = static_cast<int32_t>(U32(b, kFileHeader + 8));
   const uint16_t bits = U16(b, kFileHeader + 14);

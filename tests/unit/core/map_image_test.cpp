@@ -149,6 +149,11 @@ TEST(MapImageTest, BadImagesAreRefusedNamingTheProblem) {
   PutU32(huge, 18, 200000);
   PutU32(huge, 22, 200000);
   expect(huge, "exceeds the limit");
+  // A 32-bit BMP whose header says it is a 59-byte BITMAPV3INFOHEADER (alpha mask at byte 52)
+  // in a file that ends before it (found by fuzz_map_image: it read past the buffer).
+  std::string short_v3 = Bmp(kGrey, 1, 1, 32, false).substr(0, 60);
+  PutU32(short_v3, 14, 59);
+  expect(short_v3, "BMP: truncated header (59 bytes announced, 44 present)");
 }
 
 }  // namespace
