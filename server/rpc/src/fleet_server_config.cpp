@@ -36,16 +36,7 @@ absl::Status Read(const YAML::Node& node, const std::string& key, const std::str
   return absl::OkStatus();
 }
 
-}  // namespace
-
-absl::StatusOr<FleetServerConfig> ParseFleetServerConfig(std::string_view yaml_text,
-                                                         FleetServerConfig config) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(std::string(yaml_text));
-  } catch (const YAML::Exception& e) {
-    return absl::InvalidArgumentError(absl::StrCat("config: ", e.what()));
-  }
+absl::StatusOr<FleetServerConfig> ConfigFromYaml(const YAML::Node& root, FleetServerConfig config) {
   if (root.IsNull()) return config;
   RETURN_IF_ERROR(CheckKeys(root,
                             {"listen", "db", "log_level", "agent_threads", "insecure", "tls",
@@ -128,6 +119,19 @@ absl::StatusOr<FleetServerConfig> ParseFleetServerConfig(std::string_view yaml_t
   }
   RETURN_IF_ERROR(p.Validate());
   return config;
+}
+
+}  // namespace
+
+absl::StatusOr<FleetServerConfig> ParseFleetServerConfig(std::string_view yaml_text,
+                                                         FleetServerConfig config) {
+  // yaml-cpp throws for text it cannot read and for a value of another shape than asked (a key
+  // that is a list, a section that is a scalar): both are the file's fault.
+  try {
+    return ConfigFromYaml(YAML::Load(std::string(yaml_text)), std::move(config));
+  } catch (const YAML::Exception& e) {
+    return absl::InvalidArgumentError(absl::StrCat("config: ", e.what()));
+  }
 }
 
 absl::StatusOr<FleetServerConfig> LoadFleetServerConfig(const std::string& path,

@@ -40,15 +40,7 @@ absl::StatusOr<X509Ptr> FirstCertificate(const std::string& pem, const std::stri
   return cert;
 }
 
-}  // namespace
-
-absl::StatusOr<std::vector<OperatorToken>> ParseOperatorTokens(absl::string_view yaml_text) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(std::string(yaml_text));
-  } catch (const YAML::Exception& e) {
-    return absl::InvalidArgumentError(absl::StrCat("tokens: ", e.what()));
-  }
+absl::StatusOr<std::vector<OperatorToken>> TokensFromYaml(const YAML::Node& root) {
   if (!root.IsMap() || !root["tokens"] || !root["tokens"].IsSequence()) {
     return absl::InvalidArgumentError("tokens: expected `tokens: [{name, role, sha256}, ...]`");
   }
@@ -80,6 +72,18 @@ absl::StatusOr<std::vector<OperatorToken>> ParseOperatorTokens(absl::string_view
     return absl::InvalidArgumentError(absl::StrCat("tokens: ", policy.status().message()));
   }
   return tokens;
+}
+
+}  // namespace
+
+absl::StatusOr<std::vector<OperatorToken>> ParseOperatorTokens(absl::string_view yaml_text) {
+  // yaml-cpp throws for text it cannot read and for a value of another shape (a key that is a
+  // list, a name that is a map): both are the file's fault.
+  try {
+    return TokensFromYaml(YAML::Load(std::string(yaml_text)));
+  } catch (const YAML::Exception& e) {
+    return absl::InvalidArgumentError(absl::StrCat("tokens: ", e.what()));
+  }
 }
 
 absl::StatusOr<ServerSecurity> LoadServerSecurity(const ServerSecurityFiles& files) {

@@ -132,6 +132,9 @@ TEST(OperatorTokensTest, TheFileNamesWhatIsWrong) {
       HasSubstr("unknown key 'token'"));
   EXPECT_EQ(ParseOperatorTokens("users: []").status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(ParseOperatorTokens("tokens: [").status().code(), absl::StatusCode::kInvalidArgument);
+  // A key that is itself a mapping (found by fuzz_operator_tokens: yaml-cpp threw).
+  EXPECT_EQ(ParseOperatorTokens("tokens:\n  - {name: a, {x: 1}: admin}\n").status().code(),
+            absl::StatusCode::kInvalidArgument);
 }
 
 }  // namespace

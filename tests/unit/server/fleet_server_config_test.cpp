@@ -53,6 +53,14 @@ tls: {cert: /etc/fleetnav/server.crt, key: /etc/fleetnav/server.key,
               HasSubstr("tls: unknown key 'certificate'"));
 }
 
+TEST(FleetServerConfigTest, AKeyOfAnotherShapeIsRefusedNotThrown) {
+  // A mapping as a key (yaml-cpp threw from the key check before).
+  EXPECT_EQ(ParseFleetServerConfig("limits:\n  {max_page_size: 1}: 3\n").status().code(),
+            absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(ParseFleetServerConfig("[1, 2]: x\n").status().code(),
+            absl::StatusCode::kInvalidArgument);
+}
+
 TEST(FleetServerConfigTest, TheShippedConfigServesTls) {
   const absl::StatusOr<FleetServerConfig> config =
       LoadFleetServerConfig(std::string(FLEETNAV_DEPLOY_DIR) + "/fleetnavd.yaml");
