@@ -11,8 +11,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view bytes(reinterpret_cast<const char*>(data), size);
   absl::StatusOr<fleetnav::PgmImage> image = fleetnav::DecodeMapImage(bytes);
   if (!image.ok()) return 0;
-  for (fleetnav::MapServerMode mode : {fleetnav::MapServerMode::kTrinary,
-                                       fleetnav::MapServerMode::kScale, fleetnav::MapServerMode::kRaw}) {
+  for (fleetnav::MapServerMode mode :
+       {fleetnav::MapServerMode::kTrinary, fleetnav::MapServerMode::kScale,
+        fleetnav::MapServerMode::kRaw}) {
     fleetnav::MapServerMetadata metadata;
     metadata.mode = mode;
     absl::StatusOr<fleetnav::OccupancyGrid> grid = fleetnav::GridFromMapServer(metadata, *image);

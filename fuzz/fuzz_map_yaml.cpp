@@ -9,7 +9,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   absl::StatusOr<fleetnav::MapServerMetadata> metadata = fleetnav::ParseMapServerYaml(text);
-  if (metadata.ok() && !fleetnav::ParseMapServerYaml(fleetnav::MapServerYamlToString(*metadata)).ok()) {
+  if (metadata.ok() &&
+      !fleetnav::ParseMapServerYaml(fleetnav::MapServerYamlToString(*metadata)).ok()) {
     std::abort();  // what fleetnav writes it must read
   }
   return 0;

@@ -27,11 +27,11 @@ std::string ScenarioPath() {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  static const std::string path = ScenarioPath();
+  static const std::string kPath = ScenarioPath();
   {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    std::ofstream out(kPath, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   }
-  (void)fleetnav::scenario::LoadScenario(path);
+  (void)fleetnav::scenario::LoadScenario(kPath);
   return 0;
 }

@@ -43,19 +43,19 @@ std::string ReadText(const std::string& path) {
 class SecurityTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    pki_ = new std::string(testing::UniqueTempPath("pki"));
-    foreign_ = new std::string(testing::UniqueTempPath("foreign-pki"));
-    for (const std::string* dir : {pki_, foreign_}) {
+    pki_dir = new std::string(testing::UniqueTempPath("pki"));
+    foreign_dir = new std::string(testing::UniqueTempPath("foreign-pki"));
+    for (const std::string* dir : {pki_dir, foreign_dir}) {
       const std::string command =
           absl::StrCat(FLEETNAV_DEV_CERTS_SCRIPT, " ", *dir, " lely1 lely2 >/dev/null");
       ASSERT_EQ(std::system(command.c_str()), 0) << command;
     }
   }
   static void TearDownTestSuite() {
-    std::filesystem::remove_all(*pki_);
-    std::filesystem::remove_all(*foreign_);
-    delete pki_;
-    delete foreign_;
+    std::filesystem::remove_all(*pki_dir);
+    std::filesystem::remove_all(*foreign_dir);
+    delete pki_dir;
+    delete foreign_dir;
   }
 
   void SetUp() override {
@@ -80,12 +80,12 @@ class SecurityTest : public ::testing::Test {
     std::filesystem::remove(db_path_);
   }
 
-  static std::string Pki(const std::string& name) { return *pki_ + "/" + name; }
+  static std::string Pki(const std::string& name) { return *pki_dir + "/" + name; }
   static std::string Token(const std::string& role) { return ReadText(Pki(role + ".token")); }
 
   /// A TLS channel trusting the server's CA, with a robot's certificate when `robot` is set.
   std::shared_ptr<grpc::Channel> Channel(const std::string& robot = "",
-                                         const std::string& pki = *pki_) {
+                                         const std::string& pki = *pki_dir) {
     ClientTlsFiles files;
     files.ca_path = Pki("server-ca.crt");
     if (!robot.empty()) {
@@ -137,8 +137,8 @@ class SecurityTest : public ::testing::Test {
     return stream->Finish();
   }
 
-  static std::string* pki_;
-  static std::string* foreign_;
+  static std::string* pki_dir;
+  static std::string* foreign_dir;
   std::string db_path_;
   std::string address_;
   std::unique_ptr<server::FleetServer> server_;
@@ -146,8 +146,8 @@ class SecurityTest : public ::testing::Test {
   std::vector<std::string> refusal_log_ ABSL_GUARDED_BY(log_mutex_);
 };
 
-std::string* SecurityTest::pki_ = nullptr;
-std::string* SecurityTest::foreign_ = nullptr;
+std::string* SecurityTest::pki_dir = nullptr;
+std::string* SecurityTest::foreign_dir = nullptr;
 
 int RoleRank(const std::string& role) { return role == "viewer" ? 0 : role == "operator" ? 1 : 2; }
 
@@ -235,7 +235,7 @@ TEST_F(SecurityTest, ARobotCertificateOpensOnlyItsOwnStreamAndTheSiteReads) {
 }
 
 TEST_F(SecurityTest, ACertificateOfAForeignCaDoesNotGetInAndTheServerKeepsServing) {
-  const grpc::Status foreign = ConnectAs(Channel("lely1", *foreign_), "lely1");
+  const grpc::Status foreign = ConnectAs(Channel("lely1", *foreign_dir), "lely1");
   EXPECT_EQ(foreign.error_code(), grpc::StatusCode::UNAVAILABLE) << foreign.error_message();
   // A certificate of the right CA that has expired (made valid until yesterday).
   const std::string expired = testing::UniqueTempPath("expired");
