@@ -56,6 +56,10 @@ absl::Status HttpGatewayParams::Validate() const {
   if (cert_path.empty() != key_path.empty()) {
     return absl::InvalidArgumentError("http: a TLS certificate needs its key");
   }
+  if (threads < 2 || threads > 256) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("http threads: must be in [2, 256], got ", threads));
+  }
   if (!(push_rate_hz > 0.0 && push_rate_hz <= 50.0)) {
     return absl::InvalidArgumentError(
         absl::StrCat("http push rate: must be in (0, 50] Hz, got ", push_rate_hz));
@@ -83,6 +87,8 @@ absl::StatusOr<int> HttpGateway::Start() {
     http_ = std::move(https);
   }
   http_->set_payload_max_length(params_.max_request_bytes);
+  const size_t threads = static_cast<size_t>(params_.threads);
+  http_->new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
   http_->set_read_timeout(5, 0);
   AddHandlers();
   const size_t colon = params_.listen_address.rfind(':');
@@ -122,8 +128,7 @@ std::vector<Job> HttpGateway::UnfinishedJobs() {
 }
 
 std::string HttpGateway::StateJson() {
-  return FleetStateJson(server_->registry().Snapshot(), UnfinishedJobs(),
-                        server_->clock().UnixMs())
+  return FleetStateJson(server_->registry().Snapshot(), UnfinishedJobs(), server_->clock().UnixMs())
       .dump();
 }
 

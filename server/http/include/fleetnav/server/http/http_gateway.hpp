@@ -23,6 +23,8 @@ struct HttpGatewayParams {
   std::string key_path;
   double push_rate_hz = 5.0;             ///< dashboard updates per second
   size_t max_request_bytes = 64 * 1024;  ///< larger bodies: 413
+  /// Requests served at once; each open dashboard holds one for its event stream.
+  int threads = 16;
   absl::Status Validate() const;
 };
 
