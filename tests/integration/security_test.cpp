@@ -278,6 +278,13 @@ TEST_F(SecurityTest, FleetnavctlSpeaksTlsWithATokenAndSaysWhenItIsRefused) {
   EXPECT_THAT(denied.second, HasSubstr("needs admin"));
   EXPECT_EQ(run({"robots", ca}).first, 6);  // no token
   EXPECT_EQ(run({"robots", ca, "--token", "wrong"}).first, 6);
+  // A plaintext fleetnavctl at a TLS server, and a wrong name: unavailable, with the TLS hint.
+  const auto plaintext = run({"robots", "--timeout-s", "3"});
+  EXPECT_EQ(plaintext.first, 5);
+  EXPECT_THAT(plaintext.second, HasSubstr("serving TLS needs --tls-ca"));
+  const auto wrong_name = run({"robots", ca, "--tls-server-name", "elsewhere", "--timeout-s", "3"});
+  EXPECT_EQ(wrong_name.first, 5);
+  EXPECT_THAT(wrong_name.second, HasSubstr("--tls-server-name"));
   // A missing CA file is a usage error, said before any call.
   const auto missing = run({"robots", "--tls-ca", Pki("nowhere.crt")});
   EXPECT_EQ(missing.first, 2);

@@ -253,7 +253,8 @@ int main(int argc, char** argv) {
     status = fleetnav::ctl::WatchFleet(context, rate_hz, count, duration_s);
   }
   if (!status.ok()) {
-    std::cerr << "fleetnavctl: " << fleetnav::ctl::DescribeFailure(status, server) << '\n';
+    std::cerr << "fleetnavctl: " << fleetnav::ctl::DescribeFailure(status, server, tls.secure())
+              << '\n';
   }
   return static_cast<int>(fleetnav::ctl::ExitCodeFor(status));
 }

@@ -29,21 +29,30 @@ ExitCode ExitCodeFor(const absl::Status& status) {
   }
 }
 
-std::string DescribeFailure(const absl::Status& status, const std::string& server_address) {
+std::string DescribeFailure(const absl::Status& status, const std::string& server_address,
+                            bool tls) {
   const std::string message(status.message());
   const std::string lower = absl::AsciiStrToLower(message);
   const std::string cannot_reach = absl::StrCat("cannot reach fleetnavd at ", server_address, ": ");
   if (status.code() == absl::StatusCode::kUnavailable) {
-    std::string why = "it does not answer";
     if (absl::StrContains(lower, "connection refused")) {
-      why = "connection refused";
-    } else if (absl::StrContains(lower, "dns resolution failed") ||
-               absl::StrContains(lower, "name or service not known")) {
-      why = "the name does not resolve";
-    } else if (absl::StrContains(lower, "no route to host")) {
-      why = "no route to host";
+      return absl::StrCat(cannot_reach, "connection refused — is it running?");
     }
-    return absl::StrCat(cannot_reach, why, " — is it running?");
+    if (absl::StrContains(lower, "dns resolution failed") ||
+        absl::StrContains(lower, "name or service not known")) {
+      return absl::StrCat(cannot_reach, "the name does not resolve — is it running?");
+    }
+    if (absl::StrContains(lower, "no route to host")) {
+      return absl::StrCat(cannot_reach, "no route to host — is it running?");
+    }
+    // The port answered the connection but not the call: most often the two ends disagree on
+    // TLS, which gRPC reports only as an unavailable server.
+    return absl::StrCat(cannot_reach,
+                        tls ? "it does not answer over TLS — does it serve TLS, is --tls-ca the CA "
+                              "of its certificate, and does the certificate name the address "
+                              "(else --tls-server-name)?"
+                            : "it does not answer — is it running? (a fleetnavd serving TLS needs "
+                              "--tls-ca)");
   }
   if (status.code() == absl::StatusCode::kDeadlineExceeded &&
       absl::StrContains(lower, "deadline exceeded")) {

@@ -22,7 +22,9 @@ ExitCode ExitCodeFor(const absl::Status& status);
 
 /// The one line fleetnavctl prints for a failed command: a connection failure in words ("cannot
 /// reach fleetnavd at 127.0.0.1:50051: connection refused — is it running?"), anything else as
-/// the status with its code.
-std::string DescribeFailure(const absl::Status& status, const std::string& server_address);
+/// the status with its code. A connection that opens but never answers is often the wrong
+/// security: `tls` (the command used --tls-ca) picks which hint follows.
+std::string DescribeFailure(const absl::Status& status, const std::string& server_address,
+                            bool tls = false);
 
 }  // namespace fleetnav::ctl
