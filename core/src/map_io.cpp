@@ -444,6 +444,11 @@ std::pair<MapServerMetadata, PgmImage> GridToMapServer(const OccupancyGrid& grid
   return {std::move(metadata), std::move(image)};
 }
 
+uint8_t MapServerGrey(int8_t cell_value) {
+  if (cell_value < 0) return kUnknownPixel;
+  return static_cast<uint8_t>(std::lround(kFreePixel * (100.0 - cell_value) / 100.0));
+}
+
 absl::StatusOr<OccupancyGrid> LoadMapServer(const std::string& yaml_path) {
   ASSIGN_OR_RETURN(const std::string yaml_text, internal::ReadFileToString(yaml_path));
   ASSIGN_OR_RETURN(const MapServerMetadata metadata, ParseMapServerYaml(yaml_text));

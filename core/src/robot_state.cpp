@@ -2,6 +2,18 @@
 
 namespace fleetnav {
 
+std::string_view ConnectionStateName(ConnectionState state) {
+  switch (state) {
+    case ConnectionState::kOnline:
+      return "online";
+    case ConnectionState::kStale:
+      return "stale";
+    case ConnectionState::kOffline:
+      break;
+  }
+  return "offline";
+}
+
 std::string_view NavigationModeName(NavigationMode mode) {
   switch (mode) {
     case NavigationMode::kIdle:

@@ -3,39 +3,12 @@
 #include <cmath>
 #include <string>
 
+#include "absl/strings/escaping.h"
+#include "fleetnav/core/map_io.hpp"
 #include "fleetnav/proto/job_convert.hpp"
 
 namespace fleetnav::server::http {
 namespace {
-
-const char* ConnectionName(ConnectionState state) {
-  switch (state) {
-    case ConnectionState::kOnline:
-      return "online";
-    case ConnectionState::kStale:
-      return "stale";
-    case ConnectionState::kOffline:
-      break;
-  }
-  return "offline";
-}
-
-std::string Base64(const std::vector<uint8_t>& bytes) {
-  static constexpr char kAlphabet[] =
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  for (size_t i = 0; i < bytes.size(); i += 3) {
-    const uint32_t chunk = (static_cast<uint32_t>(bytes[i]) << 16) |
-                           (i + 1 < bytes.size() ? static_cast<uint32_t>(bytes[i + 1]) << 8 : 0) |
-                           (i + 2 < bytes.size() ? static_cast<uint32_t>(bytes[i + 2]) : 0);
-    out.push_back(kAlphabet[(chunk >> 18) & 63]);
-    out.push_back(kAlphabet[(chunk >> 12) & 63]);
-    out.push_back(i + 1 < bytes.size() ? kAlphabet[(chunk >> 6) & 63] : '=');
-    out.push_back(i + 2 < bytes.size() ? kAlphabet[chunk & 63] : '=');
-  }
-  return out;
-}
 
 nlohmann::json PointJson(const Eigen::Vector2d& p) { return {p.x(), p.y()}; }
 
@@ -58,7 +31,7 @@ nlohmann::json FleetStateJson(const std::vector<RobotRecord>& robots, const std:
   for (const RobotRecord& robot : robots) {
     nlohmann::json entry = {{"robot_id", robot.identity.robot_id},
                             {"kind", robot.identity.model.kind_name},
-                            {"connection", ConnectionName(robot.connection)},
+                            {"connection", std::string(ConnectionStateName(robot.connection))},
                             {"job_id", robot.current_job_id},
                             {"traffic_wait", robot.traffic_wait}};
     if (robot.last_telemetry) {
@@ -91,13 +64,11 @@ nlohmann::json FleetStateJson(const std::vector<RobotRecord>& robots, const std:
 }
 
 nlohmann::json MapJson(const std::string& map_id, uint32_t version, const OccupancyGrid& grid) {
-  std::vector<uint8_t> greys;
+  std::string greys;  // top row first, one byte per cell
   greys.reserve(static_cast<size_t>(grid.width()) * grid.height());
   for (int y = grid.height() - 1; y >= 0; --y) {
     for (int x = 0; x < grid.width(); ++x) {
-      const int8_t value = grid.Value({x, y});
-      greys.push_back(value < 0 ? 205
-                                : static_cast<uint8_t>(std::lround(254.0 * (100 - value) / 100.0)));
+      greys.push_back(static_cast<char>(MapServerGrey(grid.Value({x, y}))));
     }
   }
   return {{"map_id", map_id},
@@ -106,22 +77,19 @@ nlohmann::json MapJson(const std::string& map_id, uint32_t version, const Occupa
           {"height", grid.height()},
           {"resolution_m", grid.resolution_m()},
           {"origin", {grid.origin().x_m(), grid.origin().y_m(), grid.origin().yaw_rad()}},
-          {"cells", Base64(greys)}};
+          {"cells", absl::Base64Escape(greys)}};
 }
 
 nlohmann::json SiteJson(const MarkerSet* markers, const std::vector<Route>& routes) {
   nlohmann::json marker_list = nlohmann::json::array();
   if (markers != nullptr) {
     for (const StripeMarker& marker : markers->markers) {
-      const char* kind = marker.kind == MarkerKind::kFollowStripe    ? "follow_stripe"
-                         : marker.kind == MarkerKind::kChargerStripe ? "charger_stripe"
-                                                                     : "calibration";
       marker_list.push_back({{"id", marker.id},
                              {"x_m", marker.position_m.x()},
                              {"y_m", marker.position_m.y()},
                              {"yaw_rad", marker.yaw_rad},
                              {"length_m", marker.length_m},
-                             {"kind", kind},
+                             {"kind", std::string(MarkerKindName(marker.kind))},
                              {"stripe_id", marker.stripe_id}});
     }
   }

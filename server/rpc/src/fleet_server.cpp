@@ -181,10 +181,7 @@ PassFigures FleetServer::assigning_passes() const {
 std::string FleetServer::RenderMetrics() const {
   FleetStateFigures state;
   for (const RobotRecord& robot : registry_.Snapshot()) {
-    const char* name = robot.connection == ConnectionState::kOnline  ? "online"
-                       : robot.connection == ConnectionState::kStale ? "stale"
-                                                                     : "offline";
-    ++state.robots_by_state[name];
+    ++state.robots_by_state[std::string(ConnectionStateName(robot.connection))];
   }
   if (job_repository_ != nullptr) {
     if (absl::StatusOr<std::map<JobState, int64_t>> jobs = job_repository_->CountJobsByState();

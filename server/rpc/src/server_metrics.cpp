@@ -5,6 +5,9 @@
 
 #include <chrono>
 
+#include "absl/status/status.h"
+#include "fleetnav/core/robot_state.hpp"
+
 namespace fleetnav::server {
 namespace {
 
@@ -43,29 +46,6 @@ class RpcMetricsFactory final : public grpc::experimental::ServerInterceptorFact
  private:
   ServerMetrics* metrics_;
 };
-
-/// gRPC's code names as Prometheus label values ("OK", "NOT_FOUND", ...).
-std::string CodeName(grpc::StatusCode code) {
-  static const char* const kNames[] = {"OK",
-                                       "CANCELLED",
-                                       "UNKNOWN",
-                                       "INVALID_ARGUMENT",
-                                       "DEADLINE_EXCEEDED",
-                                       "NOT_FOUND",
-                                       "ALREADY_EXISTS",
-                                       "PERMISSION_DENIED",
-                                       "RESOURCE_EXHAUSTED",
-                                       "FAILED_PRECONDITION",
-                                       "ABORTED",
-                                       "OUT_OF_RANGE",
-                                       "UNIMPLEMENTED",
-                                       "INTERNAL",
-                                       "UNAVAILABLE",
-                                       "DATA_LOSS",
-                                       "UNAUTHENTICATED"};
-  const int index = static_cast<int>(code);
-  return index >= 0 && index < 17 ? kNames[index] : "UNKNOWN";
-}
 
 prometheus::MetricFamily Family(const std::string& name, const std::string& help,
                                 prometheus::MetricType type) {
@@ -116,7 +96,11 @@ ServerMetrics::ServerMetrics()
                          .Add({}, buckets_)) {}
 
 void ServerMetrics::ObserveRpc(const std::string& method, grpc::StatusCode code, double seconds) {
-  rpcs_.Add({{"method", method}, {"code", CodeName(code)}}).Increment();
+  // gRPC's and absl's codes are the same numbers, so absl names them ("OK", "NOT_FOUND", ...).
+  rpcs_
+      .Add({{"method", method},
+            {"code", absl::StatusCodeToString(static_cast<absl::StatusCode>(code))}})
+      .Increment();
   rpc_seconds_.Add({{"method", method}}, buckets_).Observe(seconds);
 }
 
@@ -134,9 +118,11 @@ std::string ServerMetrics::Render(const FleetStateFigures& state) const {
   prometheus::MetricFamily robots =
       Family("fleetnav_robots", "Robots known to the server, by connection state",
              prometheus::MetricType::Gauge);
-  for (const char* connection : {"online", "stale", "offline"}) {
-    const auto found = state.robots_by_state.find(connection);
-    AddSample(robots, "state", connection,
+  for (ConnectionState connection :
+       {ConnectionState::kOnline, ConnectionState::kStale, ConnectionState::kOffline}) {
+    const std::string name(ConnectionStateName(connection));
+    const auto found = state.robots_by_state.find(name);
+    AddSample(robots, "state", name,
               found == state.robots_by_state.end() ? 0.0 : static_cast<double>(found->second));
   }
   families.push_back(std::move(robots));

@@ -7,6 +7,7 @@
 
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/map_io.hpp"
 
 namespace fleetnav::ctl {
 namespace {
@@ -35,12 +36,6 @@ Rgb MarkerColor(MarkerKind kind) {
   return {0.90, 0.70, 0.00};
 }
 
-/// map_server's grey for a cell value: 0 → 254 (white), 100 → 0 (black), unknown → 205.
-uint8_t GreyOf(int8_t value) {
-  if (value < 0) return 205;
-  return static_cast<uint8_t>(std::lround(254.0 * (100 - value) / 100.0));
-}
-
 /// The cells, one image pixel each, in cairo's RGB24 layout with the top row first.
 cairo_surface_t* CellSurface(const OccupancyGrid& grid) {
   cairo_surface_t* cells =
@@ -52,7 +47,7 @@ cairo_surface_t* CellSurface(const OccupancyGrid& grid) {
     auto* row =
         reinterpret_cast<uint32_t*>(data + static_cast<size_t>(stride) * (grid.height() - 1 - y));
     for (int x = 0; x < grid.width(); ++x) {
-      const uint32_t grey = GreyOf(grid.Value({x, y}));
+      const uint32_t grey = MapServerGrey(grid.Value({x, y}));
       row[x] = (grey << 16) | (grey << 8) | grey;
     }
   }

@@ -60,6 +60,10 @@ absl::StatusOr<OccupancyGrid> GridFromMapServerBytes(std::string_view yaml_text,
 std::pair<MapServerMetadata, PgmImage> GridToMapServer(const OccupancyGrid& grid,
                                                        const std::string& image_name);
 
+/// The grey map_server shows a cell value in: 0 (free) -> 254, 100 (occupied) -> 0, values in
+/// between shaded linearly, unknown (< 0) -> 205 (the trinary image's pixels, for drawing).
+uint8_t MapServerGrey(int8_t cell_value);
+
 /// Reads a YAML file and the image it names (relative to the YAML's folder; PGM, PNG or BMP).
 absl::StatusOr<OccupancyGrid> LoadMapServer(const std::string& yaml_path);
 /// Writes `<stem>.yaml` and `<stem>.pgm` at yaml_path (which must end in .yaml).

@@ -32,6 +32,8 @@ enum class NavigationMode {
 std::string_view NavigationModeName(NavigationMode mode);
 
 enum class ConnectionState { kOnline, kStale, kOffline };
+/// "online", "stale" or "offline".
+std::string_view ConnectionStateName(ConnectionState state);
 
 /// Planar velocity in base_link.
 struct Twist2 {
