@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "fleetnav/proto/access_convert.hpp"
 #include "fleetnav/proto/assignment_convert.hpp"
 #include "fleetnav/proto/geometry_convert.hpp"
 #include "fleetnav/proto/job_convert.hpp"
@@ -12,6 +13,7 @@
 #include "fleetnav/proto/route_convert.hpp"
 #include "fleetnav/proto/telemetry_convert.hpp"
 #include "fleetnav/proto/traffic_plan_convert.hpp"
+#include "fleetnav/v1/access_service.pb.h"
 #include "fleetnav/v1/agent_service.pb.h"
 #include "fleetnav/v1/fleet_service.pb.h"
 
@@ -28,7 +30,7 @@ bool Parse(const uint8_t* data, size_t size, Message* message) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
-  const uint8_t kind = data[0] % 8;
+  const uint8_t kind = data[0] % 9;
   ++data;
   --size;
   switch (kind) {
@@ -75,6 +77,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         if (message.has_assignment()) (void)fleetnav::FromProto(message.assignment());
         if (message.has_command()) (void)fleetnav::FromProto(message.command());
       }
+      break;
+    }
+    case 8: {
+      v1::CreateTokenRequest request;
+      if (Parse(data, size, &request)) (void)fleetnav::FromProto(request.role());
       break;
     }
     default: {

@@ -161,6 +161,7 @@ int main(int argc, char** argv) {
   params.on_access_refused = [](const std::string& why) {
     spdlog::warn("fleetnavd: refused: {}", why);
   };
+  params.on_token_change = [](const std::string& what) { spdlog::info("fleetnavd: {}", what); };
   fleetnav::server::FleetServer server(params);
   absl::StatusOr<int> port = server.Start();
   if (!port.ok()) {

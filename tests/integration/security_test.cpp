@@ -7,6 +7,7 @@
 #include <grpcpp/generic/generic_stub.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -30,6 +31,7 @@ namespace fleetnav {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 std::string ReadText(const std::string& path) {
   std::ifstream in(path);
@@ -60,8 +62,12 @@ class SecurityTest : public ::testing::Test {
 
   void SetUp() override {
     db_path_ = testing::UniqueTempPath("secure") + ".db";
+    StartServer("127.0.0.1:0");
+  }
+  /// Starts fleetnavd on `listen_address` over the test's database.
+  void StartServer(const std::string& listen_address) {
     server::FleetServerParams params;
-    params.listen_address = "127.0.0.1:0";
+    params.listen_address = listen_address;
     params.db_path = db_path_;
     params.security = {Pki("server.crt"), Pki("server.key"), Pki("robot-ca.crt"),
                        Pki("tokens.yaml")};
@@ -73,6 +79,23 @@ class SecurityTest : public ::testing::Test {
     absl::StatusOr<int> port = server_->Start();
     ASSERT_TRUE(port.ok()) << port.status();
     address_ = absl::StrCat("127.0.0.1:", *port);
+  }
+  struct CtlResult {
+    int code = -1;
+    std::string out;
+    std::string err;
+  };
+  /// Runs fleetnavctl against the server with the server's CA.
+  CtlResult RunCtl(std::vector<std::string> args) {
+    args.insert(args.begin(), {FLEETNAV_FLEETNAVCTL_PATH, "--server", address_,
+                               "--tls-ca=" + Pki("server-ca.crt")});
+    const std::string base = testing::UniqueTempPath("ctl-tls");
+    scenario::ChildProcess child(args, base + ".out", base + ".err");
+    CtlResult result;
+    result.code = child.Wait(30.0).value_or(-1);
+    result.out = child.Stdout();
+    result.err = child.Stderr();
+    return result;
   }
   void TearDown() override {
     server_->Shutdown();
@@ -151,58 +174,62 @@ std::string* SecurityTest::foreign_dir = nullptr;
 
 int RoleRank(const std::string& role) { return role == "viewer" ? 0 : role == "operator" ? 1 : 2; }
 
-/// The role each FleetService method needs (docs/security.md); a method missing here fails.
+/// The role each FleetService and AccessService method needs (docs/security.md); a method missing
+/// here fails.
 int NeededRank(const std::string& method) {
   static const std::set<std::string> kOperator = {"SubmitJob", "CancelJob", "PauseJob",
                                                   "ResumeJob"};
-  static const std::set<std::string> kAdmin = {"PutMap",          "DeleteMap", "PutMarkerSet",
-                                               "DeleteMarkerSet", "PutRoute",  "DeleteRoute",
-                                               "ForgetRobot"};
+  static const std::set<std::string> kAdmin = {
+      "PutMap",      "DeleteMap",   "PutMarkerSet", "DeleteMarkerSet", "PutRoute",
+      "DeleteRoute", "ForgetRobot", "CreateToken",  "ListTokens",      "RevokeToken"};
   if (kAdmin.count(method) != 0) return 2;
   if (kOperator.count(method) != 0) return 1;
   return 0;
 }
 
 TEST_F(SecurityTest, EveryRpcRefusesMissingMalformedAndUnderprivilegedCredentials) {
-  const google::protobuf::ServiceDescriptor* service =
-      google::protobuf::DescriptorPool::generated_pool()->FindServiceByName(
-          "fleetnav.v1.FleetService");
-  ASSERT_NE(service, nullptr);
   const std::shared_ptr<grpc::Channel> channel = Channel();
-  int refused = 0, tried_refusals = 0;
-  for (int i = 0; i < service->method_count(); ++i) {
-    const std::string name = service->method(i)->name();
-    const std::string method = absl::StrCat("/fleetnav.v1.FleetService/", name);
-    SCOPED_TRACE(method);
-    // No credentials, a malformed header, an unknown token: UNAUTHENTICATED, naming the method.
-    for (const std::string& authorization :
-         {std::string(), std::string("Basic abc"), std::string("Bearer not-a-token"),
-          std::string("Bearer ")}) {
-      const grpc::Status status = Call(channel, method, authorization);
-      ++tried_refusals;
-      refused += status.error_code() == grpc::StatusCode::UNAUTHENTICATED;
-      EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAUTHENTICATED) << authorization;
-      EXPECT_THAT(status.error_message(), HasSubstr(name));
-    }
-    // Each role: refused below the method's role, admitted at or above it (whatever the empty
-    // request then makes of it).
-    for (const std::string role : {"viewer", "operator", "admin"}) {
-      const grpc::Status status = Call(channel, method, "Bearer " + Token(role));
-      if (RoleRank(role) < NeededRank(name)) {
+  int refused = 0, tried_refusals = 0, method_count = 0;
+  for (const char* service_name : {"fleetnav.v1.FleetService", "fleetnav.v1.AccessService"}) {
+    const google::protobuf::ServiceDescriptor* service =
+        google::protobuf::DescriptorPool::generated_pool()->FindServiceByName(service_name);
+    ASSERT_NE(service, nullptr) << service_name;
+    method_count += service->method_count();
+    for (int i = 0; i < service->method_count(); ++i) {
+      const std::string name = service->method(i)->name();
+      const std::string method = absl::StrCat("/", service_name, "/", name);
+      SCOPED_TRACE(method);
+      // No credentials, a malformed header, an unknown token: UNAUTHENTICATED, naming the
+      // method.
+      for (const std::string& authorization :
+           {std::string(), std::string("Basic abc"), std::string("Bearer not-a-token"),
+            std::string("Bearer ")}) {
+        const grpc::Status status = Call(channel, method, authorization);
         ++tried_refusals;
-        refused += status.error_code() == grpc::StatusCode::PERMISSION_DENIED;
-        EXPECT_EQ(status.error_code(), grpc::StatusCode::PERMISSION_DENIED) << role;
-        EXPECT_THAT(status.error_message(), HasSubstr("role " + role));
-      } else {
-        EXPECT_NE(status.error_code(), grpc::StatusCode::PERMISSION_DENIED) << role;
-        EXPECT_NE(status.error_code(), grpc::StatusCode::UNAUTHENTICATED) << role;
+        refused += status.error_code() == grpc::StatusCode::UNAUTHENTICATED;
+        EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAUTHENTICATED) << authorization;
+        EXPECT_THAT(status.error_message(), HasSubstr(name));
+      }
+      // Each role: refused below the method's role, admitted at or above it (whatever the
+      // empty request then makes of it).
+      for (const std::string role : {"viewer", "operator", "admin"}) {
+        const grpc::Status status = Call(channel, method, "Bearer " + Token(role));
+        if (RoleRank(role) < NeededRank(name)) {
+          ++tried_refusals;
+          refused += status.error_code() == grpc::StatusCode::PERMISSION_DENIED;
+          EXPECT_EQ(status.error_code(), grpc::StatusCode::PERMISSION_DENIED) << role;
+          EXPECT_THAT(status.error_message(), HasSubstr("role " + role));
+        } else {
+          EXPECT_NE(status.error_code(), grpc::StatusCode::PERMISSION_DENIED) << role;
+          EXPECT_NE(status.error_code(), grpc::StatusCode::UNAUTHENTICATED) << role;
+        }
       }
     }
   }
   std::printf(
-      "[ security ] %d FleetService methods; %d of %d calls with missing, malformed, "
-      "unknown or under-privileged credentials refused\n",
-      service->method_count(), refused, tried_refusals);
+      "[ security ] %d FleetService and AccessService methods; %d of %d calls with missing, "
+      "malformed, unknown or under-privileged credentials refused\n",
+      method_count, refused, tried_refusals);
   EXPECT_EQ(refused, tried_refusals);
   const server::AccessCounts counts = server_->access_counts();
   EXPECT_EQ(counts.unauthenticated + counts.denied, static_cast<uint64_t>(tried_refusals));
@@ -289,6 +316,67 @@ TEST_F(SecurityTest, FleetnavctlSpeaksTlsWithATokenAndSaysWhenItIsRefused) {
   const auto missing = run({"robots", "--tls-ca", Pki("nowhere.crt")});
   EXPECT_EQ(missing.first, 2);
   EXPECT_THAT(missing.second, HasSubstr("nowhere.crt"));
+}
+
+TEST_F(SecurityTest, TokensMadeAtRunTimeWorkAtOnceOutliveARestartAndRevokingIsImmediate) {
+  // Only an admin manages tokens.
+  const CtlResult by_operator =
+      RunCtl({"tokens", "create", "night", "--role", "operator", "--token", Token("operator")});
+  EXPECT_EQ(by_operator.code, 6) << by_operator.err;
+  EXPECT_THAT(by_operator.err, HasSubstr("needs admin"));
+  const CtlResult made =
+      RunCtl({"tokens", "create", "night", "--role", "operator", "--token", Token("admin")});
+  ASSERT_EQ(made.code, 0) << made.err;
+  const std::string night(absl::StripTrailingAsciiWhitespace(made.out));
+  ASSERT_EQ(night.size(), 64u) << made.out;
+  EXPECT_THAT(made.err, HasSubstr("store it now"));
+  // The new token works from the next call, with its role and no more.
+  EXPECT_EQ(Call(Channel(), "/fleetnav.v1.FleetService/ListRobots", "Bearer " + night).error_code(),
+            grpc::StatusCode::OK);
+  EXPECT_EQ(Call(Channel(), "/fleetnav.v1.FleetService/DeleteMap", "Bearer " + night).error_code(),
+            grpc::StatusCode::PERMISSION_DENIED);
+  // A name in use, a bad name and a file token's name are refused and nothing is stored.
+  EXPECT_EQ(
+      RunCtl({"tokens", "create", "night", "--role", "viewer", "--token", Token("admin")}).code, 4);
+  const CtlResult bad_name =
+      RunCtl({"tokens", "create", "a b", "--role", "viewer", "--token", Token("admin")});
+  EXPECT_EQ(bad_name.code, 4) << bad_name.err;
+  EXPECT_THAT(bad_name.err, HasSubstr("token name"));
+  EXPECT_EQ(
+      RunCtl({"tokens", "create", "dev-admin", "--role", "admin", "--token", Token("admin")}).code,
+      4);
+  const CtlResult listed = RunCtl({"tokens", "--json", "--token", Token("admin")});
+  ASSERT_EQ(listed.code, 0) << listed.err;
+  EXPECT_THAT(listed.out, HasSubstr(R"({"created_unix_ms":0,"name":"dev-admin","role":"admin",)"
+                                    R"("source":"file"})"));
+  EXPECT_THAT(listed.out, HasSubstr(R"("name":"night","role":"operator","source":"store"})"));
+  EXPECT_THAT(listed.out, Not(HasSubstr(night)));
+  EXPECT_EQ(std::count(listed.out.begin(), listed.out.end(), '{'), 4);  // 3 file + night
+
+  // A restart on the same database keeps the token.
+  server_->Shutdown();
+  server_.reset();
+  StartServer(address_);
+  EXPECT_EQ(Call(Channel(), "/fleetnav.v1.FleetService/ListRobots", "Bearer " + night).error_code(),
+            grpc::StatusCode::OK);
+  // Revoked: refused from the next call on, and after another restart too. The file's tokens
+  // cannot be revoked at run time.
+  const CtlResult file_revoke =
+      RunCtl({"tokens", "revoke", "dev-viewer", "--token", Token("admin")});
+  EXPECT_EQ(file_revoke.code, 4);
+  EXPECT_THAT(file_revoke.err, HasSubstr("token file"));
+  EXPECT_EQ(RunCtl({"tokens", "revoke", "ghost", "--token", Token("admin")}).code, 3);
+  ASSERT_EQ(RunCtl({"tokens", "revoke", "night", "--token", Token("admin")}).code, 0);
+  EXPECT_EQ(Call(Channel(), "/fleetnav.v1.FleetService/ListRobots", "Bearer " + night).error_code(),
+            grpc::StatusCode::UNAUTHENTICATED);
+  server_->Shutdown();
+  server_.reset();
+  StartServer(address_);
+  EXPECT_EQ(Call(Channel(), "/fleetnav.v1.FleetService/ListRobots", "Bearer " + night).error_code(),
+            grpc::StatusCode::UNAUTHENTICATED);
+  EXPECT_EQ(Call(Channel(), "/fleetnav.v1.FleetService/ListRobots", "Bearer " + Token("viewer"))
+                .error_code(),
+            grpc::StatusCode::OK);
 }
 
 TEST_F(SecurityTest, TheDashboardServesHttpsAndChecksTokensForReadsAndButtons) {

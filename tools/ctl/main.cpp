@@ -148,6 +148,19 @@ int main(int argc, char** argv) {
       "forget", "remove an offline robot that holds no job from the registry and the store");
   std::string forget_id;
   robots_forget->add_option("robot_id", forget_id, "robot id")->required();
+  CLI::App* tokens = app.add_subcommand(
+      "tokens", "operator tokens (admin): list them; create and revoke them at run time");
+  CLI::App* tokens_create =
+      tokens->add_subcommand("create", "make a token and print its secret (shown only once)");
+  std::string token_name, token_role;
+  tokens_create->add_option("name", token_name, "token name (1-64 of A-Z a-z 0-9 . _ -)")
+      ->required();
+  tokens_create->add_option("--role", token_role, "viewer, operator or admin")
+      ->required()
+      ->check(CLI::IsMember({"viewer", "operator", "admin"}));
+  CLI::App* tokens_revoke =
+      tokens->add_subcommand("revoke", "refuse a created token from the next call on");
+  tokens_revoke->add_option("name", token_name, "token name")->required();
   CLI::App* watch = app.add_subcommand("watch", "follow the fleet live");
   double rate_hz = 5.0, duration_s = 0.0;
   int count = 0;
@@ -243,6 +256,12 @@ int main(int argc, char** argv) {
     status = fleetnav::ctl::ForgetRobot(context, forget_id);
   } else if (robots->parsed()) {
     status = fleetnav::ctl::ListRobots(context);
+  } else if (tokens_create->parsed()) {
+    status = fleetnav::ctl::CreateToken(context, token_name, token_role);
+  } else if (tokens_revoke->parsed()) {
+    status = fleetnav::ctl::RevokeToken(context, token_name);
+  } else if (tokens->parsed()) {
+    status = fleetnav::ctl::ListTokens(context);
   } else if (sim_truth->parsed()) {
     status = fleetnav::ctl::PrintGroundTruth(
         context, grpc::CreateChannel(sim_address, grpc::InsecureChannelCredentials()));

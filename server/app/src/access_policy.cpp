@@ -65,6 +65,10 @@ constexpr std::array kRules = {
     MethodRule{"PutRoute", Requirement::kAdmin},
     MethodRule{"DeleteRoute", Requirement::kAdmin},
     MethodRule{"ForgetRobot", Requirement::kAdmin},
+    // Operator tokens themselves.
+    MethodRule{"/fleetnav.v1.AccessService/CreateToken", Requirement::kAdmin},
+    MethodRule{"/fleetnav.v1.AccessService/ListTokens", Requirement::kAdmin},
+    MethodRule{"/fleetnav.v1.AccessService/RevokeToken", Requirement::kAdmin},
 };
 
 /// The rule of a method; rules without a leading '/' are FleetService methods.
@@ -87,26 +91,6 @@ bool IsLowerHex(absl::string_view text) {
 }
 
 }  // namespace
-
-absl::string_view RoleName(Role role) {
-  switch (role) {
-    case Role::kViewer:
-      return "viewer";
-    case Role::kOperator:
-      return "operator";
-    case Role::kAdmin:
-      return "admin";
-  }
-  return "viewer";
-}
-
-absl::StatusOr<Role> ParseRole(absl::string_view text) {
-  for (Role role : {Role::kViewer, Role::kOperator, Role::kAdmin}) {
-    if (text == RoleName(role)) return role;
-  }
-  return absl::InvalidArgumentError(
-      absl::StrCat("role '", text, "' is none of viewer, operator, admin"));
-}
 
 std::string Sha256Hex(absl::string_view text) {
   std::array<unsigned char, EVP_MAX_MD_SIZE> digest{};

@@ -29,7 +29,7 @@ grpc::Status AccessGate::Process(const InputMetadata& auth_metadata, grpc::AuthC
   credentials.authorization = std::string(Find(auth_metadata, "authorization"));
   credentials.certificate_identity = CertificateIdentity(*context);
   const absl::string_view method = Find(auth_metadata, ":path");
-  absl::StatusOr<Caller> caller = policy_.Authorize(method, credentials);
+  absl::StatusOr<Caller> caller = policy()->Authorize(method, credentials);
   if (!caller.ok()) {
     Refused(caller.status());
     return ToGrpcStatus(caller.status());
@@ -49,6 +49,16 @@ absl::Status AccessGate::CheckRobotClaim(const grpc::AuthContext& context,
   return denied;
 }
 
+void AccessGate::ReplacePolicy(std::shared_ptr<const AccessPolicy> policy) {
+  absl::MutexLock lock(&policy_mutex_);
+  policy_ = std::move(policy);
+}
+
+std::shared_ptr<const AccessPolicy> AccessGate::policy() const {
+  absl::ReaderMutexLock lock(&policy_mutex_);
+  return policy_;
+}
+
 void AccessGate::Refused(const absl::Status& status) {
   if (absl::IsUnauthenticated(status)) {
     unauthenticated_.fetch_add(1, std::memory_order_relaxed);
@@ -62,7 +72,7 @@ absl::StatusOr<Caller> AccessGate::AuthorizeHttp(bool action, absl::string_view 
   CallerCredentials credentials;
   credentials.authorization = std::string(authorization);
   absl::StatusOr<Caller> caller =
-      policy_.Authorize(action ? "/fleetnav.http/Act" : "/fleetnav.http/Read", credentials);
+      policy()->Authorize(action ? "/fleetnav.http/Act" : "/fleetnav.http/Read", credentials);
   if (!caller.ok()) {
     Refused(caller.status());
   } else {

@@ -54,10 +54,14 @@ absl::StatusOr<int> FleetServer::Start() {
   RETURN_IF_ERROR(params_.Validate());
   // Credentials first: a bad certificate or token file must not leave a database behind.
   std::shared_ptr<grpc::ServerCredentials> credentials = grpc::InsecureServerCredentials();
+  std::vector<OperatorToken> file_tokens;
   if (!params_.security.empty()) {
     ASSIGN_OR_RETURN(const ServerSecurity security, LoadServerSecurity(params_.security));
+    file_tokens = security.tokens;
+    // The file's tokens until the stored ones are read (before the port opens).
     ASSIGN_OR_RETURN(AccessPolicy policy, AccessPolicy::Create(security.tokens));
-    access_gate_ = std::make_shared<AccessGate>(std::move(policy), params_.on_access_refused);
+    access_gate_ = std::make_shared<AccessGate>(
+        std::make_shared<const AccessPolicy>(std::move(policy)), params_.on_access_refused);
     // Robots present certificates of the robot CA; operators present tokens over TLS without
     // one. A certificate that is presented must verify.
     grpc::SslServerCredentialsOptions options(GRPC_SSL_REQUEST_CLIENT_CERTIFICATE_AND_VERIFY);
@@ -83,6 +87,17 @@ absl::StatusOr<int> FleetServer::Start() {
   job_repository_ =
       std::make_unique<NotifyingJobRepository>(stored_jobs_.get(), params_.on_job_event);
   pose_history_repository_ = std::make_unique<storage::SqlitePoseHistoryRepository>(db_.get());
+  token_repository_ = std::make_unique<storage::SqliteOperatorTokenRepository>(db_.get());
+  // Without TLS nothing checks tokens; they are still kept for when the server gets TLS.
+  tokens_ = std::make_unique<OperatorTokenService>(
+      token_repository_.get(), std::move(file_tokens), clock_,
+      [gate = access_gate_](std::shared_ptr<const AccessPolicy> policy) {
+        if (gate != nullptr) gate->ReplacePolicy(std::move(policy));
+      });
+  ASSIGN_OR_RETURN(const std::vector<std::string> token_conflicts, tokens_->Load());
+  for (const std::string& conflict : token_conflicts) {
+    if (params_.on_token_change) params_.on_token_change(conflict);
+  }
   pose_recorder_ = std::make_unique<PoseHistoryRecorder>(&registry_, pose_history_repository_.get(),
                                                          params_.pose_history);
   site_data_ = std::make_unique<SiteCache>(map_repository_.get(), marker_repository_.get(),
@@ -99,6 +114,7 @@ absl::StatusOr<int> FleetServer::Start() {
   traffic_ = std::make_unique<TrafficPlanner>(site_data_.get());
   fleet_service_ = std::make_unique<FleetServiceImpl>(maps_.get(), site_.get(), jobs_.get(),
                                                       traffic_.get(), &registry_, &mailbox_);
+  access_service_ = std::make_unique<AccessServiceImpl>(tokens_.get(), params_.on_token_change);
   agent_service_ = std::make_unique<AgentServiceImpl>(&registry_, jobs_.get(), &mailbox_,
                                                       params_.agent_stream_threads, params_.limits,
                                                       access_gate_.get());
@@ -114,7 +130,8 @@ absl::StatusOr<int> FleetServer::Start() {
   grpc::EnableDefaultHealthCheckService(false);
   health_service_ = std::make_unique<HealthServiceImpl>(
       std::vector<std::string>{v1::FleetService::service_full_name(),
-                               v1::AgentService::service_full_name()},
+                               v1::AgentService::service_full_name(),
+                               v1::AccessService::service_full_name()},
       &stopping_);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
@@ -130,6 +147,7 @@ absl::StatusOr<int> FleetServer::Start() {
   builder.experimental().SetInterceptorCreators(std::move(counting));
   builder.RegisterService(health_service_.get());
   builder.RegisterService(fleet_service_.get());
+  builder.RegisterService(access_service_.get());
   agent_service_->Register(&builder);
   watch_hub_->Register(&builder);
   server_ = builder.BuildAndStart();

@@ -130,6 +130,33 @@ absl::Status MemoryRobotRepository::DeleteRobot(const std::string& robot_id) {
   return absl::OkStatus();
 }
 
+absl::Status MemoryOperatorTokenRepository::InsertToken(const StoredOperatorToken& stored) {
+  absl::MutexLock lock(&mutex_);
+  for (const auto& [name, existing] : tokens_) {
+    if (name == stored.token.name || existing.token.sha256_hex == stored.token.sha256_hex) {
+      return absl::AlreadyExistsError(absl::StrCat("a token named '", EchoInput(stored.token.name),
+                                                   "' or with the same secret exists"));
+    }
+  }
+  tokens_[stored.token.name] = stored;
+  return absl::OkStatus();
+}
+
+absl::StatusOr<std::vector<StoredOperatorToken>> MemoryOperatorTokenRepository::ListTokens() {
+  absl::MutexLock lock(&mutex_);
+  std::vector<StoredOperatorToken> out;
+  for (const auto& [name, stored] : tokens_) out.push_back(stored);
+  return out;
+}
+
+absl::Status MemoryOperatorTokenRepository::DeleteToken(const std::string& name) {
+  absl::MutexLock lock(&mutex_);
+  if (tokens_.erase(name) == 0) {
+    return absl::NotFoundError(absl::StrCat("token '", EchoInput(name), "' not found"));
+  }
+  return absl::OkStatus();
+}
+
 absl::StatusOr<CreatedJob> MemoryJobRepository::CreateJob(Job job, JobEvent first_event) {
   absl::MutexLock lock(&mutex_);
   if (!job.idempotency_key.empty()) {

@@ -96,6 +96,15 @@ const std::vector<std::string>& FleetSchemaMigrations() {
         CREATE INDEX pose_history_by_robot ON pose_history (robot_id, unix_ms);
         CREATE INDEX pose_history_by_time ON pose_history (unix_ms);
       )sql",
+      // 4: operator tokens made through AccessService (hashes only).
+      R"sql(
+        CREATE TABLE operator_tokens (
+          name TEXT PRIMARY KEY,
+          role_name TEXT NOT NULL,
+          sha256_hex TEXT NOT NULL UNIQUE,
+          created_unix_ms INTEGER NOT NULL
+        );
+      )sql",
   };
   return kMigrations;
 }

@@ -28,11 +28,13 @@ class FleetRepositoriesTest : public ::testing::TestWithParam<bool> {
       routes_ = std::make_unique<SqliteRouteRepository>(db_.get());
       robots_ = std::make_unique<SqliteRobotRepository>(db_.get());
       jobs_ = std::make_unique<SqliteJobRepository>(db_.get());
+      tokens_ = std::make_unique<SqliteOperatorTokenRepository>(db_.get());
     } else {
       markers_ = std::make_unique<MemoryMarkerSetRepository>();
       routes_ = std::make_unique<MemoryRouteRepository>();
       robots_ = std::make_unique<MemoryRobotRepository>();
       jobs_ = std::make_unique<MemoryJobRepository>();
+      tokens_ = std::make_unique<MemoryOperatorTokenRepository>();
     }
   }
 
@@ -62,6 +64,7 @@ class FleetRepositoriesTest : public ::testing::TestWithParam<bool> {
   std::unique_ptr<RouteRepository> routes_;
   std::unique_ptr<RobotRepository> robots_;
   std::unique_ptr<JobRepository> jobs_;
+  std::unique_ptr<OperatorTokenRepository> tokens_;
 };
 
 TEST_P(FleetRepositoriesTest, MarkerSetsAreVersionedPerMap) {
@@ -136,6 +139,32 @@ TEST_P(FleetRepositoriesTest, ADeletedRouteIsGoneWithEveryVersionAndStartsAgainA
   EXPECT_EQ(again.code(), absl::StatusCode::kNotFound);
   EXPECT_THAT(again.message(), HasSubstr("a-route"));
   EXPECT_EQ(*routes_->PutRoute(StraightRoute("a-route", "barn", 4.0), 4), 1u);
+}
+
+TEST_P(FleetRepositoriesTest, OperatorTokensAreUniqueByNameAndHashAndListedByName) {
+  const std::string hash_a(64, 'a'), hash_b(64, 'b'), hash_c(64, 'c');
+  ASSERT_TRUE(tokens_->InsertToken({{"night-shift", Role::kOperator, hash_a}, 10}).ok());
+  ASSERT_TRUE(tokens_->InsertToken({{"audit", Role::kViewer, hash_b}, 20}).ok());
+  // A taken name, or a taken secret under another name, is refused and changes nothing.
+  EXPECT_EQ(tokens_->InsertToken({{"audit", Role::kAdmin, hash_c}, 30}).code(),
+            absl::StatusCode::kAlreadyExists);
+  EXPECT_EQ(tokens_->InsertToken({{"other", Role::kAdmin, hash_a}, 30}).code(),
+            absl::StatusCode::kAlreadyExists);
+  absl::StatusOr<std::vector<StoredOperatorToken>> tokens = tokens_->ListTokens();
+  ASSERT_TRUE(tokens.ok()) << tokens.status();
+  ASSERT_EQ(tokens->size(), 2u);
+  EXPECT_EQ((*tokens)[0].token.name, "audit");
+  EXPECT_EQ((*tokens)[0].token.role, Role::kViewer);
+  EXPECT_EQ((*tokens)[0].created_unix_ms, 20);
+  EXPECT_EQ((*tokens)[1].token.name, "night-shift");
+  EXPECT_EQ((*tokens)[1].token.role, Role::kOperator);
+  EXPECT_EQ((*tokens)[1].token.sha256_hex, hash_a);
+  ASSERT_TRUE(tokens_->DeleteToken("audit").ok());
+  EXPECT_EQ(tokens_->DeleteToken("audit").code(), absl::StatusCode::kNotFound);
+  tokens = tokens_->ListTokens();
+  ASSERT_TRUE(tokens.ok());
+  ASSERT_EQ(tokens->size(), 1u);
+  EXPECT_EQ((*tokens)[0].token.name, "night-shift");
 }
 
 TEST_P(FleetRepositoriesTest, RobotsAreUpsertedAndListedById) {

@@ -7,23 +7,9 @@
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "absl/strings/string_view.h"
+#include "fleetnav/core/operator_role.hpp"
 
 namespace fleetnav::server {
-
-/// What an operator's token lets them do; each role includes the ones before it.
-enum class Role { kViewer = 0, kOperator = 1, kAdmin = 2 };
-
-absl::string_view RoleName(Role role);
-/// "viewer", "operator" or "admin"; InvalidArgument naming the text otherwise.
-absl::StatusOr<Role> ParseRole(absl::string_view text);
-
-/// One operator's bearer token as the server keeps it: only the SHA-256 of the token (hex), so
-/// the token file is no secret.
-struct OperatorToken {
-  std::string name;
-  Role role = Role::kViewer;
-  std::string sha256_hex;  ///< 64 lower-case hex digits
-};
 
 /// SHA-256 of `text` as 64 lower-case hex digits (what `sha256sum` prints).
 std::string Sha256Hex(absl::string_view text);
@@ -47,15 +33,15 @@ struct Caller {
 /// fleetnavd's authorization rules, one per RPC, deny by default. Operators present bearer
 /// tokens bound to roles: viewer reads (Get*, List*, Watch*, PlanPaths), operator also runs jobs
 /// (SubmitJob, CancelJob, PauseJob, ResumeJob), admin also changes the site and the fleet
-/// (Put*/Delete* of maps, marker sets and routes, ForgetRobot). The HTTP port's reads (the
-/// dashboard, /metrics) count as the method "/fleetnav.http/Read" (viewer) and the dashboard's
-/// pause, resume and cancel buttons as "/fleetnav.http/Act" (operator). Robots present a client
-/// certificate: it admits the agent stream (AgentService/Connect; that the certificate's id
-/// equals the robot id the stream's hello claims is checked by the stream) and the reads an
-/// agent makes of its site (maps, marker sets, routes). The health service is open to all (load
-/// balancers and systemd probe it). Any other method is refused. A missing, malformed or unknown
-/// credential is UNAUTHENTICATED; a known caller without the role is PERMISSION_DENIED; both
-/// name the method and, for a denial, the role needed. Immutable after Create; thread-safe.
+/// (Put*/Delete* of maps, marker sets and routes, ForgetRobot, and AccessService's tokens). The
+/// HTTP port's reads (the dashboard, /metrics) count as the method "/fleetnav.http/Read" (viewer)
+/// and the dashboard's pause, resume and cancel buttons as "/fleetnav.http/Act" (operator). Robots
+/// present a client certificate: it admits the agent stream (AgentService/Connect; that the
+/// certificate's id equals the robot id the stream's hello claims is checked by the stream) and the
+/// reads an agent makes of its site (maps, marker sets, routes). The health service is open to all
+/// (load balancers and systemd probe it). Any other method is refused. A missing, malformed or
+/// unknown credential is UNAUTHENTICATED; a known caller without the role is PERMISSION_DENIED;
+/// both name the method and, for a denial, the role needed. Immutable after Create; thread-safe.
 class AccessPolicy {
  public:
   /// InvalidArgument for a token of a malformed hash, or a name or hash given twice.

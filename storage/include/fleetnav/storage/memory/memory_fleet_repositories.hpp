@@ -6,6 +6,7 @@
 #include "absl/synchronization/mutex.h"
 #include "fleetnav/storage/job_repository.hpp"
 #include "fleetnav/storage/marker_set_repository.hpp"
+#include "fleetnav/storage/operator_token_repository.hpp"
 #include "fleetnav/storage/pose_history_repository.hpp"
 #include "fleetnav/storage/robot_repository.hpp"
 #include "fleetnav/storage/route_repository.hpp"
@@ -49,6 +50,18 @@ class MemoryRobotRepository final : public RobotRepository {
  private:
   absl::Mutex mutex_;
   std::map<std::string, StoredRobot> robots_ ABSL_GUARDED_BY(mutex_);
+};
+
+/// OperatorTokenRepository in memory, with SQLite's rules (name and hash unique). Thread-safe.
+class MemoryOperatorTokenRepository final : public OperatorTokenRepository {
+ public:
+  absl::Status InsertToken(const StoredOperatorToken& stored) override;
+  absl::StatusOr<std::vector<StoredOperatorToken>> ListTokens() override;
+  absl::Status DeleteToken(const std::string& name) override;
+
+ private:
+  absl::Mutex mutex_;
+  std::map<std::string, StoredOperatorToken> tokens_ ABSL_GUARDED_BY(mutex_);  ///< by name
 };
 
 /// JobRepository in memory, with the same id, idempotency and paging rules as SQLite.

@@ -2,6 +2,7 @@
 
 #include "fleetnav/storage/job_repository.hpp"
 #include "fleetnav/storage/marker_set_repository.hpp"
+#include "fleetnav/storage/operator_token_repository.hpp"
 #include "fleetnav/storage/pose_history_repository.hpp"
 #include "fleetnav/storage/robot_repository.hpp"
 #include "fleetnav/storage/route_repository.hpp"
@@ -60,6 +61,19 @@ class SqliteJobRepository final : public JobRepository {
   absl::StatusOr<int64_t> UpdateJob(const Job& job, JobEvent event) override;
   absl::StatusOr<std::vector<JobEvent>> ListEvents(const std::string& job_id,
                                                    int64_t after_sequence) override;
+
+ private:
+  SqliteDatabase* db_;
+};
+
+/// Operator tokens on SQLite: the name is the key and the secret's hash is unique, so neither
+/// can be stored twice. Thread-safe.
+class SqliteOperatorTokenRepository final : public OperatorTokenRepository {
+ public:
+  explicit SqliteOperatorTokenRepository(SqliteDatabase* db) : db_(db) {}
+  absl::Status InsertToken(const StoredOperatorToken& stored) override;
+  absl::StatusOr<std::vector<StoredOperatorToken>> ListTokens() override;
+  absl::Status DeleteToken(const std::string& name) override;
 
  private:
   SqliteDatabase* db_;

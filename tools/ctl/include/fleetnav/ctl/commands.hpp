@@ -41,6 +41,14 @@ absl::Status DeleteMap(const CommandContext& context, const std::string& map_id)
 absl::Status ListRobots(const CommandContext& context);
 /// Removes an offline robot that holds no job from the server's registry and store.
 absl::Status ForgetRobot(const CommandContext& context, const std::string& robot_id);
+/// Makes an operator token of `role_name` (viewer, operator, admin) and prints its secret
+/// (alone on stdout, or in the JSON object); the server keeps only its hash.
+absl::Status CreateToken(const CommandContext& context, const std::string& name,
+                         const std::string& role_name);
+/// Lists the server's operator tokens (file and created), without secrets.
+absl::Status ListTokens(const CommandContext& context);
+/// Revokes a created token: the server refuses it from the next call on.
+absl::Status RevokeToken(const CommandContext& context, const std::string& name);
 /// Streams WatchFleet and prints one line per robot update; stops after `max_updates`
 /// messages (0 = never) or `duration_s` seconds (0 = never).
 absl::Status WatchFleet(const CommandContext& context, double rate_hz, int max_updates,

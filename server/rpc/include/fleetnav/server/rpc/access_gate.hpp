@@ -6,10 +6,12 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "absl/status/status.h"
 #include "absl/strings/string_view.h"
+#include "absl/synchronization/mutex.h"
 #include "fleetnav/server/access_policy.hpp"
 
 namespace fleetnav::server {
@@ -30,11 +32,17 @@ std::string CertificateIdentity(const grpc::AuthContext& context);
 /// among it the method's `:path` and the `authorization` header, and the connection's
 /// verified peer. It applies the AccessPolicy, counts the outcome, and reports each refusal
 /// (method, caller, reason) to `on_refusal` for the log. It also checks, for the agent stream,
-/// that the robot id a hello claims is the certificate's. Thread-safe.
+/// that the robot id a hello claims is the certificate's. The policy can be replaced while the
+/// server runs (OperatorTokenService). Thread-safe.
 class AccessGate final : public grpc::AuthMetadataProcessor {
  public:
-  AccessGate(AccessPolicy policy, std::function<void(const std::string&)> on_refusal)
+  AccessGate(std::shared_ptr<const AccessPolicy> policy,
+             std::function<void(const std::string&)> on_refusal)
       : policy_(std::move(policy)), on_refusal_(std::move(on_refusal)) {}
+
+  /// Applies `policy` from the next call on (tokens created or revoked at run time); calls
+  /// already admitted keep running.
+  void ReplacePolicy(std::shared_ptr<const AccessPolicy> policy);
 
   /// Runs on gRPC's own thread: the decision is a hash lookup, nothing blocks.
   bool IsBlocking() const override { return false; }
@@ -54,8 +62,10 @@ class AccessGate final : public grpc::AuthMetadataProcessor {
 
  private:
   void Refused(const absl::Status& status);
+  std::shared_ptr<const AccessPolicy> policy() const;
 
-  const AccessPolicy policy_;
+  mutable absl::Mutex policy_mutex_;
+  std::shared_ptr<const AccessPolicy> policy_ ABSL_GUARDED_BY(policy_mutex_);
   std::function<void(const std::string&)> on_refusal_;
   std::atomic<uint64_t> admitted_{0};
   std::atomic<uint64_t> unauthenticated_{0};

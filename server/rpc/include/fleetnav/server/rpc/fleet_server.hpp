@@ -17,8 +17,10 @@
 #include "fleetnav/server/job_service.hpp"
 #include "fleetnav/server/map_catalog.hpp"
 #include "fleetnav/server/notifying_job_repository.hpp"
+#include "fleetnav/server/operator_tokens.hpp"
 #include "fleetnav/server/pose_history_recorder.hpp"
 #include "fleetnav/server/rpc/access_gate.hpp"
+#include "fleetnav/server/rpc/access_service.hpp"
 #include "fleetnav/server/rpc/agent_mailbox.hpp"
 #include "fleetnav/server/rpc/agent_service.hpp"
 #include "fleetnav/server/rpc/fleet_service.hpp"
@@ -59,13 +61,16 @@ struct FleetServerParams {
   std::function<void(const std::string&)> on_access_refused;
   /// Told about every job event stored (state changes and progress), for the log. Quick.
   std::function<void(const Job&, const JobEvent&)> on_job_event;
+  /// Told about operator tokens created and revoked, and stored ones the token file overrides,
+  /// for the log (never a secret).
+  std::function<void(const std::string&)> on_token_change;
   absl::Status Validate() const;
 };
 
 /// fleetnavd as a library: opens the store, recovers robots and unfinished jobs, builds
-/// FleetService and AgentService with health checking and reflection, serves on a socket and
-/// runs the dispatcher on a thread of its own and the pose-history recorder on a housekeeping
-/// one. Used by main() and by integration tests (real gRPC over loopback). Start once;
+/// FleetService, AgentService and AccessService with health checking and reflection, serves on a
+/// socket and runs the dispatcher on a thread of its own and the pose-history recorder on a
+/// housekeeping one. Used by main() and by integration tests (real gRPC over loopback). Start once;
 /// Shutdown() ends open streams within a second.
 class FleetServer {
  public:
@@ -116,6 +121,8 @@ class FleetServer {
   std::unique_ptr<storage::SqliteJobRepository> stored_jobs_;
   std::unique_ptr<NotifyingJobRepository> job_repository_;  ///< tells the watch hub
   std::unique_ptr<storage::SqlitePoseHistoryRepository> pose_history_repository_;
+  std::unique_ptr<storage::SqliteOperatorTokenRepository> token_repository_;
+  std::unique_ptr<OperatorTokenService> tokens_;
   std::unique_ptr<PoseHistoryRecorder> pose_recorder_;
   std::unique_ptr<SiteCache> site_data_;  ///< in front of the three repositories above
   std::unique_ptr<MapCatalog> maps_;
@@ -132,6 +139,7 @@ class FleetServer {
   ServerMetrics metrics_;
   std::unique_ptr<grpc::Service> health_service_;
   std::unique_ptr<FleetServiceImpl> fleet_service_;
+  std::unique_ptr<AccessServiceImpl> access_service_;
   std::unique_ptr<AgentServiceImpl> agent_service_;
   std::unique_ptr<WatchHub> watch_hub_;
   std::unique_ptr<grpc::Server> server_;
