@@ -7,6 +7,7 @@ find_package(yaml-cpp REQUIRED)
 find_package(Protobuf REQUIRED)
 find_package(gRPC CONFIG REQUIRED)
 find_package(SQLite3 REQUIRED)
+find_package(PostgreSQL REQUIRED)  # libpq (libpq-dev): the PostgreSQL store
 find_package(PNG REQUIRED)  # map images (libpng-dev)
 find_package(OpenSSL REQUIRED)  # token hashes (libssl-dev); gRPC itself uses it for TLS
 pkg_check_modules(ODE REQUIRED IMPORTED_TARGET ode)

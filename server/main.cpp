@@ -15,6 +15,7 @@
 #include "fleetnav/server/log/log_format.hpp"
 #include "fleetnav/server/rpc/fleet_server.hpp"
 #include "fleetnav/server/rpc/fleet_server_config.hpp"
+#include "fleetnav/storage/postgres/pg_database.hpp"
 #include "fleetnav/storage/sqlite/schema.hpp"
 #include "fleetnav/storage/sqlite/sqlite_database.hpp"
 
@@ -22,6 +23,12 @@ namespace {
 
 /// `fleetnavd --check-db`: reads the database without writing to it and prints what it found.
 int CheckDatabase(const std::string& path) {
+  if (fleetnav::storage::IsPostgresUri(path)) {
+    std::fprintf(stderr,
+                 "fleetnavd: --check-db reads SQLite files; check a PostgreSQL database with its "
+                 "own tools (pg_amcheck)\n");
+    return 2;
+  }
   absl::StatusOr<fleetnav::storage::SqliteCheckReport> report =
       fleetnav::storage::SqliteDatabase::Check(path, fleetnav::storage::FleetDatabaseOptions());
   if (!report.ok()) {
@@ -68,7 +75,9 @@ int main(int argc, char** argv) {
   app.add_option("--config", config_path, "YAML configuration file (see docs/server.md)");
   app.add_option("--listen", listen,
                  "address to serve on (host:port; port 0 = any) [127.0.0.1:50051]");
-  app.add_option("--db", db, "SQLite database file, created if missing [fleetnav.db]");
+  app.add_option("--db", db,
+                 "SQLite database file (created if missing) or a postgresql://USER@HOST:PORT/DB "
+                 "URI [fleetnav.db]");
   app.add_option("--stale-after-s", stale_after_s,
                  "seconds without telemetry before a robot is stale [2]");
   app.add_option("--lost-robot-timeout-s", lost_robot_timeout_s,
@@ -168,7 +177,7 @@ int main(int argc, char** argv) {
     spdlog::error("fleetnavd: {}", port.status().ToString());
     return 1;
   }
-  spdlog::info("fleetnavd serving on port {} (db {}, {})", *port, params.db_path,
+  spdlog::info("fleetnavd serving on port {} (db {}, {})", *port, server.store_description(),
                server.secure() ? "TLS, robot certificates and operator tokens"
                                : "INSECURE: plaintext, no authentication");
   std::unique_ptr<fleetnav::server::http::HttpGateway> http;

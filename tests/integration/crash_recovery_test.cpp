@@ -1,7 +1,8 @@
 // Durability: fleetnavd as a real process is killed with SIGKILL in the middle of a burst of
-// SubmitJob calls and restarted on the same SQLite file. Every acknowledged job must be there,
-// in a consistent state, and none twice.
+// SubmitJob calls and restarted on the same store (an SQLite file, or a PostgreSQL database). Every
+// acknowledged job must be there, in a consistent state, and none twice.
 #include <fcntl.h>
+#include <gmock/gmock.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -13,6 +14,7 @@
 #include <thread>
 
 #include "fleet_fixture.hpp"
+#include "postgres_server.hpp"
 
 extern char** environ;
 
@@ -65,8 +67,24 @@ std::unique_ptr<v1::FleetService::Stub> StubFor(int port) {
       grpc::CreateChannel("127.0.0.1:" + std::to_string(port), grpc::InsecureChannelCredentials()));
 }
 
-TEST(CrashRecoveryTest, EveryAcknowledgedJobSurvivesKillDashNineExactlyOnce) {
-  const std::string db_path = testing::UniqueTempPath("crash") + ".db";
+/// The store fleetnavd runs on: an SQLite file or a database of a real PostgreSQL server.
+class CrashRecoveryTest : public ::testing::TestWithParam<std::string> {
+ protected:
+  /// A fresh `--db` value of the test's engine.
+  static std::string NewStore() {
+    if (GetParam() == "Sqlite") return testing::UniqueTempPath("crash") + ".db";
+    absl::StatusOr<testing::TemporaryPostgres*> server = testing::SharedPostgres();
+    EXPECT_TRUE(server.ok()) << server.status();
+    if (!server.ok()) return "";
+    absl::StatusOr<std::string> uri =
+        (*server)->CreateDatabase("crash_" + std::to_string(getpid()));
+    EXPECT_TRUE(uri.ok()) << uri.status();
+    return uri.value_or("");
+  }
+};
+
+TEST_P(CrashRecoveryTest, EveryAcknowledgedJobSurvivesKillDashNineExactlyOnce) {
+  const std::string db_path = NewStore();
   std::map<std::string, std::string> acknowledged;  // idempotency key -> job id
   {
     ServerProcess server(db_path);
@@ -158,8 +176,60 @@ TEST(CrashRecoveryTest, EveryAcknowledgedJobSurvivesKillDashNineExactlyOnce) {
     ASSERT_NE(stored, keys.end()) << "acknowledged job lost: " << key << " (" << job_id << ")";
     EXPECT_EQ(stored->second, job_id) << key << " acknowledged as one job, stored as another";
   }
-  std::remove(db_path.c_str());
+  if (GetParam() == "Sqlite") std::remove(db_path.c_str());
 }
+
+/// One SubmitJob with an idempotency key.
+grpc::Status Submit(v1::FleetService::Stub& fleet, const std::string& key) {
+  grpc::ClientContext context;
+  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(5));
+  v1::SubmitJobRequest request;
+  request.set_route_name("alley");
+  request.set_idempotency_key(key);
+  v1::SubmitJobResponse response;
+  return fleet.SubmitJob(&context, request, &response);
+}
+
+TEST(PostgresOutageTest, FleetnavdSaysUnavailableWhileTheDatabaseIsGoneAndGoesOnAfter) {
+  absl::StatusOr<std::unique_ptr<testing::TemporaryPostgres>> postgres =
+      testing::TemporaryPostgres::Start();
+  ASSERT_TRUE(postgres.ok()) << postgres.status();
+  absl::StatusOr<std::string> uri = (*postgres)->CreateDatabase("fleet");
+  ASSERT_TRUE(uri.ok()) << uri.status();
+  server::FleetServerParams params;
+  params.listen_address = "127.0.0.1:0";
+  params.db_path = *uri;
+  params.postgres.reconnect_wait_s = 0.3;
+  server::FleetServer server(params);
+  absl::StatusOr<int> port = server.Start();
+  ASSERT_TRUE(port.ok()) << port.status();
+  EXPECT_THAT(server.store_description(), ::testing::HasSubstr("PostgreSQL database fleet"));
+  auto fleet = StubFor(*port);
+  grpc::ClientContext route_context;
+  v1::PutRouteRequest route;
+  absl::StatusOr<OccupancyGrid> grid = OccupancyGrid::Filled(40, 40, 0.1, Pose2(), 0);
+  ASSERT_TRUE(server.maps().Put("barn", *grid, "").ok());
+  *route.mutable_route() = ToProto(testing::FleetServerFixture::StraightRoute("alley", 1.0));
+  v1::PutRouteResponse route_response;
+  ASSERT_TRUE(fleet->PutRoute(&route_context, route, &route_response).ok());
+  ASSERT_TRUE(Submit(*fleet, "before").ok());
+
+  ASSERT_TRUE((*postgres)->Kill().ok());
+  const grpc::Status during = Submit(*fleet, "during");
+  EXPECT_EQ(during.error_code(), grpc::StatusCode::UNAVAILABLE) << during.error_message();
+  ASSERT_TRUE((*postgres)->Restart().ok());
+  // The first call after reconnects; the server never needed a restart.
+  ASSERT_TRUE(Submit(*fleet, "after").ok());
+  absl::StatusOr<storage::JobPage> jobs = server.jobs().List({});
+  ASSERT_TRUE(jobs.ok()) << jobs.status();
+  std::set<std::string> keys;
+  for (const Job& job : jobs->jobs) keys.insert(job.idempotency_key);
+  EXPECT_EQ(keys, (std::set<std::string>{"before", "after"}));  // nothing of "during"
+  server.Shutdown();
+}
+
+INSTANTIATE_TEST_SUITE_P(Stores, CrashRecoveryTest, ::testing::Values("Sqlite", "Postgres"),
+                         [](const auto& info) { return info.param; });
 
 }  // namespace
 }  // namespace fleetnav

@@ -13,7 +13,7 @@
 #include "absl/time/clock.h"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/server/rpc/health_service.hpp"
-#include "fleetnav/storage/sqlite/schema.hpp"
+#include "fleetnav/storage/fleet_database.hpp"
 
 namespace fleetnav::server {
 
@@ -74,20 +74,18 @@ absl::StatusOr<int> FleetServer::Start() {
     sim_clock_feed_ = std::make_unique<SimClockFeed>(params_.sim_clock_address, &sim_clock_);
     RETURN_IF_ERROR(sim_clock_feed_->Start());
   }
-  ASSIGN_OR_RETURN(db_,
-                   storage::SqliteDatabase::Open(params_.db_path, storage::FleetSchemaMigrations(),
-                                                 storage::FleetDatabaseOptions()));
+  ASSIGN_OR_RETURN(db_, storage::OpenFleetDatabase(params_.db_path, params_.postgres));
   db_->SetTransactionObserver(
       [this](double seconds) { metrics_.ObserveStoreTransaction(seconds); });
-  map_repository_ = std::make_unique<storage::SqliteMapRepository>(db_.get());
-  marker_repository_ = std::make_unique<storage::SqliteMarkerSetRepository>(db_.get());
-  route_repository_ = std::make_unique<storage::SqliteRouteRepository>(db_.get());
-  robot_repository_ = std::make_unique<storage::SqliteRobotRepository>(db_.get());
-  stored_jobs_ = std::make_unique<storage::SqliteJobRepository>(db_.get());
+  map_repository_ = std::make_unique<storage::SqlMapRepository>(db_.get());
+  marker_repository_ = std::make_unique<storage::SqlMarkerSetRepository>(db_.get());
+  route_repository_ = std::make_unique<storage::SqlRouteRepository>(db_.get());
+  robot_repository_ = std::make_unique<storage::SqlRobotRepository>(db_.get());
+  stored_jobs_ = std::make_unique<storage::SqlJobRepository>(db_.get());
   job_repository_ =
       std::make_unique<NotifyingJobRepository>(stored_jobs_.get(), params_.on_job_event);
-  pose_history_repository_ = std::make_unique<storage::SqlitePoseHistoryRepository>(db_.get());
-  token_repository_ = std::make_unique<storage::SqliteOperatorTokenRepository>(db_.get());
+  pose_history_repository_ = std::make_unique<storage::SqlPoseHistoryRepository>(db_.get());
+  token_repository_ = std::make_unique<storage::SqlOperatorTokenRepository>(db_.get());
   // Without TLS nothing checks tokens; they are still kept for when the server gets TLS.
   tokens_ = std::make_unique<OperatorTokenService>(
       token_repository_.get(), std::move(file_tokens), clock_,

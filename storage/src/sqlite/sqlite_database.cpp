@@ -32,52 +32,29 @@ absl::Status SqliteError(sqlite3* db, int code, const std::string& what) {
   }
 }
 
-SqliteStatement::SqliteStatement(SqliteStatement&& other) noexcept
-    : db_(other.db_), stmt_(other.stmt_) {
-  other.stmt_ = nullptr;
-}
-
 SqliteStatement::~SqliteStatement() {
   if (stmt_ != nullptr) sqlite3_finalize(stmt_);
 }
 
-SqliteStatement& SqliteStatement::Bind(int index, int64_t value) {
-  sqlite3_bind_int64(stmt_, index, value);
-  return *this;
-}
+void SqliteStatement::Bind(int index, int64_t value) { sqlite3_bind_int64(stmt_, index, value); }
 
-SqliteStatement& SqliteStatement::Bind(int index, double value) {
-  sqlite3_bind_double(stmt_, index, value);
-  return *this;
-}
+void SqliteStatement::Bind(int index, double value) { sqlite3_bind_double(stmt_, index, value); }
 
-SqliteStatement& SqliteStatement::Bind(int index, std::string_view text) {
+void SqliteStatement::Bind(int index, std::string_view text) {
   sqlite3_bind_text(stmt_, index, text.data(), static_cast<int>(text.size()), SQLITE_TRANSIENT);
-  return *this;
 }
 
-SqliteStatement& SqliteStatement::BindBlob(int index, const void* data, size_t size) {
+void SqliteStatement::BindBlob(int index, const void* data, size_t size) {
   sqlite3_bind_blob64(stmt_, index, data, size, SQLITE_TRANSIENT);
-  return *this;
 }
 
-SqliteStatement& SqliteStatement::BindNull(int index) {
-  sqlite3_bind_null(stmt_, index);
-  return *this;
-}
+void SqliteStatement::BindNull(int index) { sqlite3_bind_null(stmt_, index); }
 
 absl::StatusOr<bool> SqliteStatement::Step() {
   const int code = sqlite3_step(stmt_);
   if (code == SQLITE_ROW) return true;
   if (code == SQLITE_DONE) return false;
   return SqliteError(db_, code, "sqlite step");
-}
-
-absl::Status SqliteStatement::Run() {
-  while (true) {
-    ASSIGN_OR_RETURN(bool row, Step());
-    if (!row) return absl::OkStatus();
-  }
 }
 
 void SqliteStatement::Reset() {
@@ -118,7 +95,7 @@ absl::Status NamingFile(const std::string& path, const absl::Status& status) {
 }  // namespace
 
 absl::StatusOr<int64_t> SqliteDatabase::QueryInt(std::string_view sql) {
-  ASSIGN_OR_RETURN(SqliteStatement stmt, Prepare(sql));
+  ASSIGN_OR_RETURN(SqlStatement stmt, Prepare(sql));
   ASSIGN_OR_RETURN(bool row, stmt.Step());
   if (!row) return absl::InternalError(absl::StrCat("'", std::string(sql), "' returned no row"));
   return stmt.ColumnInt(0);
@@ -133,7 +110,7 @@ absl::StatusOr<std::string> SqliteDatabase::OwnershipProblem(const SqliteOpenOpt
   ASSIGN_OR_RETURN(const int64_t version, QueryInt("PRAGMA user_version"));
   if (id == 0 && tables == 0 && version == 0) return std::string();  // a new, empty file
   if (id == 0 && !options.legacy_table.empty()) {
-    ASSIGN_OR_RETURN(SqliteStatement legacy,
+    ASSIGN_OR_RETURN(SqlStatement legacy,
                      Prepare("SELECT COUNT(*) FROM sqlite_master WHERE type = 'table' AND "
                              "name = ?1"));
     legacy.Bind(1, options.legacy_table);
@@ -152,7 +129,7 @@ absl::StatusOr<std::unique_ptr<SqliteDatabase>> SqliteDatabase::Open(
   sqlite3* raw = nullptr;
   const int flags = SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX;
   const int code = sqlite3_open_v2(path.c_str(), &raw, flags, nullptr);
-  std::unique_ptr<SqliteDatabase> db(new SqliteDatabase(raw));
+  std::unique_ptr<SqliteDatabase> db(new SqliteDatabase(raw, path));
   if (code != SQLITE_OK) return NamingFile(path, SqliteError(raw, code, "cannot open"));
   sqlite3_busy_timeout(raw, 5000);
   if (sqlite3_db_readonly(raw, "main") == 1) {
@@ -165,7 +142,7 @@ absl::StatusOr<std::unique_ptr<SqliteDatabase>> SqliteDatabase::Open(
   if (!foreign.ok()) return NamingFile(path, foreign.status());
   if (!foreign->empty()) return NamingFile(path, absl::FailedPreconditionError(*foreign));
   {
-    ASSIGN_OR_RETURN(SqliteStatement check, db->Prepare("PRAGMA quick_check(5)"));
+    ASSIGN_OR_RETURN(SqlStatement check, db->Prepare("PRAGMA quick_check(5)"));
     absl::StatusOr<bool> row = check.Step();
     if (!row.ok()) return NamingFile(path, row.status());
     if (*row && check.ColumnText(0) != "ok") {
@@ -193,7 +170,7 @@ absl::StatusOr<SqliteCheckReport> SqliteDatabase::Check(const std::string& path,
                                                         const SqliteOpenOptions& options) {
   sqlite3* raw = nullptr;
   const int code = sqlite3_open_v2(path.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr);
-  std::unique_ptr<SqliteDatabase> db(new SqliteDatabase(raw));
+  std::unique_ptr<SqliteDatabase> db(new SqliteDatabase(raw, path));
   if (code != SQLITE_OK) return NamingFile(path, SqliteError(raw, code, "cannot open"));
   SqliteCheckReport report;
   absl::StatusOr<std::string> foreign = db->OwnershipProblem(options);
@@ -202,7 +179,7 @@ absl::StatusOr<SqliteCheckReport> SqliteDatabase::Check(const std::string& path,
   absl::StatusOr<int64_t> version = db->QueryInt("PRAGMA user_version");
   if (!version.ok()) return NamingFile(path, version.status());
   report.schema_version = static_cast<int>(*version);
-  absl::StatusOr<SqliteStatement> check = db->Prepare("PRAGMA integrity_check(20)");
+  absl::StatusOr<SqlStatement> check = db->Prepare("PRAGMA integrity_check(20)");
   if (!check.ok()) return NamingFile(path, check.status());
   while (true) {
     absl::StatusOr<bool> row = check->Step();
@@ -215,14 +192,16 @@ absl::StatusOr<SqliteCheckReport> SqliteDatabase::Check(const std::string& path,
 
 SqliteDatabase::~SqliteDatabase() { sqlite3_close_v2(db_); }
 
-absl::StatusOr<SqliteStatement> SqliteDatabase::Prepare(std::string_view sql) {
+absl::StatusOr<SqlStatement> SqliteDatabase::Prepare(std::string_view sql) {
   sqlite3_stmt* stmt = nullptr;
   const int code =
       sqlite3_prepare_v2(db_, sql.data(), static_cast<int>(sql.size()), &stmt, nullptr);
   if (code != SQLITE_OK)
     return SqliteError(db_, code, absl::StrCat("prepare '", std::string(sql), "'"));
-  return SqliteStatement(db_, stmt);
+  return SqlStatement(std::make_unique<SqliteStatement>(db_, stmt));
 }
+
+int64_t SqliteDatabase::ChangedRows() { return sqlite3_changes64(db_); }
 
 absl::Status SqliteDatabase::Execute(std::string_view sql) {
   char* error = nullptr;

@@ -1,34 +1,33 @@
-// One conformance suite for the marker-set, route, robot and job repositories, run over the
-// SQLite implementation (a real file) and the in-memory one, so the fakes used by the layers
-// above behave like the real store.
+// One conformance suite for the marker-set, route, robot, job and token repositories, run over
+// the SQL implementation on SQLite (a real file) and on PostgreSQL (a real server), and over the
+// in-memory one, so both engines and the fakes used by the layers above behave alike.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <memory>
 
 #include "fleetnav/storage/memory/memory_fleet_repositories.hpp"
-#include "fleetnav/storage/sqlite/schema.hpp"
-#include "fleetnav/storage/sqlite/sqlite_fleet_repositories.hpp"
-#include "temp_db_path.hpp"
+#include "fleetnav/storage/sql/sql_fleet_repositories.hpp"
+#include "test_database.hpp"
 
 namespace fleetnav::storage {
 namespace {
 
 using ::testing::HasSubstr;
 
-class FleetRepositoriesTest : public ::testing::TestWithParam<bool> {
+using testing::Backend;
+
+class FleetRepositoriesTest : public ::testing::TestWithParam<Backend> {
  protected:
   void SetUp() override {
-    if (GetParam()) {
-      path_ = std::make_unique<testing::TempDbPath>();
-      auto db = SqliteDatabase::Open(path_->path(), FleetSchemaMigrations());
-      ASSERT_TRUE(db.ok()) << db.status();
-      db_ = std::move(*db);
-      markers_ = std::make_unique<SqliteMarkerSetRepository>(db_.get());
-      routes_ = std::make_unique<SqliteRouteRepository>(db_.get());
-      robots_ = std::make_unique<SqliteRobotRepository>(db_.get());
-      jobs_ = std::make_unique<SqliteJobRepository>(db_.get());
-      tokens_ = std::make_unique<SqliteOperatorTokenRepository>(db_.get());
+    if (GetParam() != Backend::kMemory) {
+      db_ = std::make_unique<testing::TestDatabase>(GetParam());
+      ASSERT_NE(db_->get(), nullptr);
+      markers_ = std::make_unique<SqlMarkerSetRepository>(db_->get());
+      routes_ = std::make_unique<SqlRouteRepository>(db_->get());
+      robots_ = std::make_unique<SqlRobotRepository>(db_->get());
+      jobs_ = std::make_unique<SqlJobRepository>(db_->get());
+      tokens_ = std::make_unique<SqlOperatorTokenRepository>(db_->get());
     } else {
       markers_ = std::make_unique<MemoryMarkerSetRepository>();
       routes_ = std::make_unique<MemoryRouteRepository>();
@@ -58,8 +57,7 @@ class FleetRepositoriesTest : public ::testing::TestWithParam<bool> {
     return job;
   }
 
-  std::unique_ptr<testing::TempDbPath> path_;
-  std::unique_ptr<SqliteDatabase> db_;
+  std::unique_ptr<testing::TestDatabase> db_;
   std::unique_ptr<MarkerSetRepository> markers_;
   std::unique_ptr<RouteRepository> routes_;
   std::unique_ptr<RobotRepository> robots_;
@@ -256,8 +254,9 @@ TEST_P(FleetRepositoriesTest, ListJobsFiltersAndPagesInCreationOrder) {
   EXPECT_EQ(jobs_->ListJobs(bad).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
-INSTANTIATE_TEST_SUITE_P(Repositories, FleetRepositoriesTest, ::testing::Values(true, false),
-                         [](const auto& info) { return info.param ? "Sqlite" : "Memory"; });
+INSTANTIATE_TEST_SUITE_P(Repositories, FleetRepositoriesTest,
+                         ::testing::Values(Backend::kSqlite, Backend::kPostgres, Backend::kMemory),
+                         testing::BackendTestName);
 
 }  // namespace
 }  // namespace fleetnav::storage

@@ -1,5 +1,6 @@
-// One conformance suite for every MapRepository implementation: the in-memory fake and the
-// SQLite store (on a real temporary file) must behave the same through the interface.
+// One conformance suite for every MapRepository implementation: the in-memory fake and the SQL
+// store on SQLite (a real temporary file) and on PostgreSQL (a real server) must behave the
+// same through the interface.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -14,10 +15,8 @@
 
 #include "fleetnav/storage/map_repository.hpp"
 #include "fleetnav/storage/memory/memory_map_repository.hpp"
-#include "fleetnav/storage/sqlite/schema.hpp"
-#include "fleetnav/storage/sqlite/sqlite_database.hpp"
-#include "fleetnav/storage/sqlite/sqlite_map_repository.hpp"
-#include "temp_db_path.hpp"
+#include "fleetnav/storage/sql/sql_map_repository.hpp"
+#include "test_database.hpp"
 
 namespace fleetnav::storage {
 namespace {
@@ -40,27 +39,19 @@ class MemoryHarness final : public RepositoryHarness {
   MemoryMapRepository repository_;
 };
 
-class SqliteHarness final : public RepositoryHarness {
+/// The SQL repository on a fresh database of one engine.
+class SqlHarness final : public RepositoryHarness {
  public:
-  SqliteHarness() {
-    absl::StatusOr<std::unique_ptr<SqliteDatabase>> db =
-        SqliteDatabase::Open(path_.path(), FleetSchemaMigrations());
-    EXPECT_TRUE(db.ok()) << db.status();
-    if (db.ok()) {
-      db_ = *std::move(db);
-      repository_ = std::make_unique<SqliteMapRepository>(db_.get());
-    }
+  explicit SqlHarness(testing::Backend backend) : db_(backend) {
+    if (db_.get() != nullptr) repository_ = std::make_unique<SqlMapRepository>(db_.get());
   }
-  ~SqliteHarness() override {
-    repository_.reset();
-    db_.reset();  // closes the file before TempDbPath removes it
-  }
+  ~SqlHarness() override { repository_.reset(); }
   MapRepository& repository() override { return *repository_; }
+  bool ready() const { return repository_ != nullptr; }
 
  private:
-  testing::TempDbPath path_;
-  std::unique_ptr<SqliteDatabase> db_;
-  std::unique_ptr<SqliteMapRepository> repository_;
+  testing::TestDatabase db_;
+  std::unique_ptr<SqlMapRepository> repository_;
 };
 
 struct Implementation {
@@ -323,8 +314,12 @@ TEST_P(MapRepositoryConformanceTest, ConcurrentPutsOnOneIdGetDistinctConsecutive
 
 INSTANTIATE_TEST_SUITE_P(
     AllImplementations, MapRepositoryConformanceTest,
-    ::testing::Values(Implementation{"Memory", [] { return std::make_unique<MemoryHarness>(); }},
-                      Implementation{"Sqlite", [] { return std::make_unique<SqliteHarness>(); }}),
+    ::testing::Values(
+        Implementation{"Memory", [] { return std::make_unique<MemoryHarness>(); }},
+        Implementation{"Sqlite",
+                       [] { return std::make_unique<SqlHarness>(testing::Backend::kSqlite); }},
+        Implementation{"Postgres",
+                       [] { return std::make_unique<SqlHarness>(testing::Backend::kPostgres); }}),
     ImplementationName);
 
 }  // namespace

@@ -1,26 +1,25 @@
-// PoseHistoryRepository conformance over SQLite and memory.
+// PoseHistoryRepository conformance over SQLite, PostgreSQL and memory.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <memory>
 
 #include "fleetnav/storage/memory/memory_fleet_repositories.hpp"
-#include "fleetnav/storage/sqlite/schema.hpp"
-#include "fleetnav/storage/sqlite/sqlite_fleet_repositories.hpp"
-#include "temp_db_path.hpp"
+#include "fleetnav/storage/sql/sql_fleet_repositories.hpp"
+#include "test_database.hpp"
 
 namespace fleetnav::storage {
 namespace {
 
-class PoseHistoryTest : public ::testing::TestWithParam<bool> {
+using testing::Backend;
+
+class PoseHistoryTest : public ::testing::TestWithParam<Backend> {
  protected:
   void SetUp() override {
-    if (GetParam()) {
-      path_ = std::make_unique<testing::TempDbPath>();
-      auto db = SqliteDatabase::Open(path_->path(), FleetSchemaMigrations());
-      ASSERT_TRUE(db.ok()) << db.status();
-      db_ = std::move(*db);
-      repository_ = std::make_unique<SqlitePoseHistoryRepository>(db_.get());
+    if (GetParam() != Backend::kMemory) {
+      db_ = std::make_unique<testing::TestDatabase>(GetParam());
+      ASSERT_NE(db_->get(), nullptr);
+      repository_ = std::make_unique<SqlPoseHistoryRepository>(db_->get());
     } else {
       repository_ = std::make_unique<MemoryPoseHistoryRepository>();
     }
@@ -28,10 +27,8 @@ class PoseHistoryTest : public ::testing::TestWithParam<bool> {
   void TearDown() override {
     repository_.reset();
     db_.reset();
-    path_.reset();
   }
-  std::unique_ptr<testing::TempDbPath> path_;
-  std::unique_ptr<SqliteDatabase> db_;
+  std::unique_ptr<testing::TestDatabase> db_;
   std::unique_ptr<PoseHistoryRepository> repository_;
 };
 
@@ -56,8 +53,9 @@ TEST_P(PoseHistoryTest, SamplesComeBackPerRobotOldestFirstAndArePruned) {
   EXPECT_EQ(repository_->ListPoses("b", 0, 100)->size(), 2u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Repositories, PoseHistoryTest, ::testing::Values(true, false),
-                         [](const auto& info) { return info.param ? "Sqlite" : "Memory"; });
+INSTANTIATE_TEST_SUITE_P(Repositories, PoseHistoryTest,
+                         ::testing::Values(Backend::kSqlite, Backend::kPostgres, Backend::kMemory),
+                         testing::BackendTestName);
 
 }  // namespace
 }  // namespace fleetnav::storage

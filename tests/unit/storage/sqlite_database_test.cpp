@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "fleetnav/storage/sql/sql_map_repository.hpp"
 #include "fleetnav/storage/sqlite/schema.hpp"
-#include "fleetnav/storage/sqlite/sqlite_map_repository.hpp"
 #include "temp_db_path.hpp"
 
 namespace fleetnav::storage {
@@ -27,7 +27,7 @@ std::unique_ptr<SqliteDatabase> OpenOrDie(const std::string& path,
 }
 
 int64_t QueryInt(SqliteDatabase& db, const std::string& sql) {
-  absl::StatusOr<SqliteStatement> stmt = db.Prepare(sql);
+  absl::StatusOr<SqlStatement> stmt = db.Prepare(sql);
   EXPECT_TRUE(stmt.ok()) << stmt.status();
   if (!stmt.ok()) return -1;
   absl::StatusOr<bool> row = stmt->Step();
@@ -36,7 +36,7 @@ int64_t QueryInt(SqliteDatabase& db, const std::string& sql) {
 }
 
 std::string QueryText(SqliteDatabase& db, const std::string& sql) {
-  absl::StatusOr<SqliteStatement> stmt = db.Prepare(sql);
+  absl::StatusOr<SqlStatement> stmt = db.Prepare(sql);
   EXPECT_TRUE(stmt.ok()) << stmt.status();
   if (!stmt.ok()) return "";
   absl::StatusOr<bool> row = stmt->Step();
@@ -57,14 +57,14 @@ TEST(SqliteDatabaseTest, DataSurvivesClosingAndReopening) {
   {
     std::unique_ptr<SqliteDatabase> db = OpenOrDie(path.path(), FleetSchemaMigrations());
     ASSERT_NE(db, nullptr);
-    SqliteMapRepository repo(db.get());
+    SqlMapRepository repo(db.get());
     ASSERT_TRUE(repo.PutMap("barn", grid, "first", 11).ok());
     ASSERT_TRUE(repo.PutMap("barn", grid, "second", 22).ok());
   }
   ASSERT_TRUE(std::filesystem::exists(path.path()));
   std::unique_ptr<SqliteDatabase> db = OpenOrDie(path.path(), FleetSchemaMigrations());
   ASSERT_NE(db, nullptr);
-  SqliteMapRepository repo(db.get());
+  SqlMapRepository repo(db.get());
   absl::StatusOr<StoredMap> got = repo.GetMap("barn", 0);
   ASSERT_TRUE(got.ok()) << got.status();
   EXPECT_EQ(got->info.version, 2u);
@@ -170,7 +170,7 @@ TEST(SqliteDatabaseTest, TransactionWhoseBodyFailsRollsBack) {
   std::unique_ptr<SqliteDatabase> db = OpenOrDie(path.path(), FleetSchemaMigrations());
   ASSERT_NE(db, nullptr);
   const absl::Status status = db->Transaction([&]() -> absl::Status {
-    absl::StatusOr<SqliteStatement> insert = db->Prepare(
+    absl::StatusOr<SqlStatement> insert = db->Prepare(
         "INSERT INTO maps (map_id, version, width, height, resolution_m, origin_x_m, "
         "origin_y_m, origin_yaw_rad, cells, created_unix_ms) "
         "VALUES ('barn', 1, 1, 1, 0.05, 0, 0, 0, x'00', 0)");
@@ -184,7 +184,7 @@ TEST(SqliteDatabaseTest, TransactionWhoseBodyFailsRollsBack) {
   EXPECT_EQ(status.code(), absl::StatusCode::kAborted);
   EXPECT_EQ(status.message(), "body gave up");
   EXPECT_EQ(QueryInt(*db, "SELECT COUNT(*) FROM maps"), 0);
-  SqliteMapRepository repo(db.get());
+  SqlMapRepository repo(db.get());
   EXPECT_EQ(repo.GetMap("barn", 0).status().code(), absl::StatusCode::kNotFound);
 
   // The connection is usable afterwards and a successful body commits.
@@ -216,7 +216,7 @@ TEST(SqliteDatabaseTest, BadSqlIsAnErrorNotACrash) {
   testing::TempDbPath path;
   std::unique_ptr<SqliteDatabase> db = OpenOrDie(path.path(), FleetSchemaMigrations());
   ASSERT_NE(db, nullptr);
-  const absl::StatusOr<SqliteStatement> stmt = db->Prepare("SELEKT nothing");
+  const absl::StatusOr<SqlStatement> stmt = db->Prepare("SELEKT nothing");
   EXPECT_FALSE(stmt.ok());
   EXPECT_FALSE(db->Execute("DROP TABLE no_such_table").ok());
 }

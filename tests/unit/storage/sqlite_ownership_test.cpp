@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "fleetnav/storage/sql/sql_map_repository.hpp"
 #include "fleetnav/storage/sqlite/schema.hpp"
 #include "fleetnav/storage/sqlite/sqlite_database.hpp"
-#include "fleetnav/storage/sqlite/sqlite_map_repository.hpp"
 #include "temp_db_path.hpp"
 
 namespace fleetnav::storage {
@@ -46,7 +46,7 @@ TEST(SqliteOwnershipTest, ANewFileIsStampedAndReopens) {
   ASSERT_TRUE(OpenFleet(path.path()).ok());
   absl::StatusOr<std::unique_ptr<SqliteDatabase>> again = OpenFleet(path.path());
   ASSERT_TRUE(again.ok()) << again.status();
-  absl::StatusOr<SqliteStatement> id = (*again)->Prepare("PRAGMA application_id");
+  absl::StatusOr<SqlStatement> id = (*again)->Prepare("PRAGMA application_id");
   ASSERT_TRUE(id.ok());
   ASSERT_TRUE(*id->Step());
   EXPECT_EQ(static_cast<uint32_t>(id->ColumnInt(0)), kFleetApplicationId);
@@ -102,7 +102,7 @@ TEST(SqliteOwnershipTest, AnUnstampedFleetDatabaseFromBeforeIdsIsTakenAndStamped
   }
   absl::StatusOr<std::unique_ptr<SqliteDatabase>> db = OpenFleet(path.path());
   ASSERT_TRUE(db.ok()) << db.status();
-  absl::StatusOr<SqliteStatement> id = (*db)->Prepare("PRAGMA application_id");
+  absl::StatusOr<SqlStatement> id = (*db)->Prepare("PRAGMA application_id");
   ASSERT_TRUE(id.ok());
   ASSERT_TRUE(*id->Step());
   EXPECT_EQ(static_cast<uint32_t>(id->ColumnInt(0)), kFleetApplicationId);
@@ -112,7 +112,7 @@ TEST(SqliteOwnershipTest, AnUnstampedFleetDatabaseFromBeforeIdsIsTakenAndStamped
 void MakeFleetDatabaseWithMaps(const std::string& path) {
   absl::StatusOr<std::unique_ptr<SqliteDatabase>> db = OpenFleet(path);
   ASSERT_TRUE(db.ok()) << db.status();
-  SqliteMapRepository maps(db->get());
+  SqlMapRepository maps(db->get());
   std::vector<int8_t> cells(200 * 200, 0);
   for (int i = 0; i < 8; ++i) {
     absl::StatusOr<OccupancyGrid> grid = OccupancyGrid::Create(200, 200, 0.05, Pose2(), cells);

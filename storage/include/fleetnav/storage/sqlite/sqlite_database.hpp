@@ -9,39 +9,34 @@
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
+#include "fleetnav/storage/sql/sql_database.hpp"
 
 struct sqlite3;
 struct sqlite3_stmt;
 
 namespace fleetnav::storage {
 
-/// A prepared statement owned by RAII. Bind parameters are 1-based as in SQLite. Step()
-/// returns true while a row is available. Not thread-safe; used under the database's lock.
-class SqliteStatement {
+/// SQLite's side of a prepared statement (see SqlStatement). Not thread-safe; used under the
+/// database's lock.
+class SqliteStatement final : public SqlStatementBackend {
  public:
   SqliteStatement(sqlite3* db, sqlite3_stmt* stmt) : db_(db), stmt_(stmt) {}
-  SqliteStatement(SqliteStatement&& other) noexcept;
-  SqliteStatement& operator=(SqliteStatement&&) = delete;
   SqliteStatement(const SqliteStatement&) = delete;
-  ~SqliteStatement();
+  SqliteStatement& operator=(const SqliteStatement&) = delete;
+  ~SqliteStatement() override;
 
-  SqliteStatement& Bind(int index, int64_t value);
-  SqliteStatement& Bind(int index, double value);
-  SqliteStatement& Bind(int index, std::string_view text);
-  SqliteStatement& BindBlob(int index, const void* data, size_t size);
-  SqliteStatement& BindNull(int index);
-
-  /// True when a row is ready, false when done; errors as Internal/Unavailable.
-  absl::StatusOr<bool> Step();
-  /// Steps to completion, expecting no rows.
-  absl::Status Run();
-  void Reset();
-
-  int64_t ColumnInt(int column) const;
-  double ColumnDouble(int column) const;
-  std::string ColumnText(int column) const;
-  std::vector<uint8_t> ColumnBlob(int column) const;
-  bool ColumnIsNull(int column) const;
+  void Bind(int index, int64_t value) override;
+  void Bind(int index, double value) override;
+  void Bind(int index, std::string_view text) override;
+  void BindBlob(int index, const void* data, size_t size) override;
+  void BindNull(int index) override;
+  absl::StatusOr<bool> Step() override;
+  void Reset() override;
+  int64_t ColumnInt(int column) const override;
+  double ColumnDouble(int column) const override;
+  std::string ColumnText(int column) const override;
+  std::vector<uint8_t> ColumnBlob(int column) const override;
+  bool ColumnIsNull(int column) const override;
 
  private:
   sqlite3* db_;
@@ -72,11 +67,11 @@ struct SqliteCheckReport {
   bool ok() const { return problems.empty(); }
 };
 
-/// An open SQLite database file owned by RAII: WAL journal, foreign keys on, a busy timeout,
-/// and schema migrations applied in order by `PRAGMA user_version`. Thread-safe: one
-/// connection serialised by an internal mutex (SQLite's serialized mode), so each use case
-/// runs as one transaction through Transaction().
-class SqliteDatabase {
+/// An open SQLite database file owned by RAII (fleetnavd's embedded store): WAL journal, foreign
+/// keys on, a busy timeout, and schema migrations applied in order by `PRAGMA user_version`.
+/// Thread-safe: one connection serialised by an internal mutex (SQLite's serialized mode), so each
+/// use case runs as one transaction through Transaction().
+class SqliteDatabase final : public SqlDatabase {
  public:
   /// Opens (creating if needed), checks and migrates. `migrations[i]` takes user_version i to
   /// i+1. Refused, naming the file, before anything is written: a file the options do not
@@ -90,29 +85,30 @@ class SqliteDatabase {
   /// `PRAGMA integrity_check`. An error only when the file cannot be read at all.
   static absl::StatusOr<SqliteCheckReport> Check(const std::string& path,
                                                  const SqliteOpenOptions& options);
-  ~SqliteDatabase();
+  ~SqliteDatabase() override;
   SqliteDatabase(const SqliteDatabase&) = delete;
   SqliteDatabase& operator=(const SqliteDatabase&) = delete;
 
-  absl::StatusOr<SqliteStatement> Prepare(std::string_view sql);
+  absl::StatusOr<SqlStatement> Prepare(std::string_view sql) override;
   absl::Status Execute(std::string_view sql);
   /// Runs `body` inside BEGIN IMMEDIATE … COMMIT; rolls back when it returns an error.
-  absl::Status Transaction(const std::function<absl::Status()>& body);
-  /// Told how long each committed transaction took, lock wait included (fleetnavd's store write
-  /// latency metric). Set once, before the database is shared between threads.
-  void SetTransactionObserver(std::function<void(double seconds)> observer) {
+  absl::Status Transaction(const std::function<absl::Status()>& body) override;
+  int64_t ChangedRows() override;
+  void SetTransactionObserver(std::function<void(double seconds)> observer) override {
     transaction_observer_ = std::move(observer);
   }
+  std::string Describe() const override { return "SQLite file " + path_; }
   int user_version();
 
  private:
-  explicit SqliteDatabase(sqlite3* db) : db_(db) {}
+  SqliteDatabase(sqlite3* db, std::string path) : db_(db), path_(std::move(path)) {}
   /// Empty when `options` take this file as their own, else why not. Reads only.
   absl::StatusOr<std::string> OwnershipProblem(const SqliteOpenOptions& options);
   absl::StatusOr<int64_t> QueryInt(std::string_view sql);
   absl::Status Migrate(const std::vector<std::string>& migrations);
 
   sqlite3* db_;
+  const std::string path_;
   std::function<void(double seconds)> transaction_observer_;
 };
 

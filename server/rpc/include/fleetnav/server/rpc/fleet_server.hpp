@@ -32,15 +32,19 @@
 #include "fleetnav/server/site_catalog.hpp"
 #include "fleetnav/server/traffic_coordinator.hpp"
 #include "fleetnav/server/traffic_planner.hpp"
-#include "fleetnav/storage/sqlite/sqlite_database.hpp"
-#include "fleetnav/storage/sqlite/sqlite_fleet_repositories.hpp"
-#include "fleetnav/storage/sqlite/sqlite_map_repository.hpp"
+#include "fleetnav/storage/postgres/pg_database.hpp"
+#include "fleetnav/storage/sql/sql_database.hpp"
+#include "fleetnav/storage/sql/sql_fleet_repositories.hpp"
+#include "fleetnav/storage/sql/sql_map_repository.hpp"
 
 namespace fleetnav::server {
 
 struct FleetServerParams {
   std::string listen_address = "127.0.0.1:50051";  ///< port 0 picks a free port
-  std::string db_path = "fleetnav.db";             ///< SQLite file, created if missing
+  /// An SQLite file, created if missing, or a postgresql:// URI (storage::OpenFleetDatabase).
+  std::string db_path = "fleetnav.db";
+  /// How a PostgreSQL store is reached (waits at start and on reconnection).
+  storage::PgOpenOptions postgres;
   FleetRegistryParams registry;
   JobServiceParams jobs;
   TrafficCoordinatorParams traffic;
@@ -92,6 +96,9 @@ class FleetServer {
   /// Calls the TLS gate admitted and refused so far (all zero without TLS).
   AccessCounts access_counts() const;
   bool secure() const { return access_gate_ != nullptr; }
+  /// The store's engine and place ("SQLite file fleet.db", "PostgreSQL database d at h:p"),
+  /// never a password; call after Start().
+  std::string store_description() const { return db_ != nullptr ? db_->Describe() : ""; }
   /// The TLS gate (null without TLS), for the HTTP port's checks.
   AccessGate* access_gate() { return access_gate_.get(); }
   /// Grows with every job or job event stored: a reader that saw the same count has seen every
@@ -113,15 +120,15 @@ class FleetServer {
   std::atomic<bool> stopping_{false};
   std::atomic<uint64_t> job_changes_{0};
   FleetRegistry registry_;
-  std::unique_ptr<storage::SqliteDatabase> db_;
-  std::unique_ptr<storage::SqliteMapRepository> map_repository_;
-  std::unique_ptr<storage::SqliteMarkerSetRepository> marker_repository_;
-  std::unique_ptr<storage::SqliteRouteRepository> route_repository_;
-  std::unique_ptr<storage::SqliteRobotRepository> robot_repository_;
-  std::unique_ptr<storage::SqliteJobRepository> stored_jobs_;
+  std::unique_ptr<storage::SqlDatabase> db_;
+  std::unique_ptr<storage::SqlMapRepository> map_repository_;
+  std::unique_ptr<storage::SqlMarkerSetRepository> marker_repository_;
+  std::unique_ptr<storage::SqlRouteRepository> route_repository_;
+  std::unique_ptr<storage::SqlRobotRepository> robot_repository_;
+  std::unique_ptr<storage::SqlJobRepository> stored_jobs_;
   std::unique_ptr<NotifyingJobRepository> job_repository_;  ///< tells the watch hub
-  std::unique_ptr<storage::SqlitePoseHistoryRepository> pose_history_repository_;
-  std::unique_ptr<storage::SqliteOperatorTokenRepository> token_repository_;
+  std::unique_ptr<storage::SqlPoseHistoryRepository> pose_history_repository_;
+  std::unique_ptr<storage::SqlOperatorTokenRepository> token_repository_;
   std::unique_ptr<OperatorTokenService> tokens_;
   std::unique_ptr<PoseHistoryRecorder> pose_recorder_;
   std::unique_ptr<SiteCache> site_data_;  ///< in front of the three repositories above

@@ -2,15 +2,15 @@
 #include "delete_rows_internal.hpp"
 #include "fleetnav/core/echo_input.hpp"
 #include "fleetnav/core/status_macros.hpp"
-#include "fleetnav/storage/sqlite/sqlite_fleet_repositories.hpp"
+#include "fleetnav/storage/sql/sql_fleet_repositories.hpp"
 
 namespace fleetnav::storage {
 namespace {
 
 // The next version of a (key, version) series in `table`, inside the current transaction.
-absl::StatusOr<uint32_t> NextVersion(SqliteDatabase* db, const std::string& table,
+absl::StatusOr<uint32_t> NextVersion(SqlDatabase* db, const std::string& table,
                                      const std::string& key_column, const std::string& key) {
-  ASSIGN_OR_RETURN(SqliteStatement latest,
+  ASSIGN_OR_RETURN(SqlStatement latest,
                    db->Prepare(absl::StrCat("SELECT COALESCE(MAX(version), 0) FROM ", table,
                                             " WHERE ", key_column, " = ?")));
   latest.Bind(1, key);
@@ -24,12 +24,12 @@ std::string VersionText(uint32_t version) {
 
 }  // namespace
 
-absl::StatusOr<uint32_t> SqliteMarkerSetRepository::PutMarkerSet(const MarkerSet& markers,
-                                                                 int64_t created_unix_ms) {
+absl::StatusOr<uint32_t> SqlMarkerSetRepository::PutMarkerSet(const MarkerSet& markers,
+                                                              int64_t created_unix_ms) {
   uint32_t version = 0;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
     ASSIGN_OR_RETURN(version, NextVersion(db_, "marker_sets", "map_id", markers.map_id));
-    ASSIGN_OR_RETURN(SqliteStatement insert,
+    ASSIGN_OR_RETURN(SqlStatement insert,
                      db_->Prepare("INSERT INTO marker_sets (map_id, version, yaml, "
                                   "created_unix_ms) VALUES (?, ?, ?, ?)"));
     insert.Bind(1, markers.map_id)
@@ -41,12 +41,12 @@ absl::StatusOr<uint32_t> SqliteMarkerSetRepository::PutMarkerSet(const MarkerSet
   return version;
 }
 
-absl::StatusOr<StoredMarkerSet> SqliteMarkerSetRepository::GetMarkerSet(const std::string& map_id,
-                                                                        uint32_t version) {
+absl::StatusOr<StoredMarkerSet> SqlMarkerSetRepository::GetMarkerSet(const std::string& map_id,
+                                                                     uint32_t version) {
   std::optional<StoredMarkerSet> found;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
     ASSIGN_OR_RETURN(
-        SqliteStatement query,
+        SqlStatement query,
         db_->Prepare(version == 0 ? "SELECT version, yaml, created_unix_ms FROM marker_sets WHERE "
                                     "map_id = ? ORDER BY version DESC LIMIT 1"
                                   : "SELECT version, yaml, created_unix_ms FROM marker_sets WHERE "
@@ -69,17 +69,16 @@ absl::StatusOr<StoredMarkerSet> SqliteMarkerSetRepository::GetMarkerSet(const st
   return *std::move(found);
 }
 
-absl::Status SqliteMarkerSetRepository::DeleteMarkerSet(const std::string& map_id) {
+absl::Status SqlMarkerSetRepository::DeleteMarkerSet(const std::string& map_id) {
   return DeleteRowsOrNotFound(db_, "DELETE FROM marker_sets WHERE map_id = ?", map_id,
                               absl::StrCat("marker set of map '", EchoInput(map_id), "'"));
 }
 
-absl::StatusOr<uint32_t> SqliteRouteRepository::PutRoute(const Route& route,
-                                                         int64_t created_unix_ms) {
+absl::StatusOr<uint32_t> SqlRouteRepository::PutRoute(const Route& route, int64_t created_unix_ms) {
   uint32_t version = 0;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
     ASSIGN_OR_RETURN(version, NextVersion(db_, "routes", "name", route.name));
-    ASSIGN_OR_RETURN(SqliteStatement insert,
+    ASSIGN_OR_RETURN(SqlStatement insert,
                      db_->Prepare("INSERT INTO routes (name, version, map_id, yaml, "
                                   "created_unix_ms) VALUES (?, ?, ?, ?, ?)"));
     insert.Bind(1, route.name)
@@ -92,12 +91,12 @@ absl::StatusOr<uint32_t> SqliteRouteRepository::PutRoute(const Route& route,
   return version;
 }
 
-absl::StatusOr<StoredRoute> SqliteRouteRepository::GetRoute(const std::string& name,
-                                                            uint32_t version) {
+absl::StatusOr<StoredRoute> SqlRouteRepository::GetRoute(const std::string& name,
+                                                         uint32_t version) {
   std::optional<StoredRoute> found;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
     ASSIGN_OR_RETURN(
-        SqliteStatement query,
+        SqlStatement query,
         db_->Prepare(version == 0 ? "SELECT version, yaml, created_unix_ms FROM routes WHERE "
                                     "name = ? ORDER BY version DESC LIMIT 1"
                                   : "SELECT version, yaml, created_unix_ms FROM routes WHERE "
@@ -118,11 +117,10 @@ absl::StatusOr<StoredRoute> SqliteRouteRepository::GetRoute(const std::string& n
   return *std::move(found);
 }
 
-absl::StatusOr<std::vector<StoredRoute>> SqliteRouteRepository::ListRoutes(
-    const std::string& map_id) {
+absl::StatusOr<std::vector<StoredRoute>> SqlRouteRepository::ListRoutes(const std::string& map_id) {
   std::vector<StoredRoute> out;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement query,
+    ASSIGN_OR_RETURN(SqlStatement query,
                      db_->Prepare("SELECT version, yaml, created_unix_ms FROM routes r WHERE "
                                   "version = (SELECT MAX(version) FROM routes WHERE name = r.name) "
                                   "AND (? = '' OR map_id = ?) ORDER BY name"));
@@ -139,10 +137,10 @@ absl::StatusOr<std::vector<StoredRoute>> SqliteRouteRepository::ListRoutes(
   return out;
 }
 
-absl::StatusOr<int> SqliteRouteRepository::CountRoutesOnMap(const std::string& map_id) {
+absl::StatusOr<int> SqlRouteRepository::CountRoutesOnMap(const std::string& map_id) {
   int count = 0;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement query,
+    ASSIGN_OR_RETURN(SqlStatement query,
                      db_->Prepare("SELECT COUNT(DISTINCT name) FROM routes WHERE map_id = ?"));
     query.Bind(1, map_id);
     ASSIGN_OR_RETURN(bool has_row, query.Step());
@@ -152,15 +150,15 @@ absl::StatusOr<int> SqliteRouteRepository::CountRoutesOnMap(const std::string& m
   return count;
 }
 
-absl::Status SqliteRouteRepository::DeleteRoute(const std::string& name) {
+absl::Status SqlRouteRepository::DeleteRoute(const std::string& name) {
   return DeleteRowsOrNotFound(db_, "DELETE FROM routes WHERE name = ?", name,
                               absl::StrCat("route '", EchoInput(name), "'"));
 }
 
-absl::Status SqliteRobotRepository::UpsertRobot(const StoredRobot& robot) {
+absl::Status SqlRobotRepository::UpsertRobot(const StoredRobot& robot) {
   return db_->Transaction([&]() -> absl::Status {
     ASSIGN_OR_RETURN(
-        SqliteStatement upsert,
+        SqlStatement upsert,
         db_->Prepare("INSERT INTO robots (robot_id, kind_name, capabilities, software_version, "
                      "last_seen_unix_ms) VALUES (?, ?, ?, ?, ?) ON CONFLICT (robot_id) DO UPDATE "
                      "SET kind_name = excluded.kind_name, capabilities = excluded.capabilities, "
@@ -179,10 +177,10 @@ absl::Status SqliteRobotRepository::UpsertRobot(const StoredRobot& robot) {
   });
 }
 
-absl::StatusOr<std::vector<StoredRobot>> SqliteRobotRepository::ListRobots() {
+absl::StatusOr<std::vector<StoredRobot>> SqlRobotRepository::ListRobots() {
   std::vector<StoredRobot> out;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement query,
+    ASSIGN_OR_RETURN(SqlStatement query,
                      db_->Prepare("SELECT robot_id, kind_name, capabilities, software_version, "
                                   "last_seen_unix_ms FROM robots ORDER BY robot_id"));
     while (true) {
@@ -205,14 +203,12 @@ absl::StatusOr<std::vector<StoredRobot>> SqliteRobotRepository::ListRobots() {
   return out;
 }
 
-absl::Status SqliteRobotRepository::DeleteRobot(const std::string& robot_id) {
+absl::Status SqlRobotRepository::DeleteRobot(const std::string& robot_id) {
   return db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement remove, db_->Prepare("DELETE FROM robots WHERE robot_id = ?"));
+    ASSIGN_OR_RETURN(SqlStatement remove, db_->Prepare("DELETE FROM robots WHERE robot_id = ?"));
     remove.Bind(1, robot_id);
     RETURN_IF_ERROR(remove.Run());
-    ASSIGN_OR_RETURN(SqliteStatement changed, db_->Prepare("SELECT changes()"));
-    ASSIGN_OR_RETURN(bool row, changed.Step());
-    if (!row || changed.ColumnInt(0) == 0) {
+    if (db_->ChangedRows() == 0) {
       return absl::NotFoundError(absl::StrCat("robot '", EchoInput(robot_id), "' not found"));
     }
     return absl::OkStatus();

@@ -1,4 +1,4 @@
-#include "fleetnav/storage/sqlite/sqlite_map_repository.hpp"
+#include "fleetnav/storage/sql/sql_map_repository.hpp"
 
 #include "absl/strings/str_cat.h"
 #include "delete_rows_internal.hpp"
@@ -12,7 +12,7 @@ constexpr char kSelectColumns[] =
     "SELECT map_id, version, width, height, resolution_m, description, created_unix_ms, "
     "origin_x_m, origin_y_m, origin_yaw_rad, cells FROM maps ";
 
-MapInfo InfoFromRow(const SqliteStatement& row) {
+MapInfo InfoFromRow(const SqlStatement& row) {
   MapInfo info;
   info.map_id = row.ColumnText(0);
   info.version = static_cast<uint32_t>(row.ColumnInt(1));
@@ -26,19 +26,19 @@ MapInfo InfoFromRow(const SqliteStatement& row) {
 
 }  // namespace
 
-absl::StatusOr<MapInfo> SqliteMapRepository::PutMap(const std::string& map_id,
-                                                    const OccupancyGrid& grid,
-                                                    const std::string& description,
-                                                    int64_t created_unix_ms) {
+absl::StatusOr<MapInfo> SqlMapRepository::PutMap(const std::string& map_id,
+                                                 const OccupancyGrid& grid,
+                                                 const std::string& description,
+                                                 int64_t created_unix_ms) {
   MapInfo info{map_id,         0, grid.width(), grid.height(), grid.resolution_m(), description,
                created_unix_ms};
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement latest,
+    ASSIGN_OR_RETURN(SqlStatement latest,
                      db_->Prepare("SELECT COALESCE(MAX(version), 0) FROM maps WHERE map_id = ?"));
     latest.Bind(1, map_id);
     ASSIGN_OR_RETURN(bool has_row, latest.Step());
     info.version = static_cast<uint32_t>(has_row ? latest.ColumnInt(0) + 1 : 1);
-    ASSIGN_OR_RETURN(SqliteStatement insert,
+    ASSIGN_OR_RETURN(SqlStatement insert,
                      db_->Prepare("INSERT INTO maps (map_id, version, width, height, "
                                   "resolution_m, origin_x_m, origin_y_m, origin_yaw_rad, cells, "
                                   "description, created_unix_ms) "
@@ -60,12 +60,12 @@ absl::StatusOr<MapInfo> SqliteMapRepository::PutMap(const std::string& map_id,
   return info;
 }
 
-absl::StatusOr<StoredMap> SqliteMapRepository::GetMap(const std::string& map_id, uint32_t version) {
+absl::StatusOr<StoredMap> SqlMapRepository::GetMap(const std::string& map_id, uint32_t version) {
   std::optional<StoredMap> found;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
     const std::string where = version == 0 ? "WHERE map_id = ? ORDER BY version DESC LIMIT 1"
                                            : "WHERE map_id = ? AND version = ?";
-    ASSIGN_OR_RETURN(SqliteStatement query, db_->Prepare(absl::StrCat(kSelectColumns, where)));
+    ASSIGN_OR_RETURN(SqlStatement query, db_->Prepare(absl::StrCat(kSelectColumns, where)));
     query.Bind(1, map_id);
     if (version != 0) query.Bind(2, static_cast<int64_t>(version));
     ASSIGN_OR_RETURN(bool has_row, query.Step());
@@ -89,10 +89,10 @@ absl::StatusOr<StoredMap> SqliteMapRepository::GetMap(const std::string& map_id,
   return *std::move(found);
 }
 
-absl::StatusOr<std::vector<MapInfo>> SqliteMapRepository::ListMaps() {
+absl::StatusOr<std::vector<MapInfo>> SqlMapRepository::ListMaps() {
   std::vector<MapInfo> out;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement query,
+    ASSIGN_OR_RETURN(SqlStatement query,
                      db_->Prepare("SELECT map_id, version, width, height, resolution_m, "
                                   "description, created_unix_ms FROM maps m WHERE version = "
                                   "(SELECT MAX(version) FROM maps WHERE map_id = m.map_id) "
@@ -107,7 +107,7 @@ absl::StatusOr<std::vector<MapInfo>> SqliteMapRepository::ListMaps() {
   return out;
 }
 
-absl::Status SqliteMapRepository::DeleteMap(const std::string& map_id) {
+absl::Status SqlMapRepository::DeleteMap(const std::string& map_id) {
   return DeleteRowsOrNotFound(db_, "DELETE FROM maps WHERE map_id = ?", map_id,
                               absl::StrCat("map '", EchoInput(map_id), "'"));
 }

@@ -6,27 +6,28 @@
 #include "fleetnav/storage/pose_history_repository.hpp"
 #include "fleetnav/storage/robot_repository.hpp"
 #include "fleetnav/storage/route_repository.hpp"
-#include "fleetnav/storage/sqlite/sqlite_database.hpp"
+#include "fleetnav/storage/sql/sql_database.hpp"
 
 namespace fleetnav::storage {
 
-/// Marker sets on SQLite, each version stored as the thesis's marker YAML. Thread-safe.
-class SqliteMarkerSetRepository final : public MarkerSetRepository {
+/// Marker sets on an SqlDatabase (SQLite or PostgreSQL), each version stored as the thesis's marker
+/// YAML. Thread-safe.
+class SqlMarkerSetRepository final : public MarkerSetRepository {
  public:
-  explicit SqliteMarkerSetRepository(SqliteDatabase* db) : db_(db) {}
+  explicit SqlMarkerSetRepository(SqlDatabase* db) : db_(db) {}
   absl::StatusOr<uint32_t> PutMarkerSet(const MarkerSet& markers, int64_t created_unix_ms) override;
   absl::StatusOr<StoredMarkerSet> GetMarkerSet(const std::string& map_id,
                                                uint32_t version) override;
   absl::Status DeleteMarkerSet(const std::string& map_id) override;
 
  private:
-  SqliteDatabase* db_;
+  SqlDatabase* db_;
 };
 
-/// Routes on SQLite, each version stored as route YAML. Thread-safe.
-class SqliteRouteRepository final : public RouteRepository {
+/// Routes on an SqlDatabase (SQLite or PostgreSQL), each version stored as route YAML. Thread-safe.
+class SqlRouteRepository final : public RouteRepository {
  public:
-  explicit SqliteRouteRepository(SqliteDatabase* db) : db_(db) {}
+  explicit SqlRouteRepository(SqlDatabase* db) : db_(db) {}
   absl::StatusOr<uint32_t> PutRoute(const Route& route, int64_t created_unix_ms) override;
   absl::StatusOr<StoredRoute> GetRoute(const std::string& name, uint32_t version) override;
   absl::StatusOr<std::vector<StoredRoute>> ListRoutes(const std::string& map_id) override;
@@ -34,26 +35,26 @@ class SqliteRouteRepository final : public RouteRepository {
   absl::Status DeleteRoute(const std::string& name) override;
 
  private:
-  SqliteDatabase* db_;
+  SqlDatabase* db_;
 };
 
-/// Robots on SQLite. Thread-safe.
-class SqliteRobotRepository final : public RobotRepository {
+/// Robots on an SqlDatabase (SQLite or PostgreSQL). Thread-safe.
+class SqlRobotRepository final : public RobotRepository {
  public:
-  explicit SqliteRobotRepository(SqliteDatabase* db) : db_(db) {}
+  explicit SqlRobotRepository(SqlDatabase* db) : db_(db) {}
   absl::Status UpsertRobot(const StoredRobot& robot) override;
   absl::StatusOr<std::vector<StoredRobot>> ListRobots() override;
   absl::Status DeleteRobot(const std::string& robot_id) override;
 
  private:
-  SqliteDatabase* db_;
+  SqlDatabase* db_;
 };
 
-/// Jobs and events on SQLite: a job row and its event rows change in one transaction; the
-/// idempotency key is a unique index. Thread-safe.
-class SqliteJobRepository final : public JobRepository {
+/// Jobs and events on an SqlDatabase (SQLite or PostgreSQL): a job row and its event rows change in
+/// one transaction; the idempotency key is a unique index. Thread-safe.
+class SqlJobRepository final : public JobRepository {
  public:
-  explicit SqliteJobRepository(SqliteDatabase* db) : db_(db) {}
+  explicit SqlJobRepository(SqlDatabase* db) : db_(db) {}
   absl::StatusOr<CreatedJob> CreateJob(Job job, JobEvent first_event) override;
   absl::StatusOr<Job> GetJob(const std::string& job_id) override;
   absl::StatusOr<JobPage> ListJobs(const JobFilter& filter) override;
@@ -63,33 +64,33 @@ class SqliteJobRepository final : public JobRepository {
                                                    int64_t after_sequence) override;
 
  private:
-  SqliteDatabase* db_;
+  SqlDatabase* db_;
 };
 
-/// Operator tokens on SQLite: the name is the key and the secret's hash is unique, so neither
-/// can be stored twice. Thread-safe.
-class SqliteOperatorTokenRepository final : public OperatorTokenRepository {
+/// Operator tokens on an SqlDatabase (SQLite or PostgreSQL): the name is the key and the secret's
+/// hash is unique, so neither can be stored twice. Thread-safe.
+class SqlOperatorTokenRepository final : public OperatorTokenRepository {
  public:
-  explicit SqliteOperatorTokenRepository(SqliteDatabase* db) : db_(db) {}
+  explicit SqlOperatorTokenRepository(SqlDatabase* db) : db_(db) {}
   absl::Status InsertToken(const StoredOperatorToken& stored) override;
   absl::StatusOr<std::vector<StoredOperatorToken>> ListTokens() override;
   absl::Status DeleteToken(const std::string& name) override;
 
  private:
-  SqliteDatabase* db_;
+  SqlDatabase* db_;
 };
 
-/// Pose history on SQLite: one transaction per batch. Thread-safe.
-class SqlitePoseHistoryRepository final : public PoseHistoryRepository {
+/// Pose history on an SqlDatabase (SQLite or PostgreSQL): one transaction per batch. Thread-safe.
+class SqlPoseHistoryRepository final : public PoseHistoryRepository {
  public:
-  explicit SqlitePoseHistoryRepository(SqliteDatabase* db) : db_(db) {}
+  explicit SqlPoseHistoryRepository(SqlDatabase* db) : db_(db) {}
   absl::Status AppendPoses(const std::vector<PoseSample>& samples) override;
   absl::StatusOr<std::vector<PoseSample>> ListPoses(const std::string& robot_id,
                                                     int64_t since_unix_ms, int limit) override;
   absl::StatusOr<int64_t> PruneBefore(int64_t before_unix_ms) override;
 
  private:
-  SqliteDatabase* db_;
+  SqlDatabase* db_;
 };
 
 }  // namespace fleetnav::storage

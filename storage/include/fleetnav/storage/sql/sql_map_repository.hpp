@@ -3,15 +3,15 @@
 #include <memory>
 
 #include "fleetnav/storage/map_repository.hpp"
-#include "fleetnav/storage/sqlite/sqlite_database.hpp"
+#include "fleetnav/storage/sql/sql_database.hpp"
 
 namespace fleetnav::storage {
 
-/// MapRepository on an SQLite file: one row per map version with the cells as a BLOB. Each
+/// MapRepository on an SqlDatabase: one row per map version with the cells as a BLOB. Each
 /// call is one transaction. Thread-safe (shares the database's serialisation).
-class SqliteMapRepository final : public MapRepository {
+class SqlMapRepository final : public MapRepository {
  public:
-  explicit SqliteMapRepository(SqliteDatabase* db) : db_(db) {}
+  explicit SqlMapRepository(SqlDatabase* db) : db_(db) {}
 
   absl::StatusOr<MapInfo> PutMap(const std::string& map_id, const OccupancyGrid& grid,
                                  const std::string& description, int64_t created_unix_ms) override;
@@ -20,7 +20,7 @@ class SqliteMapRepository final : public MapRepository {
   absl::Status DeleteMap(const std::string& map_id) override;
 
  private:
-  SqliteDatabase* db_;
+  SqlDatabase* db_;
 };
 
 }  // namespace fleetnav::storage

@@ -1,12 +1,12 @@
 #include "fleetnav/core/status_macros.hpp"
-#include "fleetnav/storage/sqlite/sqlite_fleet_repositories.hpp"
+#include "fleetnav/storage/sql/sql_fleet_repositories.hpp"
 
 namespace fleetnav::storage {
 
-absl::Status SqlitePoseHistoryRepository::AppendPoses(const std::vector<PoseSample>& samples) {
+absl::Status SqlPoseHistoryRepository::AppendPoses(const std::vector<PoseSample>& samples) {
   if (samples.empty()) return absl::OkStatus();
   return db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement insert,
+    ASSIGN_OR_RETURN(SqlStatement insert,
                      db_->Prepare("INSERT INTO pose_history (robot_id, unix_ms, stamp_ns, x_m, "
                                   "y_m, yaw_rad) VALUES (?, ?, ?, ?, ?, ?)"));
     for (const PoseSample& sample : samples) {
@@ -23,13 +23,13 @@ absl::Status SqlitePoseHistoryRepository::AppendPoses(const std::vector<PoseSamp
   });
 }
 
-absl::StatusOr<std::vector<PoseSample>> SqlitePoseHistoryRepository::ListPoses(
+absl::StatusOr<std::vector<PoseSample>> SqlPoseHistoryRepository::ListPoses(
     const std::string& robot_id, int64_t since_unix_ms, int limit) {
   std::vector<PoseSample> out;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement query,
+    ASSIGN_OR_RETURN(SqlStatement query,
                      db_->Prepare("SELECT unix_ms, stamp_ns, x_m, y_m, yaw_rad FROM pose_history "
-                                  "WHERE robot_id = ? AND unix_ms >= ? ORDER BY unix_ms, rowid "
+                                  "WHERE robot_id = ? AND unix_ms >= ? ORDER BY unix_ms, stamp_ns "
                                   "LIMIT ?"));
     query.Bind(1, robot_id).Bind(2, since_unix_ms).Bind(3, static_cast<int64_t>(limit));
     while (true) {
@@ -44,16 +44,14 @@ absl::StatusOr<std::vector<PoseSample>> SqlitePoseHistoryRepository::ListPoses(
   return out;
 }
 
-absl::StatusOr<int64_t> SqlitePoseHistoryRepository::PruneBefore(int64_t before_unix_ms) {
+absl::StatusOr<int64_t> SqlPoseHistoryRepository::PruneBefore(int64_t before_unix_ms) {
   int64_t removed = 0;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement remove,
+    ASSIGN_OR_RETURN(SqlStatement remove,
                      db_->Prepare("DELETE FROM pose_history WHERE unix_ms < ?"));
     remove.Bind(1, before_unix_ms);
     RETURN_IF_ERROR(remove.Run());
-    ASSIGN_OR_RETURN(SqliteStatement changes, db_->Prepare("SELECT changes()"));
-    ASSIGN_OR_RETURN(bool has_row, changes.Step());
-    removed = has_row ? changes.ColumnInt(0) : 0;
+    removed = db_->ChangedRows();
     return absl::OkStatus();
   }));
   return removed;

@@ -2,15 +2,15 @@
 #include "delete_rows_internal.hpp"
 #include "fleetnav/core/echo_input.hpp"
 #include "fleetnav/core/status_macros.hpp"
-#include "fleetnav/storage/sqlite/sqlite_fleet_repositories.hpp"
+#include "fleetnav/storage/sql/sql_fleet_repositories.hpp"
 
 namespace fleetnav::storage {
 
-absl::Status SqliteOperatorTokenRepository::InsertToken(const StoredOperatorToken& stored) {
+absl::Status SqlOperatorTokenRepository::InsertToken(const StoredOperatorToken& stored) {
   return db_->Transaction([&]() -> absl::Status {
-    // The name is the primary key; ON CONFLICT DO NOTHING then changes() tells a taken name
-    // from a stored one without parsing SQLite's error text.
-    ASSIGN_OR_RETURN(SqliteStatement insert,
+    // Name and hash are unique; ON CONFLICT DO NOTHING then the changed rows tell a taken one
+    // from a stored one without parsing an engine's error text.
+    ASSIGN_OR_RETURN(SqlStatement insert,
                      db_->Prepare("INSERT INTO operator_tokens (name, role_name, sha256_hex, "
                                   "created_unix_ms) VALUES (?, ?, ?, ?) ON CONFLICT DO NOTHING"));
     const std::string role_name(RoleName(stored.token.role));
@@ -19,9 +19,7 @@ absl::Status SqliteOperatorTokenRepository::InsertToken(const StoredOperatorToke
         .Bind(3, stored.token.sha256_hex)
         .Bind(4, stored.created_unix_ms);
     RETURN_IF_ERROR(insert.Run());
-    ASSIGN_OR_RETURN(SqliteStatement changes, db_->Prepare("SELECT changes()"));
-    ASSIGN_OR_RETURN(bool has_row, changes.Step());
-    if (!has_row || changes.ColumnInt(0) == 0) {
+    if (db_->ChangedRows() == 0) {
       return absl::AlreadyExistsError(absl::StrCat("a token named '", EchoInput(stored.token.name),
                                                    "' or with the same secret exists"));
     }
@@ -29,10 +27,10 @@ absl::Status SqliteOperatorTokenRepository::InsertToken(const StoredOperatorToke
   });
 }
 
-absl::StatusOr<std::vector<StoredOperatorToken>> SqliteOperatorTokenRepository::ListTokens() {
+absl::StatusOr<std::vector<StoredOperatorToken>> SqlOperatorTokenRepository::ListTokens() {
   std::vector<StoredOperatorToken> out;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement query,
+    ASSIGN_OR_RETURN(SqlStatement query,
                      db_->Prepare("SELECT name, role_name, sha256_hex, created_unix_ms FROM "
                                   "operator_tokens ORDER BY name"));
     while (true) {
@@ -46,7 +44,7 @@ absl::StatusOr<std::vector<StoredOperatorToken>> SqliteOperatorTokenRepository::
   return out;
 }
 
-absl::Status SqliteOperatorTokenRepository::DeleteToken(const std::string& name) {
+absl::Status SqlOperatorTokenRepository::DeleteToken(const std::string& name) {
   return DeleteRowsOrNotFound(db_, "DELETE FROM operator_tokens WHERE name = ?", name,
                               absl::StrCat("token '", EchoInput(name), "'"));
 }

@@ -2,7 +2,7 @@
 #include "absl/strings/str_format.h"
 #include "fleetnav/core/echo_input.hpp"
 #include "fleetnav/core/status_macros.hpp"
-#include "fleetnav/storage/sqlite/sqlite_fleet_repositories.hpp"
+#include "fleetnav/storage/sql/sql_fleet_repositories.hpp"
 
 namespace fleetnav::storage {
 namespace {
@@ -12,7 +12,7 @@ constexpr char kJobColumns[] =
     "goal_yaw_rad, requested_robot_id, assigned_robot_id, priority, idempotency_key, "
     "on_robot_lost, created_unix_ms, updated_unix_ms, progress_fraction, reason, seq";
 
-Job JobFromRow(const SqliteStatement& row) {
+Job JobFromRow(const SqlStatement& row) {
   Job job;
   job.job_id = row.ColumnText(0);
   job.state = static_cast<JobState>(row.ColumnInt(1));
@@ -35,7 +35,7 @@ Job JobFromRow(const SqliteStatement& row) {
 }
 
 // Binds the job's columns 2..18 (state .. reason) in the order of kJobColumns.
-void BindJobFields(SqliteStatement& statement, const Job& job, int first) {
+void BindJobFields(SqlStatement& statement, const Job& job, int first) {
   const Pose2 goal = job.goal.value_or(Pose2());
   statement.Bind(first, static_cast<int64_t>(job.state))
       .Bind(first + 1, job.route_name)
@@ -60,14 +60,14 @@ void BindJobFields(SqliteStatement& statement, const Job& job, int first) {
       .Bind(first + 16, job.reason);
 }
 
-absl::StatusOr<int64_t> AppendEvent(SqliteDatabase* db, JobEvent event) {
-  ASSIGN_OR_RETURN(SqliteStatement next,
+absl::StatusOr<int64_t> AppendEvent(SqlDatabase* db, JobEvent event) {
+  ASSIGN_OR_RETURN(SqlStatement next,
                    db->Prepare("SELECT COALESCE(MAX(sequence), 0) + 1 FROM job_events WHERE "
                                "job_id = ?"));
   next.Bind(1, event.job_id);
   ASSIGN_OR_RETURN(bool has_row, next.Step());
   event.sequence = has_row ? next.ColumnInt(0) : 1;
-  ASSIGN_OR_RETURN(SqliteStatement insert,
+  ASSIGN_OR_RETURN(SqlStatement insert,
                    db->Prepare("INSERT INTO job_events (job_id, sequence, type, unix_ms, "
                                "robot_id, action_index, progress_fraction, mode, reason, state) "
                                "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)"));
@@ -87,11 +87,11 @@ absl::StatusOr<int64_t> AppendEvent(SqliteDatabase* db, JobEvent event) {
 
 }  // namespace
 
-absl::StatusOr<CreatedJob> SqliteJobRepository::CreateJob(Job job, JobEvent first_event) {
+absl::StatusOr<CreatedJob> SqlJobRepository::CreateJob(Job job, JobEvent first_event) {
   CreatedJob created;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
     if (!job.idempotency_key.empty()) {
-      ASSIGN_OR_RETURN(SqliteStatement existing,
+      ASSIGN_OR_RETURN(SqlStatement existing,
                        db_->Prepare(absl::StrCat("SELECT ", kJobColumns,
                                                  " FROM jobs WHERE idempotency_key = ?")));
       existing.Bind(1, job.idempotency_key);
@@ -101,12 +101,12 @@ absl::StatusOr<CreatedJob> SqliteJobRepository::CreateJob(Job job, JobEvent firs
         return absl::OkStatus();
       }
     }
-    ASSIGN_OR_RETURN(SqliteStatement next_seq,
+    ASSIGN_OR_RETURN(SqlStatement next_seq,
                      db_->Prepare("SELECT COALESCE(MAX(seq), 0) + 1 FROM jobs"));
     ASSIGN_OR_RETURN(bool has_row, next_seq.Step());
     const int64_t seq = has_row ? next_seq.ColumnInt(0) : 1;
     job.job_id = absl::StrFormat("job-%06d", seq);
-    ASSIGN_OR_RETURN(SqliteStatement insert,
+    ASSIGN_OR_RETURN(SqlStatement insert,
                      db_->Prepare("INSERT INTO jobs (seq, job_id, state, route_name, "
                                   "route_version, map_id, has_goal, goal_x_m, goal_y_m, "
                                   "goal_yaw_rad, requested_robot_id, assigned_robot_id, priority, "
@@ -124,12 +124,11 @@ absl::StatusOr<CreatedJob> SqliteJobRepository::CreateJob(Job job, JobEvent firs
   return created;
 }
 
-absl::StatusOr<Job> SqliteJobRepository::GetJob(const std::string& job_id) {
+absl::StatusOr<Job> SqlJobRepository::GetJob(const std::string& job_id) {
   std::optional<Job> found;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(
-        SqliteStatement query,
-        db_->Prepare(absl::StrCat("SELECT ", kJobColumns, " FROM jobs WHERE job_id = ?")));
+    ASSIGN_OR_RETURN(SqlStatement query, db_->Prepare(absl::StrCat("SELECT ", kJobColumns,
+                                                                   " FROM jobs WHERE job_id = ?")));
     query.Bind(1, job_id);
     ASSIGN_OR_RETURN(bool has_row, query.Step());
     if (has_row) found = JobFromRow(query);
@@ -139,10 +138,10 @@ absl::StatusOr<Job> SqliteJobRepository::GetJob(const std::string& job_id) {
   return *std::move(found);
 }
 
-absl::StatusOr<std::map<JobState, int64_t>> SqliteJobRepository::CountJobsByState() {
+absl::StatusOr<std::map<JobState, int64_t>> SqlJobRepository::CountJobsByState() {
   std::map<JobState, int64_t> counts;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement query,
+    ASSIGN_OR_RETURN(SqlStatement query,
                      db_->Prepare("SELECT state, COUNT(*) FROM jobs GROUP BY state"));
     while (true) {
       ASSIGN_OR_RETURN(bool has_row, query.Step());
@@ -154,7 +153,7 @@ absl::StatusOr<std::map<JobState, int64_t>> SqliteJobRepository::CountJobsByStat
   return counts;
 }
 
-absl::StatusOr<JobPage> SqliteJobRepository::ListJobs(const JobFilter& filter) {
+absl::StatusOr<JobPage> SqlJobRepository::ListJobs(const JobFilter& filter) {
   int64_t after_seq = 0;
   if (!filter.page_token.empty()) {
     char* end = nullptr;
@@ -176,7 +175,7 @@ absl::StatusOr<JobPage> SqliteJobRepository::ListJobs(const JobFilter& filter) {
   if (!filter.map_id.empty()) where += " AND map_id = ?";
   JobPage page;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement query,
+    ASSIGN_OR_RETURN(SqlStatement query,
                      db_->Prepare(absl::StrCat("SELECT ", kJobColumns, " FROM jobs WHERE ", where,
                                                " ORDER BY seq LIMIT ?")));
     int index = 1;
@@ -203,10 +202,10 @@ absl::StatusOr<JobPage> SqliteJobRepository::ListJobs(const JobFilter& filter) {
   return page;
 }
 
-absl::StatusOr<int64_t> SqliteJobRepository::UpdateJob(const Job& job, JobEvent event) {
+absl::StatusOr<int64_t> SqlJobRepository::UpdateJob(const Job& job, JobEvent event) {
   int64_t sequence = 0;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement update,
+    ASSIGN_OR_RETURN(SqlStatement update,
                      db_->Prepare("UPDATE jobs SET state = ?, route_name = ?, route_version = ?, "
                                   "map_id = ?, has_goal = ?, goal_x_m = ?, goal_y_m = ?, "
                                   "goal_yaw_rad = ?, requested_robot_id = ?, "
@@ -216,9 +215,7 @@ absl::StatusOr<int64_t> SqliteJobRepository::UpdateJob(const Job& job, JobEvent 
     BindJobFields(update, job, 1);
     update.Bind(18, job.job_id);
     RETURN_IF_ERROR(update.Run());
-    ASSIGN_OR_RETURN(SqliteStatement changes, db_->Prepare("SELECT changes()"));
-    ASSIGN_OR_RETURN(bool has_row, changes.Step());
-    if (!has_row || changes.ColumnInt(0) == 0) {
+    if (db_->ChangedRows() == 0) {
       return absl::NotFoundError(absl::StrCat("job '", job.job_id, "' not found"));
     }
     event.job_id = job.job_id;
@@ -228,11 +225,11 @@ absl::StatusOr<int64_t> SqliteJobRepository::UpdateJob(const Job& job, JobEvent 
   return sequence;
 }
 
-absl::StatusOr<std::vector<JobEvent>> SqliteJobRepository::ListEvents(const std::string& job_id,
-                                                                      int64_t after_sequence) {
+absl::StatusOr<std::vector<JobEvent>> SqlJobRepository::ListEvents(const std::string& job_id,
+                                                                   int64_t after_sequence) {
   std::vector<JobEvent> out;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(SqliteStatement query,
+    ASSIGN_OR_RETURN(SqlStatement query,
                      db_->Prepare("SELECT sequence, type, unix_ms, robot_id, action_index, "
                                   "progress_fraction, mode, reason, state FROM job_events WHERE "
                                   "job_id = ? AND sequence > ? ORDER BY sequence"));

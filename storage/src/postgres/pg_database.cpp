@@ -1,0 +1,299 @@
+#include "fleetnav/storage/postgres/pg_database.hpp"
+
+#include <libpq-fe.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <optional>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/time/clock.h"
+#include "absl/time/time.h"
+#include "fleetnav/core/status_macros.hpp"
+
+namespace fleetnav::storage {
+namespace {
+
+/// Advisory-lock key of schema migrations: "FNAV", as SQLite's application_id.
+constexpr int64_t kMigrationLockKey = 0x464E4156;
+
+/// An SQLSTATE and message as a Status with the codes SqliteError gives.
+absl::Status PgError(const PGresult* result, PGconn* conn, const std::string& what) {
+  const char* state = result != nullptr ? PQresultErrorField(result, PG_DIAG_SQLSTATE) : nullptr;
+  const char* primary =
+      result != nullptr ? PQresultErrorField(result, PG_DIAG_MESSAGE_PRIMARY) : nullptr;
+  std::string message =
+      absl::StrCat(what, ": ", primary != nullptr ? primary : PQerrorMessage(conn));
+  while (!message.empty() && message.back() == '\n') message.pop_back();
+  if (PQstatus(conn) != CONNECTION_OK) return absl::UnavailableError(message);
+  const std::string code = state != nullptr ? state : "";
+  const std::string category = code.substr(0, 2);
+  if (category == "23") return absl::FailedPreconditionError(message);
+  if (category == "22") return absl::InvalidArgumentError(message);
+  if (category == "08" || category == "40" || category == "53" || category == "57") {
+    return absl::UnavailableError(message);
+  }
+  if (code == "XX001" || code == "XX002") return absl::DataLossError(message);
+  return absl::InternalError(message);
+}
+
+/// Owns a PGresult.
+struct ResultDeleter {
+  void operator()(PGresult* result) const { PQclear(result); }
+};
+using PgResult = std::unique_ptr<PGresult, ResultDeleter>;
+
+bool Succeeded(const PGresult* result) {
+  const ExecStatusType status = PQresultStatus(result);
+  return status == PGRES_COMMAND_OK || status == PGRES_TUPLES_OK;
+}
+
+/// `?` parameters (outside quotes) as `$1, $2, …`.
+std::string NumberParameters(std::string_view sql) {
+  std::string out;
+  out.reserve(sql.size() + 16);
+  bool quoted = false;
+  int next = 1;
+  for (char c : sql) {
+    if (c == '\'') quoted = !quoted;
+    if (c == '?' && !quoted) {
+      absl::StrAppend(&out, "$", next++);
+    } else {
+      out.push_back(c);
+    }
+  }
+  return out;
+}
+
+/// One statement on the database's connection: parameters kept as text (or binary for
+/// BLOBs) until the first Step() sends them; rows are read from the whole result.
+class PgStatement final : public SqlStatementBackend {
+ public:
+  PgStatement(PgDatabase* db, std::string sql) : db_(db), sql_(std::move(sql)) {}
+
+  void Bind(int index, int64_t value) override { Set(index, absl::StrCat(value), false); }
+  void Bind(int index, double value) override {
+    Set(index, absl::StrFormat("%.17g", value), false);
+  }
+  void Bind(int index, std::string_view text) override { Set(index, std::string(text), false); }
+  void BindBlob(int index, const void* data, size_t size) override {
+    Set(index, std::string(static_cast<const char*>(data), size), true);
+  }
+  void BindNull(int index) override {
+    Grow(index);
+    values_[index - 1].reset();
+  }
+
+  absl::StatusOr<bool> Step() override {
+    if (result_ == nullptr) {
+      std::vector<const char*> values(values_.size());
+      std::vector<int> lengths(values_.size()), formats(values_.size());
+      for (size_t i = 0; i < values_.size(); ++i) {
+        values[i] = values_[i].has_value() ? values_[i]->data() : nullptr;
+        lengths[i] = values_[i].has_value() ? static_cast<int>(values_[i]->size()) : 0;
+        formats[i] = binary_[i] ? 1 : 0;
+      }
+      result_.reset(PQexecParams(db_->connection(), sql_.c_str(), static_cast<int>(values.size()),
+                                 nullptr, values.data(), lengths.data(), formats.data(), 0));
+      if (result_ == nullptr || !Succeeded(result_.get())) {
+        absl::Status error = PgError(result_.get(), db_->connection(), "postgresql");
+        result_.reset();
+        return error;
+      }
+      const char* changed = PQcmdTuples(result_.get());
+      db_->set_changed_rows(changed[0] != '\0' ? std::strtoll(changed, nullptr, 10) : 0);
+      row_ = -1;
+    }
+    return ++row_ < PQntuples(result_.get());
+  }
+
+  void Reset() override {
+    result_.reset();
+    values_.clear();
+    binary_.clear();
+  }
+
+  int64_t ColumnInt(int column) const override { return std::strtoll(Value(column), nullptr, 10); }
+  double ColumnDouble(int column) const override { return std::strtod(Value(column), nullptr); }
+  std::string ColumnText(int column) const override {
+    return std::string(Value(column),
+                       static_cast<size_t>(PQgetlength(result_.get(), row_, column)));
+  }
+  std::vector<uint8_t> ColumnBlob(int column) const override {
+    size_t length = 0;
+    unsigned char* bytes =
+        PQunescapeBytea(reinterpret_cast<const unsigned char*>(Value(column)), &length);
+    if (bytes == nullptr) return {};
+    std::vector<uint8_t> out(bytes, bytes + length);
+    PQfreemem(bytes);
+    return out;
+  }
+  bool ColumnIsNull(int column) const override {
+    return PQgetisnull(result_.get(), row_, column) == 1;
+  }
+
+ private:
+  void Grow(int index) {
+    if (static_cast<int>(values_.size()) < index) {
+      values_.resize(index);
+      binary_.resize(index, false);
+    }
+  }
+  void Set(int index, std::string value, bool binary) {
+    Grow(index);
+    values_[index - 1] = std::move(value);
+    binary_[index - 1] = binary;
+  }
+  const char* Value(int column) const { return PQgetvalue(result_.get(), row_, column); }
+
+  PgDatabase* db_;
+  const std::string sql_;
+  std::vector<std::optional<std::string>> values_;
+  std::vector<bool> binary_;
+  PgResult result_;
+  int row_ = -1;
+};
+
+void IgnoreNotice(void* /*arg*/, const char* /*message*/) {}
+
+}  // namespace
+
+bool IsPostgresUri(std::string_view db) {
+  return db.rfind("postgresql://", 0) == 0 || db.rfind("postgres://", 0) == 0;
+}
+
+absl::StatusOr<std::unique_ptr<PgDatabase>> PgDatabase::Open(
+    const std::string& conninfo, const std::vector<std::string>& migrations,
+    const PgOpenOptions& options) {
+  std::unique_ptr<PgDatabase> db(new PgDatabase(conninfo, options));
+  RETURN_IF_ERROR(db->Connect(options.connect_wait_s));
+  absl::Status migrated = db->Migrate(migrations);
+  if (!migrated.ok()) {
+    return absl::Status(migrated.code(), absl::StrCat(db->Describe(), ": ", migrated.message()));
+  }
+  return db;
+}
+
+PgDatabase::~PgDatabase() {
+  if (conn_ != nullptr) PQfinish(conn_);
+}
+
+std::string PgDatabase::Describe() const { return absl::StrCat("PostgreSQL ", target_); }
+
+absl::Status PgDatabase::Connect(double wait_s) {
+  const absl::Time deadline = absl::Now() + absl::Seconds(wait_s);
+  absl::Duration backoff = absl::Milliseconds(100);
+  while (true) {
+    if (conn_ != nullptr) PQfinish(conn_);
+    conn_ = PQconnectdb(conninfo_.c_str());
+    if (conn_ != nullptr && PQstatus(conn_) == CONNECTION_OK) {
+      PQsetNoticeProcessor(conn_, IgnoreNotice, nullptr);
+      target_ = absl::StrCat("database ", PQdb(conn_), " at ", PQhost(conn_), ":", PQport(conn_));
+      return absl::OkStatus();
+    }
+    std::string why = conn_ != nullptr ? PQerrorMessage(conn_) : "out of memory";
+    while (!why.empty() && (why.back() == '\n' || why.back() == ' ')) why.pop_back();
+    if (absl::Now() + backoff > deadline) {
+      // libpq's messages name host and port but never the password.
+      return absl::UnavailableError(
+          absl::StrCat("cannot reach PostgreSQL within ", wait_s, " s: ", why));
+    }
+    absl::SleepFor(backoff);
+    backoff = std::min(backoff * 2, absl::Seconds(2));
+  }
+}
+
+absl::Status PgDatabase::Execute(std::string_view sql) {
+  PgResult result(PQexec(conn_, std::string(sql).c_str()));
+  if (result == nullptr || !Succeeded(result.get())) {
+    return PgError(result.get(), conn_, "postgresql");
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<SqlStatement> PgDatabase::Prepare(std::string_view sql) {
+  return SqlStatement(std::make_unique<PgStatement>(this, NumberParameters(sql)));
+}
+
+absl::Status PgDatabase::Transaction(const std::function<absl::Status()>& body) {
+  const auto started = std::chrono::steady_clock::now();
+  absl::Status status;
+  {
+    absl::MutexLock lock(&mutex_);
+    if (PQstatus(conn_) != CONNECTION_OK) {
+      // The server restarted or the network broke since the last transaction.
+      RETURN_IF_ERROR(Connect(options_.reconnect_wait_s));
+    }
+    status = Execute("BEGIN");
+    if (status.ok()) {
+      changed_rows_ = 0;
+      status = body();
+      if (status.ok()) {
+        status = Execute("COMMIT");
+      } else if (PQstatus(conn_) == CONNECTION_OK) {
+        (void)Execute("ROLLBACK");
+      }
+    }
+  }
+  if (status.ok() && transaction_observer_) {
+    transaction_observer_(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+  }
+  return status;
+}
+
+absl::Status PgDatabase::Migrate(const std::vector<std::string>& migrations) {
+  return Transaction([&]() -> absl::Status {
+    // Replicas starting together: the first migrates, the others wait here and find it done.
+    RETURN_IF_ERROR(Execute(absl::StrCat("SELECT pg_advisory_xact_lock(", kMigrationLockKey, ")")));
+    ASSIGN_OR_RETURN(SqlStatement has_table,
+                     Prepare("SELECT COUNT(*) FROM information_schema.tables WHERE "
+                             "table_schema = current_schema() AND table_name = 'fleetnav_schema'"));
+    ASSIGN_OR_RETURN(bool row, has_table.Step());
+    if (!row) return absl::InternalError("cannot read information_schema");
+    if (has_table.ColumnInt(0) == 0) {
+      ASSIGN_OR_RETURN(SqlStatement tables,
+                       Prepare("SELECT COUNT(*) FROM information_schema.tables WHERE "
+                               "table_schema = current_schema()"));
+      ASSIGN_OR_RETURN(row, tables.Step());
+      if (row && tables.ColumnInt(0) > 0) {
+        return absl::FailedPreconditionError(
+            absl::StrCat("not a fleetnav database (", tables.ColumnInt(0),
+                         " tables and no fleetnav_schema table); refusing to write to it"));
+      }
+      RETURN_IF_ERROR(Execute(
+          "CREATE TABLE fleetnav_schema (application TEXT NOT NULL, version INTEGER NOT NULL)"));
+      ASSIGN_OR_RETURN(SqlStatement stamp,
+                       Prepare("INSERT INTO fleetnav_schema (application, version) VALUES (?, 0)"));
+      stamp.Bind(1, options_.application);
+      RETURN_IF_ERROR(stamp.Run());
+    }
+    ASSIGN_OR_RETURN(SqlStatement current,
+                     Prepare("SELECT application, version FROM fleetnav_schema"));
+    ASSIGN_OR_RETURN(row, current.Step());
+    if (!row) return absl::FailedPreconditionError("fleetnav_schema holds no row");
+    if (current.ColumnText(0) != options_.application) {
+      return absl::FailedPreconditionError(absl::StrCat("the database belongs to '",
+                                                        current.ColumnText(0), "', not '",
+                                                        options_.application, "'"));
+    }
+    const int version = static_cast<int>(current.ColumnInt(1));
+    if (version > static_cast<int>(migrations.size())) {
+      return absl::FailedPreconditionError(
+          absl::StrCat("database schema version ", version, " is newer than this binary's ",
+                       migrations.size(), "; run a fleetnavd as new as the database"));
+    }
+    for (int next = version; next < static_cast<int>(migrations.size()); ++next) {
+      RETURN_IF_ERROR(Execute(migrations[next]));
+    }
+    ASSIGN_OR_RETURN(SqlStatement stamp, Prepare("UPDATE fleetnav_schema SET version = ?"));
+    stamp.Bind(1, static_cast<int64_t>(migrations.size()));
+    RETURN_IF_ERROR(stamp.Run());
+    schema_version_ = static_cast<int>(migrations.size());
+    return absl::OkStatus();
+  });
+}
+
+}  // namespace fleetnav::storage
