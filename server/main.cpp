@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string(fleetnav::Version()));
   std::string config_path, listen, db, log_level, port_file, clock = "system", sim_address;
   std::string http_listen, http_port_file, log_format_text = "text";
-  double stale_after_s = 0, lost_robot_timeout_s = 0;
+  double stale_after_s = 0, lost_robot_timeout_s = 0, db_wait_s = -1;
   bool check_db = false, insecure = false;
   fleetnav::server::ServerSecurityFiles tls;
   int max_message_bytes = 0, agent_threads = 0;
@@ -78,6 +78,8 @@ int main(int argc, char** argv) {
   app.add_option("--db", db,
                  "SQLite database file (created if missing) or a postgresql://USER@HOST:PORT/DB "
                  "URI [fleetnav.db]");
+  app.add_option("--db-wait-s", db_wait_s,
+                 "with PostgreSQL: how long to keep trying to reach the database at start [10]");
   app.add_option("--stale-after-s", stale_after_s,
                  "seconds without telemetry before a robot is stale [2]");
   app.add_option("--lost-robot-timeout-s", lost_robot_timeout_s,
@@ -133,6 +135,7 @@ int main(int argc, char** argv) {
   fleetnav::server::FleetServerParams& params = config->params;
   if (!listen.empty()) params.listen_address = listen;
   if (!db.empty()) params.db_path = db;
+  if (db_wait_s >= 0) params.postgres.connect_wait_s = db_wait_s;
   if (stale_after_s > 0) params.registry.stale_after_s = stale_after_s;
   if (lost_robot_timeout_s > 0) params.jobs.lost_robot_timeout_s = lost_robot_timeout_s;
   if (max_message_bytes > 0) params.max_message_bytes = max_message_bytes;

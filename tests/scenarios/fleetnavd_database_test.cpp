@@ -1,5 +1,6 @@
 // fleetnavd refuses a database file that is not its own, damaged or unreadable at start, naming
-// the file and writing nothing; `fleetnavd --check-db` reports on a file without writing to it.
+// the file and writing nothing (and a PostgreSQL server it cannot reach, without its password);
+// `fleetnavd --check-db` reports on a file without writing to it.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <sqlite3.h>
@@ -117,6 +118,23 @@ TEST(FleetnavdDatabaseTest, CheckDbOfAMissingFileExits2NamingIt) {
   EXPECT_EQ(run.exit_code, 2) << run.out;
   EXPECT_THAT(run.out, HasSubstr(path));
   EXPECT_FALSE(std::filesystem::exists(path));
+}
+
+TEST(FleetnavdDatabaseTest, AnUnreachablePostgresIsNamedWithoutItsPasswordAndTheServerExits1) {
+  const RunResult run = RunFleetnavd({"--db", "postgresql://fleetnav:hunter2@127.0.0.1:1/fleet",
+                                      "--db-wait-s", "0.5", "--listen", "127.0.0.1:0"},
+                                     "pg-unreachable");
+  EXPECT_EQ(run.exit_code, 1) << run.out;
+  EXPECT_THAT(run.out, HasSubstr("cannot reach PostgreSQL within 0.5 s"));
+  EXPECT_THAT(run.out, HasSubstr("127.0.0.1"));
+  EXPECT_THAT(run.out, ::testing::Not(HasSubstr("hunter2")));
+  const RunResult check =
+      RunFleetnavd({"--check-db", "--db", "postgresql://fleetnav@127.0.0.1:1/fleet"}, "pg-check");
+  EXPECT_EQ(check.exit_code, 2) << check.out;
+  EXPECT_THAT(check.out, HasSubstr("pg_amcheck"));
+  EXPECT_EQ(RunFleetnavd({"--db", "postgresql://x@127.0.0.1:1/f", "--db-wait-s", "-3"}, "pg-bad")
+                .exit_code,
+            1);
 }
 
 }  // namespace

@@ -32,6 +32,18 @@ int main(int argc, char** argv) {
   double timeout_s = 3600.0;
   run->add_option("--wall-timeout-s", timeout_s, "give up after this much wall time")
       ->capture_default_str();
+  int agent_niceness = fleetnav::scenario::RunOptions().agent_niceness;
+  run->add_option("--agent-niceness", agent_niceness,
+                  "nice value of the agent processes, which on a site run on the robots' own "
+                  "computers (0 = the runner's priority)")
+      ->check(CLI::Range(0, 19))
+      ->capture_default_str();
+  int sim_niceness = fleetnav::scenario::RunOptions().sim_niceness;
+  run->add_option("--sim-niceness", sim_niceness,
+                  "nice value of the simulator, which stands for the world (0 = the runner's "
+                  "priority)")
+      ->check(CLI::Range(0, 19))
+      ->capture_default_str();
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -56,6 +68,8 @@ int main(int argc, char** argv) {
   options.keep_dir = keep;
   options.picture_path = picture;
   options.wall_timeout_s = timeout_s;
+  options.agent_niceness = agent_niceness;
+  options.sim_niceness = sim_niceness;
   options.progress = &std::cerr;
   options.progress_is_terminal = isatty(STDERR_FILENO) != 0;
   absl::StatusOr<fleetnav::scenario::ScenarioReport> report =

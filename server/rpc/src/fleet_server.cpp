@@ -21,6 +21,10 @@ absl::Status FleetServerParams::Validate() const {
   if (listen_address.empty()) return absl::InvalidArgumentError("listen_address: empty");
   RETURN_IF_ERROR(limits.Validate());
   if (db_path.empty()) return absl::InvalidArgumentError("db_path: empty");
+  if (!(postgres.connect_wait_s >= 0.0 && postgres.connect_wait_s <= 3600.0)) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("db_wait_s: must be in [0, 3600], got ", postgres.connect_wait_s));
+  }
   if (max_message_bytes < 1024) {
     return absl::InvalidArgumentError(
         absl::StrCat("max_message_bytes: must be >= 1024, got ", max_message_bytes));

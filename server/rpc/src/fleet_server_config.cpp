@@ -39,12 +39,13 @@ absl::Status Read(const YAML::Node& node, const std::string& key, const std::str
 absl::StatusOr<FleetServerConfig> ConfigFromYaml(const YAML::Node& root, FleetServerConfig config) {
   if (root.IsNull()) return config;
   RETURN_IF_ERROR(CheckKeys(root,
-                            {"listen", "db", "log_level", "agent_threads", "insecure", "tls",
-                             "limits", "timeouts", "charging"},
+                            {"listen", "db", "db_wait_s", "log_level", "agent_threads", "insecure",
+                             "tls", "limits", "timeouts", "charging"},
                             "config"));
   FleetServerParams& p = config.params;
   RETURN_IF_ERROR(Read(root, "listen", "", &p.listen_address));
   RETURN_IF_ERROR(Read(root, "db", "", &p.db_path));
+  RETURN_IF_ERROR(Read(root, "db_wait_s", "", &p.postgres.connect_wait_s));
   RETURN_IF_ERROR(Read(root, "log_level", "", &config.log_level));
   RETURN_IF_ERROR(Read(root, "agent_threads", "", &p.agent_stream_threads));
   RETURN_IF_ERROR(Read(root, "insecure", "", &config.insecure));

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <memory>
+#include <ostream>
 #include <string>
 
 #include "absl/strings/str_cat.h"
@@ -29,6 +30,8 @@ inline std::string BackendName(Backend backend) {
   }
   return "Unknown";
 }
+
+inline void PrintTo(Backend backend, std::ostream* os) { *os << BackendName(backend); }
 
 inline std::string BackendTestName(const ::testing::TestParamInfo<Backend>& info) {
   return BackendName(info.param);

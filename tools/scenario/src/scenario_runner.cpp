@@ -226,21 +226,30 @@ absl::Status Run::StartServer() {
   return absl::OkStatus();
 }
 
+/// `command` run under nice(1) with `niceness` (itself when 0): nice execs the program with the
+/// lower priority, so all its threads inherit it.
+std::vector<std::string> Niced(int niceness, const std::vector<std::string>& command) {
+  if (niceness <= 0) return command;
+  std::vector<std::string> niced = {"/usr/bin/nice", "-n", absl::StrCat(niceness)};
+  niced.insert(niced.end(), command.begin(), command.end());
+  return niced;
+}
+
 absl::Status Run::StartAgent(const ScenarioRobot& robot, const Pose2& pose) {
   const int start = ++agent_starts_[robot.robot_id];
   const auto link = links_.find(robot.robot_id);
   const int server_port = link != links_.end() ? link->second->port() : server_port_;
   const std::string stem = absl::StrCat("agent-", robot.robot_id, ".", start);
   agents_[robot.robot_id] = std::make_unique<ChildProcess>(
-      std::vector<std::string>{bin_.agent, "--robot-id", robot.robot_id, "--kind", robot.kind_name,
-                               "--sim", absl::StrCat("127.0.0.1:", sim_port_), "--server",
-                               absl::StrCat("127.0.0.1:", server_port), "--initial-pose",
-                               absl::StrFormat("%.4f", pose.x_m()),
-                               absl::StrFormat("%.4f", pose.y_m()),
-                               absl::StrFormat("%.3f", RadToDeg(pose.yaw_rad())), "--particles",
-                               absl::StrCat(robot.particles), "--seed",
-                               absl::StrCat(seed_ + 1000 * start + RobotIndex(robot.robot_id)),
-                               "--record", Path(absl::StrCat("estimate-", robot.robot_id, ".csv"))},
+      Niced(opt_.agent_niceness,
+            {bin_.agent, "--robot-id", robot.robot_id, "--kind", robot.kind_name, "--sim",
+             absl::StrCat("127.0.0.1:", sim_port_), "--server",
+             absl::StrCat("127.0.0.1:", server_port), "--initial-pose",
+             absl::StrFormat("%.4f", pose.x_m()), absl::StrFormat("%.4f", pose.y_m()),
+             absl::StrFormat("%.3f", RadToDeg(pose.yaw_rad())), "--particles",
+             absl::StrCat(robot.particles), "--seed",
+             absl::StrCat(seed_ + 1000 * start + RobotIndex(robot.robot_id)), "--record",
+             Path(absl::StrCat("estimate-", robot.robot_id, ".csv"))}),
       Path(stem + ".out"), Path(stem + ".log"));
   if (!agents_[robot.robot_id]->started()) {
     return absl::UnavailableError(
@@ -459,11 +468,11 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   const std::string sim_port_file = Path("sim.port");
   fs::remove(sim_port_file);  // a kept folder's port file names a simulator long gone
   sim_ = std::make_unique<ChildProcess>(
-      std::vector<std::string>{bin_.sim, "--world", s_.world_path, "--listen", "127.0.0.1:0",
-                               "--port-file", sim_port_file, "--seed", absl::StrCat(seed_),
-                               "--real-time-factor", absl::StrCat(s_.real_time_factor),
-                               "--min-agents", absl::StrCat(s_.robots.size()), "--record-truth",
-                               Path("truth.csv")},
+      Niced(opt_.sim_niceness,
+            {bin_.sim, "--world", s_.world_path, "--listen", "127.0.0.1:0", "--port-file",
+             sim_port_file, "--seed", absl::StrCat(seed_), "--real-time-factor",
+             absl::StrCat(s_.real_time_factor), "--min-agents", absl::StrCat(s_.robots.size()),
+             "--record-truth", Path("truth.csv")}),
       Path("sim.out"), Path("sim.log"));
   sim_port_ = WaitForPortFile(sim_port_file);
   if (!sim_->started() || sim_port_ == 0) {

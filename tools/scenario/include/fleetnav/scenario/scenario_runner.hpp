@@ -29,6 +29,14 @@ struct RunOptions {
   std::ostream* progress = nullptr;  ///< live progress (bars on a terminal, lines otherwise)
   bool progress_is_terminal = false;
   double wall_timeout_s = 3600.0;
+  /// Niceness of the agent processes (0-19; 0 leaves them as the runner). On a site each agent
+  /// runs on its robot's own computer; here they share the machine with the server and the
+  /// simulator, and a lower priority keeps 50 of them from delaying the server's work (they
+  /// still get every idle cycle).
+  int agent_niceness = 19;
+  /// Niceness of the simulator (0-19), which stands for the world, not for a program of the
+  /// product.
+  int sim_niceness = 5;
 };
 
 struct JobOutcome {
