@@ -426,7 +426,8 @@ int main(int argc, char** argv) {
 
   // Agents: each worker thread paces, writes and reaps its own share on its own completion
   // queue; the agents of one worker are interleaved with the others' in send order.
-  const int worker_count = std::clamp(threads, 1, std::max(agents, 1));
+  // No agents (a pure SubmitJob load): no workers; the run then lasts duration_s by the clock.
+  const int worker_count = agents > 0 ? std::clamp(threads, 1, agents) : 0;
   std::vector<std::unique_ptr<fleetnav::loadgen::LoadWorker>> workers;
   for (int w = 0; w < worker_count; ++w) {
     fleetnav::loadgen::WorkerParams params;
@@ -472,6 +473,11 @@ int main(int argc, char** argv) {
   const int64_t run_start_ns = SteadyNowNs() + 20'000'000;
   start_ns.store(run_start_ns);
   if (submitters > 0) operators.Go();
+  if (worker_count == 0) {
+    std::this_thread::sleep_until(std::chrono::steady_clock::now() +
+                                  std::chrono::nanoseconds(run_start_ns - SteadyNowNs()) +
+                                  std::chrono::duration<double>(duration_s));
+  }
   while (reported_workers.load() < worker_count) {
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
