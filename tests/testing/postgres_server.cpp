@@ -108,13 +108,13 @@ absl::StatusOr<std::string> TemporaryPostgres::CreateDatabase(const std::string&
 absl::StatusOr<TemporaryPostgres*> SharedPostgres() {
   static absl::StatusOr<std::unique_ptr<TemporaryPostgres>>* server =
       new absl::StatusOr<std::unique_ptr<TemporaryPostgres>>(TemporaryPostgres::Start());
-  static const bool stop_at_exit = [] {
+  static const bool kStopAtExit = [] {
     std::atexit([] {
       if (server->ok()) server->value().reset();
     });
     return true;
   }();
-  (void)stop_at_exit;
+  (void)kStopAtExit;
   if (!server->ok()) return server->status();
   return server->value().get();
 }

@@ -14,10 +14,21 @@
 #include "fleetnav/core/status_macros.hpp"
 
 namespace fleetnav::storage {
+
+/// A pooled connection: the libpq connection, the rows its last command changed, and the
+/// SQLSTATE of its transaction's last error (what decides a retry).
+struct PgConnection {
+  PGconn* conn = nullptr;
+  int64_t changed_rows = 0;
+  std::string failed_state;
+};
+
 namespace {
 
 /// Advisory-lock key of schema migrations: "FNAV", as SQLite's application_id.
 constexpr int64_t kMigrationLockKey = 0x464E4156;
+/// Tries of a transaction that raced another one for a key or was aborted by the server.
+constexpr int kMaxAttempts = 20;
 
 /// An SQLSTATE and message as a Status with the codes SqliteError gives.
 absl::Status PgError(const PGresult* result, PGconn* conn, const std::string& what) {
@@ -67,11 +78,28 @@ std::string NumberParameters(std::string_view sql) {
   return out;
 }
 
-/// One statement on the database's connection: parameters kept as text (or binary for
+/// The SQLSTATE of a failed result ("" when unknown).
+std::string SqlState(const PGresult* result) {
+  const char* state = result != nullptr ? PQresultErrorField(result, PG_DIAG_SQLSTATE) : nullptr;
+  return state != nullptr ? state : "";
+}
+
+/// Runs SQL without parameters on `connection`.
+absl::Status ExecuteOn(PgConnection* connection, std::string_view sql) {
+  PgResult result(PQexec(connection->conn, std::string(sql).c_str()));
+  if (result == nullptr || !Succeeded(result.get())) {
+    connection->failed_state = SqlState(result.get());
+    return PgError(result.get(), connection->conn, "postgresql");
+  }
+  return absl::OkStatus();
+}
+
+/// One statement on a transaction's connection: parameters kept as text (or binary for
 /// BLOBs) until the first Step() sends them; rows are read from the whole result.
 class PgStatement final : public SqlStatementBackend {
  public:
-  PgStatement(PgDatabase* db, std::string sql) : db_(db), sql_(std::move(sql)) {}
+  PgStatement(PgConnection* connection, std::string sql)
+      : connection_(connection), sql_(std::move(sql)) {}
 
   void Bind(int index, int64_t value) override { Set(index, absl::StrCat(value), false); }
   void Bind(int index, double value) override {
@@ -95,15 +123,16 @@ class PgStatement final : public SqlStatementBackend {
         lengths[i] = values_[i].has_value() ? static_cast<int>(values_[i]->size()) : 0;
         formats[i] = binary_[i] ? 1 : 0;
       }
-      result_.reset(PQexecParams(db_->connection(), sql_.c_str(), static_cast<int>(values.size()),
+      result_.reset(PQexecParams(connection_->conn, sql_.c_str(), static_cast<int>(values.size()),
                                  nullptr, values.data(), lengths.data(), formats.data(), 0));
       if (result_ == nullptr || !Succeeded(result_.get())) {
-        absl::Status error = PgError(result_.get(), db_->connection(), "postgresql");
+        connection_->failed_state = SqlState(result_.get());
+        absl::Status error = PgError(result_.get(), connection_->conn, "postgresql");
         result_.reset();
         return error;
       }
       const char* changed = PQcmdTuples(result_.get());
-      db_->set_changed_rows(changed[0] != '\0' ? std::strtoll(changed, nullptr, 10) : 0);
+      connection_->changed_rows = changed[0] != '\0' ? std::strtoll(changed, nullptr, 10) : 0;
       row_ = -1;
     }
     return ++row_ < PQntuples(result_.get());
@@ -148,7 +177,7 @@ class PgStatement final : public SqlStatementBackend {
   }
   const char* Value(int column) const { return PQgetvalue(result_.get(), row_, column); }
 
-  PgDatabase* db_;
+  PgConnection* connection_;
   const std::string sql_;
   std::vector<std::optional<std::string>> values_;
   std::vector<bool> binary_;
@@ -167,8 +196,12 @@ bool IsPostgresUri(std::string_view db) {
 absl::StatusOr<std::unique_ptr<PgDatabase>> PgDatabase::Open(
     const std::string& conninfo, const std::vector<std::string>& migrations,
     const PgOpenOptions& options) {
+  if (options.connections < 1 || options.connections > 256) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("connections: must be in [1, 256], got ", options.connections));
+  }
   std::unique_ptr<PgDatabase> db(new PgDatabase(conninfo, options));
-  RETURN_IF_ERROR(db->Connect(options.connect_wait_s));
+  RETURN_IF_ERROR(db->Connect(db->pool_.front().get(), options.connect_wait_s));
   absl::Status migrated = db->Migrate(migrations);
   if (!migrated.ok()) {
     return absl::Status(migrated.code(), absl::StrCat(db->Describe(), ": ", migrated.message()));
@@ -176,24 +209,38 @@ absl::StatusOr<std::unique_ptr<PgDatabase>> PgDatabase::Open(
   return db;
 }
 
+PgDatabase::PgDatabase(std::string conninfo, PgOpenOptions options)
+    : conninfo_(std::move(conninfo)), options_(std::move(options)) {
+  for (int i = 0; i < options_.connections; ++i) {
+    pool_.push_back(std::make_unique<PgConnection>());
+    free_.push_back(pool_.back().get());
+  }
+}
+
 PgDatabase::~PgDatabase() {
-  if (conn_ != nullptr) PQfinish(conn_);
+  for (const std::unique_ptr<PgConnection>& connection : pool_) {
+    if (connection->conn != nullptr) PQfinish(connection->conn);
+  }
 }
 
 std::string PgDatabase::Describe() const { return absl::StrCat("PostgreSQL ", target_); }
 
-absl::Status PgDatabase::Connect(double wait_s) {
+absl::Status PgDatabase::Connect(PgConnection* connection, double wait_s) {
   const absl::Time deadline = absl::Now() + absl::Seconds(wait_s);
   absl::Duration backoff = absl::Milliseconds(100);
   while (true) {
-    if (conn_ != nullptr) PQfinish(conn_);
-    conn_ = PQconnectdb(conninfo_.c_str());
-    if (conn_ != nullptr && PQstatus(conn_) == CONNECTION_OK) {
-      PQsetNoticeProcessor(conn_, IgnoreNotice, nullptr);
-      target_ = absl::StrCat("database ", PQdb(conn_), " at ", PQhost(conn_), ":", PQport(conn_));
+    if (connection->conn != nullptr) PQfinish(connection->conn);
+    connection->conn = PQconnectdb(conninfo_.c_str());
+    PGconn* conn = connection->conn;
+    if (conn != nullptr && PQstatus(conn) == CONNECTION_OK) {
+      PQsetNoticeProcessor(conn, IgnoreNotice, nullptr);
+      absl::MutexLock lock(&pool_mutex_);
+      if (target_.empty()) {
+        target_ = absl::StrCat("database ", PQdb(conn), " at ", PQhost(conn), ":", PQport(conn));
+      }
       return absl::OkStatus();
     }
-    std::string why = conn_ != nullptr ? PQerrorMessage(conn_) : "out of memory";
+    std::string why = conn != nullptr ? PQerrorMessage(conn) : "out of memory";
     while (!why.empty() && (why.back() == '\n' || why.back() == ' ')) why.pop_back();
     if (absl::Now() + backoff > deadline) {
       // libpq's messages name host and port but never the password.
@@ -205,38 +252,79 @@ absl::Status PgDatabase::Connect(double wait_s) {
   }
 }
 
+PgConnection* PgDatabase::Current() {
+  absl::MutexLock lock(&pool_mutex_);
+  const auto held = held_.find(std::this_thread::get_id());
+  return held != held_.end() ? held->second : nullptr;
+}
+
+PgConnection* PgDatabase::Acquire() {
+  absl::MutexLock lock(&pool_mutex_);
+  pool_mutex_.Await(absl::Condition(
+      +[](std::vector<PgConnection*>* free) { return !free->empty(); }, &free_));
+  PgConnection* connection = free_.back();
+  free_.pop_back();
+  held_[std::this_thread::get_id()] = connection;
+  return connection;
+}
+
+void PgDatabase::Release(PgConnection* connection) {
+  absl::MutexLock lock(&pool_mutex_);
+  held_.erase(std::this_thread::get_id());
+  free_.push_back(connection);
+}
+
+int64_t PgDatabase::ChangedRows() {
+  PgConnection* connection = Current();
+  return connection != nullptr ? connection->changed_rows : 0;
+}
+
 absl::Status PgDatabase::Execute(std::string_view sql) {
-  PgResult result(PQexec(conn_, std::string(sql).c_str()));
-  if (result == nullptr || !Succeeded(result.get())) {
-    return PgError(result.get(), conn_, "postgresql");
-  }
-  return absl::OkStatus();
+  PgConnection* connection = Current();
+  if (connection == nullptr) return absl::InternalError("SQL outside a transaction");
+  return ExecuteOn(connection, sql);
+}
+
+absl::Status PgDatabase::LockKey(std::string_view key) {
+  // hashtext() maps the key to the advisory lock's 32-bit key space (collisions only serialize).
+  ASSIGN_OR_RETURN(SqlStatement lock, Prepare("SELECT pg_advisory_xact_lock(hashtext(?))"));
+  lock.Bind(1, key);
+  return lock.Run();
 }
 
 absl::StatusOr<SqlStatement> PgDatabase::Prepare(std::string_view sql) {
-  return SqlStatement(std::make_unique<PgStatement>(this, NumberParameters(sql)));
+  PgConnection* connection = Current();
+  if (connection == nullptr) return absl::InternalError("SQL outside a transaction");
+  return SqlStatement(std::make_unique<PgStatement>(connection, NumberParameters(sql)));
+}
+
+absl::Status PgDatabase::Attempt(PgConnection* connection,
+                                 const std::function<absl::Status()>& body) {
+  connection->failed_state.clear();
+  if (PQstatus(connection->conn) != CONNECTION_OK) {
+    // Not opened yet, or the server restarted or the network broke since its last use.
+    RETURN_IF_ERROR(Connect(connection, options_.reconnect_wait_s));
+  }
+  RETURN_IF_ERROR(ExecuteOn(connection, "BEGIN"));
+  connection->changed_rows = 0;
+  absl::Status status = body();
+  if (status.ok()) return ExecuteOn(connection, "COMMIT");
+  if (PQstatus(connection->conn) == CONNECTION_OK) (void)ExecuteOn(connection, "ROLLBACK");
+  return status;
 }
 
 absl::Status PgDatabase::Transaction(const std::function<absl::Status()>& body) {
   const auto started = std::chrono::steady_clock::now();
+  PgConnection* connection = Acquire();
   absl::Status status;
-  {
-    absl::MutexLock lock(&mutex_);
-    if (PQstatus(conn_) != CONNECTION_OK) {
-      // The server restarted or the network broke since the last transaction.
-      RETURN_IF_ERROR(Connect(options_.reconnect_wait_s));
-    }
-    status = Execute("BEGIN");
-    if (status.ok()) {
-      changed_rows_ = 0;
-      status = body();
-      if (status.ok()) {
-        status = Execute("COMMIT");
-      } else if (PQstatus(conn_) == CONNECTION_OK) {
-        (void)Execute("ROLLBACK");
-      }
-    }
+  for (int attempt = 1; attempt <= kMaxAttempts; ++attempt) {
+    status = Attempt(connection, body);
+    // A race for a new key (unique_violation), a serialization failure or a deadlock: the
+    // transaction was rolled back as a whole; run it again.
+    const std::string& state = connection->failed_state;
+    if (status.ok() || !(state == "23505" || state == "40001" || state == "40P01")) break;
   }
+  Release(connection);
   if (status.ok() && transaction_observer_) {
     transaction_observer_(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());

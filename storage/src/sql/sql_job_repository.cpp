@@ -61,6 +61,7 @@ void BindJobFields(SqlStatement& statement, const Job& job, int first) {
 }
 
 absl::StatusOr<int64_t> AppendEvent(SqlDatabase* db, JobEvent event) {
+  RETURN_IF_ERROR(db->LockKey(absl::StrCat("job_events:", event.job_id)));
   ASSIGN_OR_RETURN(SqlStatement next,
                    db->Prepare("SELECT COALESCE(MAX(sequence), 0) + 1 FROM job_events WHERE "
                                "job_id = ?"));
@@ -101,6 +102,7 @@ absl::StatusOr<CreatedJob> SqlJobRepository::CreateJob(Job job, JobEvent first_e
         return absl::OkStatus();
       }
     }
+    RETURN_IF_ERROR(db_->LockKey("jobs"));
     ASSIGN_OR_RETURN(SqlStatement next_seq,
                      db_->Prepare("SELECT COALESCE(MAX(seq), 0) + 1 FROM jobs"));
     ASSIGN_OR_RETURN(bool has_row, next_seq.Step());

@@ -33,6 +33,7 @@ absl::StatusOr<MapInfo> SqlMapRepository::PutMap(const std::string& map_id,
   MapInfo info{map_id,         0, grid.width(), grid.height(), grid.resolution_m(), description,
                created_unix_ms};
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
+    RETURN_IF_ERROR(db_->LockKey(absl::StrCat("maps:", map_id)));
     ASSIGN_OR_RETURN(SqlStatement latest,
                      db_->Prepare("SELECT COALESCE(MAX(version), 0) FROM maps WHERE map_id = ?"));
     latest.Bind(1, map_id);

@@ -10,6 +10,7 @@ namespace {
 // The next version of a (key, version) series in `table`, inside the current transaction.
 absl::StatusOr<uint32_t> NextVersion(SqlDatabase* db, const std::string& table,
                                      const std::string& key_column, const std::string& key) {
+  RETURN_IF_ERROR(db->LockKey(absl::StrCat(table, ":", key)));
   ASSIGN_OR_RETURN(SqlStatement latest,
                    db->Prepare(absl::StrCat("SELECT COALESCE(MAX(version), 0) FROM ", table,
                                             " WHERE ", key_column, " = ?")));

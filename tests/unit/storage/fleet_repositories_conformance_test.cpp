@@ -4,7 +4,14 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <memory>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 
 #include "fleetnav/storage/memory/memory_fleet_repositories.hpp"
 #include "fleetnav/storage/sql/sql_fleet_repositories.hpp"
@@ -252,6 +259,43 @@ TEST_P(FleetRepositoriesTest, ListJobsFiltersAndPagesInCreationOrder) {
   JobFilter bad;
   bad.page_token = "not-a-token";
   EXPECT_EQ(jobs_->ListJobs(bad).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+TEST_P(FleetRepositoriesTest, ConcurrentCreatesGetDistinctConsecutiveJobIdsAndEachItsEvents) {
+  // Eight writers at once: on PostgreSQL they race for the next job number on several
+  // connections, and the losers run again.
+  constexpr int kWriters = 8, kJobsEach = 10;
+  std::vector<std::thread> writers;
+  std::mutex mutex;
+  std::set<std::string> ids;
+  std::atomic<int> failures{0};
+  for (int w = 0; w < kWriters; ++w) {
+    writers.emplace_back([&, w] {
+      for (int i = 0; i < kJobsEach; ++i) {
+        JobEvent queued;
+        queued.type = JobEventType::kQueued;
+        absl::StatusOr<CreatedJob> created =
+            jobs_->CreateJob(QueuedJob(absl::StrCat("w", w, "-", i)), queued);
+        if (!created.ok()) {
+          ++failures;
+          ADD_FAILURE() << created.status();
+          continue;
+        }
+        std::lock_guard<std::mutex> lock(mutex);
+        ids.insert(created->job.job_id);
+      }
+    });
+  }
+  for (std::thread& writer : writers) writer.join();
+  EXPECT_EQ(failures.load(), 0);
+  ASSERT_EQ(ids.size(), static_cast<size_t>(kWriters * kJobsEach));
+  EXPECT_EQ(*ids.begin(), "job-000001");
+  EXPECT_EQ(*ids.rbegin(), absl::StrFormat("job-%06d", kWriters * kJobsEach));
+  for (const std::string& id : ids) {
+    absl::StatusOr<std::vector<JobEvent>> events = jobs_->ListEvents(id, 0);
+    ASSERT_TRUE(events.ok()) << events.status();
+    EXPECT_EQ(events->size(), 1u) << id;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Repositories, FleetRepositoriesTest,

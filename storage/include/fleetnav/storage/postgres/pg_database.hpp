@@ -5,17 +5,20 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include "absl/base/thread_annotations.h"
+#include "absl/container/flat_hash_map.h"
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "absl/synchronization/mutex.h"
 #include "fleetnav/storage/sql/sql_database.hpp"
 
-struct pg_conn;
-
 namespace fleetnav::storage {
+
+/// One pooled connection of a PgDatabase (defined in pg_database.cpp).
+struct PgConnection;
 
 /// How PgDatabase connects and what it takes as its own.
 struct PgOpenOptions {
@@ -24,14 +27,21 @@ struct PgOpenOptions {
   /// same way for at most `reconnect_wait_s`.
   double connect_wait_s = 10.0;
   double reconnect_wait_s = 2.0;
+  /// Connections, so that this many transactions run at once (each on its own); opened as
+  /// they are first needed.
+  int connections = 4;
   /// Written into the schema table; a database whose table names another application, or that
   /// holds tables but no schema table, is refused before anything is written.
   std::string application = "fleetnav";
 };
 
 /// A PostgreSQL database through libpq, as an SqlDatabase: `?` parameters become `$1, $2, …`
-/// (values sent as text, BLOBs as binary bytea), each Transaction() is BEGIN … COMMIT on one
-/// connection held under a mutex, and the schema's version lives in the table
+/// (values sent as text, BLOBs as binary bytea), and each Transaction() is BEGIN … COMMIT on a
+/// connection of a pool that the calling thread holds until COMMIT, so several transactions run
+/// at once. Two that raced for the same new key (the next version of a map, the next job
+/// number; unique_violation) or that the server aborted (serialization failure, deadlock) are
+/// run again, up to 20 times, so a Transaction() body may run more than once and must assign
+/// its results rather than append to them. The schema's version lives in the table
 /// `fleetnav_schema`, migrated in one transaction under an advisory lock so that replicas
 /// starting together migrate once. Errors keep SQLite's codes: constraint → FAILED_PRECONDITION,
 /// a lost connection or server → UNAVAILABLE (the server rolls the open transaction back, so
@@ -52,7 +62,9 @@ class PgDatabase final : public SqlDatabase {
 
   absl::StatusOr<SqlStatement> Prepare(std::string_view sql) override;
   absl::Status Transaction(const std::function<absl::Status()>& body) override;
-  int64_t ChangedRows() override { return changed_rows_; }
+  int64_t ChangedRows() override;
+  /// pg_advisory_xact_lock of the key's hash, released at COMMIT or ROLLBACK.
+  absl::Status LockKey(std::string_view key) override;
   void SetTransactionObserver(std::function<void(double seconds)> observer) override {
     transaction_observer_ = std::move(observer);
   }
@@ -60,27 +72,29 @@ class PgDatabase final : public SqlDatabase {
   /// The schema version the database is at.
   int schema_version() const { return schema_version_; }
 
-  // For PgStatement: the connection and the rows its last command changed (used under the
-  // transaction's lock).
-  pg_conn* connection() { return conn_; }
-  void set_changed_rows(int64_t rows) { changed_rows_ = rows; }
 
  private:
-  PgDatabase(std::string conninfo, PgOpenOptions options)
-      : conninfo_(std::move(conninfo)), options_(std::move(options)) {}
-  /// (Re)connects, trying for `wait_s` with back-off.
-  absl::Status Connect(double wait_s);
-  /// Runs SQL without parameters (several statements allowed).
+  PgDatabase(std::string conninfo, PgOpenOptions options);
+  /// (Re)connects `connection`, trying for `wait_s` with back-off.
+  absl::Status Connect(PgConnection* connection, double wait_s);
+  /// The connection the calling thread holds in its transaction (null outside one).
+  PgConnection* Current();
+  PgConnection* Acquire();
+  void Release(PgConnection* connection);
+  /// One attempt of a transaction on `connection`.
+  absl::Status Attempt(PgConnection* connection, const std::function<absl::Status()>& body);
+  /// Runs SQL without parameters (several statements allowed) in the current transaction.
   absl::Status Execute(std::string_view sql);
   absl::Status Migrate(const std::vector<std::string>& migrations);
 
   const std::string conninfo_;
   const PgOpenOptions options_;
-  pg_conn* conn_ = nullptr;
-  std::string target_;  ///< "database D at H:P", for messages
+  std::vector<std::unique_ptr<PgConnection>> pool_;
+  absl::Mutex pool_mutex_;
+  std::vector<PgConnection*> free_ ABSL_GUARDED_BY(pool_mutex_);
+  absl::flat_hash_map<std::thread::id, PgConnection*> held_ ABSL_GUARDED_BY(pool_mutex_);
+  std::string target_;  ///< "database D at H:P", for messages; set by the first connection
   int schema_version_ = 0;
-  int64_t changed_rows_ = 0;
-  absl::Mutex mutex_;  ///< held for a whole transaction
   std::function<void(double seconds)> transaction_observer_;
 };
 

@@ -87,6 +87,10 @@ class SqlDatabase {
   virtual absl::StatusOr<SqlStatement> Prepare(std::string_view sql) = 0;
   /// Runs `body` inside BEGIN … COMMIT; rolls back when it returns an error.
   virtual absl::Status Transaction(const std::function<absl::Status()>& body) = 0;
+  /// Holds `key` until the current transaction ends, so that transactions that number new rows
+  /// from what they read (the next version of a map, the next job) take their turns. SQLite's
+  /// transactions already run one at a time; PostgreSQL takes an advisory lock.
+  virtual absl::Status LockKey(std::string_view key) = 0;
   /// Rows the last INSERT, UPDATE or DELETE of the current transaction changed.
   virtual int64_t ChangedRows() = 0;
   /// Told how long each committed transaction took, lock wait included (fleetnavd's store write

@@ -94,6 +94,8 @@ class SqliteDatabase final : public SqlDatabase {
   /// Runs `body` inside BEGIN IMMEDIATE … COMMIT; rolls back when it returns an error.
   absl::Status Transaction(const std::function<absl::Status()>& body) override;
   int64_t ChangedRows() override;
+  /// Nothing to do: BEGIN IMMEDIATE already runs one transaction at a time.
+  absl::Status LockKey(std::string_view /*key*/) override { return absl::OkStatus(); }
   void SetTransactionObserver(std::function<void(double seconds)> observer) override {
     transaction_observer_ = std::move(observer);
   }
