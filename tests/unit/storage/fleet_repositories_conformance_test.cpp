@@ -12,7 +12,6 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-
 #include "fleetnav/storage/memory/memory_fleet_repositories.hpp"
 #include "fleetnav/storage/sql/sql_fleet_repositories.hpp"
 #include "test_database.hpp"

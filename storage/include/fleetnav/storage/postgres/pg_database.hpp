@@ -72,7 +72,6 @@ class PgDatabase final : public SqlDatabase {
   /// The schema version the database is at.
   int schema_version() const { return schema_version_; }
 
-
  private:
   PgDatabase(std::string conninfo, PgOpenOptions options);
   /// (Re)connects `connection`, trying for `wait_s` with back-off.
