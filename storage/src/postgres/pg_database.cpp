@@ -21,6 +21,7 @@ struct PgConnection {
   PGconn* conn = nullptr;
   int64_t changed_rows = 0;
   std::string failed_state;
+  bool body_started = false;  ///< the current attempt got past BEGIN
 };
 
 namespace {
@@ -301,12 +302,14 @@ absl::StatusOr<SqlStatement> PgDatabase::Prepare(std::string_view sql) {
 absl::Status PgDatabase::Attempt(PgConnection* connection,
                                  const std::function<absl::Status()>& body) {
   connection->failed_state.clear();
+  connection->body_started = false;
   if (PQstatus(connection->conn) != CONNECTION_OK) {
     // Not opened yet, or the server restarted or the network broke since its last use.
     RETURN_IF_ERROR(Connect(connection, options_.reconnect_wait_s));
   }
   RETURN_IF_ERROR(ExecuteOn(connection, "BEGIN"));
   connection->changed_rows = 0;
+  connection->body_started = true;
   absl::Status status = body();
   if (status.ok()) return ExecuteOn(connection, "COMMIT");
   if (PQstatus(connection->conn) == CONNECTION_OK) (void)ExecuteOn(connection, "ROLLBACK");
@@ -317,12 +320,23 @@ absl::Status PgDatabase::Transaction(const std::function<absl::Status()>& body) 
   const auto started = std::chrono::steady_clock::now();
   PgConnection* connection = Acquire();
   absl::Status status;
+  bool reconnected = false;
   for (int attempt = 1; attempt <= kMaxAttempts; ++attempt) {
+    const bool looked_open = PQstatus(connection->conn) == CONNECTION_OK;
     status = Attempt(connection, body);
+    if (status.ok()) break;
     // A race for a new key (unique_violation), a serialization failure or a deadlock: the
     // transaction was rolled back as a whole; run it again.
     const std::string& state = connection->failed_state;
-    if (status.ok() || !(state == "23505" || state == "40001" || state == "40P01")) break;
+    if (state == "23505" || state == "40001" || state == "40P01") continue;
+    // A pooled connection that died while idle (the server restarted since its last use) fails
+    // at BEGIN, before anything ran: once, reconnect and run it again.
+    if (looked_open && !connection->body_started && !reconnected &&
+        PQstatus(connection->conn) != CONNECTION_OK) {
+      reconnected = true;
+      continue;
+    }
+    break;
   }
   Release(connection);
   if (status.ok() && transaction_observer_) {
