@@ -73,11 +73,7 @@ class CrashRecoveryTest : public ::testing::TestWithParam<std::string> {
   /// A fresh `--db` value of the test's engine.
   static std::string NewStore() {
     if (GetParam() == "Sqlite") return testing::UniqueTempPath("crash") + ".db";
-    absl::StatusOr<testing::TemporaryPostgres*> server = testing::SharedPostgres();
-    EXPECT_TRUE(server.ok()) << server.status();
-    if (!server.ok()) return "";
-    absl::StatusOr<std::string> uri =
-        (*server)->CreateDatabase("crash_" + std::to_string(getpid()));
+    absl::StatusOr<std::string> uri = testing::NewSharedDatabase("crash");
     EXPECT_TRUE(uri.ok()) << uri.status();
     return uri.value_or("");
   }

@@ -119,4 +119,11 @@ absl::StatusOr<TemporaryPostgres*> SharedPostgres() {
   return server->value().get();
 }
 
+absl::StatusOr<std::string> NewSharedDatabase(const std::string& stem) {
+  absl::StatusOr<TemporaryPostgres*> server = SharedPostgres();
+  if (!server.ok()) return server.status();
+  static std::atomic<int> counter{0};
+  return (*server)->CreateDatabase(absl::StrCat(stem, "_", ::getpid(), "_", counter++));
+}
+
 }  // namespace fleetnav::testing

@@ -38,4 +38,8 @@ class TemporaryPostgres {
 /// The process's server, started on first use and stopped at exit.
 absl::StatusOr<TemporaryPostgres*> SharedPostgres();
 
+/// A new empty database on the process's server, named `stem` with the process id and a
+/// counter; returns its URI.
+absl::StatusOr<std::string> NewSharedDatabase(const std::string& stem);
+
 }  // namespace fleetnav::testing

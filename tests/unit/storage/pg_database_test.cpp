@@ -24,13 +24,7 @@ using ::testing::Not;
 
 /// A new empty database on the process's server.
 std::string NewDatabase() {
-  static std::atomic<int> counter{0};
-  absl::StatusOr<fleetnav::testing::TemporaryPostgres*> server =
-      fleetnav::testing::SharedPostgres();
-  EXPECT_TRUE(server.ok()) << server.status();
-  if (!server.ok()) return "";
-  absl::StatusOr<std::string> uri =
-      (*server)->CreateDatabase(absl::StrCat("pg_", ::getpid(), "_", counter++));
+  absl::StatusOr<std::string> uri = fleetnav::testing::NewSharedDatabase("pg");
   EXPECT_TRUE(uri.ok()) << uri.status();
   return uri.value_or("");
 }

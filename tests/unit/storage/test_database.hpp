@@ -54,12 +54,7 @@ class TestDatabase {
       path_ = std::make_unique<TempDbPath>();
       where = path_->path();
     } else if (backend == Backend::kPostgres) {
-      absl::StatusOr<fleetnav::testing::TemporaryPostgres*> server =
-          fleetnav::testing::SharedPostgres();
-      ASSERT_TRUE(server.ok()) << server.status();
-      static std::atomic<int> counter{0};
-      absl::StatusOr<std::string> uri =
-          (*server)->CreateDatabase(absl::StrCat("test_", ::getpid(), "_", counter++));
+      absl::StatusOr<std::string> uri = fleetnav::testing::NewSharedDatabase("test");
       ASSERT_TRUE(uri.ok()) << uri.status();
       where = *uri;
     } else {
