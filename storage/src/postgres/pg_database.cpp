@@ -12,6 +12,7 @@
 #include "absl/time/clock.h"
 #include "absl/time/time.h"
 #include "fleetnav/core/status_macros.hpp"
+#include "fleetnav/storage/postgres/pg_site_leases.hpp"
 
 namespace fleetnav::storage {
 
@@ -201,6 +202,7 @@ absl::StatusOr<std::unique_ptr<PgDatabase>> PgDatabase::Open(
     return absl::InvalidArgumentError(
         absl::StrCat("connections: must be in [1, 256], got ", options.connections));
   }
+  if (options.fence.has_value()) RETURN_IF_ERROR(ValidateSiteName(options.fence->site));
   std::unique_ptr<PgDatabase> db(new PgDatabase(conninfo, options));
   RETURN_IF_ERROR(db->Connect(db->pool_.front().get(), options.connect_wait_s));
   absl::Status migrated = db->Migrate(migrations);
@@ -215,6 +217,15 @@ PgDatabase::PgDatabase(std::string conninfo, PgOpenOptions options)
   for (int i = 0; i < options_.connections; ++i) {
     pool_.push_back(std::make_unique<PgConnection>());
     free_.push_back(pool_.back().get());
+  }
+  if (options_.fence.has_value()) {
+    // The site name is checked (letters, digits, '_', '-', '.'), so it is safe as a literal;
+    // the lock and the read go in one round trip, each statement with its own snapshot, so
+    // the read sees any takeover that committed before the lock was granted.
+    fence_sql_ =
+        absl::StrCat("SELECT pg_advisory_xact_lock_shared(", kSiteLeaseLockClass, ", hashtext('",
+                     options_.fence->site, "')); SELECT epoch FROM site_leases WHERE site = '",
+                     options_.fence->site, "'");
   }
 }
 
@@ -235,6 +246,15 @@ absl::Status PgDatabase::Connect(PgConnection* connection, double wait_s) {
     PGconn* conn = connection->conn;
     if (conn != nullptr && PQstatus(conn) == CONNECTION_OK) {
       PQsetNoticeProcessor(conn, IgnoreNotice, nullptr);
+      if (options_.fence.has_value()) {
+        const std::string timeout_sql =
+            absl::StrCat("SET idle_in_transaction_session_timeout = ",
+                         static_cast<int64_t>(options_.idle_in_transaction_timeout_s * 1000));
+        PgResult set(PQexec(conn, timeout_sql.c_str()));
+        if (set == nullptr || !Succeeded(set.get())) {
+          return PgError(set.get(), conn, "setting idle_in_transaction_session_timeout");
+        }
+      }
       absl::MutexLock lock(&pool_mutex_);
       if (target_.empty()) {
         target_ = absl::StrCat("database ", PQdb(conn), " at ", PQhost(conn), ":", PQport(conn));
@@ -310,10 +330,27 @@ absl::Status PgDatabase::Attempt(PgConnection* connection,
   RETURN_IF_ERROR(ExecuteOn(connection, "BEGIN"));
   connection->changed_rows = 0;
   connection->body_started = true;
-  absl::Status status = body();
+  absl::Status status = fence_sql_.empty() ? absl::OkStatus() : CheckFence(connection);
+  if (status.ok()) status = body();
   if (status.ok()) return ExecuteOn(connection, "COMMIT");
   if (PQstatus(connection->conn) == CONNECTION_OK) (void)ExecuteOn(connection, "ROLLBACK");
   return status;
+}
+
+absl::Status PgDatabase::CheckFence(PgConnection* connection) {
+  PgResult result(PQexec(connection->conn, fence_sql_.c_str()));
+  if (result == nullptr || !Succeeded(result.get())) {
+    connection->failed_state = SqlState(result.get());
+    return PgError(result.get(), connection->conn, "checking the site lease");
+  }
+  const int64_t epoch =
+      PQntuples(result.get()) == 1 ? std::strtoll(PQgetvalue(result.get(), 0, 0), nullptr, 10) : 0;
+  if (epoch != options_.fence->epoch) {
+    return absl::FailedPreconditionError(absl::StrCat(
+        "leadership of site '", options_.fence->site, "' lost: its lease is at epoch ", epoch,
+        ", this replica led at epoch ", options_.fence->epoch, "; nothing written"));
+  }
+  return absl::OkStatus();
 }
 
 absl::Status PgDatabase::Transaction(const std::function<absl::Status()>& body) {

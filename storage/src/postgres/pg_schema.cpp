@@ -106,6 +106,18 @@ const std::vector<std::string>& PostgresFleetSchemaMigrations() {
           created_unix_ms BIGINT NOT NULL
         );
       )sql",
+      // 5: the lease that makes one fleetnavd replica the leader of its site. `epoch` grows
+      // with every new holder and is the fencing token of the leader's writes; `expires_at`
+      // is on the database server's clock, the one clock every replica shares.
+      R"sql(
+        CREATE TABLE site_leases (
+          site TEXT PRIMARY KEY,
+          holder TEXT NOT NULL,
+          address TEXT NOT NULL,
+          epoch BIGINT NOT NULL,
+          expires_at TIMESTAMPTZ NOT NULL
+        );
+      )sql",
   };
   return kMigrations;
 }

@@ -105,6 +105,17 @@ const std::vector<std::string>& FleetSchemaMigrations() {
           created_unix_ms INTEGER NOT NULL
         );
       )sql",
+      // 5: the lease that makes one fleetnavd replica the leader of its site (used on
+      // PostgreSQL, where replicas share the database; kept here so the versions agree).
+      R"sql(
+        CREATE TABLE site_leases (
+          site TEXT PRIMARY KEY,
+          holder TEXT NOT NULL,
+          address TEXT NOT NULL,
+          epoch INTEGER NOT NULL,
+          expires_unix_ms INTEGER NOT NULL
+        );
+      )sql",
   };
   return kMigrations;
 }

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <thread>
@@ -20,6 +21,12 @@ namespace fleetnav::storage {
 /// One pooled connection of a PgDatabase (defined in pg_database.cpp).
 struct PgConnection;
 
+/// The fencing token of a site leader's writes: the lease epoch its replica won (PgSiteLeases).
+struct PgFence {
+  std::string site;
+  int64_t epoch = 0;
+};
+
 /// How PgDatabase connects and what it takes as its own.
 struct PgOpenOptions {
   /// How long Open keeps trying to reach the server (back-off 0.1 s doubling to 2 s) before it
@@ -33,6 +40,14 @@ struct PgOpenOptions {
   /// Written into the schema table; a database whose table names another application, or that
   /// holds tables but no schema table, is refused before anything is written.
   std::string application = "fleetnav";
+  /// Set on the store of a site's leader replica: every transaction first takes the site's
+  /// lease lock shared and checks that the lease is still at this epoch, or fails
+  /// FAILED_PRECONDITION having written nothing. A replica taking the lease over takes that
+  /// lock exclusively, so no write of the old leader can land after the takeover; and a leader
+  /// paused inside a transaction is rolled back by the server after
+  /// `idle_in_transaction_timeout_s`, so it cannot hold a takeover up for longer.
+  std::optional<PgFence> fence;
+  double idle_in_transaction_timeout_s = 3.0;
 };
 
 /// A PostgreSQL database through libpq, as an SqlDatabase: `?` parameters become `$1, $2, …`
@@ -85,6 +100,8 @@ class PgDatabase final : public SqlDatabase {
   /// Runs SQL without parameters (several statements allowed) in the current transaction.
   absl::Status Execute(std::string_view sql);
   absl::Status Migrate(const std::vector<std::string>& migrations);
+  /// With a fence: the lease lock (shared) and the epoch check, first in each transaction.
+  absl::Status CheckFence(PgConnection* connection);
 
   const std::string conninfo_;
   const PgOpenOptions options_;
@@ -92,7 +109,8 @@ class PgDatabase final : public SqlDatabase {
   absl::Mutex pool_mutex_;
   std::vector<PgConnection*> free_ ABSL_GUARDED_BY(pool_mutex_);
   absl::flat_hash_map<std::thread::id, PgConnection*> held_ ABSL_GUARDED_BY(pool_mutex_);
-  std::string target_;  ///< "database D at H:P", for messages; set by the first connection
+  std::string fence_sql_;  ///< the fence's lock and epoch query; empty without a fence
+  std::string target_;     ///< "database D at H:P", for messages; set by the first connection
   int schema_version_ = 0;
   std::function<void(double seconds)> transaction_observer_;
 };
