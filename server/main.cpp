@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 
 #include "absl/strings/str_cat.h"
 #include "absl/synchronization/mutex.h"
@@ -13,6 +14,7 @@
 #include "fleetnav/core/version.hpp"
 #include "fleetnav/server/http/http_gateway.hpp"
 #include "fleetnav/server/log/log_format.hpp"
+#include "fleetnav/server/replica/replica_server.hpp"
 #include "fleetnav/server/rpc/fleet_server.hpp"
 #include "fleetnav/server/rpc/fleet_server_config.hpp"
 #include "fleetnav/storage/postgres/pg_database.hpp"
@@ -48,6 +50,61 @@ int CheckDatabase(const std::string& path) {
   return report->ok() ? 0 : 1;
 }
 
+/// Exit code of a replica that lost the site's leadership it held (docs/server.md).
+constexpr int kLeadershipLostExitCode = 3;
+
+/// What `--replica` adds to the server's parameters.
+struct ReplicaFlags {
+  std::string site = "default";
+  std::string peer_listen;
+  std::string peer_advertise;
+  double lease_ttl_s = 2.0;
+};
+
+/// `fleetnavd --replica`: one of several replicas sharing a PostgreSQL database; serves the
+/// public port until SIGINT/SIGTERM, and ends the process with kLeadershipLostExitCode when it
+/// loses the leadership it held.
+int RunReplica(const fleetnav::server::FleetServerParams& params, const ReplicaFlags& flags,
+               const std::string& port_file, sigset_t* stop_signals) {
+  fleetnav::server::ReplicaParams replica;
+  replica.leader = params;
+  replica.listen_address = params.listen_address;
+  const std::string listen_host = params.listen_address.substr(0, params.listen_address.rfind(':'));
+  replica.leader.listen_address =
+      flags.peer_listen.empty() ? listen_host + ":0" : flags.peer_listen;
+  replica.advertise_address = flags.peer_advertise;
+  replica.leadership.site = flags.site;
+  replica.leadership.lease_ttl_s = flags.lease_ttl_s;
+  replica.leadership.renew_period_s = flags.lease_ttl_s / 4.0;
+  replica.leadership.poll_period_s = flags.lease_ttl_s / 8.0;
+  replica.on_event = [](const std::string& what) { spdlog::info("fleetnavd: {}", what); };
+  replica.on_leadership_lost = [](const std::string& why) {
+    // Nothing more may be done as leader; the store is fenced, and the robots reconnect
+    // through the other replicas.
+    spdlog::error("fleetnavd: leadership lost: {}; exiting", why);
+    spdlog::default_logger()->flush();
+    std::_Exit(kLeadershipLostExitCode);
+  };
+  fleetnav::server::ReplicaServer server(replica);
+  absl::StatusOr<int> port = server.Start();
+  if (!port.ok()) {
+    spdlog::error("fleetnavd: {}", port.status().ToString());
+    return port.status().code() == absl::StatusCode::kInvalidArgument ? 2 : 1;
+  }
+  spdlog::info("fleetnavd replica {} serving on port {} for site '{}' (db {}, INSECURE: plaintext)",
+               server.holder(), *port, flags.site, server.store_description());
+  if (!port_file.empty()) {
+    if (absl::Status written = fleetnav::WritePortFile(port_file, *port); !written.ok()) {
+      spdlog::warn("fleetnavd: {}", std::string(written.message()));
+    }
+  }
+  int signal_number = 0;
+  sigwait(stop_signals, &signal_number);
+  spdlog::info("fleetnavd: signal {}, shutting down", signal_number);
+  server.Shutdown();
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -69,7 +126,8 @@ int main(int argc, char** argv) {
   std::string config_path, listen, db, log_level, port_file, clock = "system", sim_address;
   std::string http_listen, http_port_file, log_format_text = "text";
   double stale_after_s = 0, lost_robot_timeout_s = 0, db_wait_s = -1;
-  bool check_db = false, insecure = false;
+  bool check_db = false, insecure = false, replica = false;
+  ReplicaFlags replica_flags;
   fleetnav::server::ServerSecurityFiles tls;
   int max_message_bytes = 0, agent_threads = 0;
   app.add_option("--config", config_path, "YAML configuration file (see docs/server.md)");
@@ -118,6 +176,20 @@ int main(int argc, char** argv) {
                "check the database file (ownership, PRAGMA integrity_check, schema version) "
                "without writing to it, print the findings and exit: 0 sound, 1 problems found, "
                "2 unreadable");
+  app.add_flag("--replica", replica,
+               "one of several fleetnavd sharing a PostgreSQL --db: serve the public port and "
+               "relay to the site's leader, elected among the replicas (docs/server.md)");
+  app.add_option("--site", replica_flags.site, "with --replica: the site the replicas serve")
+      ->capture_default_str();
+  app.add_option("--peer-listen", replica_flags.peer_listen,
+                 "with --replica: the leader port the other replicas relay to [--listen's "
+                 "host, any port]");
+  app.add_option("--peer-advertise", replica_flags.peer_advertise,
+                 "with --replica: host:port the other replicas reach the leader port at "
+                 "[--peer-listen's host and bound port]");
+  app.add_option("--lease-ttl-s", replica_flags.lease_ttl_s,
+                 "with --replica: a leader silent this long is replaced")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if ((clock == "sim") != !sim_address.empty()) {
     spdlog::error(
@@ -174,6 +246,15 @@ int main(int argc, char** argv) {
     spdlog::warn("fleetnavd: refused: {}", why);
   };
   params.on_token_change = [](const std::string& what) { spdlog::info("fleetnavd: {}", what); };
+  if (replica) {
+    if (!http_listen.empty()) {
+      spdlog::error(
+          "fleetnavd: --http-listen is not served by replicas yet; run it without "
+          "--replica");
+      return 2;
+    }
+    return RunReplica(params, replica_flags, port_file, &stop_signals);
+  }
   fleetnav::server::FleetServer server(params);
   absl::StatusOr<int> port = server.Start();
   if (!port.ok()) {

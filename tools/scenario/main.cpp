@@ -38,6 +38,10 @@ int main(int argc, char** argv) {
                   "computers (0 = the runner's priority)")
       ->check(CLI::Range(0, 19))
       ->capture_default_str();
+  std::string db;
+  run->add_option("--db", db,
+                  "fleetnavd's database: a postgresql://USER@HOST:PORT/DB URI of an empty "
+                  "database (needed for scenarios with replicas) [a fresh SQLite file]");
   int sim_niceness = fleetnav::scenario::RunOptions().sim_niceness;
   run->add_option("--sim-niceness", sim_niceness,
                   "nice value of the simulator, which stands for the world (0 = the runner's "
@@ -70,6 +74,7 @@ int main(int argc, char** argv) {
   options.wall_timeout_s = timeout_s;
   options.agent_niceness = agent_niceness;
   options.sim_niceness = sim_niceness;
+  options.db = db;
   options.progress = &std::cerr;
   options.progress_is_terminal = isatty(STDERR_FILENO) != 0;
   absl::StatusOr<fleetnav::scenario::ScenarioReport> report =

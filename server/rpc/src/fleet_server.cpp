@@ -240,6 +240,13 @@ void FleetServer::Shutdown() {
   if (sim_clock_feed_ != nullptr) sim_clock_feed_->Stop();
 }
 
+std::shared_ptr<grpc::Channel> FleetServer::InProcessChannel(int max_message_bytes) {
+  grpc::ChannelArguments arguments;
+  arguments.SetMaxReceiveMessageSize(max_message_bytes);
+  arguments.SetMaxSendMessageSize(max_message_bytes);
+  return server_->InProcessChannel(arguments);
+}
+
 void FleetServer::Wait() {
   if (server_ != nullptr) server_->Wait();
 }

@@ -76,22 +76,43 @@ absl::StatusOr<std::optional<int64_t>> PgSiteLeases::TryAcquire(const std::strin
 
 absl::Status PgSiteLeases::Renew(const std::string& site, const std::string& holder,
                                  int64_t epoch) {
-  bool renewed = false;
+  return UpdateHeld(
+      "UPDATE site_leases SET expires_at = clock_timestamp() + CAST(? AS BIGINT) * interval "
+      "'1 millisecond' WHERE site = ? AND holder = ? AND epoch = ?",
+      [this](SqlStatement& update) { update.Bind(1, ttl_ms_); }, site, holder, epoch);
+}
+
+absl::Status PgSiteLeases::Release(const std::string& site, const std::string& holder,
+                                   int64_t epoch) {
+  return UpdateHeld(
+      "UPDATE site_leases SET expires_at = clock_timestamp() - CAST(? AS BIGINT) * interval "
+      "'1 millisecond' WHERE site = ? AND holder = ? AND epoch = ?",
+      [](SqlStatement& update) { update.Bind(1, int64_t{1}); }, site, holder, epoch);
+}
+
+absl::Status PgSiteLeases::SetAddress(const std::string& site, const std::string& holder,
+                                      int64_t epoch, const std::string& address) {
+  return UpdateHeld(
+      "UPDATE site_leases SET address = ? WHERE site = ? AND holder = ? AND epoch = ?",
+      [&address](SqlStatement& update) { update.Bind(1, address); }, site, holder, epoch);
+}
+
+absl::Status PgSiteLeases::UpdateHeld(const std::string& sql,
+                                      const std::function<void(SqlStatement&)>& first,
+                                      const std::string& site, const std::string& holder,
+                                      int64_t epoch) {
+  bool held = false;
   RETURN_IF_ERROR(db_->Transaction([&]() -> absl::Status {
-    ASSIGN_OR_RETURN(
-        SqlStatement renew,
-        db_->Prepare(
-            "UPDATE site_leases SET expires_at = clock_timestamp() + CAST(? AS BIGINT) * interval "
-            "'1 millisecond' WHERE site = ? AND holder = ? AND epoch = ?"));
-    renew.Bind(1, ttl_ms_);
-    renew.Bind(2, site);
-    renew.Bind(3, holder);
-    renew.Bind(4, epoch);
-    RETURN_IF_ERROR(renew.Run());
-    renewed = db_->ChangedRows() == 1;
+    ASSIGN_OR_RETURN(SqlStatement update, db_->Prepare(sql));
+    first(update);
+    update.Bind(2, site);
+    update.Bind(3, holder);
+    update.Bind(4, epoch);
+    RETURN_IF_ERROR(update.Run());
+    held = db_->ChangedRows() == 1;
     return absl::OkStatus();
   }));
-  if (!renewed) {
+  if (!held) {
     return absl::FailedPreconditionError(
         absl::StrCat("the lease of site '", site, "' at epoch ", epoch, " was taken over"));
   }

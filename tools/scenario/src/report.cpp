@@ -62,6 +62,11 @@ void PrintReport(const ScenarioReport& report, std::ostream& out) {
       "  the same in the dispatcher thread's CPU time: p50 %.2f ms, p99 %.2f ms, max %.2f ms\n",
       report.one_job_pass_cpu_ms_p50, report.one_job_pass_cpu_ms_p99,
       report.one_job_pass_cpu_ms_max);
+  if (!report.failovers_s.empty()) {
+    out << "leader failovers (kill to the successor leading):";
+    for (const double seconds : report.failovers_s) out << absl::StrFormat(" %.2f s", seconds);
+    out << "\n";
+  }
   for (const std::string& failure : report.failures) out << "FAILED: " << failure << "\n";
   if (!report.work_dir.empty()) out << "logs and recordings kept in " << report.work_dir << "\n";
 }
@@ -117,7 +122,8 @@ std::string ReportJson(const ScenarioReport& report) {
                         {"one_job_pass_ms_max", report.one_job_pass_ms_max},
                         {"one_job_pass_cpu_ms_p50", report.one_job_pass_cpu_ms_p50},
                         {"one_job_pass_cpu_ms_p99", report.one_job_pass_cpu_ms_p99},
-                        {"one_job_pass_cpu_ms_max", report.one_job_pass_cpu_ms_max}};
+                        {"one_job_pass_cpu_ms_max", report.one_job_pass_cpu_ms_max},
+                        {"failovers_s", report.failovers_s}};
   if (!report.work_dir.empty()) out["work_dir"] = report.work_dir;
   return out.dump();
 }

@@ -77,8 +77,8 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
     return std::filesystem::path(p).is_absolute() ? p : (dir / p).lexically_normal().string();
   };
   RETURN_IF_ERROR(CheckKeys(root, "",
-                            {"name", "world", "routes", "seed", "real_time_factor", "robots",
-                             "jobs", "faults", "expect"}));
+                            {"name", "world", "routes", "seed", "real_time_factor", "replicas",
+                             "robots", "jobs", "faults", "expect"}));
   Scenario s;
   s.path = path;
   s.name =
@@ -96,6 +96,13 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
   }
   if (root["real_time_factor"]) {
     ASSIGN_OR_RETURN(s.real_time_factor, Number(root["real_time_factor"], "real_time_factor", 0));
+  }
+  if (root["replicas"]) {
+    ASSIGN_OR_RETURN(const double replicas, Number(root["replicas"], "replicas", 1));
+    if (replicas != static_cast<int>(replicas) || replicas > 9) {
+      return absl::InvalidArgumentError("replicas: a whole number from 1 to 9");
+    }
+    s.replicas = static_cast<int>(replicas);
   }
   // Routes: loaded here so that a bad file is refused before anything starts.
   std::set<std::string> route_names;
@@ -274,17 +281,23 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
         fault.type = ScenarioFaultType::kKillAgent;
       } else if (type == "kill_server") {
         fault.type = ScenarioFaultType::kKillServer;
+      } else if (type == "kill_leader") {
+        fault.type = ScenarioFaultType::kKillLeader;
+        if (s.replicas < 2) {
+          return absl::InvalidArgumentError(
+              absl::StrCat(where, ".type: kill_leader needs replicas: 2 or more"));
+        }
       } else if (type == "cut_link") {
         fault.type = ScenarioFaultType::kCutLink;
       } else if (sim::FaultTypeByName(type).ok()) {
         fault.type = ScenarioFaultType::kSimFault;
         fault.sim_type = type;
       } else {
-        return absl::InvalidArgumentError(
-            absl::StrCat(where, ".type: unknown fault '", type,
-                         "' (known: kill_agent, kill_server, cut_link and the simulator's faults: "
-                         "hide_ultrasonic, "
-                         "remove_fence, remove_stripe, wheel_slip, sensor_dropout, slow_down)"));
+        return absl::InvalidArgumentError(absl::StrCat(
+            where, ".type: unknown fault '", type,
+            "' (known: kill_agent, kill_server, kill_leader, cut_link and the simulator's faults: "
+            "hide_ultrasonic, "
+            "remove_fence, remove_stripe, wheel_slip, sensor_dropout, slow_down)"));
       }
       ASSIGN_OR_RETURN(fault.at_s, check_time(f["at_s"], where + ".at_s"));
       fault.robot_id = Text(f["robot"]);

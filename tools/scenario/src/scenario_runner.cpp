@@ -18,6 +18,7 @@
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "fleetnav/core/angles.hpp"
 #include "fleetnav/proto/geometry_convert.hpp"
@@ -126,7 +127,7 @@ class Run {
   ~Run() {
     for (auto& [id, agent] : agents_) agent.reset();
     sim_.reset();
-    server_.reset();
+    servers_.clear();
     if (!keep_ && !work_.empty()) {
       std::error_code ignored;
       fs::remove_all(work_, ignored);
@@ -138,7 +139,16 @@ class Run {
  private:
   std::string Path(const std::string& name) const { return (fs::path(work_) / name).string(); }
   absl::Status Ctl(const std::vector<std::string>& args);
-  absl::Status StartServer();
+  /// Starts fleetnavd (replica `replica` of s_.replicas) on its port.
+  absl::Status StartServer(size_t replica);
+  /// fleetnavd's address for clients: one port, or the list of the replicas' ports.
+  std::string ServerTarget() const;
+  /// The replica leading the site and its epoch, from the replicas' logs (nullopt: none yet).
+  std::optional<std::pair<size_t, int64_t>> Leader() const;
+  std::string ServerLog(size_t replica, int start) const {
+    return s_.replicas > 1 ? Path(absl::StrCat("fleetnavd-r", replica, ".", start, ".out"))
+                           : Path(absl::StrCat("fleetnavd.", start, ".out"));
+  }
   absl::Status StartAgent(const ScenarioRobot& robot, const Pose2& pose);
   /// Where fleetnavd last saw the robot (its agent's estimate), else where it was last polled.
   Pose2 LastKnownPose(const ScenarioRobot& robot);
@@ -160,10 +170,22 @@ class Run {
   unsigned seed_ = 1;
   bool keep_ = false;
   std::string work_;
-  int server_port_ = 0;
+  /// fleetnavd, or each replica of it: the process, its port (kept across restarts) and how
+  /// often it was started.
+  struct ServerProcess {
+    std::unique_ptr<ChildProcess> process;
+    int port = 0;
+    int starts = 0;
+  };
+  std::vector<ServerProcess> servers_;
   int sim_port_ = 0;
-  int server_starts_ = 0;
-  std::unique_ptr<ChildProcess> server_;
+  /// A leader killed whose successor has not been seen yet.
+  struct PendingFailover {
+    Clock::time_point killed;
+    int64_t epoch = 0;
+  };
+  std::optional<PendingFailover> failover_;
+  std::vector<double> failovers_s_;  ///< wall time from each leader kill to its successor
   std::unique_ptr<ChildProcess> sim_;
   std::map<std::string, std::unique_ptr<ChildProcess>> agents_;
   /// CPU time of processes already ended (killed by a fault).
@@ -190,13 +212,14 @@ class Run {
   int drawn_lines_ = 0;
   struct Restart {
     Clock::time_point due;
-    std::string robot_id;  ///< empty: the server
+    std::string robot_id;  ///< empty: the server replica below
+    size_t replica = 0;
   };
   std::vector<Restart> restarts_;
 };
 
 absl::Status Run::Ctl(const std::vector<std::string>& args) {
-  std::vector<std::string> argv{bin_.ctl, "--server", absl::StrCat("127.0.0.1:", server_port_)};
+  std::vector<std::string> argv{bin_.ctl, "--server", ServerTarget()};
   argv.insert(argv.end(), args.begin(), args.end());
   ChildProcess ctl(argv, Path("ctl.out"), Path("ctl.err"));
   const std::optional<int> code = ctl.Wait(120.0);
@@ -207,22 +230,59 @@ absl::Status Run::Ctl(const std::vector<std::string>& args) {
   return absl::OkStatus();
 }
 
-absl::Status Run::StartServer() {
-  const std::string port_file = Path("server.port");
-  fs::remove(port_file);
-  ++server_starts_;
-  server_ = std::make_unique<ChildProcess>(
-      std::vector<std::string>{bin_.server, "--listen", absl::StrCat("127.0.0.1:", server_port_),
-                               "--db", Path("fleet.db"), "--port-file", port_file, "--insecure"},
-      Path(absl::StrCat("fleetnavd.", server_starts_, ".out")),
-      Path(absl::StrCat("fleetnavd.", server_starts_, ".log")));
-  const int port = WaitForPortFile(port_file);
-  if (!server_->started() || port == 0) {
-    return absl::UnavailableError(absl::StrCat("fleetnavd did not start: ", server_->Stderr()));
+bool IsPostgresDb(const std::string& db) {
+  return db.rfind("postgresql://", 0) == 0 || db.rfind("postgres://", 0) == 0;
+}
+
+std::string Run::ServerTarget() const {
+  if (servers_.size() == 1) return absl::StrCat("127.0.0.1:", servers_[0].port);
+  // gRPC's address list: a client takes the first replica that answers, the next when it dies.
+  std::vector<std::string> addresses;
+  for (const ServerProcess& server : servers_) {
+    addresses.push_back(absl::StrCat("127.0.0.1:", server.port));
   }
-  server_port_ = port;
-  fleet_ = v1::FleetService::NewStub(
-      grpc::CreateChannel(absl::StrCat("127.0.0.1:", port), grpc::InsecureChannelCredentials()));
+  return absl::StrCat("ipv4:", absl::StrJoin(addresses, ","));
+}
+
+std::optional<std::pair<size_t, int64_t>> Run::Leader() const {
+  std::optional<std::pair<size_t, int64_t>> leader;
+  for (size_t i = 0; i < servers_.size(); ++i) {
+    if (servers_[i].process == nullptr || !servers_[i].process->running()) continue;
+    // fleetnavd's line when it leads (docs/server.md): "... leading at epoch N (...".
+    const std::string log = ReadWholeFile(ServerLog(i, servers_[i].starts));
+    static constexpr std::string_view kLeading = "leading at epoch ";
+    for (size_t at = log.find(kLeading); at != std::string::npos; at = log.find(kLeading, at + 1)) {
+      const int64_t epoch = std::strtoll(log.c_str() + at + kLeading.size(), nullptr, 10);
+      if (!leader || epoch > leader->second) leader = std::make_pair(i, epoch);
+    }
+  }
+  return leader;
+}
+
+absl::Status Run::StartServer(size_t replica) {
+  ServerProcess& server = servers_[replica];
+  const std::string port_file = Path(absl::StrCat("server", replica, ".port"));
+  fs::remove(port_file);
+  ++server.starts;
+  std::vector<std::string> argv{bin_.server,
+                                "--listen",
+                                absl::StrCat("127.0.0.1:", server.port),
+                                "--port-file",
+                                port_file,
+                                "--insecure",
+                                "--db",
+                                opt_.db.empty() ? Path("fleet.db") : opt_.db};
+  if (s_.replicas > 1) argv.push_back("--replica");
+  server.process = std::make_unique<ChildProcess>(
+      argv, ServerLog(replica, server.starts),
+      Path(absl::StrCat(s_.replicas > 1 ? absl::StrCat("fleetnavd-r", replica) : "fleetnavd", ".",
+                        server.starts, ".log")));
+  const int port = WaitForPortFile(port_file);
+  if (!server.process->started() || port == 0) {
+    return absl::UnavailableError(
+        absl::StrCat("fleetnavd did not start: ", server.process->Stderr()));
+  }
+  server.port = port;
   return absl::OkStatus();
 }
 
@@ -238,13 +298,13 @@ std::vector<std::string> Niced(int niceness, const std::vector<std::string>& com
 absl::Status Run::StartAgent(const ScenarioRobot& robot, const Pose2& pose) {
   const int start = ++agent_starts_[robot.robot_id];
   const auto link = links_.find(robot.robot_id);
-  const int server_port = link != links_.end() ? link->second->port() : server_port_;
+  const std::string server =
+      link != links_.end() ? absl::StrCat("127.0.0.1:", link->second->port()) : ServerTarget();
   const std::string stem = absl::StrCat("agent-", robot.robot_id, ".", start);
   agents_[robot.robot_id] = std::make_unique<ChildProcess>(
       Niced(opt_.agent_niceness,
             {bin_.agent, "--robot-id", robot.robot_id, "--kind", robot.kind_name, "--sim",
-             absl::StrCat("127.0.0.1:", sim_port_), "--server",
-             absl::StrCat("127.0.0.1:", server_port), "--initial-pose",
+             absl::StrCat("127.0.0.1:", sim_port_), "--server", server, "--initial-pose",
              absl::StrFormat("%.4f", pose.x_m()), absl::StrFormat("%.4f", pose.y_m()),
              absl::StrFormat("%.3f", RadToDeg(pose.yaw_rad())), "--particles",
              absl::StrCat(robot.particles), "--seed",
@@ -318,12 +378,22 @@ void Run::Inject(const ScenarioFault& fault) {
       }
       return;
     case ScenarioFaultType::kKillServer:
-      server_->Stop(SIGKILL, 5.0);
-      server_cpu_s_ += server_->cpu_s().value_or(0.0);
+    case ScenarioFaultType::kKillLeader: {
+      size_t replica = 0;
+      if (fault.type == ScenarioFaultType::kKillLeader) {
+        const std::optional<std::pair<size_t, int64_t>> leader = Leader();
+        if (!leader) return;  // none yet: nothing to kill
+        replica = leader->first;
+        failover_ = PendingFailover{Clock::now(), leader->second};
+      }
+      ServerProcess& server = servers_[replica];
+      server.process->Stop(SIGKILL, 5.0);
+      server_cpu_s_ += server.process->cpu_s().value_or(0.0);
       restarts_.push_back({Clock::now() + std::chrono::milliseconds(
                                               static_cast<int64_t>(fault.restart_after_s * 1000)),
-                           ""});
+                           "", replica});
       return;
+    }
     case ScenarioFaultType::kCutLink:
       if (auto it = links_.find(fault.robot_id); it != links_.end()) {
         it->second->Cut();
@@ -481,7 +551,34 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   simulator_ = v1::SimService::NewStub(grpc::CreateChannel(absl::StrCat("127.0.0.1:", sim_port_),
                                                            grpc::InsecureChannelCredentials()));
   // fleetnavd counts the simulator's time: its timeouts then hold at any speed.
-  if (absl::Status st = StartServer(); !st.ok()) return st;
+  servers_.resize(static_cast<size_t>(s_.replicas));
+  if (s_.replicas > 1 && !IsPostgresDb(opt_.db)) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("replicas: ", s_.replicas,
+                     " share a PostgreSQL database: give --db "
+                     "postgresql://USER@HOST:PORT/DB (an empty database)"));
+  }
+  for (size_t replica = 0; replica < servers_.size(); ++replica) {
+    if (absl::Status st = StartServer(replica); !st.ok()) return st;
+  }
+  // Every replica answers once it knows the leader.
+  for (const ServerProcess& server : servers_) {
+    auto stub = v1::FleetService::NewStub(grpc::CreateChannel(
+        absl::StrCat("127.0.0.1:", server.port), grpc::InsecureChannelCredentials()));
+    for (int tries = 0;; ++tries) {
+      grpc::ClientContext context;
+      WithDeadline(&context);
+      v1::ListRobotsResponse robots;
+      if (stub->ListRobots(&context, v1::ListRobotsRequest{}, &robots).ok()) break;
+      if (tries == 300) {
+        return absl::UnavailableError(
+            absl::StrCat("fleetnavd on port ", server.port, " did not answer within 30 s"));
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  }
+  fleet_ = v1::FleetService::NewStub(
+      grpc::CreateChannel(ServerTarget(), grpc::InsecureChannelCredentials()));
   const std::string map_yaml = Path(absl::StrCat("map/", s_.map_id, ".yaml"));
   const std::string markers_yaml = Path(absl::StrCat("map/", s_.map_id, ".markers.yaml"));
   if (absl::Status st = Ctl({"map", "import", "--id", s_.map_id, map_yaml}); !st.ok()) return st;
@@ -493,7 +590,7 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   }
   for (const ScenarioFault& fault : s_.faults) {
     if (fault.type != ScenarioFaultType::kCutLink || links_.contains(fault.robot_id)) continue;
-    absl::StatusOr<std::unique_ptr<LinkProxy>> proxy = LinkProxy::Start(server_port_);
+    absl::StatusOr<std::unique_ptr<LinkProxy>> proxy = LinkProxy::Start(servers_[0].port);
     if (!proxy.ok()) return proxy.status();
     links_[fault.robot_id] = *std::move(proxy);
   }
@@ -526,7 +623,7 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
         continue;
       }
       if (it->robot_id.empty()) {
-        if (absl::Status st = StartServer(); !st.ok()) return st;
+        if (absl::Status st = StartServer(it->replica); !st.ok()) return st;
       } else {
         for (const ScenarioRobot& robot : s_.robots) {
           if (robot.robot_id != it->robot_id) continue;
@@ -543,9 +640,17 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
     if (simulator_->GetGroundTruth(&context, v1::GetGroundTruthRequest{}, &truth).ok()) {
       sim_s = truth.sim_time_ns() * 1e-9;
     }
+    // With replicas the others serve while one is down.
     const bool server_up =
-        restarts_.empty() || std::none_of(restarts_.begin(), restarts_.end(),
-                                          [](const Restart& r) { return r.robot_id.empty(); });
+        s_.replicas > 1 || std::none_of(restarts_.begin(), restarts_.end(),
+                                        [](const Restart& r) { return r.robot_id.empty(); });
+    if (failover_) {
+      const std::optional<std::pair<size_t, int64_t>> leader = Leader();
+      if (leader && leader->second > failover_->epoch) {
+        failovers_s_.push_back(SecondsSince(failover_->killed));
+        failover_.reset();
+      }
+    }
     if (server_up) {
       for (size_t i = 0; i < s_.jobs.size(); ++i) {
         if (!submitted_[i] && sim_s >= s_.jobs[i].at_s) Submit(i);
@@ -577,6 +682,7 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   report.name = s_.name;
   report.seed = seed_;
   report.sim_time_s = sim_s;
+  report.failovers_s = failovers_s_;
   // Ground truth before anything stops.
   {
     grpc::ClientContext context;
@@ -602,12 +708,15 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
     agents_cpu_s_ += agent->cpu_s().value_or(0.0);
   }
   sim_->Stop(SIGTERM, 10.0);
-  server_->Stop(SIGTERM, 10.0);
-  report.server_cpu_s = server_cpu_s_ + server_->cpu_s().value_or(0.0);
+  report.server_cpu_s = server_cpu_s_;
+  for (ServerProcess& server : servers_) {
+    server.process->Stop(SIGTERM, 10.0);
+    report.server_cpu_s += server.process->cpu_s().value_or(0.0);
+  }
   report.sim_cpu_s = sim_->cpu_s().value_or(0.0);
   report.agents_cpu_s = agents_cpu_s_;
-  ReadAssigningPasses(ReadWholeFile(Path(absl::StrCat("fleetnavd.", server_starts_, ".out"))),
-                      &report);
+  // A single fleetnavd logs its dispatcher's figures at exit (replicas do not).
+  ReadAssigningPasses(ReadWholeFile(ServerLog(0, servers_[0].starts)), &report);
   report.wall_time_s = SecondsSince(wall_start);
   report.real_time_factor = report.wall_time_s > 0 ? report.sim_time_s / report.wall_time_s : 0;
   Finish(&report);

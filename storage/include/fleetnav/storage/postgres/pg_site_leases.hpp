@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -49,8 +50,18 @@ class PgSiteLeases {
   /// Extends the holder's lease by ttl_s from now. FailedPrecondition when the lease has
   /// another holder or epoch (it was lost); UNAVAILABLE when the database cannot be reached.
   absl::Status Renew(const std::string& site, const std::string& holder, int64_t epoch);
+  /// Ends the holder's lease now, so that another replica takes over without waiting
+  /// (a leader shutting down); FailedPrecondition as Renew.
+  absl::Status Release(const std::string& site, const std::string& holder, int64_t epoch);
+  /// Records where the other replicas reach the holder; FailedPrecondition as Renew.
+  absl::Status SetAddress(const std::string& site, const std::string& holder, int64_t epoch,
+                          const std::string& address);
 
  private:
+  /// Runs `update` (site, holder, epoch bound last, after `first`) and requires one row changed.
+  absl::Status UpdateHeld(const std::string& sql, const std::function<void(SqlStatement&)>& first,
+                          const std::string& site, const std::string& holder, int64_t epoch);
+
   PgDatabase* db_;
   int64_t ttl_ms_;
 };

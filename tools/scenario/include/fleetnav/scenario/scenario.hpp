@@ -31,7 +31,8 @@ struct ScenarioJob {
 
 enum class ScenarioFaultType {
   kKillAgent,   ///< SIGKILL the robot's agent; restarted restart_after_s later (wall time)
-  kKillServer,  ///< SIGKILL fleetnavd; restarted on the same database and port
+  kKillServer,  ///< SIGKILL fleetnavd (the first replica); restarted on the same database and port
+  kKillLeader,  ///< SIGKILL the replica leading the site; restarted as a follower
   kCutLink,     ///< the robot's link to fleetnavd cut for duration_s (sim time), then restored
   kSimFault,    ///< a simulator fault (SimService.InjectFault)
 };
@@ -68,6 +69,8 @@ struct Scenario {
   std::vector<std::string> route_paths;
   unsigned seed = 1;
   double real_time_factor = 0.0;
+  /// fleetnavd replicas sharing the run's PostgreSQL database (1: one plain fleetnavd).
+  int replicas = 1;
   std::vector<ScenarioRobot> robots;
   std::vector<ScenarioJob> jobs;
   std::vector<ScenarioFault> faults;

@@ -37,6 +37,9 @@ struct RunOptions {
   /// Niceness of the simulator (0-19), which stands for the world, not for a program of the
   /// product.
   int sim_niceness = 5;
+  /// fleetnavd's database: "" a fresh SQLite file in the run's folder, or a postgresql:// URI
+  /// of an empty database (needed for `replicas` above 1).
+  std::string db;
 };
 
 struct JobOutcome {
@@ -100,6 +103,9 @@ struct ScenarioReport {
   double one_job_pass_cpu_ms_p50 = 0.0;
   double one_job_pass_cpu_ms_p99 = 0.0;
   double one_job_pass_cpu_ms_max = 0.0;
+  /// With replicas: wall seconds from each kill_leader to the line of the replica that took
+  /// the site over ("leading at epoch N": jobs recovered, dispatching).
+  std::vector<double> failovers_s;
   std::string work_dir;  ///< kept only with RunOptions::keep_dir
 };
 

@@ -85,6 +85,8 @@ class FleetServer {
   absl::StatusOr<int> Start();
   void Shutdown();
   void Wait();
+  /// A channel to this server inside the process (no socket), after Start().
+  std::shared_ptr<grpc::Channel> InProcessChannel(int max_message_bytes);
   /// The dispatcher's passes that assigned jobs, and those that assigned exactly one (the
   /// replanning latency when a job is added); call after Shutdown().
   PassFigures assigning_passes() const;
