@@ -313,6 +313,17 @@ absl::Status PgDatabase::LockKey(std::string_view key) {
   return lock.Run();
 }
 
+absl::StatusOr<int64_t> PgDatabase::NextNumber(std::string_view sequence,
+                                               std::string_view /*table*/,
+                                               std::string_view /*column*/) {
+  ASSIGN_OR_RETURN(SqlStatement next, Prepare("SELECT nextval(CAST(? AS regclass))"));
+  next.Bind(1, sequence);
+  ASSIGN_OR_RETURN(const bool row, next.Step());
+  if (!row)
+    return absl::InternalError(absl::StrCat("nextval('", std::string(sequence), "') gave no row"));
+  return next.ColumnInt(0);
+}
+
 absl::StatusOr<SqlStatement> PgDatabase::Prepare(std::string_view sql) {
   PgConnection* connection = Current();
   if (connection == nullptr) return absl::InternalError("SQL outside a transaction");

@@ -117,6 +117,10 @@ const std::vector<std::string>& PostgresFleetSchemaMigrations() {
           epoch BIGINT NOT NULL,
           expires_at TIMESTAMPTZ NOT NULL
         );
+        -- Job numbers from a sequence: submissions on several connections do not queue for
+        -- the next number (a rolled-back submission leaves a gap).
+        CREATE SEQUENCE job_numbers;
+        SELECT setval('job_numbers', COALESCE((SELECT MAX(seq) FROM jobs), 0) + 1, false);
       )sql",
   };
   return kMigrations;

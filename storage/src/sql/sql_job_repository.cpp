@@ -102,11 +102,7 @@ absl::StatusOr<CreatedJob> SqlJobRepository::CreateJob(Job job, JobEvent first_e
         return absl::OkStatus();
       }
     }
-    RETURN_IF_ERROR(db_->LockKey("jobs"));
-    ASSIGN_OR_RETURN(SqlStatement next_seq,
-                     db_->Prepare("SELECT COALESCE(MAX(seq), 0) + 1 FROM jobs"));
-    ASSIGN_OR_RETURN(bool has_row, next_seq.Step());
-    const int64_t seq = has_row ? next_seq.ColumnInt(0) : 1;
+    ASSIGN_OR_RETURN(const int64_t seq, db_->NextNumber("job_numbers", "jobs", "seq"));
     job.job_id = absl::StrFormat("job-%06d", seq);
     ASSIGN_OR_RETURN(SqlStatement insert,
                      db_->Prepare("INSERT INTO jobs (seq, job_id, state, route_name, "

@@ -203,6 +203,16 @@ absl::StatusOr<SqlStatement> SqliteDatabase::Prepare(std::string_view sql) {
 
 int64_t SqliteDatabase::ChangedRows() { return sqlite3_changes64(db_); }
 
+absl::StatusOr<int64_t> SqliteDatabase::NextNumber(std::string_view /*sequence*/,
+                                                   std::string_view table,
+                                                   std::string_view column) {
+  ASSIGN_OR_RETURN(SqlStatement next,
+                   Prepare(absl::StrCat("SELECT COALESCE(MAX(", std::string(column),
+                                        "), 0) + 1 FROM ", std::string(table))));
+  ASSIGN_OR_RETURN(const bool row, next.Step());
+  return row ? next.ColumnInt(0) : 1;
+}
+
 absl::Status SqliteDatabase::Execute(std::string_view sql) {
   char* error = nullptr;
   const int code = sqlite3_exec(db_, std::string(sql).c_str(), nullptr, nullptr, &error);

@@ -85,6 +85,36 @@ TEST(PgDatabaseTest, AnOlderSchemaIsMigratedKeepingItsRows) {
   EXPECT_TRUE(tokens.ListTokens().ok());
 }
 
+// Migration 5 numbers jobs from a sequence: it starts after the jobs a database already holds.
+TEST(PgDatabaseTest, JobNumbersGoOnAfterTheJobsOfAMigratedDatabase) {
+  const std::string uri = NewDatabase();
+  std::vector<std::string> first_four(PostgresFleetSchemaMigrations().begin(),
+                                      PostgresFleetSchemaMigrations().begin() + 4);
+  {
+    absl::StatusOr<std::unique_ptr<PgDatabase>> db = PgDatabase::Open(uri, first_four);
+    ASSERT_TRUE(db.ok()) << db.status();
+    ASSERT_TRUE((*db)
+                    ->Transaction([&]() -> absl::Status {
+                      absl::StatusOr<SqlStatement> insert = (*db)->Prepare(
+                          "INSERT INTO jobs VALUES (41, 'job-000041', 0, 'r', 1, 'm', 0, 0, 0, 0, "
+                          "'', '', 0, NULL, 0, 0, 0, 0, '')");
+                      if (!insert.ok()) return insert.status();
+                      return insert->Run();
+                    })
+                    .ok());
+  }
+  absl::StatusOr<std::unique_ptr<PgDatabase>> db =
+      PgDatabase::Open(uri, PostgresFleetSchemaMigrations());
+  ASSERT_TRUE(db.ok()) << db.status();
+  SqlJobRepository jobs(db->get());
+  Job job;
+  job.route_name = "r";
+  job.map_id = "m";
+  absl::StatusOr<CreatedJob> created = jobs.CreateJob(job, JobEvent{});
+  ASSERT_TRUE(created.ok()) << created.status();
+  EXPECT_EQ(created->job.job_id, "job-000042");
+}
+
 TEST(PgDatabaseTest, ANewerSchemaIsRefusedNamingBothVersions) {
   const std::string uri = NewDatabase();
   ASSERT_TRUE(PgDatabase::Open(uri, PostgresFleetSchemaMigrations()).ok());

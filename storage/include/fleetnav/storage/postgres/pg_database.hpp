@@ -80,6 +80,9 @@ class PgDatabase final : public SqlDatabase {
   int64_t ChangedRows() override;
   /// pg_advisory_xact_lock of the key's hash, released at COMMIT or ROLLBACK.
   absl::Status LockKey(std::string_view key) override;
+  /// nextval of the sequence.
+  absl::StatusOr<int64_t> NextNumber(std::string_view sequence, std::string_view table,
+                                     std::string_view column) override;
   void SetTransactionObserver(std::function<void(double seconds)> observer) override {
     transaction_observer_ = std::move(observer);
   }

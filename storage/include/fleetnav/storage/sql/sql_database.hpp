@@ -91,6 +91,13 @@ class SqlDatabase {
   /// from what they read (the next version of a map, the next job) take their turns. SQLite's
   /// transactions already run one at a time; PostgreSQL takes an advisory lock.
   virtual absl::Status LockKey(std::string_view key) = 0;
+  /// The number of a new row of `table`, numbered by its integer `column`, inside the current
+  /// transaction. SQLite, one writer at a time, reads the largest number + 1; PostgreSQL takes
+  /// the next value of the sequence `sequence` (created by its schema), so that writers
+  /// numbering rows at once do not wait for each other: numbers of transactions rolled back
+  /// are then skipped.
+  virtual absl::StatusOr<int64_t> NextNumber(std::string_view sequence, std::string_view table,
+                                             std::string_view column) = 0;
   /// Rows the last INSERT, UPDATE or DELETE of the current transaction changed.
   virtual int64_t ChangedRows() = 0;
   /// Told how long each committed transaction took, lock wait included (fleetnavd's store write

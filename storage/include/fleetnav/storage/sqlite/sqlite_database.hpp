@@ -96,6 +96,8 @@ class SqliteDatabase final : public SqlDatabase {
   int64_t ChangedRows() override;
   /// Nothing to do: BEGIN IMMEDIATE already runs one transaction at a time.
   absl::Status LockKey(std::string_view /*key*/) override { return absl::OkStatus(); }
+  absl::StatusOr<int64_t> NextNumber(std::string_view sequence, std::string_view table,
+                                     std::string_view column) override;
   void SetTransactionObserver(std::function<void(double seconds)> observer) override {
     transaction_observer_ = std::move(observer);
   }
