@@ -17,6 +17,7 @@
 #include "fleetnav/localization/dead_reckoning_localizer.hpp"
 #include "fleetnav/localization/samcl_localizer.hpp"
 #include "fleetnav/proto/channel_credentials.hpp"
+#include "fleetnav/proto/server_target.hpp"
 #include "fleetnav/robot_agent/agent.hpp"
 #include "fleetnav/robot_agent/fleet_site_source.hpp"
 #include "fleetnav/robot_agent/server_link.hpp"
@@ -58,7 +59,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--sim", sim_address, "fleetnav-sim address (SimService)")->capture_default_str();
   app.add_option("--server", server_address,
-                 "fleetnavd address (AgentService); telemetry to an absent server is dropped")
+                 "fleetnavd address (AgentService), or its replicas' IP:port list separated by "
+                 "commas; telemetry to an absent server is dropped")
       ->capture_default_str();
   fleetnav::ClientTlsFiles tls;
   app.add_option("--tls-ca", tls.ca_path,
@@ -181,10 +183,14 @@ int main(int argc, char** argv) {
   absl::StatusOr<std::shared_ptr<grpc::ChannelCredentials>> server_credentials =
       fleetnav::MakeChannelCredentials(tls);
   if (!server_credentials.ok()) return Fail(server_credentials.status().ToString());
+  // One fleetnavd, or the list of its replicas: the link takes the first that answers.
+  absl::StatusOr<std::string> server_target = fleetnav::ServerTarget(server_address);
+  if (!server_target.ok())
+    return Fail(absl::StrCat("--server: ", server_target.status().message()));
   grpc::ChannelArguments server_arguments = quick_reconnect;
   fleetnav::AddTlsChannelArguments(tls, &server_arguments);
   auto server_channel =
-      grpc::CreateCustomChannel(server_address, *server_credentials, server_arguments);
+      grpc::CreateCustomChannel(*server_target, *server_credentials, server_arguments);
   fleetnav::agent::ServerLink link(server_channel, identity);
   fleetnav::agent::SimHal hal(sim_channel, robot_id);
   std::ofstream record;

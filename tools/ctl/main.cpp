@@ -10,6 +10,7 @@
 #include "fleetnav/ctl/outcome.hpp"
 #include "fleetnav/ctl/sim_commands.hpp"
 #include "fleetnav/proto/channel_credentials.hpp"
+#include "fleetnav/proto/server_target.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"fleetnavctl: operate a fleetnav fleet server"};
@@ -21,7 +22,9 @@ int main(int argc, char** argv) {
   std::string token;
   bool json = false;
   double timeout_s = 10.0;
-  app.add_option("--server", server, "fleetnavd address (or FLEETNAV_SERVER)")
+  app.add_option("--server", server,
+                 "fleetnavd address, or its replicas' IP:port list separated by commas (or "
+                 "FLEETNAV_SERVER)")
       ->envname("FLEETNAV_SERVER")
       ->capture_default_str();
   app.add_option("--token", token, "operator bearer token (or FLEETNAV_TOKEN)")
@@ -202,10 +205,15 @@ int main(int argc, char** argv) {
     std::cerr << "fleetnavctl: " << credentials.status().message() << '\n';
     return static_cast<int>(fleetnav::ctl::ExitCode::kUsage);
   }
+  absl::StatusOr<std::string> server_target = fleetnav::ServerTarget(server);
+  if (!server_target.ok()) {
+    std::cerr << "fleetnavctl: --server: " << server_target.status().message() << '\n';
+    return static_cast<int>(fleetnav::ctl::ExitCode::kUsage);
+  }
   grpc::ChannelArguments channel_arguments;
   fleetnav::AddTlsChannelArguments(tls, &channel_arguments);
   fleetnav::ctl::CommandContext context{
-      grpc::CreateCustomChannel(server, *credentials, channel_arguments), &std::cout, json,
+      grpc::CreateCustomChannel(*server_target, *credentials, channel_arguments), &std::cout, json,
       timeout_s, token};
   absl::Status status;
   if (map_import->parsed()) {

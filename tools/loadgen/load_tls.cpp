@@ -54,6 +54,10 @@ std::shared_ptr<grpc::Channel> NewOperatorChannel(const LoadTarget& target, int 
   args.SetInt(GRPC_ARG_ENABLE_RETRIES, 0);             // no retry buffering on long streams
   args.SetInt(GRPC_ARG_USE_LOCAL_SUBCHANNEL_POOL, 1);  // one connection per channel
   args.SetInt("fleetnav.loadgen.channel", index);
+  // A list of replicas: spread the calls over them.
+  if (target.address.rfind("ipv4:", 0) == 0 || target.address.rfind("ipv6:", 0) == 0) {
+    args.SetLoadBalancingPolicyName("round_robin");
+  }
   if (target.tls_dir.empty()) {
     return grpc::CreateCustomChannel(target.address, grpc::InsecureChannelCredentials(), args);
   }

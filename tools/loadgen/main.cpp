@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <iostream>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -16,6 +17,7 @@
 
 #include "absl/synchronization/mutex.h"
 #include "fleetnav/core/version.hpp"
+#include "fleetnav/proto/server_target.hpp"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
 #include "load_agents.hpp"
 #include "load_report.hpp"
@@ -117,6 +119,11 @@ struct OperatorOptions {
   double rate_hz = 20.0;
   int watch_every = 10;         ///< every N-th job is watched
   bool until_assigned = false;  ///< watch until ASSIGNED (capable agents exist), else 1st event
+  /// A submission refused or lost (a replica killed, a failover) is sent again with the same
+  /// idempotency key until it is acknowledged or this much time passed (0: never again).
+  double retry_s = 0.0;
+  /// Each acknowledged job appended as "idempotency_key job_id" ("": none).
+  std::string acked_path;
   SiteOptions site;
 };
 
@@ -129,6 +136,8 @@ OperatorReport RunOperators(const fleetnav::loadgen::LoadTarget& server,
   std::mutex mutex;
   OperatorReport report;
   std::vector<std::thread> operators;
+  std::ofstream acked;
+  if (!options.acked_path.empty()) acked.open(options.acked_path, std::ios::app);
   for (int s = 0; s < submitters; ++s) {
     operators.emplace_back([&, s] {
       auto stub = v1::FleetService::NewStub(NewChannel(server, 1000 + s));
@@ -144,8 +153,18 @@ OperatorReport RunOperators(const fleetnav::loadgen::LoadTarget& server,
                                     std::to_string(s) + "-" + std::to_string(i));
         v1::SubmitJobResponse response;
         const int64_t start = SteadyNowNs();
-        const bool ok = stub->SubmitJob(&context, request, &response).ok();
+        bool ok = stub->SubmitJob(&context, request, &response).ok();
+        while (!ok && !stop.load() && (SteadyNowNs() - start) * 1e-9 < options.retry_s) {
+          std::this_thread::sleep_for(std::chrono::milliseconds(100));
+          grpc::ClientContext again;
+          again.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(5));
+          ok = stub->SubmitJob(&again, request, &response).ok();
+        }
         const double ms = (SteadyNowNs() - start) * 1e-6;
+        if (ok && acked.is_open()) {
+          std::lock_guard<std::mutex> lock(mutex);
+          acked << request.idempotency_key() << ' ' << response.job().job_id() << '\n';
+        }
         if (ok && i % options.watch_every == 0) {
           // Watched until its first event, or until it is assigned to a robot.
           grpc::ClientContext watch_context;
@@ -387,6 +406,11 @@ int main(int argc, char** argv) {
   app.add_option("--big-map-mb", operator_options.site.big_map_mb,
                  "store a second map of this many MB and submit goal jobs on it at 5 Hz")
       ->capture_default_str();
+  app.add_option("--submit-retry-s", operator_options.retry_s,
+                 "send a failed submission again (same idempotency key) for up to this long")
+      ->capture_default_str();
+  app.add_option("--acked-jobs", operator_options.acked_path,
+                 "append each acknowledged job to this file as 'idempotency_key job_id'");
   app.add_option("--watch-every", operator_options.watch_every, "watch every N-th job")
       ->capture_default_str();
   app.add_option("--idle-watchers", idle_watchers,
@@ -418,7 +442,12 @@ int main(int argc, char** argv) {
           0, fleetnav::loadgen::ListeningPid(std::atoi(server.substr(colon + 1).c_str())));
     }
   }
-  const fleetnav::loadgen::LoadTarget target{server, tls_dir};
+  absl::StatusOr<std::string> server_target = fleetnav::ServerTarget(server);
+  if (!server_target.ok()) {
+    std::cerr << "fleetnav-loadgen: --server: " << server_target.status().message() << '\n';
+    return 2;
+  }
+  const fleetnav::loadgen::LoadTarget target{*server_target, tls_dir};
   if (submitters > 0 && !operators.Start(target, operator_options)) {
     std::cerr << "fleetnav-loadgen: cannot reach fleetnavd at " << server << '\n';
     return 1;
@@ -518,6 +547,7 @@ int main(int argc, char** argv) {
       {"watches", submit.watches},
       {"submit_ms_p50", fleetnav::loadgen::Percentile(submit.submit_ms, 50)},
       {"submit_ms_p99", fleetnav::loadgen::Percentile(submit.submit_ms, 99)},
+      {"submit_ms_max", fleetnav::loadgen::Percentile(submit.submit_ms, 100)},
       {"capable_agents", capable_agents},
       {"dispatch_ms_p50", fleetnav::loadgen::Percentile(submit.dispatch_ms, 50)},
       {"dispatch_ms_p99", fleetnav::loadgen::Percentile(submit.dispatch_ms, 99)},

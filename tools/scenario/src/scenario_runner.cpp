@@ -22,6 +22,7 @@
 #include "absl/strings/str_split.h"
 #include "fleetnav/core/angles.hpp"
 #include "fleetnav/proto/geometry_convert.hpp"
+#include "fleetnav/proto/server_target.hpp"
 #include "fleetnav/scenario/child_process.hpp"
 #include "fleetnav/scenario/link_proxy.hpp"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
@@ -142,7 +143,7 @@ class Run {
   /// Starts fleetnavd (replica `replica` of s_.replicas) on its port.
   absl::Status StartServer(size_t replica);
   /// fleetnavd's address for clients: one port, or the list of the replicas' ports.
-  std::string ServerTarget() const;
+  std::string ServerList() const;
   /// The replica leading the site and its epoch, from the replicas' logs (nullopt: none yet).
   std::optional<std::pair<size_t, int64_t>> Leader() const;
   std::string ServerLog(size_t replica, int start) const {
@@ -219,7 +220,7 @@ class Run {
 };
 
 absl::Status Run::Ctl(const std::vector<std::string>& args) {
-  std::vector<std::string> argv{bin_.ctl, "--server", ServerTarget()};
+  std::vector<std::string> argv{bin_.ctl, "--server", ServerList()};
   argv.insert(argv.end(), args.begin(), args.end());
   ChildProcess ctl(argv, Path("ctl.out"), Path("ctl.err"));
   const std::optional<int> code = ctl.Wait(120.0);
@@ -234,14 +235,14 @@ bool IsPostgresDb(const std::string& db) {
   return db.rfind("postgresql://", 0) == 0 || db.rfind("postgres://", 0) == 0;
 }
 
-std::string Run::ServerTarget() const {
-  if (servers_.size() == 1) return absl::StrCat("127.0.0.1:", servers_[0].port);
-  // gRPC's address list: a client takes the first replica that answers, the next when it dies.
+std::string Run::ServerList() const {
+  // The replicas' list, as an operator gives it to the agents and fleetnavctl: a client takes
+  // the first replica that answers, the next when it dies.
   std::vector<std::string> addresses;
   for (const ServerProcess& server : servers_) {
     addresses.push_back(absl::StrCat("127.0.0.1:", server.port));
   }
-  return absl::StrCat("ipv4:", absl::StrJoin(addresses, ","));
+  return absl::StrJoin(addresses, ",");
 }
 
 std::optional<std::pair<size_t, int64_t>> Run::Leader() const {
@@ -299,7 +300,7 @@ absl::Status Run::StartAgent(const ScenarioRobot& robot, const Pose2& pose) {
   const int start = ++agent_starts_[robot.robot_id];
   const auto link = links_.find(robot.robot_id);
   const std::string server =
-      link != links_.end() ? absl::StrCat("127.0.0.1:", link->second->port()) : ServerTarget();
+      link != links_.end() ? absl::StrCat("127.0.0.1:", link->second->port()) : ServerList();
   const std::string stem = absl::StrCat("agent-", robot.robot_id, ".", start);
   agents_[robot.robot_id] = std::make_unique<ChildProcess>(
       Niced(opt_.agent_niceness,
@@ -577,8 +578,8 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
   }
-  fleet_ = v1::FleetService::NewStub(
-      grpc::CreateChannel(ServerTarget(), grpc::InsecureChannelCredentials()));
+  fleet_ = v1::FleetService::NewStub(grpc::CreateChannel(
+      fleetnav::ServerTarget(ServerList()).value(), grpc::InsecureChannelCredentials()));
   const std::string map_yaml = Path(absl::StrCat("map/", s_.map_id, ".yaml"));
   const std::string markers_yaml = Path(absl::StrCat("map/", s_.map_id, ".markers.yaml"));
   if (absl::Status st = Ctl({"map", "import", "--id", s_.map_id, map_yaml}); !st.ok()) return st;
