@@ -7,6 +7,7 @@
 #include <gmock/gmock.h>
 #include <grpcpp/create_channel.h>
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -62,6 +63,10 @@ class ReplicaSet {
     return replica.port;
   }
   void Kill(size_t i) { replicas_[i].process->Stop(SIGKILL, 5.0); }
+  void Signal(size_t i, int signal) { ::kill(replicas_[i].process->pid(), signal); }
+  std::optional<int> WaitForExit(size_t i, double timeout_s) {
+    return replicas_[i].process->Wait(timeout_s);
+  }
   std::string Log(size_t i) const {
     return TempPath(absl::StrCat(tag_, "-", i, ".", replicas_[i].starts, ".out"));
   }
@@ -258,6 +263,41 @@ TEST(ReplicaTest, TheBarnGoesOnWhenTheLeadingReplicaIsKilledMidJob) {
   EXPECT_TRUE(std::filesystem::exists(keep + "/fleetnavd-r0.2.out") ||
               std::filesystem::exists(keep + "/fleetnavd-r1.2.out") ||
               std::filesystem::exists(keep + "/fleetnavd-r2.2.out"));
+}
+
+// A leader paused (SIGSTOP) past its lease is replaced; woken up, it finds its lease taken and
+// exits with code 3 instead of leading beside its successor.
+TEST(ReplicaTest, ALeaderPausedPastItsLeaseExitsWhenItWakes) {
+  ReplicaSet replicas(NewDatabase("paused"), "paused");
+  ASSERT_GT(replicas.Start(0), 0);
+  ASSERT_TRUE(Eventually(
+      [&] {
+        return scenario::ReadWholeFile(replicas.Log(0)).find("leading at epoch 1") !=
+               std::string::npos;
+      },
+      10.0));
+  ASSERT_GT(replicas.Start(1), 0);
+  replicas.Signal(0, SIGSTOP);
+  ASSERT_TRUE(Eventually(
+      [&] {
+        return scenario::ReadWholeFile(replicas.Log(1)).find("leading at epoch 2") !=
+               std::string::npos;
+      },
+      15.0));
+  replicas.Signal(0, SIGCONT);
+  const std::optional<int> code = replicas.WaitForExit(0, 10.0);
+  ASSERT_TRUE(code.has_value()) << "the old leader kept running";
+  EXPECT_EQ(*code, 3);
+  EXPECT_THAT(scenario::ReadWholeFile(replicas.Log(0)), HasSubstr("leadership lost"));
+  // The successor serves on.
+  auto fleet1 = v1::FleetService::NewStub(replicas.Channel(1));
+  EXPECT_TRUE(Eventually(
+      [&] {
+        grpc::ClientContext context;
+        v1::ListRobotsResponse robots;
+        return fleet1->ListRobots(&context, v1::ListRobotsRequest{}, &robots).ok();
+      },
+      10.0));
 }
 
 TEST(ReplicaTest, ADatabaseOfANewerSchemaIsRefusedNamingBothVersions) {
