@@ -126,7 +126,9 @@ absl::Status MosquittoClient::Publish(const std::string& topic, const std::strin
   if (impl_->disconnected) return absl::FailedPreconditionError("disconnected");
   const int rc = mosquitto_publish(impl_->client, nullptr, topic.c_str(),
                                    static_cast<int>(payload.size()), payload.data(), qos, retain);
-  if (rc == MOSQ_ERR_SUCCESS) return absl::OkStatus();
+  // While the broker is away libmosquitto keeps QoS 1 and 2 messages and sends them after the
+  // reconnection (it says NO_CONN, and queues them).
+  if (rc == MOSQ_ERR_SUCCESS || (rc == MOSQ_ERR_NO_CONN && qos > 0)) return absl::OkStatus();
   return absl::UnavailableError(
       absl::StrCat("publishing to '", topic, "': ", mosquitto_strerror(rc)));
 }

@@ -108,7 +108,7 @@ VdaBridge::Vehicle& VdaBridge::VehicleFor(const std::string& manufacturer,
                                           const std::string& serial) {
   std::unique_ptr<Vehicle>& vehicle = vehicles_[absl::StrCat(manufacturer, "/", serial)];
   if (vehicle == nullptr) {
-    vehicle = std::make_unique<Vehicle>(Vehicle{manufacturer, serial, std::nullopt, false,
+    vehicle = std::make_unique<Vehicle>(Vehicle{manufacturer, serial, std::nullopt, false, false,
                                                 VehicleSession(RobotIdFor(manufacturer, serial))});
   }
   return *vehicle;
@@ -201,14 +201,17 @@ void VdaBridge::OnMessage(const std::string& topic, const std::string& payload) 
     }
   } else if (factsheet) {
     vehicle.factsheet = *factsheet;
+    vehicle.refused = false;  // judged again on the new factsheet
     MaybeRegister(vehicle);
   } else if (state) {
-    if (vehicle.link == nullptr) {
+    if (!vehicle.online) {
       ++counters_.refused_unknown;
       return;
     }
     const std::string job_before = vehicle.session.job_id();
     VehicleSession::Outcome outcome = vehicle.session.OnState(*state, clock_->NowNs());
+    MaybeRegister(vehicle);  // once its position is known
+    if (vehicle.link == nullptr) return;
     for (const JobEvent& event : outcome.events) vehicle.link->ReportEvent(event);
     vehicle.link->Publish(outcome.telemetry);
     if (!job_before.empty() && vehicle.session.job_id().empty()) {
@@ -221,7 +224,12 @@ void VdaBridge::OnMessage(const std::string& topic, const std::string& payload) 
 }
 
 void VdaBridge::MaybeRegister(Vehicle& vehicle) {
-  if (!vehicle.online || !vehicle.factsheet || vehicle.link != nullptr) return;
+  // Registered once it is online, its factsheet is known and a state told where it is (so
+  // that fleetnavd dispatches to a robot with a pose).
+  if (!vehicle.online || !vehicle.factsheet || !vehicle.session.pose() || vehicle.link != nullptr ||
+      vehicle.refused) {
+    return;
+  }
   const std::string name = absl::StrCat(vehicle.manufacturer, "/", vehicle.serial);
   const Factsheet& factsheet = *vehicle.factsheet;
   const std::optional<Kinematics> kinematics = KinematicsOf(factsheet.agv_kinematic);
@@ -229,6 +237,7 @@ void VdaBridge::MaybeRegister(Vehicle& vehicle) {
     Log(absl::StrCat("vda5050: ", name, " (", factsheet.agv_kinematic,
                      ") is not registered: --kind ", params_.kind, " is ",
                      std::string(KinematicsName(model_.kinematics))));
+    vehicle.refused = true;
     return;
   }
   const auto [length_m, width_m] = FootprintSize(model_);
@@ -236,6 +245,7 @@ void VdaBridge::MaybeRegister(Vehicle& vehicle) {
     Log(absl::StrCat("vda5050: ", name, " (", factsheet.length_m, " x ", factsheet.width_m,
                      " m) is not registered: larger than --kind ", params_.kind, " (", length_m,
                      " x ", width_m, " m), whose footprint traffic coordination would use"));
+    vehicle.refused = true;
     return;
   }
   RobotIdentity identity{vehicle.session.robot_id(),

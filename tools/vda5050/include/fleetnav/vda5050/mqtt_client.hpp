@@ -44,8 +44,9 @@ using MqttConnectHandler = std::function<void(bool reconnected)>;
 
 /// An MQTT 3.1.1 client on libmosquitto (Debian's libmosquitto1): a network thread of its own
 /// (mosquitto_loop_start) that reconnects with back-off from 0.2 s to 5 s whenever the broker
-/// goes away, and subscribes again to every pattern it was given. A publish while the broker is
-/// away fails UNAVAILABLE: what must not be lost is sent again by the owner on reconnection.
+/// goes away, and subscribes again to every pattern it was given. A QoS 1 or 2 message published
+/// while the broker is away is kept by libmosquitto and sent after the reconnection; QoS 0 fails
+/// UNAVAILABLE.
 class MosquittoClient final : public MqttClient {
  public:
   /// Starts connecting; UNAVAILABLE when the broker cannot be reached within `wait_s`.

@@ -81,6 +81,7 @@ class VdaBridge {
     std::string serial;
     std::optional<Factsheet> factsheet;
     bool online = false;
+    bool refused = false;  ///< its factsheet does not fit --kind (logged once)
     VehicleSession session;
     std::unique_ptr<agent::ServerLink> link;
     uint32_t order_header_id = 0;  ///< headerIds count per topic (§6.4)
