@@ -131,17 +131,29 @@ int main(int argc, char** argv) {
             raw->factsheet_asked = true;
           }
         },
-        nullptr, 10.0);
+        // On every reconnection: the factsheet, then ONLINE (§6.14), both retained — a broker
+        // that restarted has lost them, and a master control sends its order again on ONLINE.
+        [raw, topic, &clock](bool reconnected) {
+          absl::MutexLock lock(&raw->mutex);
+          if (!reconnected || raw->mqtt == nullptr) return;
+          (void)raw->mqtt->Publish(topic("factsheet"),
+                                   vda::ToJson(raw->model->MakeFactsheet(clock.UnixMs())), 1, true);
+          (void)raw->mqtt->Publish(topic("connection"),
+                                   vda::ToJson(raw->model->MakeConnection(
+                                       vda::ConnectionState::kOnline, clock.UnixMs())),
+                                   1, true);
+        },
+        10.0);
     if (!mqtt.ok()) {
       std::fprintf(stderr, "fleetnav-vda-vehicle: %s\n",
                    std::string(mqtt.status().message()).c_str());
       return 1;
     }
-    vehicle->mqtt = *std::move(mqtt);
-    (void)vehicle->mqtt->Subscribe(topic("order"), 1);
-    (void)vehicle->mqtt->Subscribe(topic("instantActions"), 1);
+    (void)(*mqtt)->Subscribe(topic("order"), 1);
+    (void)(*mqtt)->Subscribe(topic("instantActions"), 1);
     {
       absl::MutexLock lock(&vehicle->mutex);
+      vehicle->mqtt = *std::move(mqtt);
       // The factsheet first, so that a bridge has it when the vehicle says it is online.
       (void)vehicle->mqtt->Publish(
           topic("factsheet"), vda::ToJson(vehicle->model->MakeFactsheet(clock.UnixMs())), 1, true);
