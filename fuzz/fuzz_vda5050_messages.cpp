@@ -21,10 +21,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       absl::StatusOr<vda::State> state = vda::ParseState(json);
       if (!state.ok()) break;
       vda::VehicleSession session("vda-fuzz-0001");
-      absl::StatusOr<vda::JobOrder> order =
-          vda::JobOrder::Create("job-1-5", "m",
-                                {{0, 0, std::nullopt, 0, false}, {1, 0, 0.0, 0, true},
-                                 {2, 2, 1.0, 1, true}});
+      absl::StatusOr<vda::JobOrder> order = vda::JobOrder::Create(
+          "job-1-5", "m",
+          {{0, 0, std::nullopt, 0, false}, {1, 0, 0.0, 0, true}, {2, 2, 1.0, 1, true}});
       (void)session.Start("job-1", *std::move(order));
       (void)session.Clear("job-1", 1);
       (void)session.OnState(*state, 0);
