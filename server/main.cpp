@@ -11,6 +11,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/synchronization/mutex.h"
 #include "fleetnav/core/port_file.hpp"
+#include "fleetnav/core/stop_signals.hpp"
 #include "fleetnav/core/version.hpp"
 #include "fleetnav/server/http/http_gateway.hpp"
 #include "fleetnav/server/log/log_format.hpp"
@@ -113,11 +114,7 @@ int main(int argc, char** argv) {
   // server's time under load, on every telemetry message. Tests keep the detection on.
   absl::SetMutexDeadlockDetectionMode(absl::OnDeadlockCycle::kIgnore);
   // SIGINT/SIGTERM are blocked in every thread and taken synchronously below.
-  sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+  sigset_t stop_signals = fleetnav::BlockStopSignals();
 
   // Flags override the config file, which overrides the defaults.
   fleetnav::server::FleetServerConfig defaults;

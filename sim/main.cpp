@@ -12,6 +12,7 @@
 
 #include "fleetnav/core/map_io.hpp"
 #include "fleetnav/core/port_file.hpp"
+#include "fleetnav/core/stop_signals.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
 #include "fleetnav/core/version.hpp"
 #include "fleetnav/sim/sim_server.hpp"
@@ -46,11 +47,7 @@ int ExportMap(const fleetnav::sim::WorldDescription& world, const std::string& d
 }  // namespace
 
 int main(int argc, char** argv) {
-  sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+  sigset_t stop_signals = fleetnav::BlockStopSignals();
 
   fleetnav::sim::SimServerParams params;
   std::string world_path;

@@ -28,9 +28,12 @@
 #include "fleetnav/v1/agent_service.grpc.pb.h"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
 #include "postgres_server.hpp"
+#include "testing/eventually.hpp"
 
 namespace fleetnav {
 namespace {
+
+using fleetnav::testing::Eventually;
 
 using scenario::ChildProcess;
 using ::testing::HasSubstr;
@@ -90,17 +93,6 @@ std::string NewDatabase(const std::string& stem) {
   absl::StatusOr<std::string> uri = fleetnav::testing::NewSharedDatabase(stem);
   EXPECT_TRUE(uri.ok()) << uri.status();
   return uri.value_or("");
-}
-
-/// Calls `attempt` every 100 ms until it returns true or `timeout_s` passed.
-bool Eventually(const std::function<bool()>& attempt, double timeout_s) {
-  const auto deadline = std::chrono::steady_clock::now() +
-                        std::chrono::milliseconds(static_cast<int>(timeout_s * 1e3));
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (attempt()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  return false;
 }
 
 std::optional<v1::RobotState> RobotThrough(v1::FleetService::Stub& fleet,

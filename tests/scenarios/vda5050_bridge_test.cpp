@@ -26,9 +26,12 @@
 #include "fleetnav/scenario/child_process.hpp"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
 #include "fleetnav/vda5050/mqtt_client.hpp"
+#include "testing/eventually.hpp"
 
 namespace fleetnav {
 namespace {
+
+using fleetnav::testing::Eventually;
 
 using scenario::ChildProcess;
 using ::testing::HasSubstr;
@@ -48,16 +51,6 @@ int FreePort() {
   getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length);
   close(fd);
   return ntohs(address.sin_port);
-}
-
-bool Eventually(const std::function<bool()>& attempt, double timeout_s) {
-  const auto deadline = std::chrono::steady_clock::now() +
-                        std::chrono::milliseconds(static_cast<int>(timeout_s * 1e3));
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (attempt()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  return false;
 }
 
 /// The vehicle's last true pose from its --truth file: x, y, yaw.

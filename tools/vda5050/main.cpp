@@ -9,6 +9,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "fleetnav/core/clock.hpp"
+#include "fleetnav/core/stop_signals.hpp"
 #include "fleetnav/core/version.hpp"
 #include "fleetnav/proto/server_target.hpp"
 #include "fleetnav/vda5050/mqtt_client.hpp"
@@ -24,11 +25,7 @@ void Print(const std::string& line) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+  sigset_t stop_signals = fleetnav::BlockStopSignals();
 
   CLI::App app{"fleetnav-vda5050: VDA 5050 2.0 vehicles on an MQTT broker as fleetnav robots"};
   app.set_version_flag("--version", std::string(fleetnav::Version()));

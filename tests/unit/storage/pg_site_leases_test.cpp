@@ -67,6 +67,28 @@ void CreateProbeTable(PgDatabase& db) {
                 }).ok());
 }
 
+/// A site led by replica "a" at epoch 1 (its store fenced), on a lease of 0.2 s, with a table
+/// `fence_probe` to write to.
+struct LedSite {
+  std::string uri;
+  std::unique_ptr<PgDatabase> lease_db;
+  std::unique_ptr<PgSiteLeases> leases;
+  std::unique_ptr<PgDatabase> leader;
+};
+
+LedSite LeadSite() {
+  LedSite site;
+  site.uri = NewDatabase();
+  site.lease_db = Open(site.uri);
+  if (site.lease_db == nullptr) return site;
+  CreateProbeTable(*site.lease_db);
+  site.leases = std::make_unique<PgSiteLeases>(site.lease_db.get(), /*ttl_s=*/0.2);
+  absl::StatusOr<std::optional<int64_t>> first = site.leases->TryAcquire("barn", "a", "a:1");
+  EXPECT_TRUE(first.ok() && first->has_value());
+  if (first.ok() && first->has_value()) site.leader = Open(site.uri, PgFence{"barn", **first});
+  return site;
+}
+
 TEST(PgSiteLeasesTest, OneHolderAtATimeAndTakeoverOnlyAfterTheLeaseRanOut) {
   const std::string uri = NewDatabase();
   std::unique_ptr<PgDatabase> db = Open(uri);
@@ -118,16 +140,12 @@ TEST(PgSiteLeasesTest, OneHolderAtATimeAndTakeoverOnlyAfterTheLeaseRanOut) {
 }
 
 TEST(PgSiteLeasesTest, AFencedStoreWritesNothingOnceItsEpochWasTakenOver) {
-  const std::string uri = NewDatabase();
-  std::unique_ptr<PgDatabase> lease_db = Open(uri);
-  ASSERT_NE(lease_db, nullptr);
-  CreateProbeTable(*lease_db);
-  PgSiteLeases leases(lease_db.get(), /*ttl_s=*/0.2);
-  absl::StatusOr<std::optional<int64_t>> first = leases.TryAcquire("barn", "a", "a:1");
-  ASSERT_TRUE(first.ok() && first->has_value());
-
-  std::unique_ptr<PgDatabase> leader = Open(uri, PgFence{"barn", **first});
-  ASSERT_NE(leader, nullptr);
+  LedSite site = LeadSite();
+  ASSERT_NE(site.leader, nullptr);
+  const std::string& uri = site.uri;
+  PgDatabase* lease_db = site.lease_db.get();
+  PgSiteLeases& leases = *site.leases;
+  PgDatabase* leader = site.leader.get();
   ASSERT_TRUE(WriteRow(*leader, 1).ok());
 
   // The old leader paused past its lease: another replica took the site over.
@@ -149,15 +167,11 @@ TEST(PgSiteLeasesTest, AFencedStoreWritesNothingOnceItsEpochWasTakenOver) {
 }
 
 TEST(PgSiteLeasesTest, ATakeoverWaitsForTheOldLeadersTransactionInFlight) {
-  const std::string uri = NewDatabase();
-  std::unique_ptr<PgDatabase> lease_db = Open(uri);
-  ASSERT_NE(lease_db, nullptr);
-  CreateProbeTable(*lease_db);
-  PgSiteLeases leases(lease_db.get(), /*ttl_s=*/0.2);
-  absl::StatusOr<std::optional<int64_t>> first = leases.TryAcquire("barn", "a", "a:1");
-  ASSERT_TRUE(first.ok() && first->has_value());
-  std::unique_ptr<PgDatabase> leader = Open(uri, PgFence{"barn", **first});
-  ASSERT_NE(leader, nullptr);
+  LedSite site = LeadSite();
+  ASSERT_NE(site.leader, nullptr);
+  PgDatabase* lease_db = site.lease_db.get();
+  PgSiteLeases& leases = *site.leases;
+  PgDatabase* leader = site.leader.get();
 
   // The old leader's transaction passed its fence check and is still running when its lease
   // runs out and another replica tries to take over.

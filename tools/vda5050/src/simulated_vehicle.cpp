@@ -178,12 +178,18 @@ VehicleStepEvents SimulatedVehicle::Step(double dt_s, int64_t /*unix_ms*/) {
   return events;
 }
 
+Header SimulatedVehicle::NextHeader(uint32_t* counter, int64_t unix_ms) const {
+  Header header;
+  header.header_id = (*counter)++;
+  header.timestamp = Timestamp(unix_ms);
+  header.manufacturer = params_.manufacturer;
+  header.serial_number = params_.serial_number;
+  return header;
+}
+
 State SimulatedVehicle::MakeState(int64_t unix_ms) {
   State state;
-  state.header.header_id = state_header_id_++;
-  state.header.timestamp = Timestamp(unix_ms);
-  state.header.manufacturer = params_.manufacturer;
-  state.header.serial_number = params_.serial_number;
+  state.header = NextHeader(&state_header_id_, unix_ms);
   state.order_id = order_id_;
   state.order_update_id = order_update_id_;
   state.last_node_id = last_node_id_;
@@ -207,20 +213,14 @@ State SimulatedVehicle::MakeState(int64_t unix_ms) {
 
 Connection SimulatedVehicle::MakeConnection(ConnectionState connection_state, int64_t unix_ms) {
   Connection connection;
-  connection.header.header_id = connection_header_id_++;
-  connection.header.timestamp = Timestamp(unix_ms);
-  connection.header.manufacturer = params_.manufacturer;
-  connection.header.serial_number = params_.serial_number;
+  connection.header = NextHeader(&connection_header_id_, unix_ms);
   connection.state = connection_state;
   return connection;
 }
 
 Factsheet SimulatedVehicle::MakeFactsheet(int64_t unix_ms) {
   Factsheet factsheet = params_.factsheet;
-  factsheet.header.header_id = factsheet_header_id_++;
-  factsheet.header.timestamp = Timestamp(unix_ms);
-  factsheet.header.manufacturer = params_.manufacturer;
-  factsheet.header.serial_number = params_.serial_number;
+  factsheet.header = NextHeader(&factsheet_header_id_, unix_ms);
   return factsheet;
 }
 

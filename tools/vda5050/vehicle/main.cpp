@@ -18,6 +18,7 @@
 #include "absl/synchronization/mutex.h"
 #include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/clock.hpp"
+#include "fleetnav/core/stop_signals.hpp"
 #include "fleetnav/vda5050/mqtt_client.hpp"
 #include "fleetnav/vda5050/simulated_vehicle.hpp"
 #include "fleetnav/vda5050/vda_json.hpp"
@@ -39,11 +40,7 @@ struct Vehicle {
 }  // namespace
 
 int main(int argc, char** argv) {
-  sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+  sigset_t stop_signals = fleetnav::BlockStopSignals();
 
   CLI::App app{"fleetnav-vda-vehicle: simulated VDA 5050 2.0 vehicles"};
   std::string broker_host = "127.0.0.1", interface_name = "uagv", truth_path;

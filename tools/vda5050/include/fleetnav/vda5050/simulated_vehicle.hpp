@@ -58,6 +58,8 @@ class SimulatedVehicle {
 
  private:
   void Refuse(const std::string& type, const std::string& why, const std::string& order_id);
+  /// This vehicle's header with the next id of the topic `counter` counts (§6.4).
+  Header NextHeader(uint32_t* counter, int64_t unix_ms) const;
   /// The next node to reach, if it is released.
   const Node* NextTarget() const;
 
