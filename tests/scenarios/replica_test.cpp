@@ -163,6 +163,20 @@ TEST(ReplicaTest, EveryReplicaServesTheSiteAndTheLeaderKilledIsReplaced) {
       },
       10.0));
 
+  // WatchFleet through a follower (a relayed server stream) shows the robot in its snapshot.
+  {
+    grpc::ClientContext context;
+    context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(5));
+    auto watch = fleet1->WatchFleet(&context, v1::WatchFleetRequest{});
+    v1::FleetUpdate update;
+    ASSERT_TRUE(watch->Read(&update));
+    EXPECT_TRUE(update.snapshot());
+    bool seen = false;
+    for (const v1::RobotState& robot : update.robots()) seen = seen || robot.robot_id() == "lely7";
+    EXPECT_TRUE(seen);
+    context.TryCancel();
+  }
+
   // A map put through one replica; one job submitted through both with one key.
   {
     grpc::ClientContext context;
