@@ -228,6 +228,39 @@ TEST_F(VdaBridgeTest, ACancelStopsTheVehicleWhereItIs) {
   EXPECT_TRUE(JobEndsAs(next, v1::JOB_STATE_SUCCEEDED, 60.0)) << bridge_->Stderr();
 }
 
+// An operator's pause becomes startPause: the vehicle stands; resume (stopPause) lets it finish.
+TEST_F(VdaBridgeTest, APauseHoldsTheVehicleAndAResumeLetsItFinish) {
+  const std::string job = SubmitGoal(15.0, 2.0, 0.0);
+  ASSERT_TRUE(Eventually(
+      [&] {
+        const std::optional<std::array<double, 3>> truth = LastTruth(TempPath("truth.csv"));
+        return truth && (*truth)[0] > 4.0;
+      },
+      30.0));
+  {
+    grpc::ClientContext context;
+    v1::PauseJobRequest pause;
+    pause.set_job_id(job);
+    v1::PauseJobResponse paused;
+    ASSERT_TRUE(fleet_->PauseJob(&context, pause, &paused).ok());
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  const double held_x = (*LastTruth(TempPath("truth.csv")))[0];
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  EXPECT_NEAR((*LastTruth(TempPath("truth.csv")))[0], held_x, 1e-6) << "moved while paused";
+  EXPECT_LT(held_x, 14.0);
+  {
+    grpc::ClientContext context;
+    v1::ResumeJobRequest resume;
+    resume.set_job_id(job);
+    v1::ResumeJobResponse resumed;
+    ASSERT_TRUE(fleet_->ResumeJob(&context, resume, &resumed).ok());
+  }
+  ASSERT_TRUE(JobEndsAs(job, v1::JOB_STATE_SUCCEEDED, 60.0)) << bridge_->Stderr();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_NEAR((*LastTruth(TempPath("truth.csv")))[0], 15.0, 0.1);
+}
+
 TEST_F(VdaBridgeTest, MalformedStaleAndUnknownMessagesAreLeftOutAndTheBridgeGoesOn) {
   absl::StatusOr<std::unique_ptr<vda5050::MosquittoClient>> intruder =
       vda5050::MosquittoClient::Connect({"127.0.0.1", mqtt_port_, "intruder"}, nullptr, nullptr);
