@@ -74,10 +74,8 @@ int RunReplica(const fleetnav::server::FleetServerParams& params, const ReplicaF
   replica.leader.listen_address =
       flags.peer_listen.empty() ? listen_host + ":0" : flags.peer_listen;
   replica.advertise_address = flags.peer_advertise;
-  replica.leadership.site = flags.site;
-  replica.leadership.lease_ttl_s = flags.lease_ttl_s;
-  replica.leadership.renew_period_s = flags.lease_ttl_s / 4.0;
-  replica.leadership.poll_period_s = flags.lease_ttl_s / 8.0;
+  replica.leadership =
+      fleetnav::server::SiteLeadershipParams::ForTtl(flags.site, flags.lease_ttl_s);
   replica.on_event = [](const std::string& what) { spdlog::info("fleetnavd: {}", what); };
   replica.on_leadership_lost = [](const std::string& why) {
     // Nothing more may be done as leader; the store is fenced, and the robots reconnect

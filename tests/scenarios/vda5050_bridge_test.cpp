@@ -176,6 +176,26 @@ class VdaBridgeTest : public ::testing::Test {
     return response.job().state();
   }
 
+  /// Waits until the vehicle's true x passes `x_m`.
+  bool TruthReaches(double x_m, double timeout_s) {
+    return Eventually(
+        [&] {
+          const std::optional<std::array<double, 3>> truth = LastTruth(TempPath("truth.csv"));
+          return truth && (*truth)[0] > x_m;
+        },
+        timeout_s);
+  }
+
+  /// After a command that should stop the vehicle: lets it brake (0.7 s), then checks that its
+  /// true x does not change for `for_s`; returns where it stands.
+  double StandingX(double for_s) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+    const double x_m = (*LastTruth(TempPath("truth.csv")))[0];
+    std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(for_s * 1e3)));
+    EXPECT_NEAR((*LastTruth(TempPath("truth.csv")))[0], x_m, 1e-6) << "still moving";
+    return x_m;
+  }
+
   bool JobEndsAs(const std::string& job_id, v1::JobState state, double timeout_s) {
     return Eventually([&] { return JobState(job_id) == state; }, timeout_s);
   }
@@ -206,21 +226,13 @@ TEST_F(VdaBridgeTest, AGoalJobIsDrivenToItsEndByTheVdaVehicle) {
 
 TEST_F(VdaBridgeTest, ACancelStopsTheVehicleWhereItIs) {
   const std::string job = SubmitGoal(15.0, 2.0, 0.0);
-  ASSERT_TRUE(Eventually(
-      [&] {
-        const std::optional<std::array<double, 3>> truth = LastTruth(TempPath("truth.csv"));
-        return truth && (*truth)[0] > 4.0;
-      },
-      30.0));
+  ASSERT_TRUE(TruthReaches(4.0, 30.0));
   grpc::ClientContext context;
   v1::CancelJobRequest cancel;
   cancel.set_job_id(job);
   v1::CancelJobResponse cancelled;
   ASSERT_TRUE(fleet_->CancelJob(&context, cancel, &cancelled).ok());
-  std::this_thread::sleep_for(std::chrono::milliseconds(700));
-  const double stopped_x = (*LastTruth(TempPath("truth.csv")))[0];
-  std::this_thread::sleep_for(std::chrono::seconds(2));
-  EXPECT_NEAR((*LastTruth(TempPath("truth.csv")))[0], stopped_x, 1e-6) << "still moving";
+  const double stopped_x = StandingX(2.0);
   EXPECT_LT(stopped_x, 14.0);
   EXPECT_EQ(JobState(job), v1::JOB_STATE_CANCELLED);
   // The vehicle is free for the next job.
@@ -231,12 +243,7 @@ TEST_F(VdaBridgeTest, ACancelStopsTheVehicleWhereItIs) {
 // An operator's pause becomes startPause: the vehicle stands; resume (stopPause) lets it finish.
 TEST_F(VdaBridgeTest, APauseHoldsTheVehicleAndAResumeLetsItFinish) {
   const std::string job = SubmitGoal(15.0, 2.0, 0.0);
-  ASSERT_TRUE(Eventually(
-      [&] {
-        const std::optional<std::array<double, 3>> truth = LastTruth(TempPath("truth.csv"));
-        return truth && (*truth)[0] > 4.0;
-      },
-      30.0));
+  ASSERT_TRUE(TruthReaches(4.0, 30.0));
   {
     grpc::ClientContext context;
     v1::PauseJobRequest pause;
@@ -244,10 +251,7 @@ TEST_F(VdaBridgeTest, APauseHoldsTheVehicleAndAResumeLetsItFinish) {
     v1::PauseJobResponse paused;
     ASSERT_TRUE(fleet_->PauseJob(&context, pause, &paused).ok());
   }
-  std::this_thread::sleep_for(std::chrono::milliseconds(700));
-  const double held_x = (*LastTruth(TempPath("truth.csv")))[0];
-  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
-  EXPECT_NEAR((*LastTruth(TempPath("truth.csv")))[0], held_x, 1e-6) << "moved while paused";
+  const double held_x = StandingX(1.5);
   EXPECT_LT(held_x, 14.0);
   {
     grpc::ClientContext context;

@@ -81,11 +81,10 @@ int main(int argc, char** argv) {
           [&bridge](const std::string& topic, const std::string& payload) {
             bridge.OnMessage(topic, payload);
           },
-          [&bridge](bool reconnected) {
-            if (reconnected) {
-              Print("fleetnav-vda5050: broker back; sending the running orders again");
-              bridge.OnReconnected();
-            }
+          // What was published meanwhile (QoS 1) goes out now; the vehicles say ONLINE again and
+          // get their running orders again (VdaBridge).
+          [](bool reconnected) {
+            if (reconnected) Print("fleetnav-vda5050: broker back");
           },
           broker_wait_s);
   if (!mqtt.ok()) {

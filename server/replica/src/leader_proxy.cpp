@@ -178,14 +178,12 @@ class ProxiedCall {
 
 LeaderProxy::~LeaderProxy() { Close(); }
 
-void LeaderProxy::SetLeader(int64_t epoch, std::string description,
-                            std::shared_ptr<grpc::Channel> channel) {
+void LeaderProxy::SetLeader(int64_t epoch, std::shared_ptr<grpc::Channel> channel) {
   absl::MutexLock lock(&mutex_);
   if (epoch != epoch_) {
     for (ProxiedCall* call : calls_) call->Cancel();
   }
   epoch_ = epoch;
-  description_ = std::move(description);
   stub_ = channel != nullptr ? std::make_shared<grpc::GenericStub>(std::move(channel)) : nullptr;
 }
 
@@ -194,11 +192,6 @@ void LeaderProxy::Close() {
   closed_ = true;
   stub_.reset();
   for (ProxiedCall* call : calls_) call->Cancel();
-}
-
-size_t LeaderProxy::calls_in_flight() const {
-  absl::MutexLock lock(&mutex_);
-  return calls_.size();
 }
 
 grpc::ServerGenericBidiReactor* LeaderProxy::CreateReactor(

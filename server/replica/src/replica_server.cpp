@@ -118,8 +118,7 @@ void ReplicaServer::Lead(int64_t epoch) {
   const std::string address = params_.advertise_address.empty()
                                   ? absl::StrCat(HostOf(params_.leader.listen_address), ":", *port)
                                   : params_.advertise_address;
-  proxy_.SetLeader(epoch, "this replica",
-                   leader->InProcessChannel(params_.leader.max_message_bytes));
+  proxy_.SetLeader(epoch, leader->InProcessChannel(params_.leader.max_message_bytes));
   {
     absl::MutexLock lock(&leader_mutex_);
     leader_ = std::move(leader);
@@ -135,7 +134,7 @@ void ReplicaServer::Lead(int64_t epoch) {
 void ReplicaServer::OnLeaderChanged(const storage::SiteLease& lease) {
   if (lease.holder == holder()) return;
   if (lease.address.empty()) {
-    proxy_.SetLeader(lease.epoch, lease.holder, nullptr);
+    proxy_.SetLeader(lease.epoch, nullptr);
     Tell(absl::StrCat("site '", params_.leadership.site, "': replica ", lease.holder,
                       " leads at epoch ", lease.epoch, " and is starting"));
     return;
@@ -146,9 +145,8 @@ void ReplicaServer::OnLeaderChanged(const storage::SiteLease& lease) {
   arguments.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 100);
   arguments.SetInt(GRPC_ARG_MIN_RECONNECT_BACKOFF_MS, 100);
   arguments.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 500);
-  proxy_.SetLeader(
-      lease.epoch, lease.address,
-      grpc::CreateCustomChannel(lease.address, grpc::InsecureChannelCredentials(), arguments));
+  proxy_.SetLeader(lease.epoch, grpc::CreateCustomChannel(
+                                    lease.address, grpc::InsecureChannelCredentials(), arguments));
   Tell(absl::StrCat("site '", params_.leadership.site, "': the leader is ", lease.holder, " at ",
                     lease.address, " (epoch ", lease.epoch, ")"));
 }

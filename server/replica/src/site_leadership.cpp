@@ -47,44 +47,41 @@ absl::Status SiteLeadership::Publish(int64_t epoch, const std::string& address) 
   return leases_->SetAddress(params_.site, holder_, epoch, address);
 }
 
-bool SiteLeadership::Follow(int64_t* seen_epoch, std::string* seen_address) {
+std::optional<SiteLeadership::Won> SiteLeadership::Follow(storage::SiteLease* seen) {
   absl::StatusOr<std::optional<storage::SiteLease>> lease = leases_->Current(params_.site);
-  if (!lease.ok()) return false;  // the database is away: keep following, try again
+  if (!lease.ok()) return std::nullopt;  // the database is away: keep following, try again
   if (!lease->has_value() || (*lease)->expired) {
+    const int64_t sent_ns = clock_->NowNs();
     absl::StatusOr<std::optional<int64_t>> epoch =
         leases_->TryAcquire(params_.site, holder_, /*address=*/"");
     if (epoch.ok() && epoch->has_value()) {
-      *seen_epoch = **epoch;
-      seen_address->clear();
       events_.elected(**epoch);
-      return true;
+      return Won{**epoch, sent_ns};
     }
     lease = leases_->Current(params_.site);
-    if (!lease.ok() || !lease->has_value()) return false;
+    if (!lease.ok() || !lease->has_value()) return std::nullopt;
   }
   const storage::SiteLease& current = **lease;
-  if (current.epoch != *seen_epoch || current.address != *seen_address) {
-    *seen_epoch = current.epoch;
-    *seen_address = current.address;
+  if (current.epoch != seen->epoch || current.address != seen->address) {
+    *seen = current;
     events_.leader_changed(current);
   }
-  return false;
+  return std::nullopt;
 }
 
 void SiteLeadership::Run() {
-  int64_t epoch = 0;
-  std::string address;
-  // Follow until elected.
-  while (!Follow(&epoch, &address)) {
+  storage::SiteLease seen;
+  std::optional<Won> won;
+  while (!(won = Follow(&seen))) {
     if (stop_.WaitForNotificationWithTimeout(absl::Seconds(params_.poll_period_s))) return;
   }
-  // Lead: the lease counts from before the acquiring or renewing statement was sent.
+  // Lead: the lease counts from before the acquiring or renewing statement was sent, so this
+  // replica stops leading no later than the database lets another take over.
   const int64_t ttl_ns = static_cast<int64_t>(params_.lease_ttl_s * 1e9);
-  int64_t valid_until_ns =
-      clock_->NowNs() + ttl_ns - static_cast<int64_t>(params_.poll_period_s * 1e9);
+  int64_t valid_until_ns = won->sent_ns + ttl_ns;
   while (!stop_.WaitForNotificationWithTimeout(absl::Seconds(params_.renew_period_s))) {
     const int64_t sent_ns = clock_->NowNs();
-    const absl::Status renewed = leases_->Renew(params_.site, holder_, epoch);
+    const absl::Status renewed = leases_->Renew(params_.site, holder_, won->epoch);
     if (renewed.ok()) {
       valid_until_ns = sent_ns + ttl_ns;
       continue;

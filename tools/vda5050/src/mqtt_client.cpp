@@ -2,6 +2,7 @@
 
 #include <mosquitto.h>
 
+#include <atomic>
 #include <mutex>
 #include <vector>
 
@@ -28,7 +29,7 @@ struct MosquittoClient::Impl {
   std::vector<std::pair<std::string, int>> subscriptions ABSL_GUARDED_BY(mutex);
   bool connected ABSL_GUARDED_BY(mutex) = false;
   int connections ABSL_GUARDED_BY(mutex) = 0;
-  bool disconnected = false;
+  std::atomic<bool> disconnected{false};  ///< Disconnect() was called (any thread)
 
   ~Impl() {
     if (client != nullptr) {

@@ -61,6 +61,15 @@ std::vector<Pose2> Thin(const std::vector<Pose2>& path, double spacing_m) {
   return nodes;
 }
 
+/// Parses `payload` with `parse` into `*out`: the message's header, or why it was refused.
+template <typename Message>
+absl::StatusOr<const Header*> ParseInto(absl::StatusOr<Message> (*parse)(std::string_view),
+                                        const std::string& payload, std::optional<Message>* out) {
+  absl::StatusOr<Message> message = parse(payload);
+  if (!message.ok()) return message.status();
+  return &out->emplace(*std::move(message)).header;
+}
+
 }  // namespace
 
 VdaBridge::VdaBridge(BridgeParams params, std::shared_ptr<grpc::Channel> fleetnavd,
@@ -119,36 +128,28 @@ void VdaBridge::OnMessage(const std::string& topic, const std::string& payload) 
   if (!where || where->interface_name != params_.interface_name) return;
   const std::string name = absl::StrCat(where->manufacturer, "/", where->serial_number);
   // Parsed before the lock: the checks are the costly part.
-  absl::Status parsed = absl::OkStatus();
   std::optional<Connection> connection;
   std::optional<Factsheet> factsheet;
   std::optional<State> state;
   std::optional<Visualization> visualization;
-  const Header* header = nullptr;
+  absl::StatusOr<const Header*> header;
   if (where->topic == "connection") {
-    absl::StatusOr<Connection> message = ParseConnection(payload);
-    parsed = message.status();
-    if (message.ok()) header = &connection.emplace(*std::move(message)).header;
+    header = ParseInto(&ParseConnection, payload, &connection);
   } else if (where->topic == "factsheet") {
-    absl::StatusOr<Factsheet> message = ParseFactsheet(payload);
-    parsed = message.status();
-    if (message.ok()) header = &factsheet.emplace(*std::move(message)).header;
+    header = ParseInto(&ParseFactsheet, payload, &factsheet);
   } else if (where->topic == "state") {
-    absl::StatusOr<State> message = ParseState(payload);
-    parsed = message.status();
-    if (message.ok()) header = &state.emplace(*std::move(message)).header;
+    header = ParseInto(&ParseState, payload, &state);
   } else if (where->topic == "visualization") {
-    absl::StatusOr<Visualization> message = ParseVisualization(payload);
-    parsed = message.status();
-    if (message.ok()) header = &visualization.emplace(*std::move(message)).header;
+    header = ParseInto(&ParseVisualization, payload, &visualization);
   } else {
     return;
   }
-  if (parsed.ok() && (header->manufacturer != where->manufacturer ||
-                      header->serial_number != where->serial_number)) {
+  absl::Status parsed = header.status();
+  if (parsed.ok() && ((*header)->manufacturer != where->manufacturer ||
+                      (*header)->serial_number != where->serial_number)) {
     parsed = absl::InvalidArgumentError(
-        absl::StrCat(where->topic, ": the header names ", header->manufacturer, "/",
-                     header->serial_number, ", the topic ", name, " (§6.3, §6.4)"));
+        absl::StrCat(where->topic, ": the header names ", (*header)->manufacturer, "/",
+                     (*header)->serial_number, ", the topic ", name, " (§6.3, §6.4)"));
   }
   absl::MutexLock lock(&mutex_);
   if (!parsed.ok()) {
@@ -169,9 +170,9 @@ void VdaBridge::OnMessage(const std::string& topic, const std::string& payload) 
   // (§6.14), and a vehicle that restarted counts from 0 again — its ONLINE starts a new count
   // for every topic.
   if (connection && connection->state == ConnectionState::kOnline) vehicle.session.ResetHeaders();
-  if (!connection && !vehicle.session.Fresh(where->topic, header->header_id)) {
+  if (!connection && !vehicle.session.Fresh(where->topic, (*header)->header_id)) {
     ++counters_.refused_stale;
-    Log(absl::StrCat("vda5050: ", name, ": ", where->topic, " headerId ", header->header_id,
+    Log(absl::StrCat("vda5050: ", name, ": ", where->topic, " headerId ", (*header)->header_id,
                      " is not above the last one: left out (§6.4)"));
     return;
   }
@@ -264,36 +265,30 @@ void VdaBridge::Publish(Vehicle& vehicle, const std::string& topic, const std::s
   const absl::Status sent =
       mqtt_->Publish(TopicFor(params_.interface_name, vehicle.manufacturer, vehicle.serial, topic),
                      payload, kCommandQos, /*retain=*/false);
-  if (!sent.ok()) Log(absl::StrCat("vda5050: ", sent.message(), " (sent again on reconnection)"));
+  if (!sent.ok()) Log(absl::StrCat("vda5050: ", sent.message()));
+}
+
+Header VdaBridge::NextHeader(const Vehicle& vehicle, uint32_t* counter) const {
+  Header header;
+  header.header_id = (*counter)++;
+  header.timestamp = Timestamp(clock_->UnixMs());
+  header.manufacturer = vehicle.manufacturer;
+  header.serial_number = vehicle.serial;
+  return header;
 }
 
 void VdaBridge::PublishOrder(Vehicle& vehicle, Order order) {
-  order.header.header_id = vehicle.order_header_id++;
-  order.header.timestamp = Timestamp(clock_->UnixMs());
-  order.header.manufacturer = vehicle.manufacturer;
-  order.header.serial_number = vehicle.serial;
+  order.header = NextHeader(vehicle, &vehicle.order_header_id);
   Publish(vehicle, "order", ToJson(order));
   ++counters_.orders;
 }
 
 void VdaBridge::PublishInstant(Vehicle& vehicle, Action action) {
   InstantActions message;
-  message.header.header_id = vehicle.instant_header_id++;
-  message.header.timestamp = Timestamp(clock_->UnixMs());
-  message.header.manufacturer = vehicle.manufacturer;
-  message.header.serial_number = vehicle.serial;
+  message.header = NextHeader(vehicle, &vehicle.instant_header_id);
   message.actions.push_back(std::move(action));
   Publish(vehicle, "instantActions", ToJson(message));
   ++counters_.instant_actions;
-}
-
-void VdaBridge::OnReconnected() {
-  absl::MutexLock lock(&mutex_);
-  for (auto& [key, vehicle] : vehicles_) {
-    if (const JobOrder* order = vehicle->session.order(); order != nullptr) {
-      PublishOrder(*vehicle, order->last());
-    }
-  }
 }
 
 absl::StatusOr<std::vector<OrderWaypoint>> VdaBridge::PlanWaypoints(const JobAssignment& assignment,

@@ -70,10 +70,21 @@ std::optional<Action> VehicleSession::Command(const JobCommand& command,
   return std::nullopt;
 }
 
-Telemetry VehicleSession::BaseTelemetry(int64_t now_ns) const {
+Telemetry VehicleSession::PositionTelemetry(const std::optional<AgvPosition>& position,
+                                            const std::optional<Velocity>& velocity,
+                                            int64_t now_ns) {
+  if (position) pose_ = Pose2(position->x_m, position->y_m, position->theta_rad);
   Telemetry telemetry;
   telemetry.stamp_ns = now_ns;
   if (pose_) telemetry.pose_in_map = *pose_;
+  if (velocity) {
+    telemetry.velocity.vx_mps = velocity->vx_mps;
+    telemetry.velocity.vy_mps = velocity->vy_mps;
+    telemetry.velocity.yaw_rate_radps = velocity->omega_radps;
+  }
+  const bool localized = position && position->position_initialized;
+  telemetry.localization_confidence = localized ? position->localization_score.value_or(1.0) : 0.0;
+  telemetry.localization_lost = !localized;
   if (job_) {
     telemetry.job_id = job_->job_id;
     telemetry.action_index = std::max(job_->started_action, job_->finished_action + 1);
@@ -82,47 +93,18 @@ Telemetry VehicleSession::BaseTelemetry(int64_t now_ns) const {
 }
 
 Telemetry VehicleSession::OnVisualization(const Visualization& visualization, int64_t now_ns) {
-  if (visualization.agv_position) {
-    pose_ = Pose2(visualization.agv_position->x_m, visualization.agv_position->y_m,
-                  visualization.agv_position->theta_rad);
-  }
-  Telemetry telemetry = BaseTelemetry(now_ns);
-  if (visualization.velocity) {
-    telemetry.velocity.vx_mps = visualization.velocity->vx_mps;
-    telemetry.velocity.vy_mps = visualization.velocity->vy_mps;
-    telemetry.velocity.yaw_rate_radps = visualization.velocity->omega_radps;
-  }
-  const bool localized =
-      visualization.agv_position && visualization.agv_position->position_initialized;
-  telemetry.localization_confidence = localized ? 1.0 : 0.0;
-  telemetry.localization_lost = !localized;
-  return telemetry;
+  return PositionTelemetry(visualization.agv_position, visualization.velocity, now_ns);
 }
 
 VehicleSession::Outcome VehicleSession::OnState(const State& state, int64_t now_ns) {
-  Outcome out;
-  if (state.agv_position) {
-    pose_ = Pose2(state.agv_position->x_m, state.agv_position->y_m, state.agv_position->theta_rad);
-  }
+  Outcome out{PositionTelemetry(state.agv_position, state.velocity, now_ns), {}};
   Telemetry& telemetry = out.telemetry;
-  telemetry.stamp_ns = now_ns;
   telemetry.sequence = state.header.header_id;
-  if (pose_) telemetry.pose_in_map = *pose_;
-  if (state.velocity) {
-    telemetry.velocity.vx_mps = state.velocity->vx_mps;
-    telemetry.velocity.vy_mps = state.velocity->vy_mps;
-    telemetry.velocity.yaw_rate_radps = state.velocity->omega_radps;
-  }
   telemetry.mode = state.driving ? NavigationMode::kFreeNavigation : NavigationMode::kIdle;
-  const bool localized = state.agv_position && state.agv_position->position_initialized;
-  telemetry.localization_confidence =
-      localized ? state.agv_position->localization_score.value_or(1.0) : 0.0;
-  telemetry.localization_lost = !localized;
   telemetry.battery_fraction = std::clamp(state.battery_charge_percent / 100.0, 0.0, 1.0);
   if (!job_) return out;
 
   RunningJob& job = *job_;
-  telemetry.job_id = job.job_id;
   // The vehicle refused our order, or cannot go on.
   for (const VehicleError& error : state.errors) {
     bool about_ours = state.order_id == job.order.order_id();

@@ -32,10 +32,23 @@ namespace vda = fleetnav::vda5050;
 struct Vehicle {
   absl::Mutex mutex;
   std::unique_ptr<vda::SimulatedVehicle> model ABSL_GUARDED_BY(mutex);
-  std::unique_ptr<vda::MosquittoClient> mqtt;
+  std::unique_ptr<vda::MosquittoClient> mqtt ABSL_GUARDED_BY(mutex);
   std::string serial;
+  std::string topic_prefix;  ///< INTERFACE/v2/MANUFACTURER/SERIAL/
   bool factsheet_asked ABSL_GUARDED_BY(mutex) = false;
 };
+
+/// The factsheet, then ONLINE, both retained (§6.15, §6.14): at the first connection and at
+/// every reconnection, for a broker that restarted has lost them and a master control sends a
+/// vehicle its running order again when it says ONLINE.
+void Announce(Vehicle& vehicle, int64_t unix_ms) ABSL_EXCLUSIVE_LOCKS_REQUIRED(vehicle.mutex) {
+  if (vehicle.mqtt == nullptr) return;
+  (void)vehicle.mqtt->Publish(vehicle.topic_prefix + "factsheet",
+                              vda::ToJson(vehicle.model->MakeFactsheet(unix_ms)), 1, true);
+  (void)vehicle.mqtt->Publish(
+      vehicle.topic_prefix + "connection",
+      vda::ToJson(vehicle.model->MakeConnection(vda::ConnectionState::kOnline, unix_ms)), 1, true);
+}
 
 }  // namespace
 
@@ -91,13 +104,13 @@ int main(int argc, char** argv) {
     own.serial_number = absl::StrFormat("%04d", first_serial + i);
     own.start = fleetnav::Pose2(start[0], start[1] + spacing_m * i, fleetnav::DegToRad(start[2]));
     vehicle->serial = own.serial_number;
+    vehicle->topic_prefix =
+        vda::TopicFor(interface_name, params.manufacturer, own.serial_number, "");
     {
       absl::MutexLock lock(&vehicle->mutex);
       vehicle->model = std::make_unique<vda::SimulatedVehicle>(own);
     }
-    const auto topic = [&, serial = own.serial_number](const char* name) {
-      return vda::TopicFor(interface_name, params.manufacturer, serial, name);
-    };
+    const std::string& prefix = vehicle->topic_prefix;
     vda::MqttOptions options;
     options.host = broker_host;
     options.port = broker_port;
@@ -105,7 +118,7 @@ int main(int argc, char** argv) {
     {
       absl::MutexLock lock(&vehicle->mutex);
       options.will =
-          vda::MqttOptions::Will{topic("connection"),
+          vda::MqttOptions::Will{prefix + "connection",
                                  vda::ToJson(vehicle->model->MakeConnection(
                                      vda::ConnectionState::kConnectionBroken, clock.UnixMs())),
                                  1, true};
@@ -113,9 +126,9 @@ int main(int argc, char** argv) {
     Vehicle* raw = vehicle.get();
     absl::StatusOr<std::unique_ptr<vda::MosquittoClient>> mqtt = vda::MosquittoClient::Connect(
         options,
-        [raw, topic](const std::string& at, const std::string& payload) {
+        [raw](const std::string& at, const std::string& payload) {
           absl::MutexLock lock(&raw->mutex);
-          if (at == topic("order")) {
+          if (at == raw->topic_prefix + "order") {
             raw->model->OnOrder(payload);
             const std::vector<vda::VehicleError>& errors = raw->model->errors();
             if (!errors.empty()) {
@@ -124,21 +137,13 @@ int main(int argc, char** argv) {
                            errors.back().description.c_str());
             }
           }
-          if (at == topic("instantActions") && raw->model->OnInstantActions(payload)) {
+          if (at == raw->topic_prefix + "instantActions" && raw->model->OnInstantActions(payload)) {
             raw->factsheet_asked = true;
           }
         },
-        // On every reconnection: the factsheet, then ONLINE (§6.14), both retained — a broker
-        // that restarted has lost them, and a master control sends its order again on ONLINE.
-        [raw, topic, &clock](bool reconnected) {
+        [raw, &clock](bool /*reconnected*/) {
           absl::MutexLock lock(&raw->mutex);
-          if (!reconnected || raw->mqtt == nullptr) return;
-          (void)raw->mqtt->Publish(topic("factsheet"),
-                                   vda::ToJson(raw->model->MakeFactsheet(clock.UnixMs())), 1, true);
-          (void)raw->mqtt->Publish(topic("connection"),
-                                   vda::ToJson(raw->model->MakeConnection(
-                                       vda::ConnectionState::kOnline, clock.UnixMs())),
-                                   1, true);
+          Announce(*raw, clock.UnixMs());  // not yet kept at the first connection: see below
         },
         10.0);
     if (!mqtt.ok()) {
@@ -146,18 +151,12 @@ int main(int argc, char** argv) {
                    std::string(mqtt.status().message()).c_str());
       return 1;
     }
-    (void)(*mqtt)->Subscribe(topic("order"), 1);
-    (void)(*mqtt)->Subscribe(topic("instantActions"), 1);
+    (void)(*mqtt)->Subscribe(prefix + "order", 1);
+    (void)(*mqtt)->Subscribe(prefix + "instantActions", 1);
     {
       absl::MutexLock lock(&vehicle->mutex);
       vehicle->mqtt = *std::move(mqtt);
-      // The factsheet first, so that a bridge has it when the vehicle says it is online.
-      (void)vehicle->mqtt->Publish(
-          topic("factsheet"), vda::ToJson(vehicle->model->MakeFactsheet(clock.UnixMs())), 1, true);
-      (void)vehicle->mqtt->Publish(topic("connection"),
-                                   vda::ToJson(vehicle->model->MakeConnection(
-                                       vda::ConnectionState::kOnline, clock.UnixMs())),
-                                   1, true);
+      Announce(*vehicle, clock.UnixMs());
     }
     fleet.push_back(std::move(vehicle));
   }
@@ -176,9 +175,6 @@ int main(int argc, char** argv) {
     const int64_t now_ms = clock.UnixMs();
     for (size_t i = 0; i < fleet.size(); ++i) {
       Vehicle& vehicle = *fleet[i];
-      const auto topic = [&](const char* name) {
-        return vda::TopicFor(interface_name, params.manufacturer, vehicle.serial, name);
-      };
       absl::MutexLock lock(&vehicle.mutex);
       const vda::VehicleStepEvents events = vehicle.model->Step(1.0 / step_hz, now_ms);
       if (events.first_motion) {
@@ -189,12 +185,12 @@ int main(int argc, char** argv) {
       }
       // Staggered over the vehicles, and at once on an event (§6.10).
       if (events.changed || (tick + static_cast<int64_t>(i)) % steps_per_state == 0) {
-        (void)vehicle.mqtt->Publish(topic("state"), vda::ToJson(vehicle.model->MakeState(now_ms)),
-                                    0, false);
+        (void)vehicle.mqtt->Publish(vehicle.topic_prefix + "state",
+                                    vda::ToJson(vehicle.model->MakeState(now_ms)), 0, false);
       }
       if (vehicle.factsheet_asked) {
         vehicle.factsheet_asked = false;
-        (void)vehicle.mqtt->Publish(topic("factsheet"),
+        (void)vehicle.mqtt->Publish(vehicle.topic_prefix + "factsheet",
                                     vda::ToJson(vehicle.model->MakeFactsheet(now_ms)), 1, true);
       }
       if (truth.is_open() && tick % steps_per_truth == 0) {
@@ -211,11 +207,14 @@ int main(int argc, char** argv) {
   for (std::unique_ptr<Vehicle>& vehicle : fleet) {
     absl::MutexLock lock(&vehicle->mutex);
     (void)vehicle->mqtt->Publish(
-        vda::TopicFor(interface_name, params.manufacturer, vehicle->serial, "connection"),
+        vehicle->topic_prefix + "connection",
         vda::ToJson(vehicle->model->MakeConnection(vda::ConnectionState::kOffline, clock.UnixMs())),
         1, true);
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  for (std::unique_ptr<Vehicle>& vehicle : fleet) vehicle->mqtt->Disconnect();
+  for (std::unique_ptr<Vehicle>& vehicle : fleet) {
+    absl::MutexLock lock(&vehicle->mutex);
+    vehicle->mqtt->Disconnect();
+  }
   return 0;
 }

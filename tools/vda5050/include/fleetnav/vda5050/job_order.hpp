@@ -53,9 +53,8 @@ class JobOrder {
   const std::string& order_id() const { return order_id_; }
   int action_count() const { return action_count_; }
   size_t node_count() const { return waypoints_.size(); }
-  /// The node index of a sequence id (nodes are even), the action it belongs to.
+  /// The node index of a node's sequence id (nodes are even).
   static size_t NodeIndex(uint32_t sequence_id) { return sequence_id / 2; }
-  const OrderWaypoint& waypoint(size_t node_index) const { return waypoints_.at(node_index); }
   /// The node where action `action_index` ends.
   size_t EndNodeOf(int action_index) const;
   std::string NodeId(size_t index) const;

@@ -55,9 +55,10 @@ struct BridgeCounters {
 /// the traffic clearances (JobOrder); cancel and pause go as `instantActions`. The vehicle's
 /// `state` becomes the robot's telemetry and job events (VehicleSession); `visualization`
 /// updates the pose between states. Malformed messages (JSON checks citing the specification),
-/// stale header ids and unknown vehicles are logged and left out, never fatal. After the broker
-/// comes back, every running order is sent again (a vehicle ignores an order it already holds,
-/// §6.6.4.3), so none is lost. Thread-safe.
+/// stale header ids and unknown vehicles are logged and left out, never fatal. Orders go with
+/// QoS 1 (kept by the MQTT client while the broker is away), and a vehicle that comes back
+/// ONLINE is sent its running order again (one that kept it ignores the copy, §6.6.4.3), so none
+/// is lost. Thread-safe.
 class VdaBridge {
  public:
   VdaBridge(BridgeParams params, std::shared_ptr<grpc::Channel> fleetnavd, const Clock* clock,
@@ -71,8 +72,6 @@ class VdaBridge {
   void Stop();
   /// Every MQTT message (the client's thread).
   void OnMessage(const std::string& topic, const std::string& payload);
-  /// The broker is back: send the running orders again.
-  void OnReconnected();
   BridgeCounters counters() const;
 
  private:
@@ -95,6 +94,8 @@ class VdaBridge {
   void MaybeRegister(Vehicle& vehicle) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   void Publish(Vehicle& vehicle, const std::string& topic, const std::string& payload)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// The bridge's header for `vehicle` with the next id of the topic `counter` counts (§6.4).
+  Header NextHeader(const Vehicle& vehicle, uint32_t* counter) const;
   void PublishOrder(Vehicle& vehicle, Order order) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   void PublishInstant(Vehicle& vehicle, Action action) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   void PumpOnce();

@@ -43,8 +43,6 @@ class VehicleSession {
   /// for another job or a clearance.
   std::optional<Action> Command(const JobCommand& command, const std::string& action_id,
                                 std::vector<JobEvent>* events);
-  /// Ends the current job without a word to the vehicle (it failed before it was sent).
-  void Abandon() { job_.reset(); }
 
   struct Outcome {
     Telemetry telemetry;
@@ -70,8 +68,10 @@ class VehicleSession {
     int finished_action = -1;  ///< the latest action reported finished
   };
   JobEvent Event(JobEventType type, int action_index, const std::string& reason) const;
-  /// Telemetry with the pose, the job and how far it got.
-  Telemetry BaseTelemetry(int64_t now_ns) const;
+  /// Takes the position (if any) as the vehicle's pose; telemetry with the pose, velocity,
+  /// localization and the job's current action.
+  Telemetry PositionTelemetry(const std::optional<AgvPosition>& position,
+                              const std::optional<Velocity>& velocity, int64_t now_ns);
 
   std::string robot_id_;
   std::map<std::string, uint32_t> last_header_ids_;

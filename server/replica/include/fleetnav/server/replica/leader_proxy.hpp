@@ -31,11 +31,9 @@ class LeaderProxy final : public grpc::CallbackGenericService {
 
   /// The leader at `epoch`, reached through `channel` (null: the leader is starting and cannot
   /// be reached yet). Calls relayed to a leader of an earlier epoch are cancelled.
-  void SetLeader(int64_t epoch, std::string description, std::shared_ptr<grpc::Channel> channel);
+  void SetLeader(int64_t epoch, std::shared_ptr<grpc::Channel> channel);
   /// Cancels every call in flight and refuses new ones (before the server shuts down).
   void Close();
-  /// Calls being relayed now.
-  size_t calls_in_flight() const;
 
   grpc::ServerGenericBidiReactor* CreateReactor(
       grpc::GenericCallbackServerContext* context) override;
@@ -44,9 +42,8 @@ class LeaderProxy final : public grpc::CallbackGenericService {
   friend class ProxiedCall;
   void Forget(ProxiedCall* call);
 
-  mutable absl::Mutex mutex_;
+  absl::Mutex mutex_;
   int64_t epoch_ ABSL_GUARDED_BY(mutex_) = 0;
-  std::string description_ ABSL_GUARDED_BY(mutex_);
   std::shared_ptr<grpc::GenericStub> stub_ ABSL_GUARDED_BY(mutex_);
   bool closed_ ABSL_GUARDED_BY(mutex_) = false;
   std::set<ProxiedCall*> calls_ ABSL_GUARDED_BY(mutex_);

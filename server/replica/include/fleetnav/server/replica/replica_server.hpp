@@ -61,8 +61,6 @@ class ReplicaServer {
   absl::StatusOr<int> Start();
   void Shutdown();
   const std::string& holder() const { return leadership_->holder(); }
-  /// The epoch this replica leads at, 0 while it follows.
-  int64_t leading_epoch() const { return leading_epoch_.load(); }
   std::string store_description() const { return lease_db_ ? lease_db_->Describe() : ""; }
 
  private:

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -21,6 +22,10 @@ struct SiteLeadershipParams {
   double renew_period_s = 0.5;
   /// How often the other replicas read the lease (to learn the leader, or to take over).
   double poll_period_s = 0.25;
+  /// The periods as fleetnavd sets them from its one flag: renew every TTL/4, read every TTL/8.
+  static SiteLeadershipParams ForTtl(std::string site, double lease_ttl_s) {
+    return {std::move(site), lease_ttl_s, lease_ttl_s / 4.0, lease_ttl_s / 8.0};
+  }
   absl::Status Validate() const;
 };
 
@@ -63,9 +68,15 @@ class SiteLeadership {
   const std::string& holder() const { return holder_; }
 
  private:
+  /// The epoch this replica won, and when the winning statement was sent.
+  struct Won {
+    int64_t epoch = 0;
+    int64_t sent_ns = 0;
+  };
   void Run();
-  /// One follower round: returns true when this replica was elected.
-  bool Follow(int64_t* seen_epoch, std::string* seen_address);
+  /// One follower round: reports a lease that differs from `seen` (and records it there), and
+  /// takes the lease when it is free or ran out.
+  std::optional<Won> Follow(storage::SiteLease* seen);
 
   storage::PgSiteLeases* leases_;
   const Clock* clock_;
