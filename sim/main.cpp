@@ -64,6 +64,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--control-period-s", params.simulation.control_period_s, "lockstep tick")
       ->capture_default_str();
+  app.add_flag("--kinematic-omni", params.simulation.kinematic_omni,
+               "move mecanum platforms kinematically (no wheels, casters or contact forces; "
+               "cheaper, for large fleets) instead of as physical ODE bodies");
   app.add_option("--real-time-factor", params.lockstep.real_time_factor,
                  "cap on sim/wall speed (0 = as fast as agents answer)")
       ->capture_default_str();

@@ -1,5 +1,6 @@
 #include "fleetnav/sim/ode_world.hpp"
 
+#include <cmath>
 #include <mutex>
 
 namespace fleetnav::sim {
@@ -73,6 +74,7 @@ GeomTag* OdeWorld::MakeTag(GeomRole role, int robot_index) {
 
 void OdeWorld::Step(double step_s) {
   contacts_.clear();
+  step_s_ = step_s;
   dSpaceCollide(space_, this, &OdeWorld::NearCallback);
   dRandSetSeed(static_cast<unsigned long>(SplitMix64(&rng_state_)));
   // The exact (Dantzig LCP) step, not dWorldQuickStep: the iterative solver leaves part of the
@@ -80,6 +82,42 @@ void OdeWorld::Step(double step_s) {
   // backwards at ~1.3 mm/s. A few bodies per robot keep the exact step cheap.
   dWorldStep(world_, step_s);
   dJointGroupEmpty(contact_group_);
+}
+
+void OdeWorld::ApplyWheelContact(const GeomTag& wheel, bool wheel_first, dContact* contact) const {
+  dSurfaceParameters& surface = contact->surface;
+  const DirectionalFriction& friction = wheel.friction;
+  if (friction.frame != nullptr) {
+    dVector3 axis;
+    dBodyVectorToWorld(friction.frame, friction.axis_x, friction.axis_y, 0.0, axis);
+    const dReal* n = contact->geom.normal;
+    const double along_normal = axis[0] * n[0] + axis[1] * n[1] + axis[2] * n[2];
+    double d[3] = {axis[0] - along_normal * n[0], axis[1] - along_normal * n[1],
+                   axis[2] - along_normal * n[2]};
+    const double norm = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (norm > 1e-9) {
+      surface.mode |= dContactMu2 | dContactFDir1;
+      for (int k = 0; k < 3; ++k) contact->fdir1[k] = d[k] / norm;
+      surface.mu = friction.mu_along;
+      surface.mu2 = friction.mu_across;
+      if (friction.surface_speed_mps != 0.0) {
+        surface.mode |= dContactMotion1;
+        // motion1 is the first body's surface speed relative to the second's.
+        surface.motion1 = wheel_first ? friction.surface_speed_mps : -friction.surface_speed_mps;
+      }
+      if (friction.creep_mps_per_n > 0.0) {
+        surface.mode |= dContactSlip1;
+        surface.slip1 = friction.creep_mps_per_n;
+      }
+    }
+  }
+  if (wheel.contact_spring_npm > 0.0) {
+    // ODE's spring-damper contact: ERP = h k / (h k + c), CFM = 1 / (h k + c).
+    const double hk = step_s_ * wheel.contact_spring_npm;
+    const double denominator = hk + wheel.contact_damper_nspm;
+    surface.soft_erp = hk / denominator;
+    surface.soft_cfm = 1.0 / denominator;
+  }
 }
 
 void OdeWorld::NearCallback(void* data, dGeomID a, dGeomID b) {
@@ -114,6 +152,11 @@ void OdeWorld::HandlePair(dGeomID a, dGeomID b) {
   double mu = 0.4;
   if (caster) mu = 0.0;  // a swivel caster carries load but resists no direction
   if (wheel) mu = 1.0;
+  // A wheel on the floor may grip differently by direction, and may be sprung.
+  const GeomTag* floor_wheel = nullptr;
+  if (tag_b->role == GeomRole::kGround) floor_wheel = tag_a;
+  if (tag_a->role == GeomRole::kGround) floor_wheel = tag_b;
+  const bool wheel_first = floor_wheel == tag_a;
 
   for (int i = 0; i < count; ++i) {
     dSurfaceParameters& surface = contacts[i].surface;
@@ -121,6 +164,7 @@ void OdeWorld::HandlePair(dGeomID a, dGeomID b) {
     surface.mu = mu;
     surface.soft_cfm = 1e-6;
     surface.soft_erp = 0.3;
+    if (floor_wheel != nullptr) ApplyWheelContact(*floor_wheel, wheel_first, &contacts[i]);
     dJointID joint = dJointCreateContact(world_, contact_group_, &contacts[i]);
     dJointAttach(joint, dGeomGetBody(a), dGeomGetBody(b));
   }

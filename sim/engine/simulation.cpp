@@ -43,6 +43,9 @@ absl::Status SimulationParams::Validate() const {
     return absl::InvalidArgumentError("control_period_s: must be a whole number of physics steps");
   }
   if (absl::Status s = battery.Validate(); !s.ok()) return s;
+  if (absl::Status s = mecanum.Validate(); !s.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("mecanum.", s.message()));
+  }
   return absl::OkStatus();
 }
 
@@ -124,10 +127,12 @@ absl::Status Simulation::CreateRobot(const std::string& robot_id, const std::str
   const int index = static_cast<int>(robots_.size());
   if (model.kinematics == Kinematics::kDifferential) {
     robot.body = std::make_unique<DiffDriveRobot>(world_.get(), index, model, pose);
+  } else if (model.kinematics == Kinematics::kOmnidirectional && !params_.kinematic_omni) {
+    robot.body = std::make_unique<MecanumRobot>(world_.get(), index, model, pose,
+                                                NoiseSeed(params_.seed, robot_id, "caster_swivel"),
+                                                params_.mecanum);
   } else {
-    auto body = std::make_unique<KinematicRobot>(world_.get(), index, model, pose,
-                                                 NoiseSeed(params_.seed, robot_id, "caster_flip"),
-                                                 params_.caster_flip);
+    auto body = std::make_unique<KinematicRobot>(world_.get(), index, model, pose);
     robot.kinematic = body.get();
     robot.body = std::move(body);
   }
@@ -146,6 +151,11 @@ std::vector<std::string> Simulation::robot_ids() const {
   std::vector<std::string> ids;
   for (const SimRobot& robot : robots_) ids.push_back(robot.robot_id);
   return ids;
+}
+
+const RobotBody* Simulation::BodyOf(const std::string& robot_id) const {
+  auto it = index_.find(robot_id);
+  return it == index_.end() ? nullptr : robots_[it->second].body.get();
 }
 
 absl::StatusOr<RobotModel> Simulation::ModelOf(const std::string& robot_id) const {

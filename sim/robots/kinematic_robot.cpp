@@ -6,7 +6,6 @@
 namespace fleetnav::sim {
 namespace {
 
-constexpr double kStoppedSpeedMps = 0.01;
 constexpr double kGroundClearanceM = 0.02;
 
 struct Extent {
@@ -34,24 +33,9 @@ Pose2 Integrate(const Pose2& pose, double vx, double vy, double yaw_rate, double
 
 }  // namespace
 
-MecanumWheelRates MecanumInverse(const RobotModel& model, const Twist2& twist) {
-  const double k = 0.5 * (model.wheelbase_m + model.track_m);  // T_X + T_Y
-  const double r = model.wheel_radius_m;
-  const double w = twist.yaw_rate_radps;
-  return {(twist.vx_mps - twist.vy_mps - k * w) / r, (twist.vx_mps + twist.vy_mps + k * w) / r,
-          (twist.vx_mps + twist.vy_mps - k * w) / r, (twist.vx_mps - twist.vy_mps + k * w) / r};
-}
-
-Twist2 MecanumForward(const RobotModel& model, const MecanumWheelRates& q) {
-  const double k = 0.5 * (model.wheelbase_m + model.track_m);
-  const double r = model.wheel_radius_m;
-  return Twist2{0.25 * r * (q[0] + q[1] + q[2] + q[3]), 0.25 * r * (-q[0] + q[1] + q[2] - q[3]),
-                0.25 * r / k * (-q[0] + q[1] - q[2] + q[3])};
-}
-
 KinematicRobot::KinematicRobot(OdeWorld* world, int robot_index, const RobotModel& model,
-                               const Pose2& start, uint64_t caster_seed, CasterFlipParams caster)
-    : model_(model), caster_(caster), caster_noise_(caster_seed), pose_(start) {
+                               const Pose2& start)
+    : model_(model), pose_(start) {
   const Extent box = FootprintBox(model);
   body_ = dBodyCreate(world->world());
   dBodySetKinematic(body_);
@@ -116,7 +100,6 @@ double KinematicRobot::Approach(double current, double target, double max_step) 
 Pose2 KinematicRobot::Propose(double dt, double traction) {
   const MotionLimits& limits = model_.limits;
   proposed_wheels_ = wheel_angles_;
-  proposed_pending_loss_m_ = pending_loss_m_;
   if (model_.kinematics == Kinematics::kOmnidirectional) {
     Twist2 v;
     v.vx_mps = Approach(command_velocity_.vx_mps, target_.vx_mps, limits.max_accel_mps2 * dt);
@@ -127,28 +110,8 @@ Pose2 KinematicRobot::Propose(double dt, double traction) {
     const MecanumWheelRates rates = MecanumInverse(model_, v);
     for (size_t i = 0; i < 4; ++i) proposed_wheels_[i] += rates[i] * dt;
 
-    // Caster flip: a restart in (nearly) the opposite direction loses some travel.
-    const Eigen::Vector2d translation(v.vx_mps, v.vy_mps);
-    const double speed = translation.norm();
-    double scale = traction;
-    if (speed < kStoppedSpeedMps) {
-      stopped_ = true;
-    } else {
-      const Eigen::Vector2d direction = translation / speed;
-      if (stopped_ && last_direction_.squaredNorm() > 0.0 &&
-          direction.dot(last_direction_) < -std::cos(caster_.reversal_tolerance_rad)) {
-        proposed_pending_loss_m_ +=
-            std::max(0.0, caster_.mean_loss_m + caster_noise_.Gaussian(caster_.stddev_loss_m));
-        ++caster_flips_;
-      }
-      stopped_ = false;
-      last_direction_ = direction;
-      const double travel = speed * dt * traction;
-      const double absorbed = std::min(proposed_pending_loss_m_, travel);
-      proposed_pending_loss_m_ -= absorbed;
-      scale = travel > 0.0 ? traction * (travel - absorbed) / travel : traction;
-    }
-    proposed_velocity_ = Twist2{scale * v.vx_mps, scale * v.vy_mps, traction * v.yaw_rate_radps};
+    proposed_velocity_ =
+        Twist2{traction * v.vx_mps, traction * v.vy_mps, traction * v.yaw_rate_radps};
     proposed_pose_ = Integrate(pose_, proposed_velocity_.vx_mps, proposed_velocity_.vy_mps,
                                proposed_velocity_.yaw_rate_radps, dt);
     return proposed_pose_;
@@ -175,7 +138,6 @@ void KinematicRobot::Commit(bool blocked) {
     command_velocity_ = Twist2{};
     speed_mps_ = 0.0;
     steering_rad_ = proposed_steering_rad_;
-    stopped_ = true;
   } else {
     pose_ = proposed_pose_;
     velocity_ = proposed_velocity_;
@@ -183,7 +145,6 @@ void KinematicRobot::Commit(bool blocked) {
     wheel_angles_ = proposed_wheels_;
     steering_rad_ = proposed_steering_rad_;
     speed_mps_ = proposed_speed_mps_;
-    pending_loss_m_ = proposed_pending_loss_m_;
   }
   PlaceBody();
 }

@@ -286,7 +286,9 @@ TEST_F(LockstepTest, ResetReissuesTickZeroAndIgnoresTheStaleAnswer) {
 }
 
 TEST(PhysicalMeetsKinematicTest, LelyDrivingIntoAParkedPlatformIsStoppedAndReported) {
-  std::unique_ptr<Simulation> sim = MakeSimulation(6);
+  SimulationParams kinematic;
+  kinematic.kinematic_omni = true;
+  std::unique_ptr<Simulation> sim = MakeSimulation(6, kinematic);
   ASSERT_TRUE(sim->AddRobot("lely", "lely-vector", Pose2(0, 0, 0)).ok());
   ASSERT_TRUE(sim->AddRobot("omni", "mecanum-platform", Pose2(3.0, 0, 0)).ok());
   ASSERT_TRUE(sim->Command("lely", TwistCommand(0.3, 0.0)).ok());
@@ -302,6 +304,24 @@ TEST(PhysicalMeetsKinematicTest, LelyDrivingIntoAParkedPlatformIsStoppedAndRepor
   }
   EXPECT_TRUE(reported);
   EXPECT_TRUE(sim->Sense("lely")->bumper);
+}
+
+TEST(PhysicalMeetsKinematicTest, LelyDrivingIntoAPhysicalPlatformPushesItAndIsReported) {
+  std::unique_ptr<Simulation> sim = MakeSimulation(6);
+  ASSERT_TRUE(sim->AddRobot("lely", "lely-vector", Pose2(0, 0, 0)).ok());
+  ASSERT_TRUE(sim->AddRobot("omni", "mecanum-platform", Pose2(3.0, 0, 0)).ok());
+  ASSERT_TRUE(sim->Command("lely", TwistCommand(0.3, 0.0)).ok());
+  for (int i = 0; i < 500; ++i) sim->Advance();
+  const GroundTruthSnapshot truth = sim->GroundTruth();
+  // 1485 kg against 60 kg standing on its wheels' grip: the platform is shoved along.
+  EXPECT_GT(truth.robots[1].pose.x_m(), 3.5);
+  EXPECT_GT(truth.robots[0].up_z, 0.95);
+  EXPECT_GT(truth.robots[1].up_z, 0.9);
+  bool reported = false;
+  for (const SimContact& contact : truth.contacts) {
+    reported |= contact.robot_id == "lely" && contact.other == "omni";
+  }
+  EXPECT_TRUE(reported);
 }
 
 }  // namespace

@@ -6,30 +6,11 @@
 #include <cstdint>
 #include <string>
 
-#include "fleetnav/sim/noise.hpp"
+#include "fleetnav/sim/mecanum_kinematics.hpp"
 #include "fleetnav/sim/ode_world.hpp"
 #include "fleetnav/sim/robot_body.hpp"
 
 namespace fleetnav::sim {
-
-/// Wheel angular velocities of a mecanum platform, front-left, front-right, rear-left,
-/// rear-right (rad/s, forward rolling positive).
-using MecanumWheelRates = std::array<double, 4>;
-
-/// Mecanum inverse kinematics (KUKA thesis eq. 4.5–4.8 with T_X = wheelbase/2, T_Y = track/2,
-/// rollers at 45°): the wheel rates that produce a body twist.
-MecanumWheelRates MecanumInverse(const RobotModel& model, const Twist2& twist);
-/// Mecanum forward kinematics (the thesis's pseudo-inverse, eq. 4.15–4.17).
-Twist2 MecanumForward(const RobotModel& model, const MecanumWheelRates& rates);
-
-/// Disturbance of a platform whose casters flip when its direction of travel reverses (KUKA
-/// thesis Table 9.1: about 2 cm lost per 180° reversal, σ 0.83 cm).
-struct CasterFlipParams {
-  double mean_loss_m = 0.02;
-  double stddev_loss_m = 0.0083;
-  /// A reversal is a restart within this angle of the opposite of the last direction.
-  double reversal_tolerance_rad = 0.5;
-};
 
 /// A robot moved kinematically: the omni platform (mecanum) and the Ackermann delivery robot
 /// (bicycle model with steering angle and rate limits). Commands are clamped to the model's
@@ -39,8 +20,7 @@ struct CasterFlipParams {
 /// commits or blocks it (Commit). Not thread-safe.
 class KinematicRobot final : public RobotBody {
  public:
-  KinematicRobot(OdeWorld* world, int robot_index, const RobotModel& model, const Pose2& start,
-                 uint64_t caster_seed, CasterFlipParams caster = {});
+  KinematicRobot(OdeWorld* world, int robot_index, const RobotModel& model, const Pose2& start);
 
   absl::Status SetDrive(const DriveCommand& drive, double scale) override;
   void AfterStep(double, double) override {}
@@ -57,20 +37,17 @@ class KinematicRobot final : public RobotBody {
   std::vector<WheelAngle> WheelAngles() const override;
   bool physical() const override { return false; }
   double steering_rad() const { return steering_rad_; }
-  int caster_flips() const { return caster_flips_; }
 
  private:
   void PlaceBody();
   double Approach(double current, double target, double max_step) const;
 
   RobotModel model_;
-  CasterFlipParams caster_;
-  NoiseStream caster_noise_;
   dBodyID body_ = nullptr;
   Pose2 pose_;
   Twist2 velocity_;                   ///< actual body twist (ground)
   Twist2 target_;                     ///< omni: commanded twist
-  Twist2 command_velocity_;           ///< omni: the twist the wheels drive (before slip and caster)
+  Twist2 command_velocity_;           ///< omni: the twist the wheels drive (before slip)
   double target_speed_mps_ = 0.0;     ///< Ackermann
   double target_steering_rad_ = 0.0;  ///< Ackermann
   double steering_rad_ = 0.0;
@@ -83,12 +60,6 @@ class KinematicRobot final : public RobotBody {
   std::array<double, 4> proposed_wheels_{};
   double proposed_steering_rad_ = 0.0;
   double proposed_speed_mps_ = 0.0;
-  double proposed_pending_loss_m_ = 0.0;
-  // Caster flip state (omni).
-  Eigen::Vector2d last_direction_ = Eigen::Vector2d::Zero();
-  bool stopped_ = true;
-  double pending_loss_m_ = 0.0;
-  int caster_flips_ = 0;
 };
 
 }  // namespace fleetnav::sim

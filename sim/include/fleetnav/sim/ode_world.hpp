@@ -15,9 +15,33 @@ namespace fleetnav::sim {
 /// What a geom is, for contact parameters (friction per pair) and contact reports.
 enum class GeomRole : uint8_t { kGround, kStatic, kChassis, kWheel, kCaster };
 
+/// Friction of a wheel's floor contact that differs by direction: a mecanum wheel's roller
+/// turns freely across its axle and grips along it; a caster wheel rolls along its plane and
+/// grips across it. `axis_*` is the gripping direction in the frame of `frame` (the body the
+/// direction turns with), `mu_along` the friction along it and `mu_across` across it (ODE's
+/// fdir1, mu and mu2).
+struct DirectionalFriction {
+  dBodyID frame = nullptr;  ///< nullptr: isotropic friction
+  double axis_x = 1.0;
+  double axis_y = 0.0;
+  double mu_along = 1.0;
+  double mu_across = 0.0;
+  /// Creep along the gripping direction: slip speed per newton of force (ODE's
+  /// force-dependent slip, the usual tyre model); 0 = none.
+  double creep_mps_per_n = 0.0;
+  /// Speed of the wheel's surface along the gripping direction (ODE's motion1): a driven wheel
+  /// modelled as a contact of its carrier rather than a body of its own.
+  double surface_speed_mps = 0.0;
+};
+
 struct GeomTag {
   GeomRole role = GeomRole::kStatic;
   int robot_index = -1;  ///< for robot geoms
+  DirectionalFriction friction;
+  /// A sprung floor contact (a suspended wheel): spring and damper of the contact's
+  /// penetration; 0 uses the world's stiff contact.
+  double contact_spring_npm = 0.0;
+  double contact_damper_nspm = 0.0;
 };
 
 /// A contact between a robot's chassis and something else seen in the last step.
@@ -54,10 +78,13 @@ class OdeWorld {
  private:
   static void NearCallback(void* data, dGeomID a, dGeomID b);
   void HandlePair(dGeomID a, dGeomID b);
+  /// Directional friction and springiness of a wheel's contact with the floor.
+  void ApplyWheelContact(const GeomTag& wheel, bool wheel_first, dContact* contact) const;
 
   dWorldID world_ = nullptr;
   dSpaceID space_ = nullptr;
   dJointGroupID contact_group_ = nullptr;
+  double step_s_ = 0.002;  ///< of the step being taken (sprung contacts need it)
   std::deque<GeomTag> tags_;
   std::vector<ContactEvent> contacts_;
   std::vector<dGeomID> statics_;

@@ -13,6 +13,7 @@
 #include "fleetnav/sim/diff_drive_robot.hpp"
 #include "fleetnav/sim/exteroceptive_sensors.hpp"
 #include "fleetnav/sim/kinematic_robot.hpp"
+#include "fleetnav/sim/mecanum_robot.hpp"
 #include "fleetnav/sim/ode_world.hpp"
 #include "fleetnav/sim/proprioceptive_sensors.hpp"
 #include "fleetnav/sim/robot_body.hpp"
@@ -36,7 +37,10 @@ struct SimulationParams {
   uint64_t seed = 1;
   ProprioceptiveParams sensors;
   ExteroceptiveParams exteroceptive;
-  CasterFlipParams caster_flip;
+  /// Omnidirectional robots as kinematic bodies (no wheel slip, casters or contact forces;
+  /// cheaper, for large fleets) instead of the physical MecanumRobot.
+  bool kinematic_omni = false;
+  MecanumBodyParams mecanum;
   BatteryParams battery;
   /// Checks positive steps and that the control period is a whole number of physics steps.
   absl::Status Validate() const;
@@ -93,6 +97,8 @@ class Simulation {
   absl::Status AddRobot(const std::string& robot_id, const std::string& kind_name,
                         const Pose2& pose);
   std::vector<std::string> robot_ids() const;
+  /// The body of robot `robot_id` (for tests and tools that inspect the physics), or nullptr.
+  const RobotBody* BodyOf(const std::string& robot_id) const;
   absl::StatusOr<RobotModel> ModelOf(const std::string& robot_id) const;
 
   /// The sensor frame of a robot for the current tick.
