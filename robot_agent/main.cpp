@@ -86,6 +86,10 @@ int main(int argc, char** argv) {
   app.add_option("--particles", particles, "AMCL particles at most (with --map)")
       ->capture_default_str();
   app.add_option("--seed", seed, "seed of the particle filter")->capture_default_str();
+  bool no_augmentation = false;
+  app.add_flag("--no-endpoint-augmentation", no_augmentation,
+               "move actions that reverse the direction of travel turn back on the spot instead "
+               "of bending round (the KUKA thesis's baseline without end-point augmentation)");
   app.add_flag("--ignore-markers", ignore_markers,
                "plain AMCL: do not calibrate on stripe markers (the SAMCL baseline)");
   app.add_option("--max-jobs", params.max_jobs,
@@ -118,6 +122,7 @@ int main(int argc, char** argv) {
   if (!start.IsFinite()) return Fail("--initial-pose: must be finite");
   params.telemetry_period_s = telemetry_hz > 0 ? 1.0 / telemetry_hz : 0.0;
   params.exit_when_done = route.has_value();
+  params.modes.move.augment_endpoints = !no_augmentation;
 
   fleetnav::agent::RouteContext context{*model, std::nullopt, nullptr};
   if (!markers_path.empty()) {

@@ -89,9 +89,13 @@ int main(int argc, char** argv) {
                  "CSV of robot_id,truth|estimate,x,y to draw with --render");
   app.add_option("--render-px-per-m", render_scale, "scale of --render")->capture_default_str();
   std::string record_path;
+  double record_hz = 10.0;
   app.add_option("--record-truth", record_path,
-                 "append every robot's true position at 10 Hz of sim time to this CSV "
+                 "append every robot's true position at --record-truth-hz of sim time to this CSV "
                  "(robot_id,truth,x,y,t_s: the --trajectories format)");
+  app.add_option("--record-truth-hz", record_hz, "rate of --record-truth (at most the tick rate)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
   absl::StatusOr<fleetnav::sim::WorldDescription> world = fleetnav::sim::LoadWorld(world_path);
@@ -137,8 +141,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (!record_path.empty()) {
-    const int every_ticks =
-        std::max(1, static_cast<int>(std::lround(0.1 / params.simulation.control_period_s)));
+    const int every_ticks = std::max(
+        1, static_cast<int>(std::lround(1.0 / record_hz / params.simulation.control_period_s)));
     server.lockstep().SetTickObserver([&record, every_ticks](const fleetnav::sim::Simulation& sim) {
       if (sim.tick() % static_cast<uint64_t>(every_ticks) != 0) return;
       const fleetnav::sim::GroundTruthSnapshot truth = sim.GroundTruth();

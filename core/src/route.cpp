@@ -41,6 +41,16 @@ class ActionValidator {
     return EndIsOneOf({EndConditionKind::kDistance, EndConditionKind::kMarkerDetected});
   }
 
+  absl::Status operator()(const MoveAction& move) const {
+    if (!std::isfinite(move.dx_m) || !std::isfinite(move.dy_m) ||
+        std::hypot(move.dx_m, move.dy_m) < 1e-3) {
+      return Error(absl::StrFormat("dx_m, dy_m must be finite and move at least 1 mm, got (%g, %g)",
+                                   move.dx_m, move.dy_m));
+    }
+    if (absl::Status status = Positive(move.speed_mps, "speed_mps"); !status.ok()) return status;
+    return EndIsOneOf({EndConditionKind::kDistance});
+  }
+
   absl::Status operator()(const FreeNavigationAction& navigation) const {
     for (size_t i = 0; i < navigation.waypoints_m.size(); ++i) {
       if (!navigation.waypoints_m[i].allFinite()) {
@@ -165,6 +175,7 @@ std::string_view ActionTypeName(const ActionParams& params) {
   struct Namer {
     std::string_view operator()(const TurnAction&) const { return "turn"; }
     std::string_view operator()(const StraightAction&) const { return "straight"; }
+    std::string_view operator()(const MoveAction&) const { return "move"; }
     std::string_view operator()(const FreeNavigationAction&) const { return "free_navigation"; }
     std::string_view operator()(const FenceNavigationAction&) const { return "fence_navigation"; }
     std::string_view operator()(const StripeNavigationAction&) const { return "stripe_navigation"; }

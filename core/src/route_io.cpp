@@ -20,8 +20,8 @@ namespace {
 using internal::AsDouble;
 using internal::FormatDouble;
 
-constexpr std::array<absl::string_view, 6> kActionTypes = {
-    "turn", "straight", "free_navigation", "fence_navigation", "stripe_navigation", "dock"};
+constexpr std::array<absl::string_view, 7> kActionTypes = {
+    "turn", "straight", "free_navigation", "fence_navigation", "stripe_navigation", "dock", "move"};
 constexpr char kUntilKey[] = "until";
 
 bool IsActionType(absl::string_view key) {
@@ -87,6 +87,15 @@ absl::StatusOr<StraightAction> ParseStraight(const YAML::Node& node, const std::
   ASSIGN_OR_RETURN(straight.distance_m, RequiredDouble(node, "distance", where));
   RETURN_IF_ERROR(OptionalDouble(node, "speed", where, straight.speed_mps));
   return straight;
+}
+
+absl::StatusOr<MoveAction> ParseMove(const YAML::Node& node, const std::string& where) {
+  RETURN_IF_ERROR(internal::CheckKnownKeys(node, {"dx", "dy", "speed"}, where));
+  MoveAction move;
+  RETURN_IF_ERROR(OptionalDouble(node, "dx", where, move.dx_m));
+  RETURN_IF_ERROR(OptionalDouble(node, "dy", where, move.dy_m));
+  RETURN_IF_ERROR(OptionalDouble(node, "speed", where, move.speed_mps));
+  return move;
 }
 
 absl::StatusOr<std::vector<Eigen::Vector2d>> ParseWaypoints(const YAML::Node& node,
@@ -202,6 +211,7 @@ absl::StatusOr<ActionParams> ParseParams(std::string_view type, const YAML::Node
   if (type == "free_navigation") return ParseFreeNavigation(node, where);
   if (type == "fence_navigation") return ParseFenceNavigation(node, where);
   if (type == "stripe_navigation") return ParseStripeNavigation(node, where);
+  if (type == "move") return ParseMove(node, where);
   return ParseDock(node, where);
 }
 
@@ -327,6 +337,10 @@ struct ParamsWriter {
   std::string operator()(const StraightAction& straight) const {
     return absl::StrCat("straight: {distance: ", FormatDouble(straight.distance_m),
                         ", speed: ", FormatDouble(straight.speed_mps), "}");
+  }
+  std::string operator()(const MoveAction& move) const {
+    return absl::StrCat("move: {dx: ", FormatDouble(move.dx_m), ", dy: ", FormatDouble(move.dy_m),
+                        ", speed: ", FormatDouble(move.speed_mps), "}");
   }
   std::string operator()(const FreeNavigationAction& navigation) const {
     std::string text = "free_navigation: {";

@@ -55,6 +55,11 @@ struct ParamsToProto {
     out->mutable_straight()->set_distance_m(a.distance_m);
     out->mutable_straight()->set_speed_mps(a.speed_mps);
   }
+  void operator()(const MoveAction& a) const {
+    out->mutable_move()->set_dx_m(a.dx_m);
+    out->mutable_move()->set_dy_m(a.dy_m);
+    out->mutable_move()->set_speed_mps(a.speed_mps);
+  }
   void operator()(const FreeNavigationAction& a) const {
     v1::FreeNavigationAction* wire = out->mutable_free_navigation();
     for (const Eigen::Vector2d& waypoint : a.waypoints_m)
@@ -90,6 +95,8 @@ absl::StatusOr<ActionParams> ParamsFromProto(const v1::RouteAction& wire,
       return TurnAction{wire.turn().angle_rad(), wire.turn().yaw_rate_radps()};
     case v1::RouteAction::kStraight:
       return StraightAction{wire.straight().distance_m(), wire.straight().speed_mps()};
+    case v1::RouteAction::kMove:
+      return MoveAction{wire.move().dx_m(), wire.move().dy_m(), wire.move().speed_mps()};
     case v1::RouteAction::kFreeNavigation: {
       FreeNavigationAction action;
       const v1::FreeNavigationAction& nav = wire.free_navigation();

@@ -64,6 +64,10 @@ std::optional<RouteAction> RemainderOf(const RouteAction& action, double fractio
   } else if (auto* straight = std::get_if<StraightAction>(&left.params)) {
     straight->distance_m *= 1.0 - done;
     if (std::abs(straight->distance_m) < kLeftoverDistanceM) return std::nullopt;
+  } else if (auto* move = std::get_if<MoveAction>(&left.params)) {
+    move->dx_m *= 1.0 - done;
+    move->dy_m *= 1.0 - done;
+    if (std::hypot(move->dx_m, move->dy_m) < kLeftoverDistanceM) return std::nullopt;
   } else if (auto* fence = std::get_if<FenceNavigationAction>(&left.params)) {
     const std::optional<double> d = LegDistanceLeft(fence->distance_m, done, left.end.kind);
     if (!d) return std::nullopt;

@@ -105,6 +105,11 @@ absl::Status CheckAction(const RouteAction& action, int index, const RouteContex
       return refuse(std::string(s.message()));
     }
   }
+  if (std::holds_alternative<MoveAction>(action.params) &&
+      context.model.kinematics != Kinematics::kOmnidirectional) {
+    return refuse(absl::StrCat(context.model.kind_name,
+                               " cannot translate sideways: move is for omnidirectional robots"));
+  }
   if (std::holds_alternative<TurnAction>(action.params) &&
       context.model.kinematics == Kinematics::kAckermann) {
     return refuse(
@@ -146,6 +151,7 @@ absl::Status ModeParams::Validate() const {
   if (absl::Status s = fence.Validate(); !s.ok()) return s;
   if (absl::Status s = stripe.Validate(); !s.ok()) return s;
   if (absl::Status s = docking.Validate(); !s.ok()) return s;
+  if (absl::Status s = move.Validate(); !s.ok()) return s;
   return free_navigation.Validate();
 }
 
@@ -161,6 +167,7 @@ std::vector<std::string> SupportedActionTypes(const RobotModel& model) {
     types.push_back("dock");
   }
   if (FreeNavigationSupported(model)) types.push_back("free_navigation");
+  if (model.kinematics == Kinematics::kOmnidirectional) types.push_back("move");
   return types;
 }
 
@@ -177,8 +184,21 @@ absl::Status CheckRoute(const Route& route, const RouteContext& context, const M
 absl::StatusOr<std::unique_ptr<MotionController>> MakeController(const RouteAction& action,
                                                                  int index,
                                                                  const RouteContext& context,
-                                                                 const ModeParams& params) {
+                                                                 const ModeParams& params,
+                                                                 const RouteAction* previous) {
   if (absl::Status s = CheckAction(action, index, context, params); !s.ok()) return s;
+  if (const auto* move = std::get_if<MoveAction>(&action.params)) {
+    // The direction the platform last travelled in, in its frame (heading held by moves).
+    std::optional<Eigen::Vector2d> entry;
+    if (previous != nullptr) {
+      if (const auto* before = std::get_if<MoveAction>(&previous->params)) {
+        entry = Eigen::Vector2d(before->dx_m, before->dy_m);
+      } else if (std::holds_alternative<StraightAction>(previous->params)) {
+        entry = Eigen::Vector2d(1.0, 0.0);
+      }
+    }
+    return std::make_unique<MoveController>(*move, entry, context.model, params.move);
+  }
   if (const auto* straight = std::get_if<StraightAction>(&action.params)) {
     return std::make_unique<StraightController>(straight->distance_m, straight->speed_mps,
                                                 params.profile, params.heading);

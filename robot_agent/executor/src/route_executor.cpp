@@ -27,7 +27,8 @@ RouteExecutor::RouteExecutor(Route route, RouteContext context, ModeParams param
 absl::Status RouteExecutor::StartAction(int index) {
   index_ = index;
   absl::StatusOr<std::unique_ptr<MotionController>> controller =
-      MakeController(route_.actions[index], index, context_, params_);
+      MakeController(route_.actions[index], index, context_, params_,
+                     index > 0 ? &route_.actions[index - 1] : nullptr);
   if (!controller.ok()) return controller.status();
   controller_ = *std::move(controller);
   return absl::OkStatus();

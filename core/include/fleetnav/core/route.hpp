@@ -56,6 +56,14 @@ struct StripeNavigationAction {
   double distance_m = 0.0;
   double speed_mps = 0.25;
 };
+/// Translate by (dx_m, dy_m) in the robot's frame at the action's start, holding that heading:
+/// an omnidirectional platform's sideways moves and reversals (KUKA thesis ch. 9). Only robots
+/// that can translate sideways run it.
+struct MoveAction {
+  double dx_m = 0.0;
+  double dy_m = 0.0;
+  double speed_mps = 0.25;
+};
 enum class DockTarget { kCharger, kTrolley };
 /// Dock at the charger or under a trolley.
 struct DockAction {
@@ -63,8 +71,9 @@ struct DockAction {
   std::string target_id;
 };
 
-using ActionParams = std::variant<TurnAction, StraightAction, FreeNavigationAction,
-                                  FenceNavigationAction, StripeNavigationAction, DockAction>;
+using ActionParams =
+    std::variant<TurnAction, StraightAction, FreeNavigationAction, FenceNavigationAction,
+                 StripeNavigationAction, DockAction, MoveAction>;
 
 /// One step of a route with its end condition.
 struct RouteAction {
@@ -112,6 +121,7 @@ absl::StatusOr<EndConditionKind> ParseEndConditionKind(std::string_view name);
 ///     - stripe_navigation: {stripe: 3, distance: 12}
 ///       until: stripe_end
 ///     - dock: {target: charger}
+///     - move: {dx: 0, dy: 1.0, speed: 0.2}  # sideways, heading held (omnidirectional robots)
 /// Unknown action types and unknown keys are InvalidArgument naming the index.
 absl::StatusOr<Route> ParseRouteYaml(std::string_view yaml_text);
 std::string RouteToYaml(const Route& route);

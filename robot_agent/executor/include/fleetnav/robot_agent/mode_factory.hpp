@@ -15,6 +15,7 @@
 #include "fleetnav/robot_agent/free_navigation_controller.hpp"
 #include "fleetnav/robot_agent/motion_controller.hpp"
 #include "fleetnav/robot_agent/motion_controllers.hpp"
+#include "fleetnav/robot_agent/move_controller.hpp"
 
 namespace fleetnav::agent {
 
@@ -26,6 +27,7 @@ struct ModeParams {
   StripeFollowingParams stripe;
   ChargerDockingParams docking;
   FreeNavigationParams free_navigation;
+  MoveParams move;
   absl::Status Validate() const;
 };
 
@@ -50,9 +52,10 @@ absl::Status CheckRoute(const Route& route, const RouteContext& context,
                         const ModeParams& params = {});
 
 /// The controller of one action (the mode of Fig. 6.12), or FailedPrecondition naming the index.
-absl::StatusOr<std::unique_ptr<MotionController>> MakeController(const RouteAction& action,
-                                                                 int index,
-                                                                 const RouteContext& context,
-                                                                 const ModeParams& params);
+/// `previous` is the action before it in the route, if any (a move continues from the
+/// direction the one before it travelled in).
+absl::StatusOr<std::unique_ptr<MotionController>> MakeController(
+    const RouteAction& action, int index, const RouteContext& context, const ModeParams& params,
+    const RouteAction* previous = nullptr);
 
 }  // namespace fleetnav::agent
