@@ -8,12 +8,14 @@
 #include <grpcpp/create_channel.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/Core>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
+#include "absl/strings/str_split.h"
 #include "fleetnav/scenario/child_process.hpp"
 #include "fleetnav/v1/sim_service.grpc.pb.h"
 
@@ -55,7 +57,10 @@ constexpr char kGapFault[] = R"(faults:
 /// One closed-loop run: a fresh directory, the world, its exported map, a simulator process.
 class ClosedLoop : public ::testing::Test {
  protected:
-  void StartSim(bool with_gap, uint64_t seed = 3, const std::string& world_file = "") {
+  /// With `record_truth` the simulator records every robot's true track at 50 Hz to
+  /// Path("truth.csv").
+  void StartSim(bool with_gap, uint64_t seed = 3, const std::string& world_file = "",
+                bool record_truth = false) {
     dir_ = std::filesystem::path(::testing::TempDir()) /
            ("closed-loop-" + std::to_string(getpid()) + "-" + std::to_string(counter_++));
     // A folder of an earlier run with the same pid holds a stale sim.port.
@@ -78,10 +83,14 @@ class ClosedLoop : public ::testing::Test {
         map_stem_ = file.substr(0, file.size() - suffix.size());
       }
     }
-    sim_ = std::make_unique<ChildProcess>(
-        std::vector<std::string>{FLEETNAV_SIM_PATH, "--world", world, "--listen", "127.0.0.1:0",
-                                 "--port-file", Path("sim.port"), "--seed", std::to_string(seed)},
-        Path("sim.out"), Path("sim.err"));
+    std::vector<std::string> sim_args{FLEETNAV_SIM_PATH, "--world",     world,
+                                      "--listen",        "127.0.0.1:0", "--port-file",
+                                      Path("sim.port"),  "--seed",      std::to_string(seed)};
+    if (record_truth) {
+      sim_args.insert(sim_args.end(),
+                      {"--record-truth", Path("truth.csv"), "--record-truth-hz", "50"});
+    }
+    sim_ = std::make_unique<ChildProcess>(sim_args, Path("sim.out"), Path("sim.err"));
     const int port = scenario::WaitForPortFile(Path("sim.port"));
     ASSERT_GT(port, 0) << sim_->Stderr();
     sim_address_ = "127.0.0.1:" + std::to_string(port);
@@ -89,9 +98,9 @@ class ClosedLoop : public ::testing::Test {
 
   std::string Path(const std::string& name) const { return (dir_ / name).string(); }
 
-  std::string WriteRoute(const std::string& actions) {
+  std::string WriteRoute(const std::string& actions, const std::string& map = "fence-hall") {
     const std::string path = Path("route-" + std::to_string(counter_++) + ".yaml");
-    std::ofstream(path) << "name: hall-route\nmap: fence-hall\nactions:\n" << actions;
+    std::ofstream(path) << "name: hall-route\nmap: " << map << "\nactions:\n" << actions;
     return path;
   }
 
@@ -298,6 +307,62 @@ TEST_F(ClosedLoop, WrongKindIsRefusedAtAttachNamingBoth) {
   EXPECT_EQ(RunAgent(route, {}, "mecanum-platform"), 1);
   EXPECT_THAT(AgentLog(), HasSubstr("mecanum-platform"));
   EXPECT_THAT(AgentLog(), HasSubstr("lely-vector"));
+}
+
+/// The true track of `robot_id` recorded by fleetnav-sim --record-truth: (x, y) per sample.
+std::vector<Eigen::Vector2d> ReadTruthTrack(const std::string& path, const std::string& robot_id) {
+  std::vector<Eigen::Vector2d> track;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<std::string> parts = absl::StrSplit(line, ',');
+    if (parts.size() == 5 && parts[0] == robot_id && parts[1] == "truth") {
+      track.emplace_back(std::stod(parts[2]), std::stod(parts[3]));
+    }
+  }
+  return track;
+}
+
+// The physical mecanum platform in the supermarket's aisle, on laser AMCL: sideways moves with
+// reversals end where they started, and only with end-point augmentation does the platform
+// carry on past a reversal point and bend round (KUKA thesis ch. 9).
+TEST_F(ClosedLoop, MecanumSidewaysMovesBendRoundReversalsOnlyWithAugmentation) {
+  double overshoot_m[2] = {0.0, 0.0};
+  for (int augmented = 0; augmented < 2; ++augmented) {
+    StartSim(false, 4, std::string(FLEETNAV_WORLDS_DIR) + "/supermarket.yaml",
+             /*record_truth=*/true);
+    const std::string route = WriteRoute(
+        "  - move: {dx: 0, dy: 0.6, speed: 0.2}\n  - move: {dx: 0, dy: -0.6, speed: 0.2}\n"
+        "  - move: {dx: 0, dy: 0.6, speed: 0.2}\n  - move: {dx: 0, dy: -0.6, speed: 0.2}\n",
+        "supermarket");
+    std::vector<std::string> extra;
+    if (augmented == 0) extra.push_back("--no-endpoint-augmentation");
+    ASSERT_EQ(RunAgent(route, extra, "mecanum-platform", {-8.0, 1.8, 0.0}, "omni1"), 0)
+        << AgentLog();
+    const v1::RobotGroundTruth& omni = Robot(Truth(), "omni1");
+    EXPECT_EQ(omni.collisions(), 0);
+    EXPECT_NEAR(omni.pose().x_m(), -8.0, 0.05) << "augmented " << augmented;
+    EXPECT_NEAR(omni.pose().y_m(), 1.8, 0.05) << "augmented " << augmented;
+    EXPECT_NEAR(omni.pose().yaw_rad(), 0.0, 0.03) << "augmented " << augmented;
+    sim_->Stop();  // SIGTERM: the simulator closes its truth record
+    const std::vector<Eigen::Vector2d> track = ReadTruthTrack(Path("truth.csv"), "omni1");
+    ASSERT_GT(track.size(), 100u);
+    for (const Eigen::Vector2d& p : track) {
+      overshoot_m[augmented] = std::max(overshoot_m[augmented], p.y() - (1.8 + 0.6));
+    }
+  }
+  EXPECT_LT(overshoot_m[0], 0.03);  // straight back from the reversal point
+  EXPECT_GT(overshoot_m[1], 0.03);  // carried on and bent round
+}
+
+// A move on a robot that cannot translate sideways is refused before the robot moves.
+TEST_F(ClosedLoop, MoveIsRefusedForTheLelyBeforeItMoves) {
+  StartSim(/*with_gap=*/false);
+  const std::string route = WriteRoute("  - move: {dx: 0, dy: 1.0}\n");
+  EXPECT_EQ(RunAgent(route), 1);
+  EXPECT_THAT(AgentLog(), HasSubstr("actions[0] (move): lely-vector cannot translate sideways"));
+  const v1::RobotGroundTruth& lely = Robot(Truth(), "lely1");
+  EXPECT_NEAR(lely.pose().x_m(), -10.0, 0.01);
 }
 
 // A route with an action this agent cannot run is refused before the robot moves.

@@ -13,8 +13,9 @@
 namespace fleetnav::agent {
 namespace {
 
-/// Steps `controller` on an ideal omnidirectional body from `start` until done; returns the end.
-Pose2 RunIdeal(MoveController& controller, Pose2 pose, int* ticks) {
+/// Steps `controller` on an ideal omnidirectional body from `start` until done; returns the end
+/// and, in `max_y_m`, the largest y the body reached.
+Pose2 RunIdeal(MoveController& controller, Pose2 pose, int* ticks, double* max_y_m = nullptr) {
   constexpr double kDtS = 0.02;
   for (*ticks = 0; *ticks < 5000; ++*ticks) {
     ControlInput input;
@@ -29,6 +30,7 @@ Pose2 RunIdeal(MoveController& controller, Pose2 pose, int* ticks) {
     pose = Pose2(pose.x_m() + (c * v.vx_mps - s * v.vy_mps) * kDtS,
                  pose.y_m() + (s * v.vx_mps + c * v.vy_mps) * kDtS,
                  pose.yaw_rad() + v.yaw_rate_radps * kDtS);
+    if (max_y_m != nullptr) *max_y_m = std::max(*max_y_m, pose.y_m());
   }
   return pose;
 }
@@ -58,8 +60,11 @@ TEST(MoveControllerTest, AReversalBendsRoundThroughTheAugmentedKnot) {
   const Eigen::Vector2d came_left(0.0, 1.0);  // the last move went to the left
   MoveController augmented(MoveAction{0.0, -1.0, 0.2}, came_left, model, MoveParams{});
   int ticks = 0;
-  const Pose2 end = RunIdeal(augmented, Pose2(0, 0, 0), &ticks);
+  double max_y_m = 0.0;
+  const Pose2 end = RunIdeal(augmented, Pose2(0, 0, 0), &ticks, &max_y_m);
   EXPECT_NEAR(end.y_m(), -1.0, 0.002);
+  // The platform itself follows the bend (the tracker does not cut across it).
+  EXPECT_GT(max_y_m, 0.03);
   EXPECT_NEAR(end.x_m(), 0.0, 0.002);
   // It first carries on to the left (the casters keep rolling) and swings out sideways.
   const std::vector<Pose2>& path = augmented.path();
@@ -71,8 +76,10 @@ TEST(MoveControllerTest, AReversalBendsRoundThroughTheAugmentedKnot) {
   MoveParams plain_params;
   plain_params.augment_endpoints = false;
   MoveController plain(MoveAction{0.0, -1.0, 0.2}, came_left, model, plain_params);
-  (void)RunIdeal(plain, Pose2(0, 0, 0), &ticks);
+  double plain_max_y_m = 0.0;
+  (void)RunIdeal(plain, Pose2(0, 0, 0), &ticks, &plain_max_y_m);
   EXPECT_LT(MaxAlong(plain.path(), {0, 1}), 1e-9);  // straight back
+  EXPECT_LT(plain_max_y_m, 0.005);
   // A move that continues the last direction needs no augmentation either.
   MoveController onwards(MoveAction{0.0, 1.0, 0.2}, came_left, model, MoveParams{});
   (void)RunIdeal(onwards, Pose2(0, 0, 0), &ticks);

@@ -17,16 +17,18 @@ struct MoveParams {
   /// back by more than `augment_max_turn_rad` starts along the last direction and bends round
   /// through a knot `augment_radius_m` out, instead of reversing on the spot.
   bool augment_endpoints = true;
-  double augment_radius_m = 0.15;
+  double augment_radius_m = 0.08;
   double augment_max_turn_rad = M_PI / 2;
   double sample_spacing_m = 0.02;
   /// Moves end at rest within 2 mm and 0.01 rad of their end point (the thesis's scans need
-  /// millimetres).
+  /// millimetres); the carrot is a few centimetres ahead, so the tracker follows the augmented
+  /// bend (a few decimetres of path) instead of cutting across it.
   HolonomicTrackerParams tracker = PreciseTracker();
   static HolonomicTrackerParams PreciseTracker() {
     HolonomicTrackerParams p;
     p.goal_tolerance_m = 0.002;
     p.goal_tolerance_rad = 0.01;
+    p.carrot_distance_m = 0.05;
     return p;
   }
   absl::Status Validate() const;
