@@ -24,6 +24,13 @@ bool HasInductiveSensors(const RobotModel& model) {
   return false;
 }
 
+bool HasLaser(const RobotModel& model) {
+  for (const SensorMount& mount : model.sensors) {
+    if (mount.type == SensorType::kLaser) return true;
+  }
+  return false;
+}
+
 /// The kinds FreeNavigationController has a path tracker for.
 bool FreeNavigationSupported(const RobotModel& model) {
   return model.kinematics == Kinematics::kDifferential ||
@@ -80,6 +87,10 @@ absl::Status CheckEnd(const RouteAction& action, int index, const RouteContext& 
       break;
     case EndConditionKind::kGoalReached:
       if (std::holds_alternative<FreeNavigationAction>(action.params)) return absl::OkStatus();
+      if (const auto* dock = std::get_if<DockAction>(&action.params);
+          dock != nullptr && dock->target == DockTarget::kTrolley) {
+        return absl::OkStatus();
+      }
       break;
     default:
       break;
@@ -132,10 +143,13 @@ absl::Status CheckAction(const RouteAction& action, int index, const RouteContex
     }
   }
   if (const auto* dock = std::get_if<DockAction>(&action.params)) {
-    if (dock->target != DockTarget::kCharger) {
-      return refuse("docking under a trolley is not supported by this agent version");
-    }
-    if (!HasInductiveSensors(context.model)) {
+    if (dock->target == DockTarget::kTrolley) {
+      if (context.model.kinematics != Kinematics::kOmnidirectional || !HasLaser(context.model)) {
+        return refuse(absl::StrCat(context.model.kind_name,
+                                   " cannot dock under a trolley: that needs an omnidirectional "
+                                   "platform with a laser"));
+      }
+    } else if (!HasInductiveSensors(context.model)) {
       return refuse(absl::StrCat(context.model.kind_name,
                                  " has no inductive sensors to follow a charger stripe with"));
     }
@@ -152,6 +166,7 @@ absl::Status ModeParams::Validate() const {
   if (absl::Status s = stripe.Validate(); !s.ok()) return s;
   if (absl::Status s = docking.Validate(); !s.ok()) return s;
   if (absl::Status s = move.Validate(); !s.ok()) return s;
+  if (absl::Status s = trolley_docking.Validate(); !s.ok()) return s;
   return free_navigation.Validate();
 }
 
@@ -167,7 +182,10 @@ std::vector<std::string> SupportedActionTypes(const RobotModel& model) {
     types.push_back("dock");
   }
   if (FreeNavigationSupported(model)) types.push_back("free_navigation");
-  if (model.kinematics == Kinematics::kOmnidirectional) types.push_back("move");
+  if (model.kinematics == Kinematics::kOmnidirectional) {
+    types.push_back("move");
+    if (HasLaser(model) && !HasInductiveSensors(model)) types.push_back("dock");
+  }
   return types;
 }
 
@@ -218,6 +236,9 @@ absl::StatusOr<std::unique_ptr<MotionController>> MakeController(const RouteActi
     return std::make_unique<StripeFollowingController>(
         *stripe, action.end.kind, StripePieces(context, 0, MarkerKind::kFollowStripe),
         params.profile, params.stripe);
+  }
+  if (std::get<DockAction>(action.params).target == DockTarget::kTrolley) {
+    return std::make_unique<TrolleyDockingController>(context.model, params.trolley_docking);
   }
   return std::make_unique<ChargerDockingController>(
       StripePieces(context, 0, MarkerKind::kChargerStripe), params.profile, params.stripe,

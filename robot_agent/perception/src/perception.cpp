@@ -26,6 +26,12 @@ Perception PerceptionBuilder::Build(const SensorFrame& frame) const {
     ++offsets;
   }
   if (offsets > 0) out.stripe_offset_m = offset_sum / offsets;
+  if (!frame.lasers.empty()) {
+    if (const SensorMount* mount = model_.FindSensor(frame.lasers.front().name)) {
+      out.laser = frame.lasers.front();
+      out.laser_in_base = mount->pose_in_base;
+    }
+  }
   out.charger_contact = frame.charger_contact;
   out.bumper = frame.bumper;
   return out;

@@ -16,6 +16,7 @@
 #include "fleetnav/robot_agent/motion_controller.hpp"
 #include "fleetnav/robot_agent/motion_controllers.hpp"
 #include "fleetnav/robot_agent/move_controller.hpp"
+#include "fleetnav/robot_agent/trolley_docking_controller.hpp"
 
 namespace fleetnav::agent {
 
@@ -28,6 +29,7 @@ struct ModeParams {
   ChargerDockingParams docking;
   FreeNavigationParams free_navigation;
   MoveParams move;
+  TrolleyDockingParams trolley_docking;
   absl::Status Validate() const;
 };
 

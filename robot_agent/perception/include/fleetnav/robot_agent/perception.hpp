@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "absl/status/statusor.h"
+#include "fleetnav/core/pose2.hpp"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/core/sensor_frame.hpp"
 
@@ -26,6 +27,9 @@ struct Perception {
   double stripe_sensor_x_m = 0.0;
   bool charger_contact = false;
   bool bumper = false;
+  /// The laser's scan, on the ticks a new one arrived (10 Hz), and where the laser sits.
+  std::optional<LaserScanSample> laser;
+  Pose2 laser_in_base;
   int64_t stamp_ns = 0;
 };
 

@@ -1,0 +1,60 @@
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "absl/status/status.h"
+#include "fleetnav/core/robot_model.hpp"
+#include "fleetnav/robot_agent/laser_filters.hpp"
+#include "fleetnav/robot_agent/motion_controller.hpp"
+#include "fleetnav/robot_agent/trolley_recognition.hpp"
+
+namespace fleetnav::agent {
+
+struct TrolleyDockingParams {
+  TrolleySpec spec;
+  int median_window = 3;            ///< scans in the temporal median filter
+  double max_range_m = 4.0;         ///< trolleys farther than this are not docked at
+  double search_timeout_s = 3.0;    ///< no trolley seen for this long: the action fails
+  double standoff_m = 0.25;         ///< the approach frame's gap before the trolley's legs
+  double approach_speed_mps = 0.2;
+  double final_speed_mps = 0.08;
+  double position_gain_per_s = 1.2;
+  double yaw_gain_per_s = 1.5;
+  double approach_tolerance_m = 0.01;
+  double final_tolerance_m = 0.003;
+  double tolerance_rad = 0.01;
+  absl::Status Validate() const;
+};
+
+/// Docking under a trolley (KUKA thesis ch. 12–15). Each laser scan goes through the temporal
+/// median and shadow filters, clustering, the iterative end-point fit and circle extraction
+/// (LegCandidates), and the trolley recognition from leg distances; the nearest trolley within
+/// range gives the dock frames. The platform drives holonomically on its odometry to the
+/// approach frame in front of the trolley's near end, re-measuring the trolley as it goes, then
+/// straight under it to the final frame (the trolley's centre) measured last from the approach
+/// frame, where all four legs are in view, and stops. Fails when no trolley is in view within
+/// `search_timeout_s`. Not thread-safe.
+class TrolleyDockingController : public MotionController {
+ public:
+  TrolleyDockingController(const RobotModel& model, TrolleyDockingParams params);
+  ControlOutput Step(const ControlInput& input) override;
+
+ private:
+  enum class Stage { kSearch, kApproach, kFinal, kDone };
+  /// The trolley in the scan, in the odometry frame, or nullopt.
+  std::optional<Pose2> Measure(const ControlInput& input);
+  Twist2 DriveTo(const Pose2& target_in_odom, const Pose2& pose_in_odom, double speed_mps,
+                 double dt_s);
+
+  RobotModel model_;
+  TrolleyDockingParams params_;
+  TemporalMedianFilter median_;
+  Stage stage_ = Stage::kSearch;
+  double searched_s_ = 0.0;
+  std::optional<Pose2> trolley_in_odom_;
+  double start_distance_m_ = 0.0;
+  Twist2 last_command_;
+};
+
+}  // namespace fleetnav::agent

@@ -1,0 +1,135 @@
+#include "fleetnav/robot_agent/trolley_docking_controller.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+
+namespace fleetnav::agent {
+namespace {
+
+double AngleDifference(double a, double b) { return std::remainder(a - b, 2 * M_PI); }
+
+double Approach(double current, double target, double max_step) {
+  return current + std::clamp(target - current, -max_step, max_step);
+}
+
+}  // namespace
+
+absl::Status TrolleyDockingParams::Validate() const {
+  if (absl::Status s = spec.Validate(); !s.ok()) return s;
+  for (double v : {max_range_m, search_timeout_s, standoff_m, approach_speed_mps, final_speed_mps,
+                   position_gain_per_s, yaw_gain_per_s, approach_tolerance_m, final_tolerance_m,
+                   tolerance_rad}) {
+    if (!(v > 0.0) || !std::isfinite(v)) {
+      return absl::InvalidArgumentError("trolley docking: parameters must be finite and > 0");
+    }
+  }
+  if (median_window < 1) return absl::InvalidArgumentError("trolley docking: median_window >= 1");
+  return absl::OkStatus();
+}
+
+TrolleyDockingController::TrolleyDockingController(const RobotModel& model,
+                                                   TrolleyDockingParams params)
+    : model_(model), params_(params), median_(params.median_window) {}
+
+std::optional<Pose2> TrolleyDockingController::Measure(const ControlInput& input) {
+  if (!input.perception.laser) return std::nullopt;
+  const LaserScanSample scan = median_.Apply(*input.perception.laser);
+  const std::vector<TrolleyDetection> trolleys = RecognizeTrolleys(
+      LegCandidates(scan, input.perception.laser_in_base, params_.spec), params_.spec);
+  for (const TrolleyDetection& t : trolleys) {
+    if (t.pose_in_base.translation().norm() > params_.max_range_m) break;
+    if (trolley_in_odom_) {
+      // Keep to the trolley being docked at; its x axis may be found either way round.
+      const Pose2 seen = input.pose_in_odom * t.pose_in_base;
+      if ((seen.translation() - trolley_in_odom_->translation()).norm() > 0.2) continue;
+      double yaw = seen.yaw_rad();
+      if (std::abs(AngleDifference(yaw, trolley_in_odom_->yaw_rad())) > M_PI_2) yaw += M_PI;
+      return Pose2(seen.x_m(), seen.y_m(), yaw);
+    }
+    return input.pose_in_odom * t.pose_in_base;
+  }
+  return std::nullopt;
+}
+
+Twist2 TrolleyDockingController::DriveTo(const Pose2& target, const Pose2& pose, double speed_mps,
+                                         double dt_s) {
+  Eigen::Vector2d velocity = params_.position_gain_per_s * (target.translation() - pose.translation());
+  if (velocity.norm() > speed_mps) velocity *= speed_mps / velocity.norm();
+  const double yaw_rate = std::clamp(
+      params_.yaw_gain_per_s * AngleDifference(target.yaw_rad(), pose.yaw_rad()),
+      -model_.limits.max_yaw_rate_radps, model_.limits.max_yaw_rate_radps);
+  const double c = std::cos(pose.yaw_rad()), s = std::sin(pose.yaw_rad());
+  const Twist2 wanted{c * velocity.x() + s * velocity.y(), -s * velocity.x() + c * velocity.y(),
+                      yaw_rate};
+  const double dv = model_.limits.max_accel_mps2 * dt_s;
+  last_command_ = Twist2{Approach(last_command_.vx_mps, wanted.vx_mps, dv),
+                         Approach(last_command_.vy_mps, wanted.vy_mps, dv),
+                         Approach(last_command_.yaw_rate_radps, wanted.yaw_rate_radps,
+                                  model_.limits.max_yaw_accel_radps2 * dt_s)};
+  return last_command_;
+}
+
+ControlOutput TrolleyDockingController::Step(const ControlInput& input) {
+  ControlOutput out;
+  out.mode = NavigationMode::kDocking;
+  const Pose2& pose = input.pose_in_odom;
+  if (stage_ == Stage::kDone) {
+    out.done = true;
+    out.progress_fraction = 1.0;
+    return out;
+  }
+  const std::optional<Pose2> seen = Measure(input);
+  if (stage_ == Stage::kSearch) {
+    if (!seen) {
+      searched_s_ += input.dt_s;
+      if (searched_s_ > params_.search_timeout_s) {
+        out.failure = absl::NotFoundError(absl::StrCat(
+            "dock: no trolley in view within ", params_.max_range_m, " m (4 legs ",
+            params_.spec.leg_spacing_x_m, " x ", params_.spec.leg_spacing_y_m, " m apart)"));
+      }
+      return out;  // standing still while looking
+    }
+    trolley_in_odom_ = seen;
+    stage_ = Stage::kApproach;
+    start_distance_m_ = (seen->translation() - pose.translation()).norm();
+  } else if (seen) {
+    // Each new measurement refines the estimate (the nearer, the better).
+    const double w = stage_ == Stage::kFinal ? 0.1 : 0.3;
+    const double yaw = trolley_in_odom_->yaw_rad() +
+                       w * AngleDifference(seen->yaw_rad(), trolley_in_odom_->yaw_rad());
+    const Eigen::Vector2d at = (1 - w) * trolley_in_odom_->translation() + w * seen->translation();
+    trolley_in_odom_ = Pose2(at.x(), at.y(), yaw);
+  }
+  const DockFrames frames = DockFramesFor(*trolley_in_odom_, params_.spec, model_,
+                                          params_.standoff_m);
+  const double remaining = (frames.final.translation() - pose.translation()).norm();
+  out.progress_fraction =
+      start_distance_m_ > 0 ? std::clamp(1.0 - remaining / start_distance_m_, 0.0, 0.99) : 0.0;
+  const bool slow = std::hypot(last_command_.vx_mps, last_command_.vy_mps) <
+                    model_.limits.max_accel_mps2 * input.dt_s * 2;
+  if (stage_ == Stage::kApproach) {
+    const Pose2 to = frames.approach;
+    if ((to.translation() - pose.translation()).norm() < params_.approach_tolerance_m &&
+        std::abs(AngleDifference(to.yaw_rad(), pose.yaw_rad())) < params_.tolerance_rad && slow) {
+      stage_ = Stage::kFinal;
+    } else {
+      out.command = DriveTo(to, pose, params_.approach_speed_mps, input.dt_s);
+      return out;
+    }
+  }
+  const Pose2 to = frames.final;
+  if ((to.translation() - pose.translation()).norm() < params_.final_tolerance_m &&
+      std::abs(AngleDifference(to.yaw_rad(), pose.yaw_rad())) < params_.tolerance_rad && slow) {
+    stage_ = Stage::kDone;
+    last_command_ = Twist2{};
+    out.done = true;
+    out.progress_fraction = 1.0;
+    return out;
+  }
+  out.command = DriveTo(to, pose, params_.final_speed_mps, input.dt_s);
+  return out;
+}
+
+}  // namespace fleetnav::agent

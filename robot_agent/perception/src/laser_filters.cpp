@@ -1,0 +1,53 @@
+#include "fleetnav/robot_agent/laser_filters.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace fleetnav::agent {
+
+LaserScanSample TemporalMedianFilter::Apply(const LaserScanSample& scan) {
+  if (!history_.empty() && history_.front().size() != scan.ranges_m.size()) history_.clear();
+  history_.push_back(scan.ranges_m);
+  while (static_cast<int>(history_.size()) > window_) history_.pop_front();
+  LaserScanSample out = scan;
+  std::vector<float> values(history_.size());
+  for (size_t beam = 0; beam < scan.ranges_m.size(); ++beam) {
+    for (size_t k = 0; k < history_.size(); ++k) values[k] = history_[k][beam];
+    std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+    out.ranges_m[beam] = values[values.size() / 2];
+  }
+  return out;
+}
+
+absl::Status ShadowFilterParams::Validate() const {
+  if (!(min_angle_rad > 0.0 && min_angle_rad < M_PI_2)) {
+    return absl::InvalidArgumentError("shadow.min_angle_rad: must be in (0, pi/2)");
+  }
+  if (neighbours < 1) return absl::InvalidArgumentError("shadow.neighbours: must be >= 1");
+  return absl::OkStatus();
+}
+
+LaserScanSample RemoveShadows(const LaserScanSample& scan, const ShadowFilterParams& params) {
+  LaserScanSample out = scan;
+  const auto valid = [&](float r) { return std::isfinite(r) && r > 0.0f && r < scan.range_max_m; };
+  const size_t n = scan.ranges_m.size();
+  for (size_t i = 0; i < n; ++i) {
+    if (!valid(scan.ranges_m[i])) continue;
+    for (size_t j = i + 1; j < std::min(n, i + 1 + static_cast<size_t>(params.neighbours)); ++j) {
+      if (!valid(scan.ranges_m[j])) continue;
+      const double ri = scan.ranges_m[i], rj = scan.ranges_m[j];
+      const double dtheta = static_cast<double>(j - i) * scan.angle_increment_rad;
+      // The angle at the nearer return between its beam and the line to the other return.
+      const double near = std::min(ri, rj), far = std::max(ri, rj);
+      const double angle = std::atan2(far * std::sin(dtheta), far * std::cos(dtheta) - near);
+      const double seen = std::abs(angle);
+      if (seen < params.min_angle_rad || seen > M_PI - params.min_angle_rad) {
+        out.ranges_m[ri > rj ? i : j] = std::numeric_limits<float>::infinity();
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace fleetnav::agent
