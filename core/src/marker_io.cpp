@@ -5,6 +5,7 @@
 #include <string>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
 #include "io_internal.hpp"
@@ -99,11 +100,39 @@ absl::StatusOr<StripeMarker> ParseMarker(const YAML::Node& node, size_t index) {
   return marker;
 }
 
+absl::StatusOr<TrolleyPlacement> ParseTrolley(const YAML::Node& node, size_t index) {
+  const std::string where = absl::StrCat("trolleys[", index, "]");
+  if (!node.IsMap()) return absl::InvalidArgumentError(absl::StrCat(where, ": expected a mapping"));
+  RETURN_IF_ERROR(internal::CheckKnownKeys(node, {"id", "pose", "size", "leg_radius"}, where));
+  TrolleyPlacement trolley;
+  if (!node["id"]) return absl::InvalidArgumentError(absl::StrCat(where, ": missing 'id'"));
+  ASSIGN_OR_RETURN(trolley.id, internal::AsString(node["id"], where + ".id"));
+  const YAML::Node pose = node["pose"];
+  if (!pose || !pose.IsSequence() || pose.size() != 3) {
+    return absl::InvalidArgumentError(absl::StrCat(where, ".pose: expected [x, y, yaw_deg]"));
+  }
+  ASSIGN_OR_RETURN(const double x, internal::AsDouble(pose[0], where + ".pose[0]"));
+  ASSIGN_OR_RETURN(const double y, internal::AsDouble(pose[1], where + ".pose[1]"));
+  ASSIGN_OR_RETURN(const double yaw_deg, internal::AsDouble(pose[2], where + ".pose[2]"));
+  trolley.pose = Pose2(x, y, DegToRad(yaw_deg));
+  if (const YAML::Node size = node["size"]; size) {
+    if (!size.IsSequence() || size.size() != 2) {
+      return absl::InvalidArgumentError(absl::StrCat(where, ".size: expected [x, y]"));
+    }
+    ASSIGN_OR_RETURN(trolley.size_m.x(), internal::AsDouble(size[0], where + ".size[0]"));
+    ASSIGN_OR_RETURN(trolley.size_m.y(), internal::AsDouble(size[1], where + ".size[1]"));
+  }
+  if (const YAML::Node leg = node["leg_radius"]; leg) {
+    ASSIGN_OR_RETURN(trolley.leg_radius_m, internal::AsDouble(leg, where + ".leg_radius"));
+  }
+  return trolley;
+}
+
 absl::StatusOr<MarkerSet> MarkerSetFromNode(const YAML::Node& root) {
   if (!root.IsMap()) {
     return absl::InvalidArgumentError("marker YAML: expected a mapping with 'markers' at the top");
   }
-  RETURN_IF_ERROR(internal::CheckKnownKeys(root, {"map", "markers"}, "marker YAML"));
+  RETURN_IF_ERROR(internal::CheckKnownKeys(root, {"map", "markers", "trolleys"}, "marker YAML"));
   MarkerSet set;
   if (const YAML::Node map = root["map"]; map.IsDefined() && !map.IsNull()) {
     ASSIGN_OR_RETURN(set.map_id, internal::AsString(map, "map"));
@@ -115,6 +144,13 @@ absl::StatusOr<MarkerSet> MarkerSetFromNode(const YAML::Node& root) {
     for (size_t i = 0; i < markers.size(); ++i) {
       ASSIGN_OR_RETURN(StripeMarker marker, ParseMarker(markers[i], i));
       set.markers.push_back(marker);
+    }
+  }
+  if (const YAML::Node trolleys = root["trolleys"]; trolleys.IsDefined() && !trolleys.IsNull()) {
+    if (!trolleys.IsSequence()) return absl::InvalidArgumentError("trolleys: expected a list");
+    for (size_t i = 0; i < trolleys.size(); ++i) {
+      ASSIGN_OR_RETURN(TrolleyPlacement trolley, ParseTrolley(trolleys[i], i));
+      set.trolleys.push_back(trolley);
     }
   }
   RETURN_IF_ERROR(set.Validate());
@@ -137,11 +173,8 @@ std::string MarkerSetToYaml(const MarkerSet& markers) {
   if (!markers.map_id.empty()) {
     absl::StrAppend(&text, "map: ", internal::YamlScalar(markers.map_id), "\n");
   }
-  if (markers.markers.empty()) {
-    absl::StrAppend(&text, "markers: []\n");
-    return text;
-  }
-  absl::StrAppend(&text, "markers:\n");
+  if (markers.markers.empty()) absl::StrAppend(&text, "markers: []\n");
+  if (!markers.markers.empty()) absl::StrAppend(&text, "markers:\n");
   for (const StripeMarker& marker : markers.markers) {
     const Eigen::Vector4d q = QuaternionFromYaw(marker.yaw_rad);
     absl::StrAppend(&text, "  - id: ", marker.id, "\n");
@@ -153,6 +186,14 @@ std::string MarkerSetToYaml(const MarkerSet& markers) {
     absl::StrAppend(&text, "    length: ", FormatDouble(marker.length_m), "\n");
     absl::StrAppend(&text, "    kind: ", internal::ToAbsl(MarkerKindName(marker.kind)), "\n");
     if (marker.stripe_id != 0) absl::StrAppend(&text, "    stripe: ", marker.stripe_id, "\n");
+  }
+  if (!markers.trolleys.empty()) absl::StrAppend(&text, "trolleys:\n");
+  for (const TrolleyPlacement& t : markers.trolleys) {
+    absl::StrAppend(&text, "  - {id: ", internal::YamlScalar(t.id), ", pose: [",
+                    FormatDouble(t.pose.x_m()), ", ", FormatDouble(t.pose.y_m()), ", ",
+                    FormatDouble(RadToDeg(t.pose.yaw_rad())), "], size: [",
+                    FormatDouble(t.size_m.x()), ", ", FormatDouble(t.size_m.y()),
+                    "], leg_radius: ", FormatDouble(t.leg_radius_m), "}\n");
   }
   return text;
 }

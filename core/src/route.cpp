@@ -94,6 +94,7 @@ class ActionValidator {
     if (dock.target == DockTarget::kCharger) {
       return EndIsOneOf({EndConditionKind::kChargerContact, EndConditionKind::kDistance});
     }
+    if (dock.target_id.empty()) return Error("a trolley dock needs target_id: which trolley");
     return EndIsOneOf({EndConditionKind::kGoalReached, EndConditionKind::kDistance});
   }
 

@@ -100,7 +100,30 @@ absl::Status MarkerSet::Validate() const {
           absl::StrFormat("%s: length_m must be finite and > 0, got %g", where, marker.length_m));
     }
   }
+  for (size_t i = 0; i < trolleys.size(); ++i) {
+    const TrolleyPlacement& trolley = trolleys[i];
+    const std::string where = absl::StrCat("trolleys[", i, "] (id '", trolley.id, "')");
+    if (trolley.id.empty()) return absl::InvalidArgumentError(absl::StrCat(where, ": empty id"));
+    for (size_t k = 0; k < i; ++k) {
+      if (trolleys[k].id == trolley.id) {
+        return absl::InvalidArgumentError(
+            absl::StrCat(where, ": duplicate id (also trolleys[", k, "])"));
+      }
+    }
+    if (!trolley.pose.IsFinite() || !trolley.size_m.allFinite() || trolley.size_m.minCoeff() <= 0 ||
+        !(trolley.leg_radius_m > 0.0) || 2 * trolley.leg_radius_m >= trolley.size_m.minCoeff()) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          where, ": pose must be finite, size > 0 and legs thinner than half the size"));
+    }
+  }
   return absl::OkStatus();
+}
+
+const TrolleyPlacement* MarkerSet::FindTrolley(const std::string& id) const {
+  for (const TrolleyPlacement& trolley : trolleys) {
+    if (trolley.id == id) return &trolley;
+  }
+  return nullptr;
 }
 
 const StripeMarker* MarkerSet::Find(int id) const {

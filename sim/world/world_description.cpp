@@ -111,6 +111,13 @@ absl::StatusOr<WorldDescription> ParseRoot(const YAML::Node& root) {
     const YAML::Node node = root["trolleys"][i];
     const std::string field = absl::StrCat("trolleys[", i, "]");
     Trolley trolley;
+    trolley.id = node["id"] ? node["id"].as<std::string>() : absl::StrCat("trolley-", i + 1);
+    for (const Trolley& other : world.trolleys) {
+      if (other.id == trolley.id) {
+        return absl::InvalidArgumentError(
+            absl::StrCat(field, ".id: duplicate trolley id '", trolley.id, "'"));
+      }
+    }
     ASSIGN_OR_RETURN(trolley.center_m, ReadPoint(node["center"], field + ".center"));
     if (node["size"]) {
       ASSIGN_OR_RETURN(trolley.size_m, ReadPoint(node["size"], field + ".size"));

@@ -66,6 +66,12 @@ MarkerSet MarkerSetOf(const WorldDescription& world, const std::string& map_id) 
       if (piece.length_m > 0.0) set.markers.push_back(piece);
     }
   }
+  // The trolleys, so that dock actions can name them and robots know where they stood.
+  for (const Trolley& trolley : world.trolleys) {
+    set.trolleys.push_back({trolley.id,
+                            Pose2(trolley.center_m.x(), trolley.center_m.y(), trolley.yaw_rad),
+                            trolley.size_m, trolley.leg_radius_m});
+  }
   return set;
 }
 

@@ -104,6 +104,29 @@ TEST_F(JobServiceTest, RoutesAreValidatedAgainstMapAndMarkers) {
   EXPECT_EQ(RouteCount(), 1);
 }
 
+// Trolleys travel with the marker set: a dock action must name one that stands on the map.
+TEST_F(JobServiceTest, TrolleyDocksMustNameATrolleyOfTheMap) {
+  MarkerSet markers = sim::MarkerSetOf(Barn(), "barn");
+  markers.trolleys.push_back({"cart-1", Pose2(2.0, 1.0, 0.0), Eigen::Vector2d(1.0, 0.7), 0.02});
+  grpc::ClientContext context;
+  v1::PutMarkerSetRequest put;
+  *put.mutable_marker_set() = ToProto(markers);
+  v1::PutMarkerSetResponse response;
+  ASSERT_TRUE(fleet_->PutMarkerSet(&context, put, &response).ok());
+
+  Route known = StraightRoute("dock-known", 3.0);
+  known.actions.push_back(RouteAction{DockAction{DockTarget::kTrolley, "cart-1"},
+                                      EndCondition{EndConditionKind::kGoalReached, 0}});
+  EXPECT_TRUE(PutRoute(known).ok());
+  Route unknown = StraightRoute("dock-unknown", 3.0);
+  unknown.actions.push_back(RouteAction{DockAction{DockTarget::kTrolley, "cart-9"},
+                                        EndCondition{EndConditionKind::kGoalReached, 0}});
+  const grpc::Status status = PutRoute(unknown);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_THAT(status.error_message(), HasSubstr("actions[1] (dock): unknown trolley 'cart-9'"));
+  EXPECT_EQ(RouteCount(), 1);
+}
+
 TEST_F(JobServiceTest, DeletingAMapInUseIsRefused) {
   ASSERT_TRUE(PutRoute(StraightRoute("alley", 3.0)).ok());
   grpc::ClientContext context;

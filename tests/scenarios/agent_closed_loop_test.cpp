@@ -355,6 +355,55 @@ TEST_F(ClosedLoop, MecanumSidewaysMovesBendRoundReversalsOnlyWithAugmentation) {
   EXPECT_GT(overshoot_m[1], 0.03);  // carried on and bent round
 }
 
+/// The shipped supermarket with its platform moved to `pose` (x y yaw_deg), written beside the
+/// test's files.
+std::string SupermarketWithPlatformAt(const std::string& dir, const std::string& pose) {
+  std::ifstream in(std::string(FLEETNAV_WORLDS_DIR) + "/supermarket.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string from = "pose: [-8.0, 1.8, 0.0]";
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos);
+  if (at != std::string::npos) text.replace(at, from.size(), "pose: [" + pose + "]");
+  const std::string path = dir + "/supermarket-moved.yaml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+// KUKA thesis ch. 15 in the loop: the platform finds trolley-2 by its legs, drives to the
+// approach frame and under it, and stops at its centre, touching nothing (truth).
+TEST_F(ClosedLoop, MecanumDocksUnderATrolleyWithoutTouchingItsLegs) {
+  const std::string world = SupermarketWithPlatformAt(::testing::TempDir(), "0.4, 1.5, 12.0");
+  StartSim(false, 7, world);
+  const std::string route =
+      WriteRoute("  - dock: {target: trolley, target_id: trolley-2}\n", "supermarket");
+  ASSERT_EQ(RunAgent(route, {}, "mecanum-platform", {0.4, 1.5, 12.0}, "omni1"), 0) << AgentLog();
+  const v1::RobotGroundTruth& omni = Robot(Truth(), "omni1");
+  EXPECT_EQ(omni.collisions(), 0);
+  EXPECT_NEAR(omni.pose().x_m(), 2.5, 0.01);
+  EXPECT_NEAR(omni.pose().y_m(), 1.8, 0.01);
+  EXPECT_NEAR(std::remainder(omni.pose().yaw_rad(), M_PI), 0.0, 0.02);
+}
+
+// A dock at a trolley the map does not have is refused before the robot moves; one the map has
+// but the laser cannot see fails with the reason, the robot standing where it was.
+TEST_F(ClosedLoop, TrolleyDocksNotOnTheMapOrNotInViewAreRefusedOrFail) {
+  const std::string world = SupermarketWithPlatformAt(::testing::TempDir(), "0.4, 1.5, 12.0");
+  StartSim(false, 7, world);
+  EXPECT_EQ(
+      RunAgent(WriteRoute("  - dock: {target: trolley, target_id: trolley-9}\n", "supermarket"), {},
+               "mecanum-platform", {0.4, 1.5, 12.0}, "omni1"),
+      1);
+  EXPECT_THAT(AgentLog(), HasSubstr("trolley 'trolley-9' is not on map 'supermarket'"));
+  EXPECT_EQ(
+      RunAgent(WriteRoute("  - dock: {target: trolley, target_id: trolley-3}\n", "supermarket"), {},
+               "mecanum-platform", {0.4, 1.5, 12.0}, "omni1"),
+      1);
+  EXPECT_THAT(AgentLog(), HasSubstr("trolley 'trolley-3' not in view"));
+  const v1::RobotGroundTruth& omni = Robot(Truth(), "omni1");
+  EXPECT_NEAR(omni.pose().x_m(), 0.4, 0.01);
+  EXPECT_NEAR(omni.pose().y_m(), 1.5, 0.01);
+}
+
 // A move on a robot that cannot translate sideways is refused before the robot moves.
 TEST_F(ClosedLoop, MoveIsRefusedForTheLelyBeforeItMoves) {
   StartSim(/*with_gap=*/false);

@@ -49,22 +49,5 @@ TEST(SupermarketScenarioTest, LaserSeesTheFourTrolleyLegs) {
   }
 }
 
-TEST(SupermarketScenarioTest, PlatformBodyFitsBetweenTheTrolleyLegs) {
-  std::unique_ptr<Simulation> sim = Supermarket(Pose2(-5.0, -1.8, 0.0));
-  ActuatorCommand forward;
-  forward.drive = Twist2{0.3, 0.0, 0.0};
-  ASSERT_TRUE(sim->Command("omni1", forward).ok());
-  // 3 m to the trolley's centre: 0.09 m of ramp up, 9.4 s at 0.3 m/s, 0.09 m of ramp down.
-  for (int i = 0; i < 500; ++i) sim->Advance();
-  ActuatorCommand stop;
-  ASSERT_TRUE(sim->Command("omni1", stop).ok());
-  for (int i = 0; i < 50; ++i) sim->Advance();
-  const GroundTruthSnapshot truth = sim->GroundTruth();
-  EXPECT_NEAR(truth.robots[0].pose.x_m(), -2.0, 0.05);
-  EXPECT_NEAR(truth.robots[0].pose.y_m(), -1.8, 0.03);  // open loop: the rollers creep a little
-  EXPECT_TRUE(truth.contacts.empty());
-  EXPECT_FALSE(sim->Sense("omni1")->bumper);
-}
-
 }  // namespace
 }  // namespace fleetnav::sim

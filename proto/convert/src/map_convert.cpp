@@ -106,6 +106,13 @@ v1::MarkerSet ToProto(const MarkerSet& markers) {
   v1::MarkerSet out;
   out.set_map_id(markers.map_id);
   for (const StripeMarker& marker : markers.markers) *out.add_markers() = ToProto(marker);
+  for (const TrolleyPlacement& trolley : markers.trolleys) {
+    v1::TrolleyPlacement* wire = out.add_trolleys();
+    wire->set_id(trolley.id);
+    *wire->mutable_pose() = ToProto(trolley.pose);
+    *wire->mutable_size() = ToProto(trolley.size_m);
+    wire->set_leg_radius_m(trolley.leg_radius_m);
+  }
   return out;
 }
 
@@ -117,6 +124,16 @@ absl::StatusOr<MarkerSet> FromProto(const v1::MarkerSet& markers) {
     ASSIGN_OR_RETURN(StripeMarker marker,
                      FromProto(markers.markers(i), absl::StrCat("markers[", i, "]")));
     out.markers.push_back(marker);
+  }
+  for (int i = 0; i < markers.trolleys_size(); ++i) {
+    const v1::TrolleyPlacement& wire = markers.trolleys(i);
+    const std::string field = absl::StrCat("trolleys[", i, "]");
+    TrolleyPlacement trolley;
+    trolley.id = wire.id();
+    ASSIGN_OR_RETURN(trolley.pose, FromProto(wire.pose(), field + ".pose"));
+    ASSIGN_OR_RETURN(trolley.size_m, FromProto(wire.size(), field + ".size"));
+    trolley.leg_radius_m = wire.leg_radius_m();
+    out.trolleys.push_back(trolley);
   }
   RETURN_IF_ERROR(out.Validate());
   return out;

@@ -18,9 +18,9 @@ double Approach(double current, double target, double max_step) {
 
 absl::Status TrolleyDockingParams::Validate() const {
   if (absl::Status s = spec.Validate(); !s.ok()) return s;
-  for (double v : {max_range_m, search_timeout_s, standoff_m, approach_speed_mps, final_speed_mps,
-                   position_gain_per_s, yaw_gain_per_s, approach_tolerance_m, final_tolerance_m,
-                   tolerance_rad}) {
+  for (double v : {max_range_m, search_timeout_s, expected_within_m, standoff_m, approach_speed_mps,
+                   final_speed_mps, position_gain_per_s, yaw_gain_per_s, approach_tolerance_m,
+                   final_tolerance_m, tolerance_rad}) {
     if (!(v > 0.0) || !std::isfinite(v)) {
       return absl::InvalidArgumentError("trolley docking: parameters must be finite and > 0");
     }
@@ -30,8 +30,14 @@ absl::Status TrolleyDockingParams::Validate() const {
 }
 
 TrolleyDockingController::TrolleyDockingController(const RobotModel& model,
-                                                   TrolleyDockingParams params)
-    : model_(model), params_(params), median_(params.median_window) {}
+                                                   TrolleyDockingParams params,
+                                                   std::string target_id,
+                                                   std::optional<Pose2> expected_in_map)
+    : model_(model),
+      params_(params),
+      target_id_(std::move(target_id)),
+      expected_in_map_(expected_in_map),
+      median_(params.median_window) {}
 
 std::optional<Pose2> TrolleyDockingController::Measure(const ControlInput& input) {
   if (!input.perception.laser) return std::nullopt;
@@ -48,18 +54,27 @@ std::optional<Pose2> TrolleyDockingController::Measure(const ControlInput& input
       if (std::abs(AngleDifference(yaw, trolley_in_odom_->yaw_rad())) > M_PI_2) yaw += M_PI;
       return Pose2(seen.x_m(), seen.y_m(), yaw);
     }
-    return input.pose_in_odom * t.pose_in_base;
+    const Pose2 seen = input.pose_in_odom * t.pose_in_base;
+    if (expected_in_map_) {
+      // Where the site says the target stands, in the odometry frame.
+      const Pose2 expected = input.pose_in_odom * input.pose_in_map.Inverse() * *expected_in_map_;
+      if ((seen.translation() - expected.translation()).norm() > params_.expected_within_m) {
+        continue;
+      }
+    }
+    return seen;
   }
   return std::nullopt;
 }
 
 Twist2 TrolleyDockingController::DriveTo(const Pose2& target, const Pose2& pose, double speed_mps,
                                          double dt_s) {
-  Eigen::Vector2d velocity = params_.position_gain_per_s * (target.translation() - pose.translation());
+  Eigen::Vector2d velocity =
+      params_.position_gain_per_s * (target.translation() - pose.translation());
   if (velocity.norm() > speed_mps) velocity *= speed_mps / velocity.norm();
-  const double yaw_rate = std::clamp(
-      params_.yaw_gain_per_s * AngleDifference(target.yaw_rad(), pose.yaw_rad()),
-      -model_.limits.max_yaw_rate_radps, model_.limits.max_yaw_rate_radps);
+  const double yaw_rate =
+      std::clamp(params_.yaw_gain_per_s * AngleDifference(target.yaw_rad(), pose.yaw_rad()),
+                 -model_.limits.max_yaw_rate_radps, model_.limits.max_yaw_rate_radps);
   const double c = std::cos(pose.yaw_rad()), s = std::sin(pose.yaw_rad());
   const Twist2 wanted{c * velocity.x() + s * velocity.y(), -s * velocity.x() + c * velocity.y(),
                       yaw_rate};
@@ -85,8 +100,14 @@ ControlOutput TrolleyDockingController::Step(const ControlInput& input) {
     if (!seen) {
       searched_s_ += input.dt_s;
       if (searched_s_ > params_.search_timeout_s) {
+        const std::string which = target_id_.empty()
+                                      ? std::string("no trolley")
+                                      : absl::StrCat("trolley '", target_id_, "' not");
+        const std::string near = expected_in_map_ ? absl::StrCat(" near (", expected_in_map_->x_m(),
+                                                                 ", ", expected_in_map_->y_m(), ")")
+                                                  : std::string();
         out.failure = absl::NotFoundError(absl::StrCat(
-            "dock: no trolley in view within ", params_.max_range_m, " m (4 legs ",
+            "dock: ", which, " in view within ", params_.max_range_m, " m", near, " (4 legs ",
             params_.spec.leg_spacing_x_m, " x ", params_.spec.leg_spacing_y_m, " m apart)"));
       }
       return out;  // standing still while looking
@@ -102,8 +123,8 @@ ControlOutput TrolleyDockingController::Step(const ControlInput& input) {
     const Eigen::Vector2d at = (1 - w) * trolley_in_odom_->translation() + w * seen->translation();
     trolley_in_odom_ = Pose2(at.x(), at.y(), yaw);
   }
-  const DockFrames frames = DockFramesFor(*trolley_in_odom_, params_.spec, model_,
-                                          params_.standoff_m);
+  const DockFrames frames =
+      DockFramesFor(*trolley_in_odom_, params_.spec, model_, params_.standoff_m);
   const double remaining = (frames.final.translation() - pose.translation()).norm();
   out.progress_fraction =
       start_distance_m_ > 0 ? std::clamp(1.0 - remaining / start_distance_m_, 0.0, 0.99) : 0.0;

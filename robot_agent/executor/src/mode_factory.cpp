@@ -149,6 +149,11 @@ absl::Status CheckAction(const RouteAction& action, int index, const RouteContex
                                    " cannot dock under a trolley: that needs an omnidirectional "
                                    "platform with a laser"));
       }
+      if (context.markers && !context.markers->trolleys.empty() &&
+          context.markers->FindTrolley(dock->target_id) == nullptr) {
+        return refuse(absl::StrCat("trolley '", dock->target_id, "' is not on map '",
+                                   context.markers->map_id, "'"));
+      }
     } else if (!HasInductiveSensors(context.model)) {
       return refuse(absl::StrCat(context.model.kind_name,
                                  " has no inductive sensors to follow a charger stripe with"));
@@ -237,8 +242,21 @@ absl::StatusOr<std::unique_ptr<MotionController>> MakeController(const RouteActi
         *stripe, action.end.kind, StripePieces(context, 0, MarkerKind::kFollowStripe),
         params.profile, params.stripe);
   }
-  if (std::get<DockAction>(action.params).target == DockTarget::kTrolley) {
-    return std::make_unique<TrolleyDockingController>(context.model, params.trolley_docking);
+  if (const DockAction& dock = std::get<DockAction>(action.params);
+      dock.target == DockTarget::kTrolley) {
+    // The site's placement of the target, when the robot has the marker set: its legs' spacing
+    // and where to look for it.
+    TrolleyDockingParams docking = params.trolley_docking;
+    std::optional<Pose2> expected;
+    if (const TrolleyPlacement* placed =
+            context.markers ? context.markers->FindTrolley(dock.target_id) : nullptr) {
+      docking.spec.leg_spacing_x_m = placed->size_m.x() - 2 * placed->leg_radius_m;
+      docking.spec.leg_spacing_y_m = placed->size_m.y() - 2 * placed->leg_radius_m;
+      docking.spec.leg_radius_m = placed->leg_radius_m;
+      expected = placed->pose;
+    }
+    return std::make_unique<TrolleyDockingController>(context.model, docking, dock.target_id,
+                                                      expected);
   }
   return std::make_unique<ChargerDockingController>(
       StripePieces(context, 0, MarkerKind::kChargerStripe), params.profile, params.stripe,

@@ -65,10 +65,12 @@ absl::Status SiteCatalog::CheckRouteAgainstSite(const Route& route) {
   ASSIGN_OR_RETURN(std::shared_ptr<const storage::StoredMap> map, site_data_->Map(route.map_id, 0));
   // Marker ids of the latest set, hashed once: a route may name many of a large set.
   absl::flat_hash_set<int> marker_ids;
+  absl::flat_hash_set<std::string> trolley_ids;
   if (absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> markers =
           site_data_->MarkerSetVersion(route.map_id, 0);
       markers.ok()) {
     for (const StripeMarker& marker : (*markers)->markers.markers) marker_ids.insert(marker.id);
+    for (const TrolleyPlacement& t : (*markers)->markers.trolleys) trolley_ids.insert(t.id);
   }
   for (size_t i = 0; i < route.actions.size(); ++i) {
     const RouteAction& action = route.actions[i];
@@ -79,6 +81,13 @@ absl::Status SiteCatalog::CheckRouteAgainstSite(const Route& route) {
       return absl::InvalidArgumentError(absl::StrCat("actions[", index, "] (", type,
                                                      "): unknown marker ", action.end.marker_id,
                                                      " on map '", route.map_id, "'"));
+    }
+    if (const auto* dock = std::get_if<DockAction>(&action.params);
+        dock != nullptr && dock->target == DockTarget::kTrolley &&
+        !trolley_ids.contains(dock->target_id)) {
+      return absl::InvalidArgumentError(absl::StrCat("actions[", index, "] (", type,
+                                                     "): unknown trolley '", dock->target_id,
+                                                     "' on map '", route.map_id, "'"));
     }
     if (const auto* nav = std::get_if<FreeNavigationAction>(&action.params)) {
       for (const Eigen::Vector2d& waypoint : nav->waypoints_m) {

@@ -196,5 +196,31 @@ TEST(MarkerFileTest, SaveRefusesInvalidSetAndLoadReportsMissingFile) {
   EXPECT_EQ(LoadMarkerSet(path.string()).status().code(), absl::StatusCode::kNotFound);
 }
 
+TEST(MarkerYamlTest, TrolleysRoundTripAndDuplicateIdsAreRefused) {
+  absl::StatusOr<MarkerSet> set = ParseMarkerSetYaml(
+      "map: store\nmarkers: []\ntrolleys:\n"
+      "  - {id: t1, pose: [1.5, -2.0, 90], size: [1.0, 0.7], leg_radius: 0.025}\n"
+      "  - {id: t2, pose: [4, 0, 0]}\n");
+  ASSERT_TRUE(set.ok()) << set.status();
+  ASSERT_EQ(set->trolleys.size(), 2u);
+  EXPECT_EQ(set->trolleys[0].id, "t1");
+  EXPECT_NEAR(set->trolleys[0].pose.yaw_rad(), M_PI_2, 1e-12);
+  EXPECT_NEAR(set->trolleys[0].leg_radius_m, 0.025, 1e-12);
+  EXPECT_NEAR(set->trolleys[1].size_m.x(), 1.0, 1e-12);  // the default size
+  ASSERT_NE(set->FindTrolley("t2"), nullptr);
+  EXPECT_EQ(set->FindTrolley("t3"), nullptr);
+  absl::StatusOr<MarkerSet> back = ParseMarkerSetYaml(MarkerSetToYaml(*set));
+  ASSERT_TRUE(back.ok()) << back.status();
+  ASSERT_EQ(back->trolleys.size(), 2u);
+  EXPECT_NEAR(back->trolleys[0].pose.x_m(), 1.5, 1e-9);
+  EXPECT_NEAR(back->trolleys[0].pose.yaw_rad(), M_PI_2, 1e-9);
+  const absl::Status duplicate = ParseMarkerSetYaml(
+                                     "markers: []\ntrolleys:\n  - {id: t1, pose: [0, 0, 0]}\n"
+                                     "  - {id: t1, pose: [3, 0, 0]}\n")
+                                     .status();
+  EXPECT_EQ(duplicate.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(duplicate.message()), ::testing::HasSubstr("trolleys[1]"));
+}
+
 }  // namespace
 }  // namespace fleetnav

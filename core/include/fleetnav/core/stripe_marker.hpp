@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "fleetnav/core/pose2.hpp"
 
 namespace fleetnav {
 
@@ -55,11 +56,22 @@ absl::StatusOr<double> YawFromQuaternion(double a, double b, double c, double d)
 /// The quaternion (a, b, c, d) of a yaw rotation about z.
 Eigen::Vector4d QuaternionFromYaw(double yaw_rad);
 
-/// All stripe markers of one map, with unique ids. Validate() checks ids unique, positions
-/// finite, lengths > 0.
+/// A trolley standing on the site (KUKA thesis ch. 15) that robots dock under: its id for dock
+/// actions, where it stood when the map was made, its outer size and its legs' radius.
+struct TrolleyPlacement {
+  std::string id;
+  Pose2 pose;
+  Eigen::Vector2d size_m = Eigen::Vector2d(1.0, 0.7);
+  double leg_radius_m = 0.02;
+};
+
+/// All stripe markers of one map, with unique ids, and the trolleys standing on it. Validate()
+/// checks ids unique, positions finite, lengths > 0.
 struct MarkerSet {
   std::string map_id;
   std::vector<StripeMarker> markers;
+  std::vector<TrolleyPlacement> trolleys;
+  const TrolleyPlacement* FindTrolley(const std::string& id) const;
 
   absl::Status Validate() const;
   const StripeMarker* Find(int id) const;
@@ -75,6 +87,8 @@ struct MarkerSet {
 ///       orientation: {a: 0.0, b: 0.0, c: 0.7071, d: 0.7071}
 ///       length: 0.5          # optional, metres
 ///       kind: calibration    # optional: calibration | follow_stripe | charger_stripe
+///   trolleys:                # optional
+///     - {id: trolley-1, pose: [x, y, yaw_deg], size: [1.0, 0.7], leg_radius: 0.02}
 absl::StatusOr<MarkerSet> ParseMarkerSetYaml(std::string_view yaml_text);
 std::string MarkerSetToYaml(const MarkerSet& markers);
 absl::StatusOr<MarkerSet> LoadMarkerSet(const std::string& path);

@@ -40,6 +40,7 @@ struct FloorStripe {
 /// sensors and the map see the four corner legs as cylinders (added to `cylinders` as
 /// kind "trolley_leg" when the world is parsed).
 struct Trolley {
+  std::string id;  ///< `id:` in the file; "trolley-<n>" (1-based, in file order) without one
   Eigen::Vector2d center_m = Eigen::Vector2d::Zero();
   Eigen::Vector2d size_m = Eigen::Vector2d(0.9, 0.55);
   double yaw_rad = 0.0;
@@ -120,7 +121,7 @@ void ApplyGeometryFault(const FaultSpec& fault, WorldDescription* world);
 ///   stripes:   [{id: 1, points: [[x, y], [x, y]], width: 0.05}]
 ///   markers:   [{id: 1, at: [x, y], yaw_deg: 90, length: 0.6}]
 ///   robots:    [{id: lely1, kind: lely-vector, pose: [x, y, yaw_deg]}]
-///   trolleys:  [{center: [x, y], size: [0.9, 0.55], yaw_deg: 0, leg_radius: 0.02}]
+///   trolleys:  [{id: t1, center: [x, y], size: [0.9, 0.55], yaw_deg: 0, leg_radius: 0.02}]
 ///   faults:    [{type: remove_fence, label: B, region: {min: [x, y], max: [x, y]},
 ///                robot: id, sensor: name, duration_s: 0, factor: 1}]
 /// See docs/simulator.md.

@@ -13,10 +13,10 @@ namespace fleetnav::agent {
 
 struct TrolleyDockingParams {
   TrolleySpec spec;
-  int median_window = 3;            ///< scans in the temporal median filter
-  double max_range_m = 4.0;         ///< trolleys farther than this are not docked at
-  double search_timeout_s = 3.0;    ///< no trolley seen for this long: the action fails
-  double standoff_m = 0.25;         ///< the approach frame's gap before the trolley's legs
+  int median_window = 3;          ///< scans in the temporal median filter
+  double max_range_m = 4.0;       ///< trolleys farther than this are not docked at
+  double search_timeout_s = 3.0;  ///< no trolley seen for this long: the action fails
+  double standoff_m = 0.25;       ///< the approach frame's gap before the trolley's legs
   double approach_speed_mps = 0.2;
   double final_speed_mps = 0.08;
   double position_gain_per_s = 1.2;
@@ -24,6 +24,7 @@ struct TrolleyDockingParams {
   double approach_tolerance_m = 0.01;
   double final_tolerance_m = 0.003;
   double tolerance_rad = 0.01;
+  double expected_within_m = 1.0;
   absl::Status Validate() const;
 };
 
@@ -37,7 +38,11 @@ struct TrolleyDockingParams {
 /// `search_timeout_s`. Not thread-safe.
 class TrolleyDockingController : public MotionController {
  public:
-  TrolleyDockingController(const RobotModel& model, TrolleyDockingParams params);
+  /// `expected_in_map`: where the site says trolley `target_id` stands (the marker set's
+  /// trolleys); then only a trolley within `expected_within_m` of it is docked at.
+  TrolleyDockingController(const RobotModel& model, TrolleyDockingParams params,
+                           std::string target_id = "",
+                           std::optional<Pose2> expected_in_map = std::nullopt);
   ControlOutput Step(const ControlInput& input) override;
 
  private:
@@ -49,6 +54,8 @@ class TrolleyDockingController : public MotionController {
 
   RobotModel model_;
   TrolleyDockingParams params_;
+  std::string target_id_;
+  std::optional<Pose2> expected_in_map_;
   TemporalMedianFilter median_;
   Stage stage_ = Stage::kSearch;
   double searched_s_ = 0.0;

@@ -1,0 +1,154 @@
+// The trolley perception pipeline on generated scans with known answers (KUKA thesis ch.
+// 12-15): filters, clustering, iterative end-point fit, circle extraction, trolley recognition
+// and dock frames.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "fleetnav/robot_agent/laser_filters.hpp"
+#include "fleetnav/robot_agent/scan_features.hpp"
+#include "fleetnav/robot_agent/trolley_recognition.hpp"
+
+namespace fleetnav::agent {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// A 270° scan at 0.5° from the origin of a world of circles (legs) and a wall at x = wall_x_m
+/// (kInf: none), with Gaussian range noise.
+LaserScanSample Scan(const std::vector<Eigen::Vector2d>& legs, double leg_radius_m,
+                     double wall_x_m, double noise_m, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, noise_m > 0 ? noise_m : 1.0);
+  LaserScanSample scan;
+  scan.name = "laser";
+  scan.angle_min_rad = -135.0 * M_PI / 180.0;
+  scan.angle_increment_rad = 0.5 * M_PI / 180.0;
+  scan.range_max_m = 20.0;
+  for (int i = 0; i < 541; ++i) {
+    const double a = scan.angle_min_rad + i * scan.angle_increment_rad;
+    const Eigen::Vector2d d(std::cos(a), std::sin(a));
+    double best = kInf;
+    if (std::isfinite(wall_x_m) && d.x() > 1e-9) best = wall_x_m / d.x();
+    for (const Eigen::Vector2d& c : legs) {
+      const double along = c.dot(d);
+      const double miss2 = c.squaredNorm() - along * along;
+      if (along > 0 && miss2 < leg_radius_m * leg_radius_m) {
+        best = std::min(best, along - std::sqrt(leg_radius_m * leg_radius_m - miss2));
+      }
+    }
+    const double r = std::isfinite(best) ? best + (noise_m > 0 ? noise(rng) : 0.0) : 25.0;
+    scan.ranges_m.push_back(static_cast<float>(r));
+  }
+  return scan;
+}
+
+/// The four leg centres of a trolley (spec spacings) at `pose`.
+std::vector<Eigen::Vector2d> Legs(const Pose2& pose, const TrolleySpec& spec) {
+  std::vector<Eigen::Vector2d> legs;
+  for (double sx : {-0.5, 0.5}) {
+    for (double sy : {-0.5, 0.5}) {
+      legs.push_back(pose.TransformPoint({sx * spec.leg_spacing_x_m, sy * spec.leg_spacing_y_m}));
+    }
+  }
+  return legs;
+}
+
+TEST(LaserFiltersTest, TemporalMedianKeepsAThinLegAndDropsAnOutlier) {
+  TemporalMedianFilter median(3);
+  LaserScanSample scan;
+  scan.ranges_m = {5.0f, 2.0f, 5.0f};  // one beam on a leg
+  median.Apply(scan);
+  scan.ranges_m = {5.0f, 2.0f, 0.3f};  // a spurious short return on beam 2
+  median.Apply(scan);
+  scan.ranges_m = {5.0f, 2.0f, 5.0f};
+  const LaserScanSample out = median.Apply(scan);
+  EXPECT_FLOAT_EQ(out.ranges_m[1], 2.0f);  // a spatial median would have erased it
+  EXPECT_FLOAT_EQ(out.ranges_m[2], 5.0f);
+}
+
+TEST(LaserFiltersTest, ShadowFilterDropsTheVeilBehindAnEdgeNotTheEdge) {
+  LaserScanSample scan;
+  scan.angle_increment_rad = 0.5 * M_PI / 180.0;
+  scan.range_max_m = 20.0;
+  // A leg at 1 m, then points trailing from it to a wall at 4 m: the 2 and 3 m returns lie
+  // almost along their beams (veiling).
+  scan.ranges_m = {1.0f, 1.0f, 2.0f, 3.0f, 4.0f, 4.0f};
+  const LaserScanSample out = RemoveShadows(scan, ShadowFilterParams{});
+  EXPECT_FLOAT_EQ(out.ranges_m[0], 1.0f);
+  EXPECT_FLOAT_EQ(out.ranges_m[1], 1.0f);
+  EXPECT_TRUE(std::isinf(out.ranges_m[2]));
+  EXPECT_TRUE(std::isinf(out.ranges_m[3]));
+}
+
+TEST(ScanFeaturesTest, ClustersLinesAndCircles) {
+  const Pose2 laser;
+  const LaserScanSample scan = Scan({{1.5, 0.5}}, 0.02, 3.0, 0.0, 1);
+  const std::vector<std::vector<Eigen::Vector2d>> clusters =
+      ClusterPoints(ScanPoints(scan, laser), 0.06);
+  // The leg is a cluster of its own, of a few points, and fits a circle at its centre.
+  size_t leg = clusters.size(), wall = 0;
+  for (size_t i = 0; i < clusters.size(); ++i) {
+    if ((clusters[i].front() - Eigen::Vector2d(1.5, 0.5)).norm() < 0.05) leg = i;
+    if (clusters[i].size() > clusters[wall].size()) wall = i;
+  }
+  ASSERT_LT(leg, clusters.size());
+  EXPECT_LE(clusters[leg].size(), 4u);
+  const std::optional<Circle> circle = FitCircleOfRadius(clusters[leg], 0.02, laser.translation());
+  ASSERT_TRUE(circle.has_value());
+  EXPECT_NEAR((circle->center_m - Eigen::Vector2d(1.5, 0.5)).norm(), 0.0, 0.003);
+  // The longest piece of wall is straight: one segment along x = 3.
+  const std::vector<LineSegment> lines =
+      IterativeEndPointFit(clusters[wall], 0.01, 5.0 * M_PI / 180.0);
+  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_NEAR(lines[0].from.x(), 3.0, 1e-6);
+  EXPECT_NEAR(lines[0].to.x(), 3.0, 1e-6);
+  EXPECT_GT(lines[0].length_m(), 1.0);
+  // A corner splits into two segments at the corner point.
+  std::vector<Eigen::Vector2d> corner;
+  for (int i = 0; i <= 10; ++i) corner.emplace_back(0.1 * i, 0.0);
+  for (int i = 1; i <= 10; ++i) corner.emplace_back(1.0, 0.1 * i);
+  const std::vector<LineSegment> pieces = IterativeEndPointFit(corner, 0.01, 0.1);
+  ASSERT_EQ(pieces.size(), 2u);
+  EXPECT_NEAR((pieces[0].to - Eigen::Vector2d(1.0, 0.0)).norm(), 0.0, 1e-9);
+}
+
+TEST(TrolleyRecognitionTest, FindsTheTrolleyAndItsDockFramesInANoisyScan) {
+  const TrolleySpec spec;
+  int found = 0;
+  for (uint64_t seed = 1; seed <= 20; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    // A trolley 1.8-2.6 m ahead, up to ±0.5 m aside, turned up to ±30°, a shelf behind it.
+    const Pose2 trolley(2.2 + 0.4 * u(rng), 0.5 * u(rng), 0.52 * u(rng));
+    const LaserScanSample scan = Scan(Legs(trolley, spec), spec.leg_radius_m, 4.5, 0.01, seed);
+    const std::vector<TrolleyDetection> trolleys =
+        RecognizeTrolleys(LegCandidates(scan, Pose2(), spec), spec);
+    if (trolleys.empty()) continue;
+    ++found;
+    const Pose2& seen = trolleys.front().pose_in_base;
+    EXPECT_NEAR((seen.translation() - trolley.translation()).norm(), 0.0, 0.025) << seed;
+    EXPECT_NEAR(std::remainder(seen.yaw_rad() - trolley.yaw_rad(), 2 * M_PI), 0.0, 0.05) << seed;
+    EXPECT_GE(trolleys.front().legs_seen, 3) << seed;  // one leg may hide behind another
+  }
+  EXPECT_GE(found, 19);
+  // Legs of the wrong spacing are no trolley.
+  TrolleySpec other = spec;
+  other.leg_spacing_x_m = 0.6;
+  EXPECT_TRUE(RecognizeTrolleys(Legs(Pose2(2, 0, 0), other), spec).empty());
+
+  // Dock frames: the approach frame in front of the near end, facing along x; the final frame
+  // at the centre.
+  const RobotModel model = MecanumPlatformModel();
+  const DockFrames frames = DockFramesFor(Pose2(2, 1, M_PI_2), spec, model, 0.25);
+  EXPECT_NEAR(frames.final.x_m(), 2.0, 1e-9);
+  EXPECT_NEAR(frames.final.y_m(), 1.0, 1e-9);
+  EXPECT_NEAR(frames.approach.x_m(), 2.0, 1e-9);
+  EXPECT_NEAR(frames.approach.y_m(), 1.0 - (0.48 + 0.02 + 0.394 + 0.25), 1e-9);
+  EXPECT_NEAR(frames.approach.yaw_rad(), M_PI_2, 1e-9);
+}
+
+}  // namespace
+}  // namespace fleetnav::agent
