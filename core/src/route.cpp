@@ -56,6 +56,14 @@ class ActionValidator {
       if (!navigation.waypoints_m[i].allFinite()) {
         return Error(absl::StrCat("waypoints_m[", i, "] must be finite"));
       }
+      if (const std::optional<double> yaw = navigation.WaypointYaw(i);
+          yaw && !std::isfinite(*yaw)) {
+        return Error(absl::StrCat("waypoints_m[", i, "]: yaw must be finite"));
+      }
+    }
+    if (!navigation.waypoint_yaws_rad.empty() &&
+        navigation.waypoint_yaws_rad.size() != navigation.waypoints_m.size()) {
+      return Error("waypoint_yaws_rad: one entry per waypoint, or none");
     }
     if (!navigation.goal.IsFinite()) {
       return Error(absl::StrCat("goal must be finite, got ", navigation.goal.DebugString()));

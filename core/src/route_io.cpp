@@ -98,24 +98,34 @@ absl::StatusOr<MoveAction> ParseMove(const YAML::Node& node, const std::string& 
   return move;
 }
 
-absl::StatusOr<std::vector<Eigen::Vector2d>> ParseWaypoints(const YAML::Node& node,
-                                                            const std::string& where) {
-  std::vector<Eigen::Vector2d> waypoints;
+/// Waypoints [x, y] or [x, y, yaw_deg] into `navigation`.
+absl::Status ParseWaypoints(const YAML::Node& node, const std::string& where,
+                            FreeNavigationAction* navigation) {
   if (!node.IsSequence()) {
     return absl::InvalidArgumentError(
-        absl::StrCat(where, ": waypoints: expected a list of [x, y]"));
+        absl::StrCat(where, ": waypoints: expected a list of [x, y] or [x, y, yaw_deg]"));
   }
+  bool any_yaw = false;
   for (size_t i = 0; i < node.size(); ++i) {
     const std::string field = absl::StrCat(where, ": waypoints[", i, "]");
     const YAML::Node point = node[i];
-    if (!point.IsSequence() || point.size() != 2) {
-      return absl::InvalidArgumentError(absl::StrCat(field, ": expected [x, y]"));
+    if (!point.IsSequence() || (point.size() != 2 && point.size() != 3)) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(field, ": expected [x, y] or [x, y, yaw_deg]"));
     }
     ASSIGN_OR_RETURN(const double x_m, AsDouble(point[0], field));
     ASSIGN_OR_RETURN(const double y_m, AsDouble(point[1], field));
-    waypoints.emplace_back(x_m, y_m);
+    navigation->waypoints_m.emplace_back(x_m, y_m);
+    std::optional<double> yaw;
+    if (point.size() == 3) {
+      ASSIGN_OR_RETURN(const double yaw_deg, AsDouble(point[2], field));
+      yaw = DegToRad(yaw_deg);
+      any_yaw = true;
+    }
+    navigation->waypoint_yaws_rad.push_back(yaw);
   }
-  return waypoints;
+  if (!any_yaw) navigation->waypoint_yaws_rad.clear();
+  return absl::OkStatus();
 }
 
 absl::StatusOr<Pose2> ParseGoal(const YAML::Node& node, const std::string& where) {
@@ -133,7 +143,7 @@ absl::StatusOr<FreeNavigationAction> ParseFreeNavigation(const YAML::Node& node,
   RETURN_IF_ERROR(internal::CheckKnownKeys(node, {"waypoints", "goal", "speed"}, where));
   FreeNavigationAction navigation;
   if (Has(node, "waypoints")) {
-    ASSIGN_OR_RETURN(navigation.waypoints_m, ParseWaypoints(node["waypoints"], where));
+    RETURN_IF_ERROR(ParseWaypoints(node["waypoints"], where, &navigation));
   }
   if (!Has(node, "goal"))
     return absl::InvalidArgumentError(absl::StrCat(where, ": missing 'goal'"));
@@ -346,9 +356,12 @@ struct ParamsWriter {
     std::string text = "free_navigation: {";
     if (!navigation.waypoints_m.empty()) {
       std::vector<std::string> points;
-      for (const Eigen::Vector2d& point : navigation.waypoints_m) {
-        points.push_back(
-            absl::StrCat("[", FormatDouble(point.x()), ", ", FormatDouble(point.y()), "]"));
+      for (size_t i = 0; i < navigation.waypoints_m.size(); ++i) {
+        const Eigen::Vector2d& point = navigation.waypoints_m[i];
+        const std::optional<double> yaw = navigation.WaypointYaw(i);
+        points.push_back(absl::StrCat("[", FormatDouble(point.x()), ", ", FormatDouble(point.y()),
+                                      yaw ? absl::StrCat(", ", FormatDouble(RadToDeg(*yaw))) : "",
+                                      "]"));
       }
       absl::StrAppend(&text, "waypoints: [", absl::StrJoin(points, ", "), "], ");
     }

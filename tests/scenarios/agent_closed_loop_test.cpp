@@ -404,6 +404,20 @@ TEST_F(ClosedLoop, TrolleyDocksNotOnTheMapOrNotInViewAreRefusedOrFail) {
   EXPECT_NEAR(omni.pose().y_m(), 1.5, 0.01);
 }
 
+// The shipped store round (deploy/routes/store_trolley_round.yaml): aisle, a sideways scan and
+// back, under trolley-2, out again and home; judged by the truth.
+TEST_F(ClosedLoop, ShippedStoreRoundEndsAtHomeWithoutContact) {
+  StartSim(false, 11, std::string(FLEETNAV_WORLDS_DIR) + "/supermarket.yaml");
+  ASSERT_EQ(RunAgent(std::string(FLEETNAV_ROUTES_DIR) + "/store_trolley_round.yaml", {},
+                     "mecanum-platform", {-8.0, 1.8, 0.0}, "omni1"),
+            0)
+      << AgentLog();
+  const v1::RobotGroundTruth& omni = Robot(Truth(), "omni1");
+  EXPECT_EQ(omni.collisions(), 0);
+  EXPECT_NEAR(omni.pose().x_m(), -8.0, 0.1);
+  EXPECT_NEAR(omni.pose().y_m(), 1.8, 0.1);
+}
+
 // A move on a robot that cannot translate sideways is refused before the robot moves.
 TEST_F(ClosedLoop, MoveIsRefusedForTheLelyBeforeItMoves) {
   StartSim(/*with_gap=*/false);

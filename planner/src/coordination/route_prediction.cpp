@@ -111,20 +111,27 @@ std::vector<const StripeMarker*> Pieces(const MarkerSet* markers, MarkerKind kin
 
 }  // namespace
 
-absl::StatusOr<WaypointPath> PlanThroughWaypoints(SingleRobotPlanner& planner,
-                                                  const Pose2& map_origin, const Pose2& from,
-                                                  const std::vector<Eigen::Vector2d>& waypoints_m,
-                                                  const Pose2& goal, double time_limit_s) {
+absl::StatusOr<WaypointPath> PlanThroughWaypoints(
+    SingleRobotPlanner& planner, const Pose2& map_origin, const Pose2& from,
+    const std::vector<Eigen::Vector2d>& waypoints_m, const Pose2& goal, double time_limit_s,
+    const std::vector<std::optional<double>>& waypoint_yaws_rad) {
   const Pose2 grid_from_map = map_origin.Inverse();
-  // Legs: the robot → each waypoint → the goal; waypoints face the next point.
+  // Legs: the robot → each waypoint → the goal; a waypoint faces the next point unless its yaw
+  // is given, and then it is reached at that yaw.
   std::vector<Pose2> targets;
+  std::vector<bool> fixed_yaw;
   for (size_t i = 0; i < waypoints_m.size(); ++i) {
     const Eigen::Vector2d next =
         i + 1 < waypoints_m.size() ? waypoints_m[i + 1] : goal.translation();
     const Eigen::Vector2d d = next - waypoints_m[i];
-    targets.emplace_back(waypoints_m[i].x(), waypoints_m[i].y(), std::atan2(d.y(), d.x()));
+    const std::optional<double> yaw =
+        i < waypoint_yaws_rad.size() ? waypoint_yaws_rad[i] : std::nullopt;
+    targets.emplace_back(waypoints_m[i].x(), waypoints_m[i].y(),
+                         yaw.value_or(std::atan2(d.y(), d.x())));
+    fixed_yaw.push_back(yaw.has_value());
   }
   targets.push_back(goal);
+  fixed_yaw.push_back(true);
   WaypointPath out;
   Pose2 leg_start = from;
   for (size_t t = 0; t < targets.size(); ++t) {
@@ -132,7 +139,7 @@ absl::StatusOr<WaypointPath> PlanThroughWaypoints(SingleRobotPlanner& planner,
     request.start = grid_from_map * leg_start;
     request.goal = grid_from_map * targets[t];
     request.time_limit_s = time_limit_s;
-    request.goal_tolerance_rad = t + 1 == targets.size() ? 0.1 : 0.8;
+    request.goal_tolerance_rad = fixed_yaw[t] ? 0.1 : 0.8;
     absl::StatusOr<PathResult> leg = planner.Plan(request);
     if (!leg.ok()) {
       return absl::Status(leg.status().code(),
@@ -190,6 +197,12 @@ absl::StatusOr<std::vector<PredictedAction>> PredictRoute(const Route& route, co
       predicted.duration_s = std::abs(turn->angle_rad) / std::max(turn->yaw_rate_radps, 1e-3);
     } else if (const auto* line = std::get_if<StraightAction>(&action.params)) {
       straight(line->distance_m, line->speed_mps);
+    } else if (const auto* move = std::get_if<MoveAction>(&action.params)) {
+      // Sideways or back, heading held.
+      AppendLine(predicted.poses, pose.translation(), pose.TransformPoint({move->dx_m, move->dy_m}),
+                 params.pose_step_m);
+      for (Pose2& p : predicted.poses) p = Pose2(p.x_m(), p.y_m(), pose.yaw_rad());
+      predicted.duration_s = std::hypot(move->dx_m, move->dy_m) / std::max(move->speed_mps, 1e-3);
     } else if (const auto* fence = std::get_if<FenceNavigationAction>(&action.params)) {
       straight(fence->distance_m, fence->speed_mps);
     } else if (const auto* stripe = std::get_if<StripeNavigationAction>(&action.params)) {
@@ -211,8 +224,9 @@ absl::StatusOr<std::vector<PredictedAction>> PredictRoute(const Route& route, co
       }
     } else if (const auto* nav = std::get_if<FreeNavigationAction>(&action.params)) {
       if (planner != nullptr) {
-        absl::StatusOr<WaypointPath> path = PlanThroughWaypoints(
-            *planner, map_origin, pose, nav->waypoints_m, nav->goal, params.plan_time_limit_s);
+        absl::StatusOr<WaypointPath> path =
+            PlanThroughWaypoints(*planner, map_origin, pose, nav->waypoints_m, nav->goal,
+                                 params.plan_time_limit_s, nav->waypoint_yaws_rad);
         if (!path.ok()) {
           return absl::Status(
               path.status().code(),

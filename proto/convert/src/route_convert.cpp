@@ -66,6 +66,12 @@ struct ParamsToProto {
       *wire->add_waypoints() = ToProto(waypoint);
     *wire->mutable_goal() = ToProto(a.goal);
     wire->set_speed_mps(a.speed_mps);
+    for (size_t i = 0; i < a.waypoint_yaws_rad.size(); ++i) {
+      if (!a.waypoint_yaws_rad[i]) continue;
+      v1::WaypointYaw* yaw = wire->add_waypoint_yaws();
+      yaw->set_index(static_cast<uint32_t>(i));
+      yaw->set_yaw_rad(*a.waypoint_yaws_rad[i]);
+    }
   }
   void operator()(const FenceNavigationAction& a) const {
     v1::FenceNavigationAction* wire = out->mutable_fence_navigation();
@@ -107,6 +113,16 @@ absl::StatusOr<ActionParams> ParamsFromProto(const v1::RouteAction& wire,
       }
       ASSIGN_OR_RETURN(action.goal, FromProto(nav.goal(), absl::StrCat(field, ".goal")));
       action.speed_mps = nav.speed_mps();
+      if (nav.waypoint_yaws_size() > 0) {
+        action.waypoint_yaws_rad.assign(action.waypoints_m.size(), std::nullopt);
+      }
+      for (const v1::WaypointYaw& yaw : nav.waypoint_yaws()) {
+        if (yaw.index() >= action.waypoints_m.size()) {
+          return absl::InvalidArgumentError(
+              absl::StrCat(field, ".waypoint_yaws: index ", yaw.index(), " is not a waypoint's"));
+        }
+        action.waypoint_yaws_rad[yaw.index()] = yaw.yaw_rad();
+      }
       return action;
     }
     case v1::RouteAction::kFenceNavigation: {

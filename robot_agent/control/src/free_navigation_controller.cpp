@@ -107,8 +107,13 @@ absl::Status FreeNavigationController::Plan(const Pose2& from_in_map) {
   }
   const std::vector<Eigen::Vector2d> ahead(action_.waypoints_m.begin() + next_waypoint_,
                                            action_.waypoints_m.end());
-  absl::StatusOr<planner::WaypointPath> path = planner::PlanThroughWaypoints(
-      *planner_, map_->origin(), from_in_map, ahead, action_.goal, params_.plan_time_limit_s);
+  std::vector<std::optional<double>> yaws_ahead;
+  for (size_t i = next_waypoint_; i < action_.waypoints_m.size(); ++i) {
+    yaws_ahead.push_back(action_.WaypointYaw(i));
+  }
+  absl::StatusOr<planner::WaypointPath> path =
+      planner::PlanThroughWaypoints(*planner_, map_->origin(), from_in_map, ahead, action_.goal,
+                                    params_.plan_time_limit_s, yaws_ahead);
   if (!path.ok()) return path.status();
   planned_length_m_ = path->length_m;
   if (model_.kinematics == Kinematics::kOmnidirectional) path->poses = Smoothed(path->poses);

@@ -32,11 +32,10 @@ double SquaredDistanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d&
   return (a + t * ab - p).squaredNorm();
 }
 
-/// The waypoints still ahead of a robot at `position`: those after the start of the segment of
+/// The first waypoint still ahead of a robot at `position`: after the start of the segment of
 /// waypoints…goal nearest to it. None is dropped while the robot is nearer the first waypoint
 /// than any segment beyond it.
-std::vector<Eigen::Vector2d> WaypointsAhead(const FreeNavigationAction& nav,
-                                            const Eigen::Vector2d& position) {
+size_t FirstWaypointAhead(const FreeNavigationAction& nav, const Eigen::Vector2d& position) {
   std::vector<Eigen::Vector2d> points = nav.waypoints_m;
   points.push_back(nav.goal.translation());
   size_t nearest_segment = 0;
@@ -48,8 +47,7 @@ std::vector<Eigen::Vector2d> WaypointsAhead(const FreeNavigationAction& nav,
       nearest_segment = i + 1;  // waypoints 0..i are behind
     }
   }
-  return {nav.waypoints_m.begin() + static_cast<std::ptrdiff_t>(nearest_segment),
-          nav.waypoints_m.end()};
+  return nearest_segment;
 }
 
 }  // namespace
@@ -77,7 +75,13 @@ std::optional<RouteAction> RemainderOf(const RouteAction& action, double fractio
     if (!d) return std::nullopt;
     stripe->distance_m = *d;
   } else if (auto* nav = std::get_if<FreeNavigationAction>(&left.params)) {
-    nav->waypoints_m = WaypointsAhead(*nav, pose_in_map.translation());
+    const auto behind =
+        static_cast<std::ptrdiff_t>(FirstWaypointAhead(*nav, pose_in_map.translation()));
+    nav->waypoints_m.erase(nav->waypoints_m.begin(), nav->waypoints_m.begin() + behind);
+    if (!nav->waypoint_yaws_rad.empty()) {
+      nav->waypoint_yaws_rad.erase(nav->waypoint_yaws_rad.begin(),
+                                   nav->waypoint_yaws_rad.begin() + behind);
+    }
   }
   return left;
 }

@@ -18,8 +18,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// A 270° scan at 0.5° from the origin of a world of circles (legs) and a wall at x = wall_x_m
 /// (kInf: none), with Gaussian range noise.
-LaserScanSample Scan(const std::vector<Eigen::Vector2d>& legs, double leg_radius_m,
-                     double wall_x_m, double noise_m, uint64_t seed) {
+LaserScanSample Scan(const std::vector<Eigen::Vector2d>& legs, double leg_radius_m, double wall_x_m,
+                     double noise_m, uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> noise(0.0, noise_m > 0 ? noise_m : 1.0);
   LaserScanSample scan;

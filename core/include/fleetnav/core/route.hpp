@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -36,11 +37,17 @@ struct StraightAction {
   double distance_m = 0.0;
   double speed_mps = 0.25;
 };
-/// Map-based navigation through waypoints to a goal pose.
+/// Map-based navigation through waypoints to a goal pose. A waypoint may fix the robot's yaw
+/// there (`waypoint_yaws_rad`: empty, or one entry per waypoint, nullopt where free); without it
+/// the robot faces the next point.
 struct FreeNavigationAction {
   std::vector<Eigen::Vector2d> waypoints_m;
   Pose2 goal;
   double speed_mps = 0.25;
+  std::vector<std::optional<double>> waypoint_yaws_rad;
+  std::optional<double> WaypointYaw(size_t i) const {
+    return i < waypoint_yaws_rad.size() ? waypoint_yaws_rad[i] : std::nullopt;
+  }
 };
 enum class Side { kLeft, kRight };
 /// Follow a feeding fence on one side at a set distance (ultrasonic PID), for distance_m.
@@ -116,7 +123,8 @@ absl::StatusOr<EndConditionKind> ParseEndConditionKind(std::string_view name);
 ///     - turn: {angle_deg: 90, yaw_rate: 0.3}
 ///     - straight: {distance: 3.0}
 ///       until: {marker: 4}            # optional end condition
-///     - free_navigation: {waypoints: [[1, 2], [3, 4]], goal: {x: 5, y: 6, yaw_deg: 90}}
+///     - free_navigation: {waypoints: [[1, 2], [3, 4, 90]], goal: {x: 5, y: 6, yaw_deg: 90}}
+///                                  # a waypoint [x, y, yaw_deg] fixes the yaw there
 ///     - fence_navigation: {side: left, fence_distance: 0.5, distance: 10}
 ///     - stripe_navigation: {stripe: 3, distance: 12}
 ///       until: stripe_end

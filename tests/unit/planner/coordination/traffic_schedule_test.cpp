@@ -262,6 +262,40 @@ TEST(TrafficScheduleTest, RandomDelaysNeverCollideOrDeadlock) {
   EXPECT_GT(crossings_waited, 0);  // the routes did cross
 }
 
+/// A planner that answers every request with the straight line and remembers the requests.
+class StraightLinePlanner : public SingleRobotPlanner {
+ public:
+  absl::StatusOr<PathResult> Plan(const PathRequest& request, std::stop_token) override {
+    requests.push_back(request);
+    PathResult result;
+    result.poses = {request.start, request.goal};
+    result.length_m = (request.goal.translation() - request.start.translation()).norm();
+    return result;
+  }
+  std::vector<PathRequest> requests;
+};
+
+TEST(RoutePredictionTest, AWaypointWithAYawIsReachedAtItAndOthersFaceTheNextPoint) {
+  StraightLinePlanner planner;
+  absl::StatusOr<WaypointPath> path =
+      PlanThroughWaypoints(planner, Pose2(), Pose2(0, 0, 0), {{2, 0}, {2, 2}}, Pose2(4, 2, 0), 1.0,
+                           {std::nullopt, M_PI});
+  ASSERT_TRUE(path.ok()) << path.status();
+  ASSERT_EQ(planner.requests.size(), 3u);
+  EXPECT_NEAR(planner.requests[0].goal.yaw_rad(), M_PI_2, 1e-12);  // faces (2, 2)
+  EXPECT_NEAR(planner.requests[0].goal_tolerance_rad, 0.8, 1e-12);
+  EXPECT_NEAR(planner.requests[1].goal.yaw_rad(), M_PI, 1e-12);  // as the route says
+  EXPECT_NEAR(planner.requests[1].goal_tolerance_rad, 0.1, 1e-12);
+  // And the route's move action is predicted sideways with the heading held.
+  fleetnav::Route route;
+  route.actions.push_back({MoveAction{0.0, 1.5, 0.3}, {}});
+  absl::StatusOr<std::vector<PredictedAction>> predicted =
+      PredictRoute(route, Pose2(1, 1, M_PI_2), nullptr, nullptr, Pose2());
+  ASSERT_TRUE(predicted.ok()) << predicted.status();
+  EXPECT_TRUE(predicted->at(0).poses.back().IsNear(Pose2(-0.5, 1, M_PI_2), 1e-9, 1e-9));
+  EXPECT_NEAR(predicted->at(0).duration_s, 5.0, 1e-9);
+}
+
 TEST(RoutePredictionTest, LegsChainFromTheStartAlongStripesAndTurns) {
   MarkerSet markers;
   StripeMarker stripe;

@@ -20,10 +20,10 @@ struct WaypointPath {
 /// Plans from `from` through `waypoints_m` (passed, not stopped at: any heading within 45°
 /// of the next point will do) to `goal` with `planner`, whose costmap has the grid frame
 /// `map_origin`. A goal the planner reaches only approximately is NotFound naming it.
-absl::StatusOr<WaypointPath> PlanThroughWaypoints(SingleRobotPlanner& planner,
-                                                  const Pose2& map_origin, const Pose2& from,
-                                                  const std::vector<Eigen::Vector2d>& waypoints_m,
-                                                  const Pose2& goal, double time_limit_s);
+absl::StatusOr<WaypointPath> PlanThroughWaypoints(
+    SingleRobotPlanner& planner, const Pose2& map_origin, const Pose2& from,
+    const std::vector<Eigen::Vector2d>& waypoints_m, const Pose2& goal, double time_limit_s,
+    const std::vector<std::optional<double>>& waypoint_yaws_rad = {});
 
 /// Where one action of a route is expected to take the robot: poses along it (at most
 /// RoutePredictionParams::pose_step_m / yaw_step_rad apart) and its nominal duration.
