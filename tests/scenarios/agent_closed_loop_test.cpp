@@ -418,6 +418,29 @@ TEST_F(ClosedLoop, ShippedStoreRoundEndsAtHomeWithoutContact) {
   EXPECT_NEAR(omni.pose().y_m(), 1.8, 0.1);
 }
 
+// The shipped yard delivery (deploy/routes/yard_delivery.yaml): through the row of parcels with
+// near-equal gaps (the capstone's §5.2 failure) to the loading dock and back; judged by the
+// truth.
+TEST_F(ClosedLoop, ShippedYardDeliveryPassesTheParcelRowAndReturnsWithoutContact) {
+  StartSim(false, 12, std::string(FLEETNAV_WORLDS_DIR) + "/delivery_yard.yaml",
+           /*record_truth=*/true);
+  ASSERT_EQ(RunAgent(std::string(FLEETNAV_ROUTES_DIR) + "/yard_delivery.yaml", {},
+                     "ackermann-delivery", {-16.0, 0.0, 0.0}, "delivery1"),
+            0)
+      << AgentLog();
+  const v1::RobotGroundTruth& car = Robot(Truth(), "delivery1");
+  EXPECT_EQ(car.collisions(), 0);
+  EXPECT_NEAR(car.pose().x_m(), -16.0, 0.15);
+  EXPECT_NEAR(car.pose().y_m(), 0.0, 0.15);
+  // It crossed the parcel row (y = -4) between the parcels at x = -4.1 and -2.45.
+  sim_->Stop();
+  bool crossed = false;
+  for (const Eigen::Vector2d& p : ReadTruthTrack(Path("truth.csv"), "delivery1")) {
+    crossed |= std::abs(p.y() + 4.0) < 0.05 && p.x() > -3.8 && p.x() < -2.75;
+  }
+  EXPECT_TRUE(crossed);
+}
+
 // A move on a robot that cannot translate sideways is refused before the robot moves.
 TEST_F(ClosedLoop, MoveIsRefusedForTheLelyBeforeItMoves) {
   StartSim(/*with_gap=*/false);
