@@ -62,12 +62,7 @@ absl::Status KinematicRobot::SetDrive(const DriveCommand& drive, double scale) {
     if (twist == nullptr) {
       return absl::InvalidArgumentError("the robot is omnidirectional: send a twist");
     }
-    target_.vx_mps =
-        std::clamp(scale * twist->vx_mps, -limits.max_reverse_speed_mps, limits.max_speed_mps);
-    target_.vy_mps = std::clamp(scale * twist->vy_mps, -limits.max_lateral_speed_mps,
-                                limits.max_lateral_speed_mps);
-    target_.yaw_rate_radps = std::clamp(scale * twist->yaw_rate_radps, -limits.max_yaw_rate_radps,
-                                        limits.max_yaw_rate_radps);
+    target_ = ClampOmniTwist(limits, *twist, scale);
     return absl::OkStatus();
   }
   double speed = 0.0;

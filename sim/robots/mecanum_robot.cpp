@@ -153,13 +153,7 @@ absl::Status MecanumRobot::SetDrive(const DriveCommand& drive, double scale) {
       !std::isfinite(twist->yaw_rate_radps)) {
     return absl::InvalidArgumentError("twist: not finite");
   }
-  const MotionLimits& limits = model_.limits;
-  target_.vx_mps =
-      std::clamp(scale * twist->vx_mps, -limits.max_reverse_speed_mps, limits.max_speed_mps);
-  target_.vy_mps = std::clamp(scale * twist->vy_mps, -limits.max_lateral_speed_mps,
-                              limits.max_lateral_speed_mps);
-  target_.yaw_rate_radps = std::clamp(scale * twist->yaw_rate_radps, -limits.max_yaw_rate_radps,
-                                      limits.max_yaw_rate_radps);
+  target_ = ClampOmniTwist(model_.limits, *twist, scale);
   dBodyEnable(chassis_);
   return absl::OkStatus();
 }

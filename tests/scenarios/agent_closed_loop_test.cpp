@@ -62,7 +62,7 @@ class ClosedLoop : public ::testing::Test {
   void StartSim(bool with_gap, uint64_t seed = 3, const std::string& world_file = "",
                 bool record_truth = false) {
     dir_ = std::filesystem::path(::testing::TempDir()) /
-           ("closed-loop-" + std::to_string(getpid()) + "-" + std::to_string(counter_++));
+           ("closed-loop-" + std::to_string(getpid()) + "-" + std::to_string(file_counter++));
     // A folder of an earlier run with the same pid holds a stale sim.port.
     std::filesystem::remove_all(dir_);
     std::filesystem::create_directories(dir_);
@@ -99,7 +99,7 @@ class ClosedLoop : public ::testing::Test {
   std::string Path(const std::string& name) const { return (dir_ / name).string(); }
 
   std::string WriteRoute(const std::string& actions, const std::string& map = "fence-hall") {
-    const std::string path = Path("route-" + std::to_string(counter_++) + ".yaml");
+    const std::string path = Path("route-" + std::to_string(file_counter++) + ".yaml");
     std::ofstream(path) << "name: hall-route\nmap: " << map << "\nactions:\n" << actions;
     return path;
   }
@@ -178,7 +178,7 @@ class ClosedLoop : public ::testing::Test {
   std::string sim_address_;
   std::unique_ptr<ChildProcess> sim_;
   std::unique_ptr<ChildProcess> agent_;
-  static inline int counter_ = 0;
+  static inline int file_counter = 0;
 };
 
 // Fence navigation along 16 m of fence with a 3 m gap: reactive on the ultrasonic, map-based

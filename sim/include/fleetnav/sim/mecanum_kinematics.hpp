@@ -17,4 +17,7 @@ MecanumWheelRates MecanumInverse(const RobotModel& model, const Twist2& twist);
 /// Mecanum forward kinematics (the thesis's pseudo-inverse, eq. 4.15–4.17).
 Twist2 MecanumForward(const RobotModel& model, const MecanumWheelRates& rates);
 
+/// An omnidirectional twist times `scale`, each component clamped to the model's limits.
+Twist2 ClampOmniTwist(const MotionLimits& limits, const Twist2& twist, double scale);
+
 }  // namespace fleetnav::sim
