@@ -215,9 +215,28 @@ absl::StatusOr<std::vector<PredictedAction>> PredictRoute(const Route& route, co
       }
       const bool by_distance = action.end.kind == EndConditionKind::kDistance;
       follow(pieces, by_distance ? stripe->distance_m : 0.0, stripe->speed_mps);
-    } else if (std::holds_alternative<DockAction>(action.params)) {
+    } else if (const auto* dock = std::get_if<DockAction>(&action.params)) {
       std::vector<const StripeMarker*> pieces = Pieces(markers, MarkerKind::kChargerStripe, 0);
-      if (pieces.empty()) {
+      const TrolleyPlacement* trolley = dock->target == DockTarget::kTrolley && markers != nullptr
+                                            ? markers->FindTrolley(dock->target_id)
+                                            : nullptr;
+      if (trolley != nullptr) {
+        // To a point a metre before the trolley's nearer end, then under it to its centre
+        // (the agent's approach and final dock frames), at docking speed.
+        // Entered from the end the robot is nearer (the trolley is symmetric).
+        Pose2 facing = trolley->pose;
+        const Eigen::Vector2d backwards = facing.TransformPoint({-1, 0}) - facing.translation();
+        if (backwards.dot(pose.translation() - facing.translation()) < 0.0) {
+          facing = facing * Pose2(0, 0, M_PI);
+        }
+        const Eigen::Vector2d approach =
+            facing.TransformPoint({-(0.5 * trolley->size_m.x() + 1.0), 0.0});
+        const double length_m =
+            AppendPolyline(predicted.poses, {pose.translation(), approach, facing.translation()},
+                           0.0, params.pose_step_m);
+        predicted.poses.push_back(facing);
+        predicted.duration_s = length_m / 0.15;
+      } else if (pieces.empty()) {
         straight(params.default_dock_distance_m, 0.2);
       } else {
         follow(pieces, 0.0, 0.2);

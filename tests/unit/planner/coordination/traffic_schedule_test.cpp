@@ -294,6 +294,23 @@ TEST(RoutePredictionTest, AWaypointWithAYawIsReachedAtItAndOthersFaceTheNextPoin
   ASSERT_TRUE(predicted.ok()) << predicted.status();
   EXPECT_TRUE(predicted->at(0).poses.back().IsNear(Pose2(-0.5, 1, M_PI_2), 1e-9, 1e-9));
   EXPECT_NEAR(predicted->at(0).duration_s, 5.0, 1e-9);
+
+  // A trolley dock goes before the trolley's nearer end and under it to its centre.
+  MarkerSet site;
+  site.trolleys.push_back({"t1", Pose2(5, 0, 0), Eigen::Vector2d(1.0, 0.7), 0.02});
+  fleetnav::Route dock;
+  dock.actions.push_back({DockAction{DockTarget::kTrolley, "t1"}, {}});
+  for (const double start_x : {0.0, 10.0}) {
+    predicted = PredictRoute(dock, Pose2(start_x, 0, 0), &site, nullptr, Pose2());
+    ASSERT_TRUE(predicted.ok()) << predicted.status();
+    const std::vector<Pose2>& poses = predicted->at(0).poses;
+    EXPECT_NEAR(poses.back().x_m(), 5.0, 1e-9);
+    EXPECT_NEAR(poses.back().y_m(), 0.0, 1e-9);
+    // Never past the centre on the far side: it came in from the start's end.
+    for (const Pose2& p : poses) {
+      EXPECT_LE(std::abs(p.x_m() - start_x), std::abs(5.0 - start_x) + 1e-9) << start_x;
+    }
+  }
 }
 
 TEST(RoutePredictionTest, LegsChainFromTheStartAlongStripesAndTurns) {
