@@ -4,11 +4,10 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
 
 namespace fleetnav::agent {
 namespace {
-
-double AngleDifference(double a, double b) { return std::remainder(a - b, 2 * M_PI); }
 
 double Approach(double current, double target, double max_step) {
   return current + std::clamp(target - current, -max_step, max_step);
