@@ -43,23 +43,24 @@ std::optional<Pose2> TrolleyDockingController::Measure(const ControlInput& input
   const LaserScanSample scan = median_.Apply(*input.perception.laser);
   const std::vector<TrolleyDetection> trolleys = RecognizeTrolleys(
       LegCandidates(scan, input.perception.laser_in_base, params_.spec), params_.spec);
+  // Where the site says the target stands, in the odometry frame.
+  std::optional<Pose2> expected;
+  if (expected_in_map_) {
+    expected = input.pose_in_odom * input.pose_in_map.Inverse() * *expected_in_map_;
+  }
   for (const TrolleyDetection& t : trolleys) {
     if (t.pose_in_base.translation().norm() > params_.max_range_m) break;
+    const Pose2 seen = input.pose_in_odom * t.pose_in_base;
     if (trolley_in_odom_) {
       // Keep to the trolley being docked at; its x axis may be found either way round.
-      const Pose2 seen = input.pose_in_odom * t.pose_in_base;
       if ((seen.translation() - trolley_in_odom_->translation()).norm() > 0.2) continue;
       double yaw = seen.yaw_rad();
       if (std::abs(AngleDifference(yaw, trolley_in_odom_->yaw_rad())) > M_PI_2) yaw += M_PI;
       return Pose2(seen.x_m(), seen.y_m(), yaw);
     }
-    const Pose2 seen = input.pose_in_odom * t.pose_in_base;
-    if (expected_in_map_) {
-      // Where the site says the target stands, in the odometry frame.
-      const Pose2 expected = input.pose_in_odom * input.pose_in_map.Inverse() * *expected_in_map_;
-      if ((seen.translation() - expected.translation()).norm() > params_.expected_within_m) {
-        continue;
-      }
+    if (expected &&
+        (seen.translation() - expected->translation()).norm() > params_.expected_within_m) {
+      continue;
     }
     return seen;
   }
