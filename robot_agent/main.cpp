@@ -90,6 +90,10 @@ int main(int argc, char** argv) {
   app.add_flag("--no-endpoint-augmentation", no_augmentation,
                "move actions that reverse the direction of travel turn back on the spot instead "
                "of bending round (the KUKA thesis's baseline without end-point augmentation)");
+  bool no_obstacle_avoidance = false;
+  app.add_flag("--no-obstacle-avoidance", no_obstacle_avoidance,
+               "Ackermann free navigation follows its planned path blind, without VFH+ on the "
+               "laser (the baseline for obstacles that are not on the map)");
   app.add_flag("--ignore-markers", ignore_markers,
                "plain AMCL: do not calibrate on stripe markers (the SAMCL baseline)");
   app.add_option("--max-jobs", params.max_jobs,
@@ -123,6 +127,7 @@ int main(int argc, char** argv) {
   params.telemetry_period_s = telemetry_hz > 0 ? 1.0 / telemetry_hz : 0.0;
   params.exit_when_done = route.has_value();
   params.modes.move.augment_endpoints = !no_augmentation;
+  params.modes.free_navigation.ackermann.avoid_obstacles = !no_obstacle_avoidance;
 
   fleetnav::agent::RouteContext context{*model, std::nullopt, nullptr};
   if (!markers_path.empty()) {

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -59,8 +60,10 @@ class ClosedLoop : public ::testing::Test {
  protected:
   /// With `record_truth` the simulator records every robot's true track at 50 Hz to
   /// Path("truth.csv").
+  /// The simulator on `world_file` (else the fence hall, with the gap fault if asked); the
+  /// site's map is exported from `map_world_file` when given (a world without some obstacles).
   void StartSim(bool with_gap, uint64_t seed = 3, const std::string& world_file = "",
-                bool record_truth = false) {
+                bool record_truth = false, const std::string& map_world_file = "") {
     dir_ = std::filesystem::path(::testing::TempDir()) /
            ("closed-loop-" + std::to_string(getpid()) + "-" + std::to_string(file_counter++));
     // A folder of an earlier run with the same pid holds a stale sim.port.
@@ -72,8 +75,10 @@ class ClosedLoop : public ::testing::Test {
     } else {
       world = world_file;
     }
-    ChildProcess exporter({FLEETNAV_SIM_PATH, "--world", world, "--export-map", Path("map")},
-                          Path("export.out"), Path("export.err"));
+    ChildProcess exporter(
+        {FLEETNAV_SIM_PATH, "--world", map_world_file.empty() ? world : map_world_file,
+         "--export-map", Path("map")},
+        Path("export.out"), Path("export.err"));
     ASSERT_EQ(exporter.Wait(60.0), 0) << exporter.Stderr();
     // --export-map names its files after the world's name.
     for (const auto& entry : std::filesystem::directory_iterator(dir_ / "map")) {
@@ -439,6 +444,72 @@ TEST_F(ClosedLoop, ShippedYardDeliveryPassesTheParcelRowAndReturnsWithoutContact
     crossed |= std::abs(p.y() + 4.0) < 0.05 && p.x() > -3.8 && p.x() < -2.75;
   }
   EXPECT_TRUE(crossed);
+}
+
+// VFH+ in the loop (Ashesi capstone §5.2): a row of parcels with near-equal gaps stands across
+// the Ackermann robot's way but is not on its map. It steers through a gap and on to the goal
+// without a contact; followed blind, the same route drives into the parcel on the line.
+TEST_F(ClosedLoop, AckermannSteersThroughUnmappedParcelsWithVfhPlus) {
+  const std::string yard =
+      "name: parcel_yard\n"
+      "extent: {min: [-10, -5], max: [10, 5]}\n"
+      "fences:\n"
+      "  - {from: [-10, -4.95], to: [10, -4.95], thickness: 0.1, height: 1.8}\n"
+      "  - {from: [-10, 4.95], to: [10, 4.95], thickness: 0.1, height: 1.8}\n"
+      "  - {from: [-9.95, -5], to: [-9.95, 5], thickness: 0.1, height: 1.8}\n"
+      "  - {from: [9.95, -5], to: [9.95, 5], thickness: 0.1, height: 1.8}\n"
+      "boxes:\n"
+      "  - {center: [6.0, 3.0], size: [2.0, 1.0], height: 2.0, kind: building}\n";
+  const std::string robots =
+      "robots:\n"
+      "  - {id: car1, kind: ackermann-delivery, pose: [-8.0, 0.2, 0.0]}\n";
+  // Gaps of 1.05, 1.05, 1.10 and 1.00 m; the middle parcel stands on the straight line.
+  const std::string parcels =
+      "  - {center: [0.0, -3.3], size: [0.6, 0.6], height: 0.8, kind: parcel}\n"
+      "  - {center: [0.0, -1.65], size: [0.6, 0.6], height: 0.8, kind: parcel}\n"
+      "  - {center: [0.0, 0.0], size: [0.6, 0.6], height: 0.8, kind: parcel}\n"
+      "  - {center: [0.0, 1.7], size: [0.6, 0.6], height: 0.8, kind: parcel}\n"
+      "  - {center: [0.0, 3.3], size: [0.6, 0.6], height: 0.8, kind: parcel}\n";
+  for (const bool avoid : {true, false}) {
+    SCOPED_TRACE(avoid ? "VFH+" : "blind");
+    dir_ = std::filesystem::path(::testing::TempDir()) /
+           ("closed-loop-yard-" + std::to_string(getpid()) + "-" + std::to_string(avoid));
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+    const std::string world = Path("parcel-yard.yaml");
+    const std::string site = Path("parcel-yard-site.yaml");
+    std::ofstream(world) << yard << parcels << robots;
+    std::ofstream(site) << yard << robots;
+    StartSim(false, 5, world, /*record_truth=*/true, site);
+    const std::string route = Path("through.yaml");
+    std::ofstream(route)
+        << "name: through\nmap: parcel_yard\nactions:\n"
+        << "  - free_navigation: {goal: {x: 8.0, y: 0.2, yaw_deg: 0}, speed: 0.5}\n";
+    std::vector<std::string> extra;
+    if (!avoid) extra.push_back("--no-obstacle-avoidance");
+    const int exit_code = RunAgent(route, extra, "ackermann-delivery", {-8.0, 0.2, 0.0}, "car1");
+    const v1::RobotGroundTruth car = Robot(Truth(), "car1");
+    if (!avoid) {
+      EXPECT_NE(exit_code, 0);
+      EXPECT_GT(car.collisions(), 0);
+      sim_->Stop();
+      continue;
+    }
+    ASSERT_EQ(exit_code, 0) << AgentLog();
+    EXPECT_EQ(car.collisions(), 0);
+    EXPECT_NEAR(car.pose().x_m(), 8.0, 0.15);
+    EXPECT_NEAR(car.pose().y_m(), 0.2, 0.15);
+    sim_->Stop();
+    // It crossed the row (x = 0) in a gap beside the parcel on its line.
+    std::optional<double> crossing_y;
+    for (const Eigen::Vector2d& p : ReadTruthTrack(Path("truth.csv"), "car1")) {
+      if (!crossing_y && p.x() >= 0.0) crossing_y = p.y();
+    }
+    ASSERT_TRUE(crossing_y.has_value());
+    EXPECT_TRUE((*crossing_y > -1.35 && *crossing_y < -0.3) ||
+                (*crossing_y > 0.3 && *crossing_y < 1.4))
+        << *crossing_y;
+  }
 }
 
 // A move on a robot that cannot translate sideways is refused before the robot moves.

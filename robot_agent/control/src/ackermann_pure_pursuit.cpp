@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/robot_agent/path_geometry.hpp"
 
 namespace fleetnav::agent {
@@ -13,6 +14,11 @@ namespace {
 constexpr double kTinyStepM = 1e-4;
 /// Slowest speed while a piece's end is still ahead, so it is reached in finite time.
 constexpr double kCreepSpeedMps = 0.03;
+/// Among obstacles the speed falls with VFH+'s clearance along the chosen direction, to this
+/// share of the top speed.
+constexpr double kVfhSlowestShare = 0.3;
+/// The path ahead is checked against the obstacles every this far along it.
+constexpr double kObstructionStepM = 0.1;
 
 }  // namespace
 
@@ -30,7 +36,12 @@ absl::Status AckermannPurePursuitParams::Validate() const {
   if (!(brake_share > 0.0 && brake_share <= 1.0)) {
     return absl::InvalidArgumentError("brake_share: must be in (0, 1]");
   }
-  return absl::OkStatus();
+  if (!(std::isfinite(polar_radius_m) && polar_radius_m >= 0.0 &&
+        std::isfinite(vfh_target_distance_m) && vfh_target_distance_m > 0.0)) {
+    return absl::InvalidArgumentError("polar_radius_m >= 0 and vfh_target_distance_m > 0 required");
+  }
+  if (absl::Status s = polar.Validate(); !s.ok()) return s;
+  return vfh.Validate();
 }
 
 AckermannPurePursuit::AckermannPurePursuit(AckermannPurePursuitParams params,
@@ -39,7 +50,53 @@ AckermannPurePursuit::AckermannPurePursuit(AckermannPurePursuitParams params,
       limits_(model.limits),
       max_curvature_per_m_(model.wheelbase_m > 0.0
                                ? std::tan(model.limits.max_steering_rad) / model.wheelbase_m
-                               : std::numeric_limits<double>::infinity()) {}
+                               : std::numeric_limits<double>::infinity()) {
+  if (params_.avoid_obstacles) {
+    VfhPlusParams vfh = params_.vfh;
+    double half_width_m = 0.0;
+    for (const Eigen::Vector2d& corner : model.footprint_m) {
+      half_width_m = std::max(half_width_m, std::abs(corner.y()));
+      footprint_min_x_m_ = std::min(footprint_min_x_m_, corner.x());
+      footprint_max_x_m_ = std::max(footprint_max_x_m_, corner.x());
+    }
+    footprint_half_width_m_ = half_width_m;
+    if (half_width_m > 0.0) vfh.robot_radius_m = half_width_m;
+    if (std::isfinite(max_curvature_per_m_) && max_curvature_per_m_ > 0.0) {
+      vfh.min_turning_radius_m = 1.0 / max_curvature_per_m_;
+    }
+    vfh_.emplace(vfh);
+  }
+}
+
+bool AckermannPurePursuit::PathAheadObstructed(const Pose2& pose) const {
+  if (obstacles_.empty()) return false;
+  const double margin_m = params_.vfh.safety_distance_m;
+  const size_t end = pieces_[piece_].second;
+  double last_checked_m = -1.0;
+  for (size_t i = closest_; i <= end; ++i) {
+    const double along_m = to_goal_m_[closest_] - to_goal_m_[i];
+    if (along_m > params_.vfh_target_distance_m) break;
+    if (i != end && along_m - last_checked_m < kObstructionStepM) continue;
+    last_checked_m = along_m;
+    const Pose2 from_path = path_[i].Inverse() * pose;
+    for (const Eigen::Vector2d& p_in_base : obstacles_) {
+      const Eigen::Vector2d p = from_path.TransformPoint(p_in_base);
+      if (p.x() >= footprint_min_x_m_ - margin_m && p.x() <= footprint_max_x_m_ + margin_m &&
+          std::abs(p.y()) <= footprint_half_width_m_ + margin_m) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+Twist2 AckermannPurePursuit::Brake(double dt_s) {
+  const double brake = limits_.max_accel_mps2 * dt_s;
+  last_speed_mps_ = std::abs(last_speed_mps_) <= brake
+                        ? 0.0
+                        : last_speed_mps_ - std::copysign(brake, last_speed_mps_);
+  return Twist2{last_speed_mps_, 0.0, 0.0};
+}
 
 void AckermannPurePursuit::SetPath(std::vector<Pose2> path) {
   path_ = std::move(path);
@@ -96,13 +153,7 @@ Twist2 AckermannPurePursuit::Step(const Pose2& pose, double dt_s) {
       return Twist2{};
     }
     // A cusp: stop before driving the other way.
-    if (std::abs(last_speed_mps_) > 1e-3) {
-      const double brake = limits_.max_accel_mps2 * dt_s;
-      last_speed_mps_ = std::abs(last_speed_mps_) <= brake
-                            ? 0.0
-                            : last_speed_mps_ - std::copysign(brake, last_speed_mps_);
-      return Twist2{last_speed_mps_, 0.0, 0.0};
-    }
+    if (std::abs(last_speed_mps_) > 1e-3) return Brake(dt_s);
     ++piece_;
   }
   const auto [begin, end] = pieces_[piece_];
@@ -127,12 +178,46 @@ Twist2 AckermannPurePursuit::Step(const Pose2& pose, double dt_s) {
   }
   const Eigen::Vector2d local = pose.Inverse().TransformPoint(target);
   double curvature = 2.0 * local.y() / std::max(local.squaredNorm(), 1e-9);
-  curvature = std::clamp(curvature, -max_curvature_per_m_, max_curvature_per_m_);
-
   const double to_end_m = std::max(to_goal_m_[closest_] - to_goal_m_[end],
                                    (path_[end].translation() - pose.translation()).norm());
   const double top = sign > 0 ? limits_.max_speed_mps : limits_.max_reverse_speed_mps;
   double speed = std::min(params_.desired_speed_mps, top);
+  const bool last_piece = piece_ + 1 == pieces_.size();
+  const double to_goal_m = (path_[end].translation() - pose.translation()).norm();
+  blocked_ = false;
+  path_obstructed_ = false;
+  if (last_piece && to_goal_m <= params_.polar_radius_m) {
+    const PolarPoseCommand polar = PolarMoveToPose(pose, path_[end], params_.polar, sign < 0);
+    if (std::abs(polar.alpha_rad) < kPi / 2.0) {
+      curvature = polar.curvature_per_m;
+      speed = std::min(speed, std::abs(polar.speed_mps));
+    }
+  } else if (sign > 0 && vfh_ && (path_obstructed_ = PathAheadObstructed(pose))) {
+    // What lies beyond the piece's end is for the next piece (or the map-checked goal).
+    const double horizon_m = to_end_m + params_.vfh.robot_radius_m;
+    std::vector<Eigen::Vector2d> near;
+    for (const Eigen::Vector2d& p : obstacles_) {
+      if (p.norm() <= horizon_m) near.push_back(p);
+    }
+    // The target: the piece's point vfh_target_distance_m ahead (else its end).
+    Eigen::Vector2d aim = path_[end].translation();
+    for (size_t i = closest_; i <= end; ++i) {
+      if ((path_[i].translation() - pose.translation()).norm() >= params_.vfh_target_distance_m) {
+        aim = path_[i].translation();
+        break;
+      }
+    }
+    const Eigen::Vector2d aim_local = pose.Inverse().TransformPoint(aim);
+    const std::optional<VfhPlusDirection> direction =
+        vfh_->Choose(near, std::atan2(aim_local.y(), aim_local.x()));
+    if (!direction) {
+      blocked_ = true;
+      return Brake(dt_s);
+    }
+    curvature = 2.0 * std::sin(direction->direction_rad) / std::max(local.norm(), 1e-3);
+    speed *= std::max(direction->clearance_m / params_.vfh.window_radius_m, kVfhSlowestShare);
+  }
+  curvature = std::clamp(curvature, -max_curvature_per_m_, max_curvature_per_m_);
   speed = std::min(speed, std::sqrt(2.0 * params_.brake_share * limits_.max_accel_mps2 * to_end_m));
   if (std::abs(curvature) > 1e-9) {
     speed = std::min(speed, limits_.max_yaw_rate_radps / std::abs(curvature));

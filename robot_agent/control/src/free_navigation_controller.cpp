@@ -7,6 +7,7 @@
 #include "absl/strings/str_format.h"
 #include "fleetnav/core/angles.hpp"
 #include "fleetnav/planner/coordination/route_prediction.hpp"
+#include "fleetnav/robot_agent/scan_features.hpp"
 
 namespace fleetnav::agent {
 namespace {
@@ -26,6 +27,7 @@ absl::Status FreeNavigationParams::Validate() const {
   if (absl::Status s = ackermann.Validate(); !s.ok()) return s;
   if (absl::Status s = ompl.Validate(); !s.ok()) return s;
   if (absl::Status s = lattice.Validate(); !s.ok()) return s;
+  if (absl::Status s = unmapped.Validate(); !s.ok()) return s;
   if (!(std::isfinite(goal_check_m) && goal_check_m > 0.0 && std::isfinite(goal_check_rad) &&
         goal_check_rad > 0.0 && max_goal_corrections >= 0)) {
     return absl::InvalidArgumentError(
@@ -33,9 +35,13 @@ absl::Status FreeNavigationParams::Validate() const {
   }
   if (!(std::isfinite(padding_m) && padding_m >= 0.0 && std::isfinite(plan_time_limit_s) &&
         plan_time_limit_s > 0.0 && std::isfinite(replan_cross_track_m) &&
-        replan_cross_track_m > 0.0)) {
+        replan_cross_track_m > 0.0 && std::isfinite(blocked_timeout_s) && blocked_timeout_s > 0.0 &&
+        max_replans_in_window > 0 && std::isfinite(replan_window_s) && replan_window_s > 0.0 &&
+        std::isfinite(obstructed_replan_interval_s) && obstructed_replan_interval_s >= 0.0)) {
     return absl::InvalidArgumentError(
-        "padding_m >= 0, plan_time_limit_s > 0, replan_cross_track_m > 0 required");
+        "padding_m >= 0, plan_time_limit_s > 0, replan_cross_track_m > 0, blocked_timeout_s > 0, "
+        "max_replans_in_window > 0, replan_window_s > 0, obstructed_replan_interval_s >= 0 "
+        "required");
   }
   return absl::OkStatus();
 }
@@ -74,7 +80,11 @@ FreeNavigationController::FreeNavigationController(const FreeNavigationAction& a
                                                    const RobotModel& model,
                                                    std::shared_ptr<const OccupancyGrid> map,
                                                    FreeNavigationParams params)
-    : action_(action), model_(model), map_(std::move(map)), params_(params) {
+    : action_(action),
+      model_(model),
+      map_(std::move(map)),
+      params_(params),
+      unmapped_(map_, params.unmapped) {
   if (model.kinematics == Kinematics::kOmnidirectional) {
     HolonomicTrackerParams p = params.holonomic;
     p.desired_speed_mps = action.speed_mps;
@@ -90,20 +100,38 @@ FreeNavigationController::FreeNavigationController(const FreeNavigationAction& a
   }
 }
 
+bool FreeNavigationController::AvoidsUnmappedObstacles() const {
+  return model_.kinematics == Kinematics::kAckermann && params_.ackermann.avoid_obstacles;
+}
+
+absl::Status FreeNavigationController::BuildPlanner(const Pose2& from_in_map) {
+  OccupancyGrid grid = *map_;
+  marked_cells_ = 0;
+  if (AvoidsUnmappedObstacles()) {
+    // What the laser has seen and the map does not show, except under the robot and its
+    // padding (where it would put the start in collision; VFH+ keeps the robot off that).
+    marked_cells_ = unmapped_.MarkOn(grid, from_in_map, model_.footprint_m,
+                                     params_.padding_m + grid.resolution_m());
+  }
+  absl::StatusOr<planner::Costmap> costmap =
+      planner::Costmap::Build(grid, model_.footprint_m, CostmapParamsFor(params_.padding_m));
+  if (!costmap.ok()) return costmap.status();
+  planner_.reset();
+  costmap_.emplace(*std::move(costmap));
+  planner::SingleRobotPlannerParams planner_params;
+  planner_params.kind = planner::NavigationPlannerKind(model_);
+  planner_params.lattice = params_.lattice;
+  planner_params.ompl = params_.ompl;
+  absl::StatusOr<std::unique_ptr<planner::SingleRobotPlanner>> planner =
+      planner::MakeSingleRobotPlanner(&*costmap_, model_, planner_params);
+  if (!planner.ok()) return planner.status();
+  planner_ = *std::move(planner);
+  return absl::OkStatus();
+}
+
 absl::Status FreeNavigationController::Plan(const Pose2& from_in_map) {
-  if (!costmap_) {
-    absl::StatusOr<planner::Costmap> costmap =
-        planner::Costmap::Build(*map_, model_.footprint_m, CostmapParamsFor(params_.padding_m));
-    if (!costmap.ok()) return costmap.status();
-    costmap_.emplace(*std::move(costmap));
-    planner::SingleRobotPlannerParams planner_params;
-    planner_params.kind = planner::NavigationPlannerKind(model_);
-    planner_params.lattice = params_.lattice;
-    planner_params.ompl = params_.ompl;
-    absl::StatusOr<std::unique_ptr<planner::SingleRobotPlanner>> planner =
-        planner::MakeSingleRobotPlanner(&*costmap_, model_, planner_params);
-    if (!planner.ok()) return planner.status();
-    planner_ = *std::move(planner);
+  if (!costmap_ || (AvoidsUnmappedObstacles() && unmapped_.size() > 0)) {
+    if (absl::Status s = BuildPlanner(from_in_map); !s.ok()) return s;
   }
   const std::vector<Eigen::Vector2d> ahead(action_.waypoints_m.begin() + next_waypoint_,
                                            action_.waypoints_m.end());
@@ -114,8 +142,15 @@ absl::Status FreeNavigationController::Plan(const Pose2& from_in_map) {
   absl::StatusOr<planner::WaypointPath> path =
       planner::PlanThroughWaypoints(*planner_, map_->origin(), from_in_map, ahead, action_.goal,
                                     params_.plan_time_limit_s, yaws_ahead);
+  if (!path.ok() && marked_cells_ > 0) {
+    return absl::Status(path.status().code(),
+                        absl::StrCat(path.status().message(),
+                                     " (round the obstacles the laser has seen: ", marked_cells_,
+                                     " cells the map shows free)"));
+  }
   if (!path.ok()) return path.status();
   planned_length_m_ = path->length_m;
+  last_plan_s_ = elapsed_s_;
   if (model_.kinematics == Kinematics::kOmnidirectional) path->poses = Smoothed(path->poses);
   tracker_->SetPath(std::move(path->poses));
   planned_ = true;
@@ -141,11 +176,31 @@ std::vector<Pose2> FreeNavigationController::Smoothed(const std::vector<Pose2>& 
   return out;
 }
 
+void FreeNavigationController::PassObstacles(const ControlInput& input) {
+  if (!AvoidsUnmappedObstacles()) return;
+  if (input.perception.laser) {
+    // Only what the map does not explain: the planner has already gone round the rest.
+    scan_points_in_base_ = unmapped_.AddScan(*input.perception.laser,
+                                             input.perception.laser_in_base, input.pose_in_map);
+    scan_pose_in_odom_ = input.pose_in_odom;
+  }
+  const Pose2 now_from_scan = input.pose_in_odom.Inverse() * scan_pose_in_odom_;
+  std::vector<Eigen::Vector2d> points;
+  points.reserve(scan_points_in_base_.size());
+  for (const Eigen::Vector2d& p : scan_points_in_base_) {
+    points.push_back(now_from_scan.TransformPoint(p));
+  }
+  tracker_->SetObstacles(std::move(points));
+}
+
 ControlOutput FreeNavigationController::Step(const ControlInput& input) {
   ControlOutput out;
   out.mode = NavigationMode::kFreeNavigation;
+  elapsed_s_ += input.dt_s;
+  PassObstacles(input);
   if (!planned_) {
     if (absl::Status s = Plan(input.pose_in_map); !s.ok()) {
+      out.command = Twist2{};
       out.failure = s;
       return out;
     }
@@ -156,10 +211,35 @@ ControlOutput FreeNavigationController::Step(const ControlInput& input) {
     ++next_waypoint_;
   }
   out.command = tracker_->Step(input.pose_in_map, input.dt_s);
-  if (tracker_->cross_track_m() > params_.replan_cross_track_m) {
+  blocked_s_ = tracker_->blocked() ? blocked_s_ + input.dt_s : 0.0;
+  if (blocked_s_ > params_.blocked_timeout_s) {
+    out.command = Twist2{};
+    out.failure = absl::FailedPreconditionError(absl::StrFormat(
+        "obstacles not on the map block every direction ahead for %.1f s at (%.2f, %.2f)",
+        blocked_s_, input.pose_in_map.x_m(), input.pose_in_map.y_m()));
+    return out;
+  }
+  const bool obstructed = tracker_->path_obstructed() &&
+                          elapsed_s_ - last_plan_s_ >= params_.obstructed_replan_interval_s;
+  if (obstructed || tracker_->cross_track_m() > params_.replan_cross_track_m) {
+    std::erase_if(replans_at_s_,
+                  [&](double t) { return t < elapsed_s_ - params_.replan_window_s; });
+    replans_at_s_.push_back(elapsed_s_);
+    if (static_cast<int>(replans_at_s_.size()) > params_.max_replans_in_window) {
+      out.command = Twist2{};
+      out.failure = absl::AbortedError(absl::StrFormat(
+          "left the planned path %d times within %.0f s (obstacles not on the map?): stopped at "
+          "(%.2f, %.2f)",
+          static_cast<int>(replans_at_s_.size()), params_.replan_window_s, input.pose_in_map.x_m(),
+          input.pose_in_map.y_m()));
+      return out;
+    }
     out.mode_reason =
-        absl::StrFormat("off the path by %.2f m: replanning", tracker_->cross_track_m());
+        obstructed
+            ? std::string("an obstacle not on the map stands on the path: replanning round it")
+            : absl::StrFormat("off the path by %.2f m: replanning", tracker_->cross_track_m());
     if (absl::Status s = Plan(input.pose_in_map); !s.ok()) {
+      out.command = Twist2{};
       out.failure = s;
       return out;
     }
@@ -173,6 +253,7 @@ ControlOutput FreeNavigationController::Step(const ControlInput& input) {
     out.mode_reason = absl::StrFormat("ended %.2f m and %.1f deg from the goal: correcting",
                                       error.translation().norm(), RadToDeg(error.yaw_rad()));
     if (absl::Status s = Plan(input.pose_in_map); !s.ok()) {
+      out.command = Twist2{};
       out.failure = s;
       return out;
     }

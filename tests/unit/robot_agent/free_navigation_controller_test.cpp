@@ -6,8 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include "fleetnav/core/angles.hpp"
 #include "kinematic_unicycle.hpp"
@@ -237,6 +240,140 @@ TEST(FreeNavigationControllerTest, AnAckermannRobotReachesTheGoalWithoutTurningI
     }
     ASSERT_TRUE(done) << robot.pose().DebugString();
     EXPECT_TRUE(robot.pose().IsNear(goal, 0.15, DegToRad(8))) << robot.pose().DebugString();
+  }
+}
+
+/// An axis-aligned box that is in the world but not on the map.
+struct UnmappedBox {
+  double x0, y0, x1, y1;
+};
+
+/// The car's 180° laser (181 beams, 30 m) against unmapped boxes only (the map's walls are far
+/// from where these tests drive): the slab test per beam.
+LaserScanSample ScanOf(const std::vector<UnmappedBox>& boxes, const Pose2& laser_in_world) {
+  LaserScanSample scan;
+  scan.name = "laser";
+  scan.angle_min_rad = -kPi / 2.0;
+  scan.angle_increment_rad = kPi / 180.0;
+  scan.range_max_m = 30.0;
+  for (int i = 0; i <= 180; ++i) {
+    const double a = laser_in_world.yaw_rad() + scan.angle_min_rad + i * scan.angle_increment_rad;
+    const double dx = std::cos(a);
+    const double dy = std::sin(a);
+    double best = std::numeric_limits<double>::infinity();
+    for (const UnmappedBox& b : boxes) {
+      double t_in = -1e9;
+      double t_out = 1e9;
+      for (const auto& [o, d, lo, hi] : {std::tuple{laser_in_world.x_m(), dx, b.x0, b.x1},
+                                         std::tuple{laser_in_world.y_m(), dy, b.y0, b.y1}}) {
+        if (std::abs(d) < 1e-12) {
+          if (o < lo || o > hi) t_in = 1e9;
+          continue;
+        }
+        const double t0 = (lo - o) / d;
+        const double t1 = (hi - o) / d;
+        t_in = std::max(t_in, std::min(t0, t1));
+        t_out = std::min(t_out, std::max(t0, t1));
+      }
+      if (t_in <= t_out && t_in > 0.0) best = std::min(best, t_in);
+    }
+    scan.ranges_m.push_back(best <= scan.range_max_m ? static_cast<float>(best)
+                                                     : std::numeric_limits<float>::infinity());
+  }
+  return scan;
+}
+
+/// The footprint overlaps the box.
+bool Touches(const RobotModel& model, const Pose2& pose, const UnmappedBox& b) {
+  // Sample the footprint's outline and interior on a 2 cm grid.
+  for (double x = -0.15; x <= 0.75; x += 0.02) {
+    for (double y = -0.30; y <= 0.30; y += 0.02) {
+      const Eigen::Vector2d p = pose.TransformPoint(Eigen::Vector2d(x, y));
+      if (p.x() >= b.x0 && p.x() <= b.x1 && p.y() >= b.y0 && p.y() <= b.y1) return true;
+    }
+  }
+  (void)model;
+  return false;
+}
+
+struct CarRun {
+  bool done = false;
+  bool touched = false;
+  absl::Status failure;
+  Pose2 end;
+  double end_speed_mps = 1.0;
+};
+
+/// The Ackermann robot along the corridor's middle (y = 12 m) towards (9.5, 12) with the boxes
+/// seen by its laser (10 Hz) but not on the map.
+CarRun DriveAmongUnmappedBoxes(const std::vector<UnmappedBox>& boxes, bool avoid,
+                               double boxes_appear_at_x_m = -1e9) {
+  const RobotModel car = AckermannDeliveryModel();
+  FreeNavigationAction action;
+  action.goal = Pose2(9.5, 12.0, 0.0);
+  action.speed_mps = 0.5;
+  FreeNavigationParams params;
+  params.ackermann.avoid_obstacles = avoid;
+  FreeNavigationController controller(action, car, DoorMap(), params);
+  KinematicCar robot(Pose2(2.0, 12.0, 0.0), car);
+  const Pose2 laser_in_base(0.70, 0.0, 0.0);
+  CarRun run;
+  bool appeared = false;
+  for (int step = 0; step < 6000; ++step) {
+    ControlInput input = OdometryInput(robot.pose(), kDt);
+    appeared = appeared || robot.pose().x_m() >= boxes_appear_at_x_m;
+    if (step % 5 == 0) {
+      input.perception.laser =
+          ScanOf(appeared ? boxes : std::vector<UnmappedBox>{}, robot.pose() * laser_in_base);
+      input.perception.laser_in_base = laser_in_base;
+    }
+    const ControlOutput out = controller.Step(input);
+    run.end_speed_mps = std::abs(out.command.vx_mps);
+    if (!out.failure.ok()) {
+      run.failure = out.failure;
+      break;
+    }
+    if (out.done) {
+      run.done = true;
+      break;
+    }
+    robot.Step(out.command, kDt);
+    for (const UnmappedBox& b : boxes) run.touched = run.touched || Touches(car, robot.pose(), b);
+  }
+  run.end = robot.pose();
+  return run;
+}
+
+// VFH+ in Ackermann free navigation: a box that is not on the map stands on the planned
+// straight line; the car steers round it and still reaches the goal; followed blind (the
+// baseline) it drives into it.
+TEST(FreeNavigationControllerTest, AnAckermannRobotSteersRoundABoxThatIsNotOnTheMap) {
+  const std::vector<UnmappedBox> box = {{5.2, 11.8, 5.8, 12.4}};
+  const CarRun avoided = DriveAmongUnmappedBoxes(box, /*avoid=*/true);
+  ASSERT_TRUE(avoided.failure.ok()) << avoided.failure;
+  EXPECT_TRUE(avoided.done) << avoided.end.DebugString();
+  EXPECT_FALSE(avoided.touched);
+  EXPECT_TRUE(avoided.end.IsNear(Pose2(9.5, 12.0, 0.0), 0.15, DegToRad(8)))
+      << avoided.end.DebugString();
+
+  const CarRun blind = DriveAmongUnmappedBoxes(box, /*avoid=*/false);
+  EXPECT_TRUE(blind.touched);
+}
+
+// Unmapped obstacles in the way: a wall right across the corridor, seen from the start or
+// stepping out 0.35 m before the car's nose. The replan round what the laser has seen finds no
+// way, and the action fails with the reason; the car never touches the wall, hangs or drives
+// on.
+TEST(FreeNavigationControllerTest, AnAckermannRobotBlockedByUnmappedObstaclesStopsAndFails) {
+  const std::vector<UnmappedBox> wall = {{5.0, 0.0, 5.4, 16.0}};
+  for (const double appear_at_x_m : {-1e9, 3.9}) {
+    SCOPED_TRACE(appear_at_x_m);
+    const CarRun run = DriveAmongUnmappedBoxes(wall, /*avoid=*/true, appear_at_x_m);
+    EXPECT_FALSE(run.done);
+    EXPECT_FALSE(run.touched) << run.end.DebugString();
+    EXPECT_EQ(run.failure.code(), absl::StatusCode::kNotFound) << run.failure;
+    EXPECT_THAT(run.failure.message(), HasSubstr("round the obstacles the laser has seen"));
+    EXPECT_EQ(run.end_speed_mps, 0.0);
   }
 }
 

@@ -1,12 +1,23 @@
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "absl/status/status.h"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/robot_agent/path_tracker.hpp"
+#include "fleetnav/robot_agent/polar_pose_control.hpp"
+#include "fleetnav/robot_agent/vfh_plus.hpp"
 
 namespace fleetnav::agent {
+
+inline VfhPlusParams CarVfhParams() {
+  VfhPlusParams p;
+  p.window_radius_m = 4.0;
+  p.blocked_within_m = 3.2;
+  p.free_beyond_m = 3.6;
+  return p;
+}
 
 struct AckermannPurePursuitParams {
   double desired_speed_mps = 0.5;
@@ -18,6 +29,19 @@ struct AckermannPurePursuitParams {
   double brake_share = 0.7;
   /// A cusp or the goal counts as reached within this distance, or once passed.
   double goal_tolerance_m = 0.05;
+  /// Forward pieces steer round the obstacles they are given (FreeNavigationController gives
+  /// those the map does not show) with VFH+, its robot radius and turning radius taken from the
+  /// model.
+  bool avoid_obstacles = true;
+  /// VFH+ for a car at walking pace: it looks 4 m round and blocks what is within 3.2 m, so
+  /// that a car with a 1.1 m turning radius can still swerve; it aims at the path point this far
+  /// ahead (beyond the pure-pursuit lookahead, so the way through a gap is the target).
+  VfhPlusParams vfh = CarVfhParams();
+  double vfh_target_distance_m = 3.0;
+  /// Within this distance of the goal, at the end of the path, the polar move-to-pose law
+  /// drives instead (and VFH+ rests: the planned approach is checked against the map).
+  double polar_radius_m = 1.0;
+  PolarPoseGains polar;
   absl::Status Validate() const;
 };
 
@@ -28,8 +52,13 @@ struct AckermannPurePursuitParams {
 /// lookahead point (the piece extended straight beyond its end, so the robot drives onto it),
 /// κ bounded by the steering lock (tan δ_max / wheelbase), the speed bounded by the yaw-rate
 /// limit on that curvature and by the braking distance to the piece's end; the robot stops at
-/// each cusp before it reverses. Never turns in place; the goal's yaw is what the planned
-/// path arrives with. Twist2{v, 0, v κ}, which the drive turns into a steering angle.
+/// each cusp before it reverses. Where the next metres of a forward piece run into one of the
+/// obstacles it is given (what the laser sees and the map does not show), it reports
+/// path_obstructed() and steers with VFH+ (Ashesi capstone) towards the path point
+/// vfh_target_distance_m ahead, slowing with the clearance, until its caller has replanned; with
+/// every direction blocked it brakes to a stop and reports blocked(). The last metre to the goal is
+/// driven with the polar move-to-pose law. Never turns in place. Twist2{v, 0, v κ}, which the drive
+/// turns into a steering angle.
 class AckermannPurePursuit : public PathTracker {
  public:
   AckermannPurePursuit(AckermannPurePursuitParams params, const RobotModel& model);
@@ -39,11 +68,29 @@ class AckermannPurePursuit : public PathTracker {
   bool done() const override { return done_; }
   double remaining_m() const override { return remaining_m_; }
   double cross_track_m() const override { return cross_track_m_; }
+  void SetObstacles(std::vector<Eigen::Vector2d> points_in_base) override {
+    obstacles_ = std::move(points_in_base);
+  }
+  bool blocked() const override { return blocked_; }
+  bool path_obstructed() const override { return path_obstructed_; }
 
  private:
+  /// Brakes towards standing still at the acceleration limit.
+  Twist2 Brake(double dt_s);
+  /// The current piece's next vfh_target_distance_m, with the footprint widened by VFH+'s
+  /// safety distance, meets one of the obstacles.
+  bool PathAheadObstructed(const Pose2& pose) const;
+
   AckermannPurePursuitParams params_;
   MotionLimits limits_;
   double max_curvature_per_m_ = 0.0;
+  std::optional<VfhPlus> vfh_;
+  std::vector<Eigen::Vector2d> obstacles_;
+  bool blocked_ = false;
+  bool path_obstructed_ = false;
+  double footprint_min_x_m_ = 0.0;
+  double footprint_max_x_m_ = 0.0;
+  double footprint_half_width_m_ = 0.0;
   std::vector<Pose2> path_;
   std::vector<double> to_goal_m_;
   /// Pieces of one direction: [begin, end] index ranges and their sign (+1 forwards).

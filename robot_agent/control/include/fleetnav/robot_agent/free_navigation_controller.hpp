@@ -17,6 +17,7 @@
 #include "fleetnav/robot_agent/motion_controller.hpp"
 #include "fleetnav/robot_agent/path_tracker.hpp"
 #include "fleetnav/robot_agent/regulated_pure_pursuit.hpp"
+#include "fleetnav/robot_agent/unmapped_obstacles.hpp"
 
 namespace fleetnav::agent {
 
@@ -41,6 +42,18 @@ struct FreeNavigationParams {
   double goal_check_m = 0.15;
   double goal_check_rad = 0.1;
   int max_goal_corrections = 3;
+  /// A tracker that finds every direction blocked by what the laser sees (and not on the map)
+  /// waits this long for the way to clear, then fails the action with the reason.
+  double blocked_timeout_s = 5.0;
+  /// What the laser sees that the map does not show: VFH+ steers round it, and an Ackermann
+  /// robot that avoids obstacles plans round it.
+  UnmappedObstaclesParams unmapped;
+  /// A path that runs into an unmapped obstacle is planned again at most this often.
+  double obstructed_replan_interval_s = 1.0;
+  /// Leaving the path more often than this within replan_window_s (a robot steered round and
+  /// round by what is not on the map) fails the action instead of wandering on.
+  int max_replans_in_window = 6;
+  double replan_window_s = 60.0;
   absl::Status Validate() const;
 };
 
@@ -52,12 +65,16 @@ absl::Status CheckFreeNavigation(const FreeNavigationAction& action, const Robot
 /// Free navigation (Lely thesis §6.6.5): plan on the map from the estimated pose through the
 /// route's waypoints to the goal — the lattice planner for differential drive (no reversing
 /// for the Lely) and omni platforms, Reeds-Shepp curves for Ackermann robots — and track the
-/// path with the tracker of the robot's drive: regulated pure pursuit for differential drive;
+/// path with the tracker of the robot's drive (which also sees the latest laser scan's returns
+/// that the map does not explain, carried along by odometry between scans, and may steer round
+/// them): regulated pure pursuit for differential drive;
 /// for omnidirectional platforms the path is first smoothed into a cubic spline with end-point
 /// augmentation (KUKA thesis ch. 9–10, checked against the costmap) and followed by the
 /// HolonomicTracker; Ackermann robots follow it with AckermannPurePursuit, cusps included. Replan
-/// from where the robot is when it has left the path. A goal the planner cannot reach exactly fails
-/// the action with the reason. Not thread-safe.
+/// from where the robot is when it has left the path — an Ackermann robot that steers round
+/// obstacles plans round those its laser has seen too (UnmappedObstacles, marked on a copy of
+/// the map), and plans again as soon as the path ahead runs into one. A goal the planner cannot
+/// reach exactly fails the action with the reason. Not thread-safe.
 class FreeNavigationController : public MotionController {
  public:
   FreeNavigationController(const FreeNavigationAction& action, const RobotModel& model,
@@ -66,8 +83,16 @@ class FreeNavigationController : public MotionController {
 
  private:
   absl::Status Plan(const Pose2& from_in_map);
+  /// The costmap (the map, plus what the laser sees now when AvoidsUnmappedObstacles) and the
+  /// planner on it.
+  absl::Status BuildPlanner(const Pose2& from_in_map);
+  /// Ackermann robots steer (VFH+) and plan round what the laser sees that the map does not
+  /// show; the other drives follow their plans.
+  bool AvoidsUnmappedObstacles() const;
   /// An omni platform's path (map frame) as a spline with augmented end points.
   std::vector<Pose2> Smoothed(const std::vector<Pose2>& path_in_map);
+  /// The latest scan's points, carried to this tick's base_link by odometry, for the tracker.
+  void PassObstacles(const ControlInput& input);
 
   FreeNavigationAction action_;
   RobotModel model_;
@@ -80,6 +105,18 @@ class FreeNavigationController : public MotionController {
   int goal_corrections_ = 0;
   double planned_length_m_ = 0.0;
   bool planned_ = false;
+  /// The latest laser scan's points in base_link that the map does not explain, and the
+  /// odometry pose they were seen from.
+  std::vector<Eigen::Vector2d> scan_points_in_base_;
+  Pose2 scan_pose_in_odom_;
+  /// Cells the last BuildPlanner marked occupied from the scans.
+  int marked_cells_ = 0;
+  UnmappedObstacles unmapped_;
+  double blocked_s_ = 0.0;
+  /// Time since the action started, and when it last left its path (within the window).
+  double elapsed_s_ = 0.0;
+  double last_plan_s_ = 0.0;
+  std::vector<double> replans_at_s_;
 };
 
 }  // namespace fleetnav::agent

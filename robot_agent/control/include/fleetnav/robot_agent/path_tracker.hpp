@@ -1,5 +1,6 @@
 #pragma once
 
+#include <Eigen/Core>
 #include <vector>
 
 #include "fleetnav/core/pose2.hpp"
@@ -24,6 +25,13 @@ class PathTracker {
   virtual double remaining_m() const = 0;
   /// Distance from the robot to the closest path point (for replanning).
   virtual double cross_track_m() const = 0;
+  /// What the robot's laser sees this tick, as points in base_link; trackers that avoid
+  /// obstacles locally steer round them, the others ignore them.
+  virtual void SetObstacles(std::vector<Eigen::Vector2d> /*points_in_base*/) {}
+  /// Obstacles block every direction the tracker could drive: it stands still.
+  virtual bool blocked() const { return false; }
+  /// The path just ahead runs into one of the obstacles: its caller should plan again.
+  virtual bool path_obstructed() const { return false; }
 };
 
 }  // namespace fleetnav::agent
