@@ -87,12 +87,16 @@ int main(int argc, char** argv) {
   bool kinematic_omni = false;
   app.add_flag("--kinematic-omni", kinematic_omni,
                "mecanum platforms as kinematic bodies instead of physical ones");
+  bool kinematic_ackermann = false;
+  app.add_flag("--kinematic-ackermann", kinematic_ackermann,
+               "Ackermann robots as kinematic bodies instead of physical ones");
   CLI11_PARSE(app, argc, argv);
 
   const int columns = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(robots))));
   fleetnav::sim::SimulationParams params;
   params.seed = seed;
   params.kinematic_omni = kinematic_omni;
+  params.kinematic_ackermann = kinematic_ackermann;
   params.exteroceptive.omni_laser.beams = 270;  // the benchmark's 270-beam lasers
   params.exteroceptive.ackermann_laser.beams = 270;
   auto simulation = fleetnav::sim::Simulation::Create(BenchWorld(robots, columns), params);
@@ -148,15 +152,16 @@ int main(int argc, char** argv) {
     std::printf(
         "{\"robots\": %d, \"sim_seconds\": %.3f, \"wall_seconds\": %.3f, \"ticks\": %llu, "
         "\"real_time_factor\": %.2f, \"physics_ms_per_tick\": %.3f, \"sensors_ms_per_tick\": "
-        "%.3f, \"omni_bodies\": \"%s\"}\n",
+        "%.3f, \"omni_bodies\": \"%s\", \"ackermann_bodies\": \"%s\"}\n",
         robots, sim_s, wall_s, static_cast<unsigned long long>(timing.ticks), rtf, physics_ms,
-        sensors_ms, kinematic_omni ? "kinematic" : "physical");
+        sensors_ms, kinematic_omni ? "kinematic" : "physical",
+        kinematic_ackermann ? "kinematic" : "physical");
   } else {
     std::printf(
         "robots %d: %.1f s simulated in %.2f s wall = %.1fx real time; physics %.3f ms/tick, "
-        "sensors %.3f ms/tick (%s omni bodies)\n",
+        "sensors %.3f ms/tick (%s omni bodies, %s Ackermann bodies)\n",
         robots, sim_s, wall_s, rtf, physics_ms, sensors_ms,
-        kinematic_omni ? "kinematic" : "physical");
+        kinematic_omni ? "kinematic" : "physical", kinematic_ackermann ? "kinematic" : "physical");
   }
   return 0;
 }

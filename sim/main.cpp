@@ -67,6 +67,9 @@ int main(int argc, char** argv) {
   app.add_flag("--kinematic-omni", params.simulation.kinematic_omni,
                "move mecanum platforms kinematically (no wheels, casters or contact forces; "
                "cheaper, for large fleets) instead of as physical ODE bodies");
+  app.add_flag("--kinematic-ackermann", params.simulation.kinematic_ackermann,
+               "move Ackermann robots kinematically (the bicycle model: no tyres or contact "
+               "forces; cheaper, for large fleets) instead of as physical ODE bodies");
   app.add_option("--real-time-factor", params.lockstep.real_time_factor,
                  "cap on sim/wall speed (0 = as fast as agents answer)")
       ->capture_default_str();

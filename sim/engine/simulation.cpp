@@ -43,6 +43,9 @@ absl::Status SimulationParams::Validate() const {
     return absl::InvalidArgumentError("control_period_s: must be a whole number of physics steps");
   }
   if (absl::Status s = battery.Validate(); !s.ok()) return s;
+  if (absl::Status s = ackermann.Validate(); !s.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("ackermann.", s.message()));
+  }
   if (absl::Status s = mecanum.Validate(); !s.ok()) {
     return absl::InvalidArgumentError(absl::StrCat("mecanum.", s.message()));
   }
@@ -131,6 +134,9 @@ absl::Status Simulation::CreateRobot(const std::string& robot_id, const std::str
     robot.body = std::make_unique<MecanumRobot>(world_.get(), index, model, pose,
                                                 NoiseSeed(params_.seed, robot_id, "caster_swivel"),
                                                 params_.mecanum);
+  } else if (model.kinematics == Kinematics::kAckermann && !params_.kinematic_ackermann) {
+    robot.body =
+        std::make_unique<AckermannRobot>(world_.get(), index, model, pose, params_.ackermann);
   } else {
     auto body = std::make_unique<KinematicRobot>(world_.get(), index, model, pose);
     robot.kinematic = body.get();

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fleetnav/sim/ackermann_steering.hpp"
+
 namespace fleetnav::sim {
 namespace {
 
@@ -65,26 +67,11 @@ absl::Status KinematicRobot::SetDrive(const DriveCommand& drive, double scale) {
     target_ = ClampOmniTwist(limits, *twist, scale);
     return absl::OkStatus();
   }
-  double speed = 0.0;
-  double steering = target_steering_rad_;
-  if (const auto* twist = std::get_if<Twist2>(&drive)) {
-    speed = twist->vx_mps;
-    if (std::abs(speed) > 1e-3) {
-      steering = std::atan(twist->yaw_rate_radps * model_.wheelbase_m / speed);
-    }
-  } else if (const auto* ackermann = std::get_if<AckermannDrive>(&drive)) {
-    speed = ackermann->speed_mps;
-    steering = ackermann->steering_rad;
-  } else {
-    return absl::InvalidArgumentError(
-        "the robot is Ackermann: send a twist or an Ackermann command, not wheel speeds");
-  }
-  if (!std::isfinite(speed) || !std::isfinite(steering)) {
-    return absl::InvalidArgumentError("Ackermann command: not finite");
-  }
-  target_speed_mps_ =
-      std::clamp(scale * speed, -limits.max_reverse_speed_mps, limits.max_speed_mps);
-  target_steering_rad_ = std::clamp(steering, -limits.max_steering_rad, limits.max_steering_rad);
+  absl::StatusOr<AckermannTarget> target =
+      AckermannTargetOf(model_, drive, scale, target_steering_rad_);
+  if (!target.ok()) return target.status();
+  target_speed_mps_ = target->speed_mps;
+  target_steering_rad_ = target->steering_rad;
   return absl::OkStatus();
 }
 

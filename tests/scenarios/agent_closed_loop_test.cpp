@@ -448,7 +448,8 @@ TEST_F(ClosedLoop, ShippedYardDeliveryPassesTheParcelRowAndReturnsWithoutContact
 
 // VFH+ in the loop (Ashesi capstone §5.2): a row of parcels with near-equal gaps stands across
 // the Ackermann robot's way but is not on its map. It steers through a gap and on to the goal
-// without a contact; followed blind, the same route drives into the parcel on the line.
+// without a contact; followed blind (--no-obstacle-avoidance), the same route drives into the
+// parcel on the line.
 TEST_F(ClosedLoop, AckermannSteersThroughUnmappedParcelsWithVfhPlus) {
   const std::string yard =
       "name: parcel_yard\n"
@@ -490,7 +491,7 @@ TEST_F(ClosedLoop, AckermannSteersThroughUnmappedParcelsWithVfhPlus) {
     const int exit_code = RunAgent(route, extra, "ackermann-delivery", {-8.0, 0.2, 0.0}, "car1");
     const v1::RobotGroundTruth car = Robot(Truth(), "car1");
     if (!avoid) {
-      EXPECT_NE(exit_code, 0);
+      // It drives into the parcel (and may glance off it and still arrive).
       EXPECT_GT(car.collisions(), 0);
       sim_->Stop();
       continue;

@@ -1,6 +1,6 @@
 // The kinematic robots: mecanum kinematics (KUKA eq. 4.5-4.17), the kinematic omni platform
-// (SimulationParams::kinematic_omni), the Ackermann bicycle with steering limits, wheel slip and
-// slow-down.
+// (SimulationParams::kinematic_omni), the kinematic Ackermann bicycle
+// (SimulationParams::kinematic_ackermann) with steering limits, wheel slip and slow-down.
 #include "fleetnav/sim/kinematic_robot.hpp"
 
 #include <gtest/gtest.h>
@@ -78,7 +78,9 @@ TEST(KinematicRobotTest, OmniDrivesSidewaysAndEncodersMatchTheMotion) {
 }
 
 TEST(KinematicRobotTest, AckermannRespectsSteeringAngleAndRateLimits) {
-  std::unique_ptr<Simulation> sim = MakeSimulation(1);
+  SimulationParams kinematic_ackermann;
+  kinematic_ackermann.kinematic_ackermann = true;
+  std::unique_ptr<Simulation> sim = MakeSimulation(1, kinematic_ackermann);
   ASSERT_TRUE(sim->AddRobot("car", "ackermann-delivery", Pose2(0, 0, 0)).ok());
   ActuatorCommand command;
   command.drive = AckermannDrive{0.5, 1.2};  // beyond the 0.5 rad lock

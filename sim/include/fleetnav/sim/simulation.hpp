@@ -10,6 +10,7 @@
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "fleetnav/core/sensor_frame.hpp"
+#include "fleetnav/sim/ackermann_robot.hpp"
 #include "fleetnav/sim/diff_drive_robot.hpp"
 #include "fleetnav/sim/exteroceptive_sensors.hpp"
 #include "fleetnav/sim/kinematic_robot.hpp"
@@ -41,6 +42,10 @@ struct SimulationParams {
   /// cheaper, for large fleets) instead of the physical MecanumRobot.
   bool kinematic_omni = false;
   MecanumBodyParams mecanum;
+  /// Ackermann robots as kinematic bodies (the bicycle model, no tyres or contact forces)
+  /// instead of the physical AckermannRobot.
+  bool kinematic_ackermann = false;
+  AckermannBodyParams ackermann;
   BatteryParams battery;
   /// Checks positive steps and that the control period is a whole number of physics steps.
   absl::Status Validate() const;
