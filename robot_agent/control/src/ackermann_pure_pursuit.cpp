@@ -188,7 +188,10 @@ Twist2 AckermannPurePursuit::Step(const Pose2& pose, double dt_s) {
   path_obstructed_ = false;
   if (last_piece && to_goal_m <= params_.polar_radius_m) {
     const PolarPoseCommand polar = PolarMoveToPose(pose, path_[end], params_.polar, sign < 0);
-    if (std::abs(polar.alpha_rad) < kPi / 2.0) {
+    // Only where the car can do what the law asks: the goal well ahead and the curvature within
+    // the lock (clamped, the law no longer converges and the car circles the goal).
+    if (std::abs(polar.alpha_rad) < kPi / 4.0 &&
+        std::abs(polar.curvature_per_m) <= max_curvature_per_m_) {
       curvature = polar.curvature_per_m;
       speed = std::min(speed, std::abs(polar.speed_mps));
     }

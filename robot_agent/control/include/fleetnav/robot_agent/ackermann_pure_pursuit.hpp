@@ -39,7 +39,9 @@ struct AckermannPurePursuitParams {
   VfhPlusParams vfh = CarVfhParams();
   double vfh_target_distance_m = 3.0;
   /// Within this distance of the goal, at the end of the path, the polar move-to-pose law
-  /// drives instead (and VFH+ rests: the planned approach is checked against the map).
+  /// drives instead, where the car can follow it (the goal within 45° of its direction of
+  /// travel, the law's curvature within the lock); VFH+ rests there (the planned approach is
+  /// checked against the map).
   double polar_radius_m = 1.0;
   PolarPoseGains polar;
   absl::Status Validate() const;
@@ -57,8 +59,8 @@ struct AckermannPurePursuitParams {
 /// path_obstructed() and steers with VFH+ (Ashesi capstone) towards the path point
 /// vfh_target_distance_m ahead, slowing with the clearance, until its caller has replanned; with
 /// every direction blocked it brakes to a stop and reports blocked(). The last metre to the goal is
-/// driven with the polar move-to-pose law. Never turns in place. Twist2{v, 0, v κ}, which the drive
-/// turns into a steering angle.
+/// driven with the polar move-to-pose law where the car can follow it. Never turns in place.
+/// Twist2{v, 0, v κ}, which the drive turns into a steering angle.
 class AckermannPurePursuit : public PathTracker {
  public:
   AckermannPurePursuit(AckermannPurePursuitParams params, const RobotModel& model);
