@@ -7,6 +7,8 @@ namespace fleetnav::sim {
 namespace {
 
 constexpr int kMaxContactsPerPair = 8;
+/// Floor friction of a trolley leg's swivel caster: it rolls away when pushed.
+constexpr double kTrolleyCasterMu = 0.05;
 
 // ODE keeps process-wide state; initialise it once and keep it for the process's life.
 void EnsureOdeInitialised() {
@@ -54,6 +56,7 @@ void OdeWorld::SetStatics(const WorldDescription& description) {
     statics_.push_back(geom);
   }
   for (const CylinderObstacle& cylinder : description.cylinders) {
+    if (cylinder.kind == kTrolleyLegKind) continue;  // a TrolleyBody's, not static
     dGeomID geom = dCreateCylinder(space_, cylinder.radius_m, cylinder.height_m);
     dGeomSetPosition(geom, cylinder.center_m.x(), cylinder.center_m.y(), 0.5 * cylinder.height_m);
     dGeomSetData(geom, static_tag_);
@@ -131,8 +134,11 @@ void OdeWorld::HandlePair(dGeomID a, dGeomID b) {
   const bool a_static = tag_a->role == GeomRole::kGround || tag_a->role == GeomRole::kStatic;
   const bool b_static = tag_b->role == GeomRole::kGround || tag_b->role == GeomRole::kStatic;
   if (a_static && b_static) return;
-  // A robot's own parts never collide with each other.
-  if (!a_static && !b_static && tag_a->robot_index == tag_b->robot_index) return;
+  // A robot's (or a trolley's) own parts never collide with each other.
+  if (!a_static && !b_static && tag_a->robot_index == tag_b->robot_index &&
+      tag_a->trolley_index == tag_b->trolley_index) {
+    return;
+  }
 
   // Kinematic bodies (omni, Ackermann) and static geoms are not moved by contacts: a pair
   // without a dynamic body needs no contact joint, and the simulation reports the kinematic
@@ -152,6 +158,10 @@ void OdeWorld::HandlePair(dGeomID a, dGeomID b) {
   double mu = 0.4;
   if (caster) mu = 0.0;  // a swivel caster carries load but resists no direction
   if (wheel) mu = 1.0;
+  const bool trolley_on_floor =
+      (tag_a->role == GeomRole::kTrolley && tag_b->role == GeomRole::kGround) ||
+      (tag_b->role == GeomRole::kTrolley && tag_a->role == GeomRole::kGround);
+  if (trolley_on_floor) mu = kTrolleyCasterMu;  // its legs stand on swivel casters
   // A wheel on the floor may grip differently by direction, and may be sprung.
   const GeomTag* floor_wheel = nullptr;
   if (tag_b->role == GeomRole::kGround) floor_wheel = tag_a;
@@ -173,7 +183,9 @@ void OdeWorld::HandlePair(dGeomID a, dGeomID b) {
     if (!a_is_robot && !(tag_b->role == GeomRole::kChassis && dynamic_b)) return;
     const GeomTag* robot = a_is_robot ? tag_a : tag_b;
     const GeomTag* other = robot == tag_a ? tag_b : tag_a;
-    if (other->role != GeomRole::kGround) {
+    if (other->role == GeomRole::kTrolley) {
+      contacts_.push_back({robot->robot_index, -1, other->trolley_index});
+    } else if (other->role != GeomRole::kGround) {
       contacts_.push_back({robot->robot_index, other->robot_index});
     }
   }

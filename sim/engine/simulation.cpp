@@ -87,7 +87,12 @@ void Simulation::Build() {
   min_separation_m_ = std::numeric_limits<double>::infinity();
   overlapping_.clear();
   description_ = original_;
+  trolleys_.clear();
   world_ = std::make_unique<OdeWorld>(original_, params_.seed);
+  for (size_t i = 0; i < original_.trolleys.size(); ++i) {
+    trolleys_.push_back(
+        std::make_unique<TrolleyBody>(world_.get(), static_cast<int>(i), original_.trolleys[i]));
+  }
   ApplyWorldFaults();
 }
 
@@ -188,12 +193,20 @@ void Simulation::EnsureScene() {
     scene_ = std::move(fresh);
     scene_static_valid_ = true;
   }
-  if (scene_robots_tick_ != tick_ || scene_.robots.size() != robots_.size()) {
+  if (scene_robots_tick_ != tick_ ||
+      scene_.robots.size() != robots_.size() + 4 * trolleys_.size()) {
     scene_.robots.clear();
     for (size_t i = 0; i < robots_.size(); ++i) {
       const RobotModel& model = robots_[i].body->model();
       scene_.robots.push_back(FootprintShape(model.footprint_m, robots_[i].body->GroundTruthPose(),
                                              model.height_m, static_cast<int>(i)));
+    }
+    // The trolleys' legs move too: after the robots, owned by no robot.
+    for (const std::unique_ptr<TrolleyBody>& trolley : trolleys_) {
+      for (const Eigen::Vector2d& leg : trolley->LegCentres()) {
+        scene_.robots.push_back(
+            CircleShape(leg, trolley->leg_radius_m(), TrolleyBody::kLegHeightM, -1));
+      }
     }
     scene_robots_tick_ = tick_;
   }
@@ -277,7 +290,7 @@ void Simulation::CountContactEpisodes() {
   for (const auto& pair : touching_now_) {
     if (touching_last_.count(pair) != 0) continue;
     std::pair<int, int>& counts = episodes_[pair.first];
-    if (pair.second == "static") {
+    if (index_.count(pair.second) == 0) {  // "static" or a trolley
       ++counts.first;
     } else {
       ++counts.second;
@@ -309,6 +322,16 @@ void Simulation::MoveKinematic(SimRobot& robot, int index, double traction) {
                                         other_model.height_m, static_cast<int>(j));
     if (Overlap(next_shape, other) && !Overlap(now_shape, other)) hit = robots_[j].robot_id;
   }
+  for (size_t j = 0; j < trolleys_.size() && hit.empty(); ++j) {
+    for (const Eigen::Vector2d& leg : trolleys_[j]->LegCentres()) {
+      const Shape2 shape =
+          CircleShape(leg, trolleys_[j]->leg_radius_m(), TrolleyBody::kLegHeightM, -1);
+      if (Overlap(next_shape, shape) && !Overlap(now_shape, shape)) {
+        hit = trolleys_[j]->id();
+        break;
+      }
+    }
+  }
   body.Commit(!hit.empty());
   if (!hit.empty()) RecordContact(robot.robot_id, hit);
 }
@@ -333,9 +356,13 @@ void Simulation::Advance() {
         robots_[i].body->AfterStep(params_.physics_step_s, traction[i]);
     }
     for (const ContactEvent& contact : world_->last_contacts()) {
-      RecordContact(robots_[contact.robot_index].robot_id,
-                    contact.other_robot_index < 0 ? std::string("static")
-                                                  : robots_[contact.other_robot_index].robot_id);
+      std::string other = "static";
+      if (contact.other_trolley_index >= 0) {
+        other = trolleys_[static_cast<size_t>(contact.other_trolley_index)]->id();
+      } else if (contact.other_robot_index >= 0) {
+        other = robots_[static_cast<size_t>(contact.other_robot_index)].robot_id;
+      }
+      RecordContact(robots_[contact.robot_index].robot_id, other);
     }
   }
   CountContactEpisodes();
@@ -468,6 +495,9 @@ GroundTruthSnapshot Simulation::GroundTruth() const {
       truth.collisions_robots = it->second.second;
     }
     out.robots.push_back(truth);
+  }
+  for (const std::unique_ptr<TrolleyBody>& trolley : trolleys_) {
+    out.trolleys.push_back({trolley->id(), trolley->pose(), ""});
   }
   out.contacts = contacts_;
   out.min_separation_m = min_separation_m_;

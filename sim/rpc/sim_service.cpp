@@ -96,6 +96,12 @@ grpc::Status SimServiceImpl::GetGroundTruth(grpc::ServerContext*, const v1::GetG
     wire->set_collisions_world(static_cast<uint32_t>(robot.collisions_world));
     wire->set_collisions_robots(static_cast<uint32_t>(robot.collisions_robots));
   }
+  for (const TrolleyTruth& trolley : truth.trolleys) {
+    v1::TrolleyGroundTruth* wire = response->add_trolleys();
+    wire->set_trolley_id(trolley.trolley_id);
+    *wire->mutable_pose() = fleetnav::ToProto(trolley.pose);
+    wire->set_carrier_robot_id(trolley.carrier_robot_id);
+  }
   for (const SimContact& contact : truth.contacts) {
     v1::Contact* wire = response->add_contacts();
     wire->set_robot_id(contact.robot_id);

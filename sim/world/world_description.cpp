@@ -134,8 +134,8 @@ absl::StatusOr<WorldDescription> ParseRoot(const YAML::Node& root) {
     const double hy = 0.5 * trolley.size_m.y() - trolley.leg_radius_m;
     for (const Eigen::Vector2d& corner : {Eigen::Vector2d(-hx, -hy), Eigen::Vector2d(hx, -hy),
                                           Eigen::Vector2d(hx, hy), Eigen::Vector2d(-hx, hy)}) {
-      world.cylinders.push_back(
-          CylinderObstacle{"trolley_leg", pose.TransformPoint(corner), trolley.leg_radius_m, 1.0});
+      world.cylinders.push_back(CylinderObstacle{kTrolleyLegKind, pose.TransformPoint(corner),
+                                                 trolley.leg_radius_m, 1.0});
     }
   }
   for (size_t i = 0; i < ListSize(root, "faults"); ++i) {

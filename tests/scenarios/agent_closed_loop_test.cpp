@@ -382,11 +382,27 @@ TEST_F(ClosedLoop, MecanumDocksUnderATrolleyWithoutTouchingItsLegs) {
   const std::string route =
       WriteRoute("  - dock: {target: trolley, target_id: trolley-2}\n", "supermarket");
   ASSERT_EQ(RunAgent(route, {}, "mecanum-platform", {0.4, 1.5, 12.0}, "omni1"), 0) << AgentLog();
-  const v1::RobotGroundTruth& omni = Robot(Truth(), "omni1");
+  const v1::GroundTruth truth = Truth();
+  const v1::RobotGroundTruth& omni = Robot(truth, "omni1");
   EXPECT_EQ(omni.collisions(), 0);
   EXPECT_NEAR(omni.pose().x_m(), 2.5, 0.01);
   EXPECT_NEAR(omni.pose().y_m(), 1.8, 0.01);
   EXPECT_NEAR(std::remainder(omni.pose().yaw_rad(), M_PI), 0.0, 0.02);
+  // The trolley (physical, it would roll away if touched) stands where it stood.
+  bool found = false;
+  for (const v1::TrolleyGroundTruth& trolley : truth.trolleys()) {
+    if (trolley.trolley_id() != "trolley-2") continue;
+    found = true;
+    EXPECT_NEAR(trolley.pose().x_m(), 2.5, 0.005);
+    EXPECT_NEAR(trolley.pose().y_m(), 1.8, 0.005);
+  }
+  EXPECT_TRUE(found);
+  // fleetnavctl shows the trolleys too.
+  ChildProcess ctl({FLEETNAV_CTL_PATH, "--json", "sim", "--sim", sim_address_, "truth"},
+                   Path("ctl.out"), Path("ctl.err"));
+  ASSERT_EQ(ctl.Wait(30.0), 0) << ctl.Stderr();
+  EXPECT_THAT(ctl.Stdout(), HasSubstr("\"trolley_id\":\"trolley-2\""));
+  EXPECT_THAT(ctl.Stdout(), HasSubstr("\"carrier_robot_id\":\"\""));
 }
 
 // A dock at a trolley the map does not have is refused before the robot moves; one the map has

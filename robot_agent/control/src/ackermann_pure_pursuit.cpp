@@ -185,8 +185,9 @@ Twist2 AckermannPurePursuit::Step(const Pose2& pose, double dt_s) {
   const bool last_piece = piece_ + 1 == pieces_.size();
   const double to_goal_m = (path_[end].translation() - pose.translation()).norm();
   blocked_ = false;
-  path_obstructed_ = false;
-  if (last_piece && to_goal_m <= params_.polar_radius_m) {
+  const bool in_polar_zone = last_piece && to_goal_m <= params_.polar_radius_m;
+  path_obstructed_ = !in_polar_zone && sign > 0 && vfh_.has_value() && PathAheadObstructed(pose);
+  if (in_polar_zone) {
     const PolarPoseCommand polar = PolarMoveToPose(pose, path_[end], params_.polar, sign < 0);
     // Only where the car can do what the law asks: the goal well ahead and the curvature within
     // the lock (clamped, the law no longer converges and the car circles the goal).
@@ -195,7 +196,7 @@ Twist2 AckermannPurePursuit::Step(const Pose2& pose, double dt_s) {
       curvature = polar.curvature_per_m;
       speed = std::min(speed, std::abs(polar.speed_mps));
     }
-  } else if (sign > 0 && vfh_ && (path_obstructed_ = PathAheadObstructed(pose))) {
+  } else if (path_obstructed_) {
     // What lies beyond the piece's end is for the next piece (or the map-checked goal).
     const double horizon_m = to_end_m + params_.vfh.robot_radius_m;
     std::vector<Eigen::Vector2d> near;

@@ -103,7 +103,13 @@ TEST(InductiveTest, FiresExactlyOverStripesAndNeverElsewhere) {
 TEST(LaserTest, SeesTrolleyLegsWallsAndOtherRobots) {
   WorldDescription world = testing::EmptyWorld();
   world.boxes.push_back({"wall", {5.0, 0.0}, {0.2, 20.0}, 0.0, 2.0});
-  world.cylinders.push_back({"trolley_leg", {2.0, 1.0}, 0.02, 1.0});
+  // A trolley (a body: the laser sees its legs where they stand) with a leg at (2, 1).
+  Trolley trolley;
+  trolley.id = "t";
+  trolley.center_m = Eigen::Vector2d(2.5, 1.3);
+  trolley.size_m = Eigen::Vector2d(1.04, 0.64);
+  trolley.leg_radius_m = 0.02;
+  world.trolleys.push_back(trolley);
   std::unique_ptr<Simulation> sim = Make(world);
   ASSERT_TRUE(sim->AddRobot("omni", "mecanum-platform", Pose2(0, 0, 0)).ok());
   ASSERT_TRUE(sim->AddRobot("car", "ackermann-delivery", Pose2(0, -3, M_PI / 2)).ok());

@@ -52,8 +52,17 @@ absl::Status PrintGroundTruth(const CommandContext& context,
                         {"collisions_world", r.collisions_world()},
                         {"collisions_robots", r.collisions_robots()}});
     }
+    nlohmann::json trolleys = nlohmann::json::array();
+    for (const auto& t : truth->trolleys()) {
+      trolleys.push_back({{"trolley_id", t.trolley_id()},
+                          {"x_m", t.pose().x_m()},
+                          {"y_m", t.pose().y_m()},
+                          {"yaw_rad", t.pose().yaw_rad()},
+                          {"carrier_robot_id", t.carrier_robot_id()}});
+    }
     *context.out << nlohmann::json{{"sim_time_s", truth->sim_time_ns() * 1e-9},
                                    {"robots", robots},
+                                   {"trolleys", trolleys},
                                    {"contacts", truth->contacts_size()},
                                    {"min_separation_m", truth->min_separation_m()}}
                  << '\n';
@@ -71,6 +80,14 @@ absl::Status PrintGroundTruth(const CommandContext& context,
                                   r.collisions_robots())});
   }
   table.Print(*context.out);
+  if (truth->trolleys_size() > 0) {
+    Table trolleys({"TROLLEY", "TRUE POSE (x, y, yaw)", "CARRIED BY"});
+    for (const auto& t : truth->trolleys()) {
+      trolleys.AddRow({t.trolley_id(), PoseText(t.pose()),
+                       t.carrier_robot_id().empty() ? "-" : t.carrier_robot_id()});
+    }
+    trolleys.Print(*context.out);
+  }
   return absl::OkStatus();
 }
 

@@ -13,7 +13,7 @@
 namespace fleetnav::sim {
 
 /// What a geom is, for contact parameters (friction per pair) and contact reports.
-enum class GeomRole : uint8_t { kGround, kStatic, kChassis, kWheel, kCaster };
+enum class GeomRole : uint8_t { kGround, kStatic, kChassis, kWheel, kCaster, kTrolley };
 
 /// Friction of a wheel's floor contact that differs by direction: a mecanum wheel's roller
 /// turns freely across its axle and grips along it; a caster wheel rolls along its plane and
@@ -36,7 +36,8 @@ struct DirectionalFriction {
 
 struct GeomTag {
   GeomRole role = GeomRole::kStatic;
-  int robot_index = -1;  ///< for robot geoms
+  int robot_index = -1;    ///< for robot geoms
+  int trolley_index = -1;  ///< for trolley geoms
   DirectionalFriction friction;
   /// A sprung floor contact (a suspended wheel): spring and damper of the contact's
   /// penetration; 0 uses the world's stiff contact.
@@ -47,7 +48,8 @@ struct GeomTag {
 /// A contact between a robot's chassis and something else seen in the last step.
 struct ContactEvent {
   int robot_index = -1;
-  int other_robot_index = -1;  ///< -1: a static obstacle
+  int other_robot_index = -1;    ///< -1: a static obstacle or a trolley
+  int other_trolley_index = -1;  ///< a trolley's leg
 };
 
 /// The ODE physics world of one simulation: world, collision space, contact group, a ground

@@ -18,6 +18,7 @@
 #include "fleetnav/sim/ode_world.hpp"
 #include "fleetnav/sim/proprioceptive_sensors.hpp"
 #include "fleetnav/sim/robot_body.hpp"
+#include "fleetnav/sim/trolley_body.hpp"
 #include "fleetnav/sim/world_description.hpp"
 
 namespace fleetnav::sim {
@@ -69,10 +70,18 @@ struct SimContact {
   int64_t sim_time_ns = 0;
 };
 
+/// Where a trolley stands, and which robot carries it ("" when none).
+struct TrolleyTruth {
+  std::string trolley_id;
+  Pose2 pose;
+  std::string carrier_robot_id;
+};
+
 struct GroundTruthSnapshot {
   uint64_t tick = 0;
   int64_t sim_time_ns = 0;
   std::vector<RobotTruth> robots;
+  std::vector<TrolleyTruth> trolleys;
   std::vector<SimContact> contacts;
   /// Smallest distance between two robots' circumscribed circles so far (a lower bound on the
   /// footprint distance); +inf with fewer than two robots.
@@ -88,10 +97,11 @@ struct SimulationTiming {
 
 /// One simulated site: the ODE world of a WorldDescription and its robots, advanced in fixed
 /// control ticks of whole physics steps. The tick counter is the only clock of a simulated run
-/// (sim time = tick × control period). The Lely is physical in ODE; omni and Ackermann robots
-/// are kinematic (they stop rather than drive into something). Faults of the world file are in
-/// force from the start; InjectFault adds more at run time; Reset starts over. Deterministic
-/// for a seed. Not thread-safe: the lockstep coordinator serialises access.
+/// (sim time = tick × control period). The robots are physical in ODE (omni and Ackermann
+/// robots kinematic with SimulationParams::kinematic_omni / kinematic_ackermann: those stop
+/// rather than drive into something), and so are the trolleys, which move when pushed. Faults of
+/// the world file are in force from the start; InjectFault adds more at run time; Reset starts
+/// over. Deterministic for a seed. Not thread-safe: the lockstep coordinator serialises access.
 class Simulation {
  public:
   static absl::StatusOr<std::unique_ptr<Simulation>> Create(const WorldDescription& world,
@@ -171,6 +181,8 @@ class Simulation {
   WorldDescription description_;
   SimulationParams params_;
   std::unique_ptr<OdeWorld> world_;
+  /// The world's trolleys as bodies in world_ (cleared before it is).
+  std::vector<std::unique_ptr<TrolleyBody>> trolleys_;
   std::vector<SimRobot> robots_;  ///< destroyed before world_
   std::map<std::string, size_t> index_;
   std::vector<ActiveFault> faults_;

@@ -20,6 +20,10 @@ struct BoxObstacle {
   double height_m = 1.0;
 };
 
+/// The kind of the cylinders a trolley's legs are listed as (for maps and pictures; the
+/// simulation moves them with their TrolleyBody).
+inline constexpr char kTrolleyLegKind[] = "trolley_leg";
+
 /// A vertical cylinder (post, trolley leg, charging pole).
 struct CylinderObstacle {
   std::string kind;

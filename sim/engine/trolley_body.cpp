@@ -1,0 +1,47 @@
+#include "fleetnav/sim/trolley_body.hpp"
+
+#include <cmath>
+
+namespace fleetnav::sim {
+
+TrolleyBody::TrolleyBody(OdeWorld* world, int trolley_index, const Trolley& trolley)
+    : id_(trolley.id), leg_radius_m_(trolley.leg_radius_m) {
+  const double hx = 0.5 * trolley.size_m.x() - trolley.leg_radius_m;
+  const double hy = 0.5 * trolley.size_m.y() - trolley.leg_radius_m;
+  legs_in_trolley_ = {Eigen::Vector2d(hx, hy), Eigen::Vector2d(hx, -hy), Eigen::Vector2d(-hx, hy),
+                      Eigen::Vector2d(-hx, -hy)};
+  body_ = dBodyCreate(world->world());
+  dMass mass;
+  dMassSetBoxTotal(&mass, kMassKg, trolley.size_m.x(), trolley.size_m.y(), kLegHeightM);
+  dBodySetMass(body_, &mass);
+  // The body's origin (its centre of mass) halfway up the legs.
+  dBodySetPosition(body_, trolley.center_m.x(), trolley.center_m.y(), 0.5 * kLegHeightM);
+  dMatrix3 rotation;
+  dRFromAxisAndAngle(rotation, 0, 0, 1, trolley.yaw_rad);
+  dBodySetRotation(body_, rotation);
+  GeomTag* tag = world->MakeTag(GeomRole::kTrolley, -1);
+  tag->trolley_index = trolley_index;
+  for (const Eigen::Vector2d& leg : legs_in_trolley_) {
+    // A capsule whose lower cap touches the floor: its length between the caps' centres.
+    const double length_m = kLegHeightM - 2.0 * trolley.leg_radius_m;
+    dGeomID geom = dCreateCapsule(world->space(), trolley.leg_radius_m, length_m);
+    dGeomSetBody(geom, body_);
+    dGeomSetOffsetPosition(geom, leg.x(), leg.y(), 0.0);
+    dGeomSetData(geom, tag);
+  }
+}
+
+Pose2 TrolleyBody::pose() const {
+  const dReal* r = dBodyGetRotation(body_);  // row-major 3x4
+  const dReal* p = dBodyGetPosition(body_);
+  return Pose2(p[0], p[1], std::atan2(r[4], r[0]));
+}
+
+std::array<Eigen::Vector2d, 4> TrolleyBody::LegCentres() const {
+  const Pose2 at = pose();
+  std::array<Eigen::Vector2d, 4> out;
+  for (size_t i = 0; i < 4; ++i) out[i] = at.TransformPoint(legs_in_trolley_[i]);
+  return out;
+}
+
+}  // namespace fleetnav::sim

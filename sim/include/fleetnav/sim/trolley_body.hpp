@@ -1,0 +1,42 @@
+#pragma once
+
+#include <ode/ode.h>
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+
+#include "fleetnav/core/pose2.hpp"
+#include "fleetnav/sim/ode_world.hpp"
+#include "fleetnav/sim/world_description.hpp"
+
+namespace fleetnav::sim {
+
+/// A shopping trolley in ODE (KUKA thesis ch. 15): a 15 kg body standing on four legs of the
+/// world file's size, each leg a capsule down to the floor on a swivel caster (low floor
+/// friction: it rolls away when pushed rather than sliding stiffly). Robots collide with the
+/// legs — a physical robot that drives into one pushes the trolley along, a kinematic one stops
+/// — and drive under the basket between them. Not thread-safe; owned by the simulation.
+class TrolleyBody {
+ public:
+  static constexpr double kMassKg = 15.0;
+  static constexpr double kLegHeightM = 1.0;
+  /// Floor friction of a leg's caster.
+  static constexpr double kCasterMu = 0.05;
+
+  TrolleyBody(OdeWorld* world, int trolley_index, const Trolley& trolley);
+
+  const std::string& id() const { return id_; }
+  Pose2 pose() const;
+  /// The legs' centres on the floor, in the world frame.
+  std::array<Eigen::Vector2d, 4> LegCentres() const;
+  double leg_radius_m() const { return leg_radius_m_; }
+
+ private:
+  std::string id_;
+  double leg_radius_m_ = 0.0;
+  std::array<Eigen::Vector2d, 4> legs_in_trolley_{};
+  dBodyID body_ = nullptr;
+};
+
+}  // namespace fleetnav::sim
