@@ -4,16 +4,13 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/rate_limit.hpp"
 #include "fleetnav/sim/ackermann_steering.hpp"
 
 namespace fleetnav::sim {
 namespace {
 
 constexpr double kGravityMps2 = 9.81;
-
-double Approach(double current, double target, double max_step) {
-  return current + std::clamp(target - current, -max_step, max_step);
-}
 
 }  // namespace
 
@@ -138,9 +135,9 @@ void AckermannRobot::SetWheels() {
 void AckermannRobot::AfterStep(double step_s, double traction) {
   const MotionLimits& limits = model_.limits;
   steering_rad_ = std::clamp(
-      Approach(steering_rad_, target_steering_rad_, limits.max_steering_rate_radps * step_s),
+      StepTowards(steering_rad_, target_steering_rad_, limits.max_steering_rate_radps * step_s),
       -limits.max_steering_rad, limits.max_steering_rad);
-  speed_mps_ = Approach(speed_mps_, target_speed_mps_, limits.max_accel_mps2 * step_s);
+  speed_mps_ = StepTowards(speed_mps_, target_speed_mps_, limits.max_accel_mps2 * step_s);
   SetWheels();
   // The velocity-controlled motors turn at their rates (the ground, not the motor, gives way).
   const double spin = traction > 0.0 ? 1.0 / traction : 1.0;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fleetnav/core/rate_limit.hpp"
 #include "fleetnav/sim/ackermann_steering.hpp"
 
 namespace fleetnav::sim {
@@ -75,19 +76,15 @@ absl::Status KinematicRobot::SetDrive(const DriveCommand& drive, double scale) {
   return absl::OkStatus();
 }
 
-double KinematicRobot::Approach(double current, double target, double max_step) const {
-  return current + std::clamp(target - current, -max_step, max_step);
-}
-
 Pose2 KinematicRobot::Propose(double dt, double traction) {
   const MotionLimits& limits = model_.limits;
   proposed_wheels_ = wheel_angles_;
   if (model_.kinematics == Kinematics::kOmnidirectional) {
     Twist2 v;
-    v.vx_mps = Approach(command_velocity_.vx_mps, target_.vx_mps, limits.max_accel_mps2 * dt);
-    v.vy_mps = Approach(command_velocity_.vy_mps, target_.vy_mps, limits.max_accel_mps2 * dt);
-    v.yaw_rate_radps = Approach(command_velocity_.yaw_rate_radps, target_.yaw_rate_radps,
-                                limits.max_yaw_accel_radps2 * dt);
+    v.vx_mps = StepTowards(command_velocity_.vx_mps, target_.vx_mps, limits.max_accel_mps2 * dt);
+    v.vy_mps = StepTowards(command_velocity_.vy_mps, target_.vy_mps, limits.max_accel_mps2 * dt);
+    v.yaw_rate_radps = StepTowards(command_velocity_.yaw_rate_radps, target_.yaw_rate_radps,
+                                   limits.max_yaw_accel_radps2 * dt);
     proposed_command_velocity_ = v;
     const MecanumWheelRates rates = MecanumInverse(model_, v);
     for (size_t i = 0; i < 4; ++i) proposed_wheels_[i] += rates[i] * dt;
@@ -99,10 +96,10 @@ Pose2 KinematicRobot::Propose(double dt, double traction) {
     return proposed_pose_;
   }
   // Ackermann bicycle model about the rear axle.
-  proposed_steering_rad_ =
-      std::clamp(Approach(steering_rad_, target_steering_rad_, limits.max_steering_rate_radps * dt),
-                 -limits.max_steering_rad, limits.max_steering_rad);
-  proposed_speed_mps_ = Approach(speed_mps_, target_speed_mps_, limits.max_accel_mps2 * dt);
+  proposed_steering_rad_ = std::clamp(
+      StepTowards(steering_rad_, target_steering_rad_, limits.max_steering_rate_radps * dt),
+      -limits.max_steering_rad, limits.max_steering_rad);
+  proposed_speed_mps_ = StepTowards(speed_mps_, target_speed_mps_, limits.max_accel_mps2 * dt);
   const double yaw_rate =
       proposed_speed_mps_ * std::tan(proposed_steering_rad_) / model_.wheelbase_m;
   const double half_track = 0.5 * model_.track_m;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/rate_limit.hpp"
 
 namespace fleetnav::sim {
 namespace {
@@ -33,10 +34,6 @@ void SetYaw(dBodyID body, double yaw_rad) {
   dMatrix3 rotation;
   dRFromAxisAndAngle(rotation, 0, 0, 1, yaw_rad);
   dBodySetRotation(body, rotation);
-}
-
-double Approach(double current, double target, double max_step) {
-  return current + std::clamp(target - current, -max_step, max_step);
 }
 
 }  // namespace
@@ -170,10 +167,10 @@ void MecanumRobot::SetWheelRates(const MecanumWheelRates& rates) {
 
 void MecanumRobot::AfterStep(double step_s, double traction) {
   const MotionLimits& limits = model_.limits;
-  ramped_.vx_mps = Approach(ramped_.vx_mps, target_.vx_mps, limits.max_accel_mps2 * step_s);
-  ramped_.vy_mps = Approach(ramped_.vy_mps, target_.vy_mps, limits.max_accel_mps2 * step_s);
-  ramped_.yaw_rate_radps = Approach(ramped_.yaw_rate_radps, target_.yaw_rate_radps,
-                                    limits.max_yaw_accel_radps2 * step_s);
+  ramped_.vx_mps = StepTowards(ramped_.vx_mps, target_.vx_mps, limits.max_accel_mps2 * step_s);
+  ramped_.vy_mps = StepTowards(ramped_.vy_mps, target_.vy_mps, limits.max_accel_mps2 * step_s);
+  ramped_.yaw_rate_radps = StepTowards(ramped_.yaw_rate_radps, target_.yaw_rate_radps,
+                                       limits.max_yaw_accel_radps2 * step_s);
   SetWheelRates(MecanumInverse(model_, ramped_));
   const double spin = traction > 0.0 ? 1.0 / traction : 1.0;
   for (size_t i = 0; i < 4; ++i) {

@@ -5,15 +5,10 @@
 
 #include "absl/strings/str_cat.h"
 #include "fleetnav/core/angles.hpp"
+#include "fleetnav/core/rate_limit.hpp"
 
 namespace fleetnav::agent {
-namespace {
-
-double Approach(double current, double target, double max_step) {
-  return current + std::clamp(target - current, -max_step, max_step);
-}
-
-}  // namespace
+namespace {}  // namespace
 
 absl::Status TrolleyDockingParams::Validate() const {
   if (absl::Status s = spec.Validate(); !s.ok()) return s;
@@ -79,10 +74,10 @@ Twist2 TrolleyDockingController::DriveTo(const Pose2& target, const Pose2& pose,
   const Twist2 wanted{c * velocity.x() + s * velocity.y(), -s * velocity.x() + c * velocity.y(),
                       yaw_rate};
   const double dv = model_.limits.max_accel_mps2 * dt_s;
-  last_command_ = Twist2{Approach(last_command_.vx_mps, wanted.vx_mps, dv),
-                         Approach(last_command_.vy_mps, wanted.vy_mps, dv),
-                         Approach(last_command_.yaw_rate_radps, wanted.yaw_rate_radps,
-                                  model_.limits.max_yaw_accel_radps2 * dt_s)};
+  last_command_ = Twist2{StepTowards(last_command_.vx_mps, wanted.vx_mps, dv),
+                         StepTowards(last_command_.vy_mps, wanted.vy_mps, dv),
+                         StepTowards(last_command_.yaw_rate_radps, wanted.yaw_rate_radps,
+                                     model_.limits.max_yaw_accel_radps2 * dt_s)};
   return last_command_;
 }
 

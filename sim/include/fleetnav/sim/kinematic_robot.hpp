@@ -40,7 +40,6 @@ class KinematicRobot final : public RobotBody {
 
  private:
   void PlaceBody();
-  double Approach(double current, double target, double max_step) const;
 
   RobotModel model_;
   dBodyID body_ = nullptr;
