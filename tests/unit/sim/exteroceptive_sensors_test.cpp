@@ -48,8 +48,8 @@ TEST(UltrasonicTest, WallAtKnownDistanceReadsWithinItsNoise) {
   const UltrasonicParams params;
   int echoes = 0;
   double sum = 0.0;
-  const int kSamples = 400;
-  for (int i = 0; i < kSamples; ++i) {
+  const int samples = 400;
+  for (int i = 0; i < samples; ++i) {
     absl::StatusOr<SensorFrame> frame = sim->Sense("lely1");
     ASSERT_TRUE(frame.ok());
     const RangeReading* left = FindRange(*frame, "ultrasonic_left");
@@ -63,7 +63,7 @@ TEST(UltrasonicTest, WallAtKnownDistanceReadsWithinItsNoise) {
     EXPECT_FALSE(right->echo);  // nothing within 2.5 m on the right
     EXPECT_DOUBLE_EQ(right->range_m, params.max_range_m);
   }
-  EXPECT_GT(echoes, kSamples * 0.95);
+  EXPECT_GT(echoes, samples * 0.95);
   EXPECT_NEAR(sum / echoes, distance, 0.005);
 }
 
