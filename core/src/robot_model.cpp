@@ -144,6 +144,12 @@ double RobotModel::CircumscribedRadius() const {
   return radius_m;
 }
 
+Eigen::AlignedBox2d RobotModel::FootprintBounds() const {
+  Eigen::AlignedBox2d box;
+  for (const Eigen::Vector2d& vertex : footprint_m) box.extend(vertex);
+  return box;
+}
+
 const SensorMount* RobotModel::FindSensor(std::string_view name) const {
   for (const SensorMount& sensor : sensors) {
     if (sensor.name == name) return &sensor;
@@ -183,16 +189,16 @@ RobotModel LelyVectorModel() {
   model.limits.max_accel_mps2 = 0.3;
   model.limits.max_yaw_accel_radps2 = 0.5;
 
-  const double kUltrasonicX = base_x(1.31);  // Table 3.5; z not given, 0.6 m chosen
-  const double kInductiveX = base_x(0.225);  // Table 3.6
+  const double ultrasonic_x_m = base_x(1.31);  // Table 3.5; z not given, 0.6 m chosen
+  const double inductive_x_m = base_x(0.225);  // Table 3.6
   model.sensors = {
       Mount("wheel_encoder_left", SensorType::kWheelEncoder, 0.0, 0.46, 0.0, 0.15),
       Mount("wheel_encoder_right", SensorType::kWheelEncoder, 0.0, -0.46, 0.0, 0.15),
       Mount("imu", SensorType::kImu, 0.0, 0.0, 0.0, 0.5),  // place not given; on the axle
-      Mount("ultrasonic_left", SensorType::kUltrasonic, kUltrasonicX, 0.25, kPi / 2.0, 0.6),
-      Mount("ultrasonic_right", SensorType::kUltrasonic, kUltrasonicX, -0.25, -kPi / 2.0, 0.6),
-      Mount("inductive_left", SensorType::kInductive, kInductiveX, 0.05, 0.0, 0.04),
-      Mount("inductive_right", SensorType::kInductive, kInductiveX, -0.05, 0.0, 0.04),
+      Mount("ultrasonic_left", SensorType::kUltrasonic, ultrasonic_x_m, 0.25, kPi / 2.0, 0.6),
+      Mount("ultrasonic_right", SensorType::kUltrasonic, ultrasonic_x_m, -0.25, -kPi / 2.0, 0.6),
+      Mount("inductive_left", SensorType::kInductive, inductive_x_m, 0.05, 0.0, 0.04),
+      Mount("inductive_right", SensorType::kInductive, inductive_x_m, -0.05, 0.0, 0.04),
       // Charger contact and bumper at the front of the body (places chosen, not in the thesis).
       Mount("charger_contact", SensorType::kChargerContact, base_x(kLengthM / 2.0), 0.0, 0.0, 0.3),
       Mount("bumper", SensorType::kBumper, base_x(kLengthM / 2.0), 0.0, 0.0, 0.2),

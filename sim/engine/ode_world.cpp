@@ -7,8 +7,6 @@ namespace fleetnav::sim {
 namespace {
 
 constexpr int kMaxContactsPerPair = 8;
-/// Floor friction of a trolley leg's swivel caster: it rolls away when pushed.
-constexpr double kTrolleyCasterMu = 0.05;
 
 // ODE keeps process-wide state; initialise it once and keep it for the process's life.
 void EnsureOdeInitialised() {
@@ -56,7 +54,6 @@ void OdeWorld::SetStatics(const WorldDescription& description) {
     statics_.push_back(geom);
   }
   for (const CylinderObstacle& cylinder : description.cylinders) {
-    if (cylinder.kind == kTrolleyLegKind) continue;  // a TrolleyBody's, not static
     dGeomID geom = dCreateCylinder(space_, cylinder.radius_m, cylinder.height_m);
     dGeomSetPosition(geom, cylinder.center_m.x(), cylinder.center_m.y(), 0.5 * cylinder.height_m);
     dGeomSetData(geom, static_tag_);
@@ -158,15 +155,13 @@ void OdeWorld::HandlePair(dGeomID a, dGeomID b) {
   double mu = 0.4;
   if (caster) mu = 0.0;  // a swivel caster carries load but resists no direction
   if (wheel) mu = 1.0;
-  const bool trolley_on_floor =
-      (tag_a->role == GeomRole::kTrolley && tag_b->role == GeomRole::kGround) ||
-      (tag_b->role == GeomRole::kTrolley && tag_a->role == GeomRole::kGround);
-  if (trolley_on_floor) mu = kTrolleyCasterMu;  // its legs stand on swivel casters
-  // A wheel on the floor may grip differently by direction, and may be sprung.
-  const GeomTag* floor_wheel = nullptr;
-  if (tag_b->role == GeomRole::kGround) floor_wheel = tag_a;
-  if (tag_a->role == GeomRole::kGround) floor_wheel = tag_b;
-  const bool wheel_first = floor_wheel == tag_a;
+  // A geom on the floor may have a friction of its own; a wheel may grip differently by
+  // direction, and may be sprung.
+  const GeomTag* on_floor = nullptr;
+  if (tag_b->role == GeomRole::kGround) on_floor = tag_a;
+  if (tag_a->role == GeomRole::kGround) on_floor = tag_b;
+  if (on_floor != nullptr && on_floor->floor_mu >= 0.0) mu = on_floor->floor_mu;
+  const bool on_floor_first = on_floor == tag_a;
 
   for (int i = 0; i < count; ++i) {
     dSurfaceParameters& surface = contacts[i].surface;
@@ -174,7 +169,7 @@ void OdeWorld::HandlePair(dGeomID a, dGeomID b) {
     surface.mu = mu;
     surface.soft_cfm = 1e-6;
     surface.soft_erp = 0.3;
-    if (floor_wheel != nullptr) ApplyWheelContact(*floor_wheel, wheel_first, &contacts[i]);
+    if (on_floor != nullptr) ApplyWheelContact(*on_floor, on_floor_first, &contacts[i]);
     dJointID joint = dJointCreateContact(world_, contact_group_, &contacts[i]);
     dJointAttach(joint, dGeomGetBody(a), dGeomGetBody(b));
   }

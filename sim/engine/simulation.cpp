@@ -203,10 +203,7 @@ void Simulation::EnsureScene() {
     }
     // The trolleys' legs move too: after the robots, owned by no robot.
     for (const std::unique_ptr<TrolleyBody>& trolley : trolleys_) {
-      for (const Eigen::Vector2d& leg : trolley->LegCentres()) {
-        scene_.robots.push_back(
-            CircleShape(leg, trolley->leg_radius_m(), TrolleyBody::kLegHeightM, -1));
-      }
+      for (const Shape2& leg : trolley->LegShapes()) scene_.robots.push_back(leg);
     }
     scene_robots_tick_ = tick_;
   }
@@ -323,10 +320,8 @@ void Simulation::MoveKinematic(SimRobot& robot, int index, double traction) {
     if (Overlap(next_shape, other) && !Overlap(now_shape, other)) hit = robots_[j].robot_id;
   }
   for (size_t j = 0; j < trolleys_.size() && hit.empty(); ++j) {
-    for (const Eigen::Vector2d& leg : trolleys_[j]->LegCentres()) {
-      const Shape2 shape =
-          CircleShape(leg, trolleys_[j]->leg_radius_m(), TrolleyBody::kLegHeightM, -1);
-      if (Overlap(next_shape, shape) && !Overlap(now_shape, shape)) {
+    for (const Shape2& leg : trolleys_[j]->LegShapes()) {
+      if (Overlap(next_shape, leg) && !Overlap(now_shape, leg)) {
         hit = trolleys_[j]->id();
         break;
       }

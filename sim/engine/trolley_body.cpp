@@ -5,11 +5,9 @@
 namespace fleetnav::sim {
 
 TrolleyBody::TrolleyBody(OdeWorld* world, int trolley_index, const Trolley& trolley)
-    : id_(trolley.id), leg_radius_m_(trolley.leg_radius_m) {
-  const double hx = 0.5 * trolley.size_m.x() - trolley.leg_radius_m;
-  const double hy = 0.5 * trolley.size_m.y() - trolley.leg_radius_m;
-  legs_in_trolley_ = {Eigen::Vector2d(hx, hy), Eigen::Vector2d(hx, -hy), Eigen::Vector2d(-hx, hy),
-                      Eigen::Vector2d(-hx, -hy)};
+    : id_(trolley.id),
+      leg_radius_m_(trolley.leg_radius_m),
+      legs_in_trolley_(trolley.LegsInTrolley()) {
   body_ = dBodyCreate(world->world());
   dMass mass;
   dMassSetBoxTotal(&mass, kMassKg, trolley.size_m.x(), trolley.size_m.y(), kLegHeightM);
@@ -21,6 +19,7 @@ TrolleyBody::TrolleyBody(OdeWorld* world, int trolley_index, const Trolley& trol
   dBodySetRotation(body_, rotation);
   GeomTag* tag = world->MakeTag(GeomRole::kTrolley, -1);
   tag->trolley_index = trolley_index;
+  tag->floor_mu = kCasterMu;
   for (const Eigen::Vector2d& leg : legs_in_trolley_) {
     // A capsule whose lower cap touches the floor: its length between the caps' centres.
     const double length_m = kLegHeightM - 2.0 * trolley.leg_radius_m;
@@ -37,10 +36,12 @@ Pose2 TrolleyBody::pose() const {
   return Pose2(p[0], p[1], std::atan2(r[4], r[0]));
 }
 
-std::array<Eigen::Vector2d, 4> TrolleyBody::LegCentres() const {
+std::array<Shape2, 4> TrolleyBody::LegShapes() const {
   const Pose2 at = pose();
-  std::array<Eigen::Vector2d, 4> out;
-  for (size_t i = 0; i < 4; ++i) out[i] = at.TransformPoint(legs_in_trolley_[i]);
+  std::array<Shape2, 4> out;
+  for (size_t i = 0; i < 4; ++i) {
+    out[i] = CircleShape(at.TransformPoint(legs_in_trolley_[i]), leg_radius_m_, kLegHeightM, -1);
+  }
   return out;
 }
 

@@ -24,7 +24,6 @@ Rgb ColorOf(const std::string& kind) {
   if (kind == "feed_kitchen") return {0.55, 0.35, 0.15};
   if (kind == "shelf") return {0.35, 0.45, 0.7};
   if (kind == "charging_pole") return {0.1, 0.3, 0.9};
-  if (kind == "trolley_leg") return {0.8, 0.4, 0.0};
   if (kind == "parcel") return {0.75, 0.6, 0.35};
   return {0.5, 0.5, 0.5};
 }
@@ -94,6 +93,10 @@ void Draw(cairo_t* cr, const WorldDescription& world,
     cairo_rectangle(cr, -0.5 * trolley.size_m.x(), -0.5 * trolley.size_m.y(), trolley.size_m.x(),
                     trolley.size_m.y());
     cairo_stroke(cr);
+    for (const Eigen::Vector2d& leg : trolley.LegsInTrolley()) {
+      cairo_arc(cr, leg.x(), leg.y(), std::max(trolley.leg_radius_m, 2 * px), 0, 2 * M_PI);
+      cairo_fill(cr);
+    }
     cairo_restore(cr);
   }
   for (const CylinderObstacle& cylinder : world.cylinders) {

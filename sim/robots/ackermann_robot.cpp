@@ -37,12 +37,8 @@ absl::Status AckermannBodyParams::Validate() const {
 AckermannRobot::AckermannRobot(OdeWorld* world, int robot_index, const RobotModel& model,
                                const Pose2& start, AckermannBodyParams params)
     : model_(model), params_(params) {
-  Eigen::Vector2d lo(1e9, 1e9), hi(-1e9, -1e9);
-  for (const Eigen::Vector2d& p : model.footprint_m) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  const Eigen::Vector2d size = hi - lo;
+  const Eigen::AlignedBox2d bounds = model.FootprintBounds();
+  const Eigen::Vector2d size = bounds.sizes();
   // The centre of mass midway between the axles: the wheels share the load evenly.
   base_x_in_chassis_m_ = -0.5 * model.wheelbase_m;
   // Each wheel carries a quarter of the weight, pressed that far into its sprung contact.
@@ -63,7 +59,7 @@ AckermannRobot::AckermannRobot(OdeWorld* world, int robot_index, const RobotMode
   // Collision box: the whole body, from the clearance up, around the footprint.
   dGeomID box = dCreateBox(world->space(), size.x(), size.y(), model.height_m);
   dGeomSetBody(box, chassis_);
-  const Eigen::Vector2d box_centre = 0.5 * (lo + hi);
+  const Eigen::Vector2d box_centre = bounds.center();
   dGeomSetOffsetPosition(box, box_centre.x() + base_x_in_chassis_m_, box_centre.y(),
                          params_.ground_clearance_m + 0.5 * model.height_m - chassis_z_m_);
   dGeomSetData(box, world->MakeTag(GeomRole::kChassis, robot_index));

@@ -11,20 +11,6 @@ namespace {
 
 constexpr double kGroundClearanceM = 0.02;
 
-struct Extent {
-  Eigen::Vector2d center;
-  Eigen::Vector2d size;
-};
-
-Extent FootprintBox(const RobotModel& model) {
-  Eigen::Vector2d lo(1e9, 1e9), hi(-1e9, -1e9);
-  for (const Eigen::Vector2d& p : model.footprint_m) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  return {0.5 * (lo + hi), hi - lo};
-}
-
 // Pose after moving with a body twist for dt (translation at the mid-interval heading).
 Pose2 Integrate(const Pose2& pose, double vx, double vy, double yaw_rate, double dt) {
   const double dtheta = yaw_rate * dt;
@@ -39,12 +25,12 @@ Pose2 Integrate(const Pose2& pose, double vx, double vy, double yaw_rate, double
 KinematicRobot::KinematicRobot(OdeWorld* world, int robot_index, const RobotModel& model,
                                const Pose2& start)
     : model_(model), pose_(start) {
-  const Extent box = FootprintBox(model);
+  const Eigen::AlignedBox2d box = model.FootprintBounds();
   body_ = dBodyCreate(world->world());
   dBodySetKinematic(body_);
-  dGeomID geom = dCreateBox(world->space(), box.size.x(), box.size.y(), model.height_m);
+  dGeomID geom = dCreateBox(world->space(), box.sizes().x(), box.sizes().y(), model.height_m);
   dGeomSetBody(geom, body_);
-  dGeomSetOffsetPosition(geom, box.center.x(), box.center.y(), 0.0);
+  dGeomSetOffsetPosition(geom, box.center().x(), box.center().y(), 0.0);
   dGeomSetData(geom, world->MakeTag(GeomRole::kChassis, robot_index));
   PlaceBody();
 }

@@ -71,12 +71,8 @@ MecanumRobot::MecanumRobot(OdeWorld* world, int robot_index, const RobotModel& m
       world_(world),
       robot_index_(robot_index),
       swivel_noise_(noise_seed) {
-  Eigen::Vector2d lo(1e9, 1e9), hi(-1e9, -1e9);
-  for (const Eigen::Vector2d& p : model.footprint_m) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  const Eigen::Vector2d size = hi - lo;
+  const Eigen::AlignedBox2d bounds = model.FootprintBounds();
+  const Eigen::Vector2d size = bounds.sizes();
   const double chassis_z = params_.ground_clearance_m + 0.5 * params_.mass_box_height_m;
 
   chassis_ = dBodyCreate(world->world());
@@ -89,7 +85,7 @@ MecanumRobot::MecanumRobot(OdeWorld* world, int robot_index, const RobotModel& m
   // Collision box: the whole body, from the clearance up, around the footprint.
   dGeomID box = dCreateBox(world->space(), size.x(), size.y(), model.height_m);
   dGeomSetBody(box, chassis_);
-  const Eigen::Vector2d center = 0.5 * (lo + hi);
+  const Eigen::Vector2d center = bounds.center();
   dGeomSetOffsetPosition(box, center.x(), center.y(),
                          params_.ground_clearance_m + 0.5 * model.height_m - chassis_z);
   dGeomSetData(box, world->MakeTag(GeomRole::kChassis, robot_index));

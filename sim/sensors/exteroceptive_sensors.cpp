@@ -19,7 +19,6 @@ SensingScene StaticScene(const WorldDescription& world) {
     scene.statics.push_back(BoxShape(box.center_m, box.size_m, box.yaw_rad, box.height_m, -1));
   }
   for (const CylinderObstacle& cylinder : world.cylinders) {
-    if (cylinder.kind == kTrolleyLegKind) continue;  // trolleys move: the simulation adds them
     scene.statics.push_back(
         CircleShape(cylinder.center_m, cylinder.radius_m, cylinder.height_m, -1));
     if (cylinder.kind == "charging_pole") scene.charging_poles.push_back(scene.statics.back());

@@ -129,14 +129,6 @@ absl::StatusOr<WorldDescription> ParseRoot(const YAML::Node& root) {
     ASSIGN_OR_RETURN(trolley.leg_radius_m,
                      ReadPositive(node["leg_radius"], field + ".leg_radius", 0.02));
     world.trolleys.push_back(trolley);
-    const Pose2 pose(trolley.center_m.x(), trolley.center_m.y(), trolley.yaw_rad);
-    const double hx = 0.5 * trolley.size_m.x() - trolley.leg_radius_m;
-    const double hy = 0.5 * trolley.size_m.y() - trolley.leg_radius_m;
-    for (const Eigen::Vector2d& corner : {Eigen::Vector2d(-hx, -hy), Eigen::Vector2d(hx, -hy),
-                                          Eigen::Vector2d(hx, hy), Eigen::Vector2d(-hx, hy)}) {
-      world.cylinders.push_back(CylinderObstacle{kTrolleyLegKind, pose.TransformPoint(corner),
-                                                 trolley.leg_radius_m, 1.0});
-    }
   }
   for (size_t i = 0; i < ListSize(root, "faults"); ++i) {
     const YAML::Node node = root["faults"][i];

@@ -31,12 +31,20 @@ absl::StatusOr<OccupancyGrid> RasterizeWorld(const WorldDescription& world, doub
                    OccupancyGrid::Filled(width, height, resolution_m,
                                          Pose2(world.min_corner_m.x(), world.min_corner_m.y(), 0),
                                          OccupancyGrid::kFreeValue));
+  // The trolleys' legs stand where the world file puts them.
+  std::vector<CylinderObstacle> cylinders = world.cylinders;
+  for (const Trolley& trolley : world.trolleys) {
+    for (const Eigen::Vector2d& leg : trolley.LegsInTrolley()) {
+      cylinders.push_back(
+          {"trolley_leg", trolley.pose().TransformPoint(leg), trolley.leg_radius_m, 1.0});
+    }
+  }
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       const Eigen::Vector2d p = grid.CellToWorld({x, y});
       bool occupied = false;
       for (const BoxObstacle& box : world.boxes) occupied = occupied || InsideBox(box, p);
-      for (const CylinderObstacle& c : world.cylinders) {
+      for (const CylinderObstacle& c : cylinders) {
         occupied = occupied || (p - c.center_m).norm() <= c.radius_m;
       }
       if (occupied) grid.SetValue({x, y}, OccupancyGrid::kOccupiedValue);

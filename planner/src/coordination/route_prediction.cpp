@@ -221,21 +221,21 @@ absl::StatusOr<std::vector<PredictedAction>> PredictRoute(const Route& route, co
                                             ? markers->FindTrolley(dock->target_id)
                                             : nullptr;
       if (trolley != nullptr) {
-        // To a point a metre before the trolley's nearer end, then under it to its centre
-        // (the agent's approach and final dock frames), at docking speed.
-        // Entered from the end the robot is nearer (the trolley is symmetric).
+        // To a point before the trolley's nearer end, then under it to its centre (about the
+        // agent's approach and final dock frames), entered from the end the robot is nearer
+        // (the trolley is symmetric).
         Pose2 facing = trolley->pose;
         const Eigen::Vector2d backwards = facing.TransformPoint({-1, 0}) - facing.translation();
         if (backwards.dot(pose.translation() - facing.translation()) < 0.0) {
           facing = facing * Pose2(0, 0, M_PI);
         }
         const Eigen::Vector2d approach =
-            facing.TransformPoint({-(0.5 * trolley->size_m.x() + 1.0), 0.0});
+            facing.TransformPoint({-(0.5 * trolley->size_m.x() + params.trolley_approach_m), 0.0});
         const double length_m =
             AppendPolyline(predicted.poses, {pose.translation(), approach, facing.translation()},
                            0.0, params.pose_step_m);
         predicted.poses.push_back(facing);
-        predicted.duration_s = length_m / 0.15;
+        predicted.duration_s = length_m / params.trolley_dock_speed_mps;
       } else if (pieces.empty()) {
         straight(params.default_dock_distance_m, 0.2);
       } else {

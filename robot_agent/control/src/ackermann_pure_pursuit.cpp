@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "fleetnav/core/angles.hpp"
+#include "fleetnav/core/rate_limit.hpp"
 #include "fleetnav/robot_agent/path_geometry.hpp"
 
 namespace fleetnav::agent {
@@ -48,18 +49,13 @@ AckermannPurePursuit::AckermannPurePursuit(AckermannPurePursuitParams params,
                                            const RobotModel& model)
     : params_(params),
       limits_(model.limits),
+      footprint_(model.FootprintBounds()),
       max_curvature_per_m_(model.wheelbase_m > 0.0
                                ? std::tan(model.limits.max_steering_rad) / model.wheelbase_m
                                : std::numeric_limits<double>::infinity()) {
   if (params_.avoid_obstacles) {
     VfhPlusParams vfh = params_.vfh;
-    double half_width_m = 0.0;
-    for (const Eigen::Vector2d& corner : model.footprint_m) {
-      half_width_m = std::max(half_width_m, std::abs(corner.y()));
-      footprint_min_x_m_ = std::min(footprint_min_x_m_, corner.x());
-      footprint_max_x_m_ = std::max(footprint_max_x_m_, corner.x());
-    }
-    footprint_half_width_m_ = half_width_m;
+    const double half_width_m = std::max(-footprint_.min().y(), footprint_.max().y());
     if (half_width_m > 0.0) vfh.robot_radius_m = half_width_m;
     if (std::isfinite(max_curvature_per_m_) && max_curvature_per_m_ > 0.0) {
       vfh.min_turning_radius_m = 1.0 / max_curvature_per_m_;
@@ -70,7 +66,10 @@ AckermannPurePursuit::AckermannPurePursuit(AckermannPurePursuitParams params,
 
 bool AckermannPurePursuit::PathAheadObstructed(const Pose2& pose) const {
   if (obstacles_.empty()) return false;
-  const double margin_m = params_.vfh.safety_distance_m;
+  // The footprint widened by VFH+'s safety distance.
+  Eigen::AlignedBox2d swept = footprint_;
+  swept.min().array() -= params_.vfh.safety_distance_m;
+  swept.max().array() += params_.vfh.safety_distance_m;
   const size_t end = pieces_[piece_].second;
   double last_checked_m = -1.0;
   for (size_t i = closest_; i <= end; ++i) {
@@ -80,22 +79,23 @@ bool AckermannPurePursuit::PathAheadObstructed(const Pose2& pose) const {
     last_checked_m = along_m;
     const Pose2 from_path = path_[i].Inverse() * pose;
     for (const Eigen::Vector2d& p_in_base : obstacles_) {
-      const Eigen::Vector2d p = from_path.TransformPoint(p_in_base);
-      if (p.x() >= footprint_min_x_m_ - margin_m && p.x() <= footprint_max_x_m_ + margin_m &&
-          std::abs(p.y()) <= footprint_half_width_m_ + margin_m) {
-        return true;
-      }
+      if (swept.contains(from_path.TransformPoint(p_in_base))) return true;
     }
   }
   return false;
 }
 
 Twist2 AckermannPurePursuit::Brake(double dt_s) {
-  const double brake = limits_.max_accel_mps2 * dt_s;
-  last_speed_mps_ = std::abs(last_speed_mps_) <= brake
-                        ? 0.0
-                        : last_speed_mps_ - std::copysign(brake, last_speed_mps_);
+  last_speed_mps_ = StepTowards(last_speed_mps_, 0.0, limits_.max_accel_mps2 * dt_s);
   return Twist2{last_speed_mps_, 0.0, 0.0};
+}
+
+std::optional<size_t> AckermannPurePursuit::FirstPoseAtLeast(const Pose2& pose,
+                                                             double distance_m) const {
+  for (size_t i = closest_; i <= pieces_[piece_].second; ++i) {
+    if ((path_[i].translation() - pose.translation()).norm() >= distance_m) return i;
+  }
+  return std::nullopt;
 }
 
 void AckermannPurePursuit::SetPath(std::vector<Pose2> path) {
@@ -161,31 +161,24 @@ Twist2 AckermannPurePursuit::Step(const Pose2& pose, double dt_s) {
   // The lookahead point: the first pose of the piece that far away, else beyond its end.
   const double lookahead = std::clamp(std::abs(last_speed_mps_) * params_.lookahead_time_s,
                                       params_.min_lookahead_m, params_.max_lookahead_m);
+  const double straight_to_end_m = (path_[end].translation() - pose.translation()).norm();
   Eigen::Vector2d target;
-  bool found = false;
-  for (size_t i = closest_; i <= end; ++i) {
-    if ((path_[i].translation() - pose.translation()).norm() >= lookahead) {
-      target = path_[i].translation();
-      found = true;
-      break;
-    }
-  }
-  if (!found) {
+  if (const std::optional<size_t> i = FirstPoseAtLeast(pose, lookahead)) {
+    target = path_[*i].translation();
+  } else {
     const Pose2& e = path_[end];
-    const double beyond = lookahead - (e.translation() - pose.translation()).norm();
+    const double beyond = lookahead - straight_to_end_m;
     target = e.translation() + sign * std::max(beyond, 0.0) *
                                    Eigen::Vector2d(std::cos(e.yaw_rad()), std::sin(e.yaw_rad()));
   }
   const Eigen::Vector2d local = pose.Inverse().TransformPoint(target);
   double curvature = 2.0 * local.y() / std::max(local.squaredNorm(), 1e-9);
-  const double to_end_m = std::max(to_goal_m_[closest_] - to_goal_m_[end],
-                                   (path_[end].translation() - pose.translation()).norm());
+  const double to_end_m = std::max(to_goal_m_[closest_] - to_goal_m_[end], straight_to_end_m);
   const double top = sign > 0 ? limits_.max_speed_mps : limits_.max_reverse_speed_mps;
   double speed = std::min(params_.desired_speed_mps, top);
-  const bool last_piece = piece_ + 1 == pieces_.size();
-  const double to_goal_m = (path_[end].translation() - pose.translation()).norm();
   blocked_ = false;
-  const bool in_polar_zone = last_piece && to_goal_m <= params_.polar_radius_m;
+  const bool in_polar_zone =
+      piece_ + 1 == pieces_.size() && straight_to_end_m <= params_.polar_radius_m;
   path_obstructed_ = !in_polar_zone && sign > 0 && vfh_.has_value() && PathAheadObstructed(pose);
   if (in_polar_zone) {
     const PolarPoseCommand polar = PolarMoveToPose(pose, path_[end], params_.polar, sign < 0);
@@ -204,13 +197,8 @@ Twist2 AckermannPurePursuit::Step(const Pose2& pose, double dt_s) {
       if (p.norm() <= horizon_m) near.push_back(p);
     }
     // The target: the piece's point vfh_target_distance_m ahead (else its end).
-    Eigen::Vector2d aim = path_[end].translation();
-    for (size_t i = closest_; i <= end; ++i) {
-      if ((path_[i].translation() - pose.translation()).norm() >= params_.vfh_target_distance_m) {
-        aim = path_[i].translation();
-        break;
-      }
-    }
+    const Eigen::Vector2d aim =
+        path_[FirstPoseAtLeast(pose, params_.vfh_target_distance_m).value_or(end)].translation();
     const Eigen::Vector2d aim_local = pose.Inverse().TransformPoint(aim);
     const std::optional<VfhPlusDirection> direction =
         vfh_->Choose(near, std::atan2(aim_local.y(), aim_local.x()));
@@ -227,11 +215,8 @@ Twist2 AckermannPurePursuit::Step(const Pose2& pose, double dt_s) {
     speed = std::min(speed, limits_.max_yaw_rate_radps / std::abs(curvature));
   }
   speed = std::max(speed, kCreepSpeedMps);
-  const double signed_speed =
-      std::clamp(sign * speed, last_speed_mps_ - limits_.max_accel_mps2 * dt_s,
-                 last_speed_mps_ + limits_.max_accel_mps2 * dt_s);
-  last_speed_mps_ = signed_speed;
-  return Twist2{signed_speed, 0.0, signed_speed * curvature};
+  last_speed_mps_ = StepTowards(last_speed_mps_, sign * speed, limits_.max_accel_mps2 * dt_s);
+  return Twist2{last_speed_mps_, 0.0, last_speed_mps_ * curvature};
 }
 
 }  // namespace fleetnav::agent

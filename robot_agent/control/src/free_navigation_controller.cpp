@@ -12,6 +12,13 @@
 namespace fleetnav::agent {
 namespace {
 
+/// Stops the robot and ends the action with `failure`.
+ControlOutput Failed(ControlOutput out, absl::Status failure) {
+  out.command = Twist2{};
+  out.failure = std::move(failure);
+  return out;
+}
+
 planner::CostmapParams CostmapParamsFor(double padding_m) {
   planner::CostmapParams p;
   p.padding_m = padding_m;
@@ -110,8 +117,11 @@ absl::Status FreeNavigationController::BuildPlanner(const Pose2& from_in_map) {
   if (AvoidsUnmappedObstacles()) {
     // What the laser has seen and the map does not show, except under the robot and its
     // padding (where it would put the start in collision; VFH+ keeps the robot off that).
-    marked_cells_ = unmapped_.MarkOn(grid, from_in_map, model_.footprint_m,
-                                     params_.padding_m + grid.resolution_m());
+    Eigen::AlignedBox2d keep_clear = model_.FootprintBounds();
+    const double margin_m = params_.padding_m + grid.resolution_m();
+    keep_clear.min().array() -= margin_m;
+    keep_clear.max().array() += margin_m;
+    marked_cells_ = unmapped_.MarkOn(grid, from_in_map, keep_clear);
   }
   absl::StatusOr<planner::Costmap> costmap =
       planner::Costmap::Build(grid, model_.footprint_m, CostmapParamsFor(params_.padding_m));
@@ -130,7 +140,8 @@ absl::Status FreeNavigationController::BuildPlanner(const Pose2& from_in_map) {
 }
 
 absl::Status FreeNavigationController::Plan(const Pose2& from_in_map) {
-  if (!costmap_ || (AvoidsUnmappedObstacles() && unmapped_.size() > 0)) {
+  // A costmap with marks is rebuilt too: what they marked may have been cleared since.
+  if (!costmap_ || (AvoidsUnmappedObstacles() && (unmapped_.size() > 0 || marked_cells_ > 0))) {
     if (absl::Status s = BuildPlanner(from_in_map); !s.ok()) return s;
   }
   const std::vector<Eigen::Vector2d> ahead(action_.waypoints_m.begin() + next_waypoint_,
@@ -199,11 +210,7 @@ ControlOutput FreeNavigationController::Step(const ControlInput& input) {
   elapsed_s_ += input.dt_s;
   PassObstacles(input);
   if (!planned_) {
-    if (absl::Status s = Plan(input.pose_in_map); !s.ok()) {
-      out.command = Twist2{};
-      out.failure = s;
-      return out;
-    }
+    if (absl::Status s = Plan(input.pose_in_map); !s.ok()) return Failed(std::move(out), s);
   }
   // Waypoints count as passed within a metre.
   while (next_waypoint_ < action_.waypoints_m.size() &&
@@ -213,11 +220,11 @@ ControlOutput FreeNavigationController::Step(const ControlInput& input) {
   out.command = tracker_->Step(input.pose_in_map, input.dt_s);
   blocked_s_ = tracker_->blocked() ? blocked_s_ + input.dt_s : 0.0;
   if (blocked_s_ > params_.blocked_timeout_s) {
-    out.command = Twist2{};
-    out.failure = absl::FailedPreconditionError(absl::StrFormat(
-        "obstacles not on the map block every direction ahead for %.1f s at (%.2f, %.2f)",
-        blocked_s_, input.pose_in_map.x_m(), input.pose_in_map.y_m()));
-    return out;
+    return Failed(std::move(out),
+                  absl::FailedPreconditionError(absl::StrFormat(
+                      "obstacles not on the map block every direction ahead for "
+                      "%.1f s at (%.2f, %.2f)",
+                      blocked_s_, input.pose_in_map.x_m(), input.pose_in_map.y_m())));
   }
   const bool obstructed = tracker_->path_obstructed() &&
                           elapsed_s_ - last_plan_s_ >= params_.obstructed_replan_interval_s;
@@ -226,23 +233,18 @@ ControlOutput FreeNavigationController::Step(const ControlInput& input) {
                   [&](double t) { return t < elapsed_s_ - params_.replan_window_s; });
     replans_at_s_.push_back(elapsed_s_);
     if (static_cast<int>(replans_at_s_.size()) > params_.max_replans_in_window) {
-      out.command = Twist2{};
-      out.failure = absl::AbortedError(absl::StrFormat(
-          "left the planned path %d times within %.0f s (obstacles not on the map?): stopped at "
-          "(%.2f, %.2f)",
-          static_cast<int>(replans_at_s_.size()), params_.replan_window_s, input.pose_in_map.x_m(),
-          input.pose_in_map.y_m()));
-      return out;
+      return Failed(std::move(out),
+                    absl::AbortedError(absl::StrFormat(
+                        "left the planned path %d times within %.0f s (obstacles not on the map?): "
+                        "stopped at (%.2f, %.2f)",
+                        static_cast<int>(replans_at_s_.size()), params_.replan_window_s,
+                        input.pose_in_map.x_m(), input.pose_in_map.y_m())));
     }
     out.mode_reason =
         obstructed
             ? std::string("an obstacle not on the map stands on the path: replanning round it")
             : absl::StrFormat("off the path by %.2f m: replanning", tracker_->cross_track_m());
-    if (absl::Status s = Plan(input.pose_in_map); !s.ok()) {
-      out.command = Twist2{};
-      out.failure = s;
-      return out;
-    }
+    if (absl::Status s = Plan(input.pose_in_map); !s.ok()) return Failed(std::move(out), s);
     out.command = tracker_->Step(input.pose_in_map, input.dt_s);
   }
   out.done = tracker_->done();
@@ -252,11 +254,7 @@ ControlOutput FreeNavigationController::Step(const ControlInput& input) {
     const Pose2 error = action_.goal.Inverse() * input.pose_in_map;
     out.mode_reason = absl::StrFormat("ended %.2f m and %.1f deg from the goal: correcting",
                                       error.translation().norm(), RadToDeg(error.yaw_rad()));
-    if (absl::Status s = Plan(input.pose_in_map); !s.ok()) {
-      out.command = Twist2{};
-      out.failure = s;
-      return out;
-    }
+    if (absl::Status s = Plan(input.pose_in_map); !s.ok()) return Failed(std::move(out), s);
     out.command = tracker_->Step(input.pose_in_map, input.dt_s);
     out.done = tracker_->done();
   }

@@ -8,7 +8,6 @@
 #include "fleetnav/core/rate_limit.hpp"
 
 namespace fleetnav::agent {
-namespace {}  // namespace
 
 absl::Status TrolleyDockingParams::Validate() const {
   if (absl::Status s = spec.Validate(); !s.ok()) return s;

@@ -64,26 +64,14 @@ std::vector<Eigen::Vector2d> UnmappedObstacles::AddScan(const LaserScanSample& s
 }
 
 int UnmappedObstacles::MarkOn(OccupancyGrid& grid, const Pose2& robot_in_map,
-                              const std::vector<Eigen::Vector2d>& footprint_m,
-                              double margin_m) const {
-  Eigen::Vector2d low = Eigen::Vector2d::Zero();
-  Eigen::Vector2d high = Eigen::Vector2d::Zero();
-  for (const Eigen::Vector2d& corner : footprint_m) {
-    low = low.cwiseMin(corner);
-    high = high.cwiseMax(corner);
-  }
-  low.array() -= margin_m;
-  high.array() += margin_m;
+                              const Eigen::AlignedBox2d& keep_clear) const {
   const Pose2 robot_from_map = robot_in_map.Inverse();
   int marked = 0;
   for (const int64_t key : cells_) {
     const CellIndex cell{static_cast<int>(key % map_->width()),
                          static_cast<int>(key / map_->width())};
     if (!grid.InBounds(cell)) continue;
-    const Eigen::Vector2d in_robot = robot_from_map.TransformPoint(grid.CellToWorld(cell));
-    if ((in_robot.array() >= low.array()).all() && (in_robot.array() <= high.array()).all()) {
-      continue;
-    }
+    if (keep_clear.contains(robot_from_map.TransformPoint(grid.CellToWorld(cell)))) continue;
     if (grid.State(cell) != CellState::kOccupied) {
       grid.SetValue(cell, OccupancyGrid::kOccupiedValue);
       ++marked;

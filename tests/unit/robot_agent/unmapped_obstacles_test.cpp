@@ -51,8 +51,8 @@ TEST(UnmappedObstaclesTest, MarksWhatTheMapDoesNotExplainAndRemembersIt) {
   layer.AddScan(Scan(kNone, kNone, kNone), Pose2(), Pose2(2.0, 5.0, kPi));
   EXPECT_EQ(layer.size(), 1U);
   OccupancyGrid grid = *map;
-  EXPECT_EQ(layer.MarkOn(grid, robot, {{-0.2, -0.2}, {0.2, -0.2}, {0.2, 0.2}, {-0.2, 0.2}}, 0.1),
-            1);
+  const Eigen::AlignedBox2d small(Eigen::Vector2d(-0.3, -0.3), Eigen::Vector2d(0.3, 0.3));
+  EXPECT_EQ(layer.MarkOn(grid, robot, small), 1);
   EXPECT_EQ(grid.StateAtWorld({5.0, 5.0}), CellState::kOccupied);
 }
 
@@ -71,12 +71,12 @@ TEST(UnmappedObstaclesTest, MarkingKeepsTheRobotsFootprintClear) {
   layer.AddScan(Scan(kNone, 0.5F, kNone), Pose2(), Pose2(2.0, 5.0, 0.0));
   ASSERT_EQ(layer.size(), 1U);
   OccupancyGrid grid = *map;
-  const std::vector<Eigen::Vector2d> footprint = {
-      {-0.2, -0.3}, {0.45, -0.3}, {0.45, 0.3}, {-0.2, 0.3}};
-  // 5 cm beyond the nose, within the 0.1 m margin: left clear.
-  EXPECT_EQ(layer.MarkOn(grid, Pose2(2.0, 5.0, 0.0), footprint, 0.1), 0);
+  // A footprint to x = 0.45 m with a 0.1 m margin.
+  const Eigen::AlignedBox2d keep_clear(Eigen::Vector2d(-0.3, -0.4), Eigen::Vector2d(0.55, 0.4));
+  // 5 cm beyond the nose, within the margin: left clear.
+  EXPECT_EQ(layer.MarkOn(grid, Pose2(2.0, 5.0, 0.0), keep_clear), 0);
   // From 1 m further back it is an obstacle ahead.
-  EXPECT_EQ(layer.MarkOn(grid, Pose2(1.0, 5.0, 0.0), footprint, 0.1), 1);
+  EXPECT_EQ(layer.MarkOn(grid, Pose2(1.0, 5.0, 0.0), keep_clear), 1);
 }
 
 }  // namespace

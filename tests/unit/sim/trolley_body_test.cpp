@@ -25,7 +25,6 @@ std::unique_ptr<Simulation> TrolleyFloor(SimulationParams params = {}) {
   trolley.size_m = Eigen::Vector2d(0.9, 0.55);
   trolley.leg_radius_m = 0.02;
   world.trolleys.push_back(trolley);
-  world.cylinders.push_back({kTrolleyLegKind, {1.07, 0.045}, 0.02, 1.0});  // as parsing lists it
   absl::StatusOr<std::unique_ptr<Simulation>> sim = Simulation::Create(world, params);
   EXPECT_TRUE(sim.ok()) << sim.status();
   return sim.ok() ? std::move(*sim) : nullptr;

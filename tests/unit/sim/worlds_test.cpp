@@ -77,12 +77,18 @@ INSTANTIATE_TEST_SUITE_P(Worlds, ShippedWorldTest,
                          ::testing::Values("barn.yaml", "barn_errors.yaml", "supermarket.yaml",
                                            "delivery_yard.yaml"));
 
-TEST(ShippedWorldsTest, SupermarketTrolleysStandOnFourCylinderLegs) {
+TEST(ShippedWorldsTest, SupermarketTrolleysStandOnFourLegsOnTheExportedMap) {
   const WorldDescription world = LoadShipped("supermarket.yaml");
   ASSERT_EQ(world.trolleys.size(), 4u);
-  int legs = 0;
-  for (const CylinderObstacle& c : world.cylinders) legs += c.kind == "trolley_leg" ? 1 : 0;
-  EXPECT_EQ(legs, 16);
+  const OccupancyGrid map = RasterizeWorld(world, 0.02).value();
+  for (const Trolley& trolley : world.trolleys) {
+    for (const Eigen::Vector2d& leg : trolley.LegsInTrolley()) {
+      const Eigen::Vector2d at = trolley.pose().TransformPoint(leg);
+      EXPECT_EQ(map.StateAtWorld(at), CellState::kOccupied) << trolley.id << " " << at.transpose();
+    }
+    // Under the basket the platform drives: free.
+    EXPECT_EQ(map.StateAtWorld(trolley.center_m), CellState::kFree) << trolley.id;
+  }
 }
 
 TEST(ShippedWorldsTest, DeliveryYardHasBoxesWithNearEqualGaps) {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -66,6 +67,8 @@ struct RobotModel {
   absl::Status Validate() const;
   /// Radius of the smallest circle around base_link containing the footprint.
   double CircumscribedRadius() const;
+  /// The footprint's axis-aligned bounding box in base_link.
+  Eigen::AlignedBox2d FootprintBounds() const;
   const SensorMount* FindSensor(std::string_view name) const;
 };
 

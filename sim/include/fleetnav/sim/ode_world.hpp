@@ -38,6 +38,9 @@ struct GeomTag {
   GeomRole role = GeomRole::kStatic;
   int robot_index = -1;    ///< for robot geoms
   int trolley_index = -1;  ///< for trolley geoms
+  /// Friction against the floor when set (>= 0), e.g. a trolley leg's swivel caster; else the
+  /// role's default.
+  double floor_mu = -1.0;
   DirectionalFriction friction;
   /// A sprung floor contact (a suspended wheel): spring and damper of the contact's
   /// penetration; 0 uses the world's stiff contact.

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "fleetnav/core/pose2.hpp"
+#include "fleetnav/sim/geometry2d.hpp"
 #include "fleetnav/sim/ode_world.hpp"
 #include "fleetnav/sim/world_description.hpp"
 
@@ -28,9 +29,8 @@ class TrolleyBody {
 
   const std::string& id() const { return id_; }
   Pose2 pose() const;
-  /// The legs' centres on the floor, in the world frame.
-  std::array<Eigen::Vector2d, 4> LegCentres() const;
-  double leg_radius_m() const { return leg_radius_m_; }
+  /// The legs where they stand now, as the sensors and the kinematic robots see them.
+  std::array<Shape2, 4> LegShapes() const;
 
  private:
   std::string id_;

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,10 +21,6 @@ struct BoxObstacle {
   double height_m = 1.0;
 };
 
-/// The kind of the cylinders a trolley's legs are listed as (for maps and pictures; the
-/// simulation moves them with their TrolleyBody).
-inline constexpr char kTrolleyLegKind[] = "trolley_leg";
-
 /// A vertical cylinder (post, trolley leg, charging pole).
 struct CylinderObstacle {
   std::string kind;
@@ -40,15 +37,24 @@ struct FloorStripe {
   bool charger = false;  ///< `kind: charger`: the stripe that leads onto the charger
 };
 
-/// A shopping trolley (KUKA thesis ch. 15): a basket above laser height on four legs; the
-/// sensors and the map see the four corner legs as cylinders (added to `cylinders` as
-/// kind "trolley_leg" when the world is parsed).
+/// A shopping trolley (KUKA thesis ch. 15): a basket above laser height on four corner legs,
+/// where the world file puts it. The simulation makes it a body that moves when pushed
+/// (TrolleyBody); the exported map and pictures show its legs here.
 struct Trolley {
   std::string id;  ///< `id:` in the file; "trolley-<n>" (1-based, in file order) without one
   Eigen::Vector2d center_m = Eigen::Vector2d::Zero();
   Eigen::Vector2d size_m = Eigen::Vector2d(0.9, 0.55);
   double yaw_rad = 0.0;
   double leg_radius_m = 0.02;
+
+  Pose2 pose() const { return Pose2(center_m.x(), center_m.y(), yaw_rad); }
+  /// The legs' centres in the trolley's frame (each inside a corner of its size).
+  std::array<Eigen::Vector2d, 4> LegsInTrolley() const {
+    const double hx = 0.5 * size_m.x() - leg_radius_m;
+    const double hy = 0.5 * size_m.y() - leg_radius_m;
+    return {Eigen::Vector2d(hx, hy), Eigen::Vector2d(hx, -hy), Eigen::Vector2d(-hx, hy),
+            Eigen::Vector2d(-hx, -hy)};
+  }
 };
 
 /// What a fault does (SimService.InjectFault, or `faults:` in the world file).

@@ -38,6 +38,10 @@ struct RoutePredictionParams {
   double plan_time_limit_s = 2.0;
   /// A dock leg along a charger stripe that the marker set does not hold drives this far.
   double default_dock_distance_m = 2.0;
+  /// A trolley dock: to this far before the trolley's nearer end (about the agent's approach
+  /// frame: its standoff plus the robot's front), then under it, at this speed.
+  double trolley_approach_m = 1.0;
+  double trolley_dock_speed_mps = 0.15;
 };
 
 /// Predicts the poses a route's actions sweep, from `start`, before the robot drives (the

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <Eigen/Geometry>
 #include <optional>
 #include <vector>
 
@@ -82,17 +83,19 @@ class AckermannPurePursuit : public PathTracker {
   /// The current piece's next vfh_target_distance_m, with the footprint widened by VFH+'s
   /// safety distance, meets one of the obstacles.
   bool PathAheadObstructed(const Pose2& pose) const;
+  /// The first pose of the current piece, from the closest one on, at least `distance_m` from
+  /// the robot; nullopt when the piece ends nearer.
+  std::optional<size_t> FirstPoseAtLeast(const Pose2& pose, double distance_m) const;
 
   AckermannPurePursuitParams params_;
   MotionLimits limits_;
+  Eigen::AlignedBox2d footprint_;  ///< in base_link
   double max_curvature_per_m_ = 0.0;
   std::optional<VfhPlus> vfh_;
   std::vector<Eigen::Vector2d> obstacles_;
   bool blocked_ = false;
   bool path_obstructed_ = false;
-  double footprint_min_x_m_ = 0.0;
-  double footprint_max_x_m_ = 0.0;
-  double footprint_half_width_m_ = 0.0;
+
   std::vector<Pose2> path_;
   std::vector<double> to_goal_m_;
   /// Pieces of one direction: [begin, end] index ranges and their sign (+1 forwards).

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <memory>
 #include <unordered_set>
@@ -36,12 +37,12 @@ class UnmappedObstacles {
   /// map does not explain, in base_link.
   std::vector<Eigen::Vector2d> AddScan(const LaserScanSample& scan, const Pose2& laser_in_base,
                                        const Pose2& base_in_map);
-  /// Marks the remembered cells occupied on `grid` (a copy of the map), except those under the
-  /// robot's footprint at `robot_in_map` widened by `margin_m` (a return there is the robot's
-  /// own or touching it; marking it would put the planner's start in collision); returns how
-  /// many cells it marked.
+  /// Marks the remembered cells occupied on `grid` (a copy of the map), except those within
+  /// `keep_clear` (a box in base_link: the robot's footprint and a margin — a return there is
+  /// the robot's own or touching it, and marking it would put the planner's start in
+  /// collision) of the robot at `robot_in_map`; returns how many cells it marked.
   int MarkOn(OccupancyGrid& grid, const Pose2& robot_in_map,
-             const std::vector<Eigen::Vector2d>& footprint_m, double margin_m) const;
+             const Eigen::AlignedBox2d& keep_clear) const;
   size_t size() const { return cells_.size(); }
 
  private:

@@ -62,7 +62,6 @@ class VfhPlus {
   /// nullopt when every direction within ±max_direction_rad is blocked.
   std::optional<VfhPlusDirection> Choose(const std::vector<Eigen::Vector2d>& points,
                                          double target_rad);
-  int sector_count() const { return static_cast<int>(binary_.size()); }
 
  private:
   /// Sector k (any integer) is centred on k · sector_width_rad_; index into the histograms.
