@@ -150,6 +150,17 @@ Eigen::AlignedBox2d RobotModel::FootprintBounds() const {
   return box;
 }
 
+RobotModel RobotModel::CarryingLoad(const Eigen::Vector2d& load_size_m) const {
+  Eigen::AlignedBox2d box = FootprintBounds();
+  box.extend(Eigen::Vector2d(0.5 * load_size_m.x(), 0.5 * load_size_m.y()));
+  box.extend(Eigen::Vector2d(-0.5 * load_size_m.x(), -0.5 * load_size_m.y()));
+  RobotModel carrying = *this;
+  carrying.footprint_m = {
+      box.corner(Eigen::AlignedBox2d::BottomLeft), box.corner(Eigen::AlignedBox2d::BottomRight),
+      box.corner(Eigen::AlignedBox2d::TopRight), box.corner(Eigen::AlignedBox2d::TopLeft)};
+  return carrying;
+}
+
 const SensorMount* RobotModel::FindSensor(std::string_view name) const {
   for (const SensorMount& sensor : sensors) {
     if (sensor.name == name) return &sensor;
@@ -237,6 +248,7 @@ RobotModel MecanumPlatformModel() {
       Mount("wheel_encoder_rear_right", SensorType::kWheelEncoder, -0.30, -0.20, 0.0, 0.05),
       Mount("bumper", SensorType::kBumper, 0.394, 0.0, 0.0, 0.07),
   };
+  model.has_lift = true;  // it docks under trolleys and lifts them (thesis ch. 15)
   return model;
 }
 

@@ -74,6 +74,10 @@ class ActionValidator {
     return EndIsOneOf({EndConditionKind::kGoalReached, EndConditionKind::kDistance});
   }
 
+  absl::Status operator()(const UndockAction&) const {
+    return EndIsOneOf({EndConditionKind::kDistance});
+  }
+
   absl::Status operator()(const FenceNavigationAction& fence) const {
     if (absl::Status status = Positive(fence.fence_distance_m, "fence_distance_m"); !status.ok()) {
       return status;
@@ -189,6 +193,7 @@ std::string_view ActionTypeName(const ActionParams& params) {
     std::string_view operator()(const FenceNavigationAction&) const { return "fence_navigation"; }
     std::string_view operator()(const StripeNavigationAction&) const { return "stripe_navigation"; }
     std::string_view operator()(const DockAction&) const { return "dock"; }
+    std::string_view operator()(const UndockAction&) const { return "undock"; }
   };
   return std::visit(Namer{}, params);
 }

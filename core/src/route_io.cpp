@@ -20,8 +20,9 @@ namespace {
 using internal::AsDouble;
 using internal::FormatDouble;
 
-constexpr std::array<absl::string_view, 7> kActionTypes = {
-    "turn", "straight", "free_navigation", "fence_navigation", "stripe_navigation", "dock", "move"};
+constexpr std::array<absl::string_view, 8> kActionTypes = {
+    "turn", "straight", "free_navigation", "fence_navigation", "stripe_navigation",
+    "dock", "move",     "undock"};
 constexpr char kUntilKey[] = "until";
 
 bool IsActionType(absl::string_view key) {
@@ -213,6 +214,7 @@ absl::StatusOr<DockAction> ParseDock(const YAML::Node& node, const std::string& 
 
 absl::StatusOr<ActionParams> ParseParams(std::string_view type, const YAML::Node& node,
                                          const std::string& where) {
+  if (type == "undock" && node.IsNull()) return UndockAction{};  // `- undock:` takes no parameters
   if (!node.IsMap()) {
     return absl::InvalidArgumentError(absl::StrCat(where, ": expected a mapping of parameters"));
   }
@@ -222,6 +224,10 @@ absl::StatusOr<ActionParams> ParseParams(std::string_view type, const YAML::Node
   if (type == "fence_navigation") return ParseFenceNavigation(node, where);
   if (type == "stripe_navigation") return ParseStripeNavigation(node, where);
   if (type == "move") return ParseMove(node, where);
+  if (type == "undock") {
+    RETURN_IF_ERROR(internal::CheckKnownKeys(node, {}, where));
+    return UndockAction{};
+  }
   return ParseDock(node, where);
 }
 
@@ -390,6 +396,7 @@ struct ParamsWriter {
     }
     return text + "}";
   }
+  std::string operator()(const UndockAction&) const { return "undock: {}"; }
 };
 
 std::string UntilText(const EndCondition& end) {

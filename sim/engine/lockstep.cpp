@@ -43,7 +43,7 @@ absl::StatusOr<std::unique_ptr<Attachment>> Lockstep::Attach(const std::string& 
 void Lockstep::Detach(const std::string& robot_id) {
   absl::MutexLock lock(&mutex_);
   slots_.erase(robot_id);
-  (void)simulation_->Command(robot_id, ActuatorCommand{});  // a robot without an agent stops
+  simulation_->StopDrive(robot_id);  // a robot without an agent stops; its lift holds
 }
 
 std::optional<SensorFrame> Lockstep::WaitFrame(const std::string& robot_id) {

@@ -136,6 +136,15 @@ void OdeWorld::HandlePair(dGeomID a, dGeomID b) {
       tag_a->trolley_index == tag_b->trolley_index) {
     return;
   }
+  // A carried trolley rests on its carrier's lift, clear of the floor and of the carrier.
+  const int carrier_a = tag_a->carrier_robot_index;
+  const int carrier_b = tag_b->carrier_robot_index;
+  if (carrier_a >= 0 && (tag_b->role == GeomRole::kGround || tag_b->robot_index == carrier_a)) {
+    return;
+  }
+  if (carrier_b >= 0 && (tag_a->role == GeomRole::kGround || tag_a->robot_index == carrier_b)) {
+    return;
+  }
 
   // Kinematic bodies (omni, Ackermann) and static geoms are not moved by contacts: a pair
   // without a dynamic body needs no contact joint, and the simulation reports the kinematic
@@ -173,6 +182,9 @@ void OdeWorld::HandlePair(dGeomID a, dGeomID b) {
     dJointID joint = dJointCreateContact(world_, contact_group_, &contacts[i]);
     dJointAttach(joint, dGeomGetBody(a), dGeomGetBody(b));
   }
+  // What a carried trolley touches, its carrier touches.
+  if (carrier_a >= 0) contacts_.push_back({carrier_a, tag_b->robot_index, tag_b->trolley_index});
+  if (carrier_b >= 0) contacts_.push_back({carrier_b, tag_a->robot_index, tag_a->trolley_index});
   if (tag_a->role == GeomRole::kChassis || tag_b->role == GeomRole::kChassis) {
     const bool a_is_robot = tag_a->role == GeomRole::kChassis && dynamic_a;
     if (!a_is_robot && !(tag_b->role == GeomRole::kChassis && dynamic_b)) return;

@@ -239,6 +239,7 @@ absl::StatusOr<SensorFrame> Simulation::Sense(const std::string& robot_id) {
   robot.exteroceptive->Sample(scene_, static_cast<int>(it->second), robot.body->GroundTruthPose(),
                               tick_, params_.control_period_s, dropped, &frame);
   robot.charger_contact = frame.charger_contact;
+  frame.lift_loaded = robot.carried_trolley >= 0;
   frame.battery_fraction = robot.battery_fraction;
   timing_.sensors_s += Seconds(Clock::now() - start);
   return frame;
@@ -249,12 +250,25 @@ absl::Status Simulation::Command(const std::string& robot_id, const ActuatorComm
   if (it == index_.end())
     return absl::NotFoundError(absl::StrCat("robot '", robot_id, "' not found"));
   SimRobot& robot = robots_[it->second];
+  if (command.lift_raised && !robot.body->model().has_lift) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "robot '", robot_id, "': a ", robot.body->model().kind_name, " has no lift to raise"));
+  }
   absl::Status status = robot.body->SetDrive(command.drive, SlowFactor(robot_id));
   if (!status.ok()) {
     return absl::InvalidArgumentError(absl::StrCat("robot '", robot_id, "': ", status.message()));
   }
   robot.drive = command.drive;
+  robot.lift_raised = command.lift_raised;
   return absl::OkStatus();
+}
+
+void Simulation::StopDrive(const std::string& robot_id) {
+  auto it = index_.find(robot_id);
+  if (it == index_.end()) return;
+  ActuatorCommand stop;
+  stop.lift_raised = robots_[it->second].lift_raised;
+  (void)Command(robot_id, stop);
 }
 
 double Simulation::SlowFactor(const std::string& robot_id) const {
@@ -320,6 +334,7 @@ void Simulation::MoveKinematic(SimRobot& robot, int index, double traction) {
     if (Overlap(next_shape, other) && !Overlap(now_shape, other)) hit = robots_[j].robot_id;
   }
   for (size_t j = 0; j < trolleys_.size() && hit.empty(); ++j) {
+    if (static_cast<int>(j) == robot.carried_trolley) continue;
     for (const Shape2& leg : trolleys_[j]->LegShapes()) {
       if (Overlap(next_shape, leg) && !Overlap(now_shape, leg)) {
         hit = trolleys_[j]->id();
@@ -327,8 +342,44 @@ void Simulation::MoveKinematic(SimRobot& robot, int index, double traction) {
       }
     }
   }
+  if (robot.carried_trolley >= 0 && hit.empty()) {
+    // The carried trolley's legs move with the robot.
+    const Pose2 moved = next * body.GroundTruthPose().Inverse();
+    for (const Shape2& leg : trolleys_[static_cast<size_t>(robot.carried_trolley)]->LegShapes()) {
+      const Shape2 next_leg =
+          CircleShape(moved.TransformPoint(leg.center), leg.radius, leg.height_m, -1);
+      for (const Shape2& shape : scene_.statics) {
+        if (Overlap(next_leg, shape) && !Overlap(leg, shape)) hit = "static";
+      }
+    }
+  }
   body.Commit(!hit.empty());
   if (!hit.empty()) RecordContact(robot.robot_id, hit);
+}
+
+void Simulation::UpdateLift(SimRobot& robot, int index) {
+  if (!robot.lift_raised) {
+    if (robot.carried_trolley >= 0) {
+      trolleys_[static_cast<size_t>(robot.carried_trolley)]->Release();
+      robot.carried_trolley = -1;
+    }
+    return;
+  }
+  if (robot.carried_trolley >= 0) return;
+  const Pose2 at = robot.body->GroundTruthPose();
+  for (size_t j = 0; j < trolleys_.size(); ++j) {
+    TrolleyBody& trolley = *trolleys_[j];
+    const Pose2 trolley_pose = trolley.pose();
+    // The trolley is symmetric: either end may face the robot.
+    const double yaw_off = std::abs(std::remainder(trolley_pose.yaw_rad() - at.yaw_rad(), M_PI));
+    if (trolley.carrier_robot_index() < 0 &&
+        (trolley_pose.translation() - at.translation()).norm() <= kLatchRadiusM &&
+        yaw_off <= kLatchYawRad) {
+      trolley.Latch(robot.body->chassis_body(), index);
+      robot.carried_trolley = static_cast<int>(j);
+      return;
+    }
+  }
 }
 
 void Simulation::Advance() {
@@ -341,6 +392,7 @@ void Simulation::Advance() {
   for (size_t i = 0; i < robots_.size(); ++i) {
     SimRobot& robot = robots_[i];
     (void)robot.body->SetDrive(robot.drive, SlowFactor(robot.robot_id));
+    UpdateLift(robot, static_cast<int>(i));
     traction[i] = TractionAt(robot.body->GroundTruthPose());
     if (robot.kinematic != nullptr) MoveKinematic(robot, static_cast<int>(i), traction[i]);
   }
@@ -492,7 +544,9 @@ GroundTruthSnapshot Simulation::GroundTruth() const {
     out.robots.push_back(truth);
   }
   for (const std::unique_ptr<TrolleyBody>& trolley : trolleys_) {
-    out.trolleys.push_back({trolley->id(), trolley->pose(), ""});
+    const int carrier = trolley->carrier_robot_index();
+    out.trolleys.push_back({trolley->id(), trolley->pose(),
+                            carrier >= 0 ? robots_[static_cast<size_t>(carrier)].robot_id : ""});
   }
   out.contacts = contacts_;
   out.min_separation_m = min_separation_m_;

@@ -375,7 +375,8 @@ std::string SupermarketWithPlatformAt(const std::string& dir, const std::string&
 }
 
 // KUKA thesis ch. 15 in the loop: the platform finds trolley-2 by its legs, drives to the
-// approach frame and under it, and stops at its centre, touching nothing (truth).
+// approach frame and under it, stops at its centre, touching nothing (truth), and its lift
+// latches the trolley: the truth names the platform as its carrier.
 TEST_F(ClosedLoop, MecanumDocksUnderATrolleyWithoutTouchingItsLegs) {
   const std::string world = SupermarketWithPlatformAt(::testing::TempDir(), "0.4, 1.5, 12.0");
   StartSim(false, 7, world);
@@ -388,13 +389,17 @@ TEST_F(ClosedLoop, MecanumDocksUnderATrolleyWithoutTouchingItsLegs) {
   EXPECT_NEAR(omni.pose().x_m(), 2.5, 0.01);
   EXPECT_NEAR(omni.pose().y_m(), 1.8, 0.01);
   EXPECT_NEAR(std::remainder(omni.pose().yaw_rad(), M_PI), 0.0, 0.02);
-  // The trolley (physical, it would roll away if touched) stands where it stood.
+  // The trolley (physical, it would roll away if touched) stands where it stood, on the lift.
   bool found = false;
   for (const v1::TrolleyGroundTruth& trolley : truth.trolleys()) {
-    if (trolley.trolley_id() != "trolley-2") continue;
+    if (trolley.trolley_id() != "trolley-2") {
+      EXPECT_EQ(trolley.carrier_robot_id(), "") << trolley.trolley_id();
+      continue;
+    }
     found = true;
     EXPECT_NEAR(trolley.pose().x_m(), 2.5, 0.005);
     EXPECT_NEAR(trolley.pose().y_m(), 1.8, 0.005);
+    EXPECT_EQ(trolley.carrier_robot_id(), "omni1");
   }
   EXPECT_TRUE(found);
   // fleetnavctl shows the trolleys too.
@@ -402,7 +407,7 @@ TEST_F(ClosedLoop, MecanumDocksUnderATrolleyWithoutTouchingItsLegs) {
                    Path("ctl.out"), Path("ctl.err"));
   ASSERT_EQ(ctl.Wait(30.0), 0) << ctl.Stderr();
   EXPECT_THAT(ctl.Stdout(), HasSubstr("\"trolley_id\":\"trolley-2\""));
-  EXPECT_THAT(ctl.Stdout(), HasSubstr("\"carrier_robot_id\":\"\""));
+  EXPECT_THAT(ctl.Stdout(), HasSubstr("\"carrier_robot_id\":\"omni1\""));
 }
 
 // A dock at a trolley the map does not have is refused before the robot moves; one the map has
@@ -426,17 +431,29 @@ TEST_F(ClosedLoop, TrolleyDocksNotOnTheMapOrNotInViewAreRefusedOrFail) {
 }
 
 // The shipped store round (deploy/routes/store_trolley_round.yaml): aisle, a sideways scan and
-// back, under trolley-2, out again and home; judged by the truth.
+// back, under trolley-2, which it carries up the aisle and sets down, out from under it and
+// home; judged by the truth: no contact (the carried trolley's count as the robot's), the
+// trolley standing where the route set it down, carried by nobody.
 TEST_F(ClosedLoop, ShippedStoreRoundEndsAtHomeWithoutContact) {
   StartSim(false, 11, std::string(FLEETNAV_WORLDS_DIR) + "/supermarket.yaml");
   ASSERT_EQ(RunAgent(std::string(FLEETNAV_ROUTES_DIR) + "/store_trolley_round.yaml", {},
                      "mecanum-platform", {-8.0, 1.8, 0.0}, "omni1"),
             0)
       << AgentLog();
-  const v1::RobotGroundTruth& omni = Robot(Truth(), "omni1");
+  const v1::GroundTruth truth = Truth();
+  const v1::RobotGroundTruth& omni = Robot(truth, "omni1");
   EXPECT_EQ(omni.collisions(), 0);
   EXPECT_NEAR(omni.pose().x_m(), -8.0, 0.1);
   EXPECT_NEAR(omni.pose().y_m(), 1.8, 0.1);
+  bool found = false;
+  for (const v1::TrolleyGroundTruth& trolley : truth.trolleys()) {
+    if (trolley.trolley_id() != "trolley-2") continue;
+    found = true;
+    EXPECT_NEAR(trolley.pose().x_m(), -5.0, 0.1);
+    EXPECT_NEAR(trolley.pose().y_m(), 1.8, 0.1);
+    EXPECT_EQ(trolley.carrier_robot_id(), "");
+  }
+  EXPECT_TRUE(found);
 }
 
 // The shipped yard delivery (deploy/routes/yard_delivery.yaml): through the row of parcels with

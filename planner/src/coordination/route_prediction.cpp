@@ -241,6 +241,9 @@ absl::StatusOr<std::vector<PredictedAction>> PredictRoute(const Route& route, co
       } else {
         follow(pieces, 0.0, 0.2);
       }
+    } else if (std::holds_alternative<UndockAction>(action.params)) {
+      predicted.poses.push_back(pose);  // standing while the lift goes down
+      predicted.duration_s = params.lift_s;
     } else if (const auto* nav = std::get_if<FreeNavigationAction>(&action.params)) {
       if (planner != nullptr) {
         absl::StatusOr<WaypointPath> path =

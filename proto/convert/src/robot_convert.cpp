@@ -85,6 +85,7 @@ v1::RobotModel ToProto(const RobotModel& model) {
   out.set_encoder_ticks_per_rev(model.encoder_ticks_per_rev);
   out.set_mass_kg(model.mass_kg);
   out.set_height_m(model.height_m);
+  out.set_has_lift(model.has_lift);
   *out.mutable_limits() = ToProto(model.limits);
   for (const SensorMount& sensor : model.sensors) {
     v1::SensorMount* wire = out.add_sensors();
@@ -111,6 +112,7 @@ absl::StatusOr<RobotModel> FromProto(const v1::RobotModel& model) {
   out.encoder_ticks_per_rev = model.encoder_ticks_per_rev();
   out.mass_kg = model.mass_kg();
   out.height_m = model.height_m();
+  out.has_lift = model.has_lift();
   out.limits = FromProto(model.limits());
   for (int i = 0; i < model.sensors_size(); ++i) {
     const v1::SensorMount& wire = model.sensors(i);

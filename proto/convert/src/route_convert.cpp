@@ -92,6 +92,7 @@ struct ParamsToProto {
                                                       : v1::DOCK_TARGET_TROLLEY);
     wire->set_target_id(a.target_id);
   }
+  void operator()(const UndockAction&) const { out->mutable_undock(); }
 };
 
 absl::StatusOr<ActionParams> ParamsFromProto(const v1::RouteAction& wire,
@@ -103,6 +104,8 @@ absl::StatusOr<ActionParams> ParamsFromProto(const v1::RouteAction& wire,
       return StraightAction{wire.straight().distance_m(), wire.straight().speed_mps()};
     case v1::RouteAction::kMove:
       return MoveAction{wire.move().dx_m(), wire.move().dy_m(), wire.move().speed_mps()};
+    case v1::RouteAction::kUndock:
+      return UndockAction{};
     case v1::RouteAction::kFreeNavigation: {
       FreeNavigationAction action;
       const v1::FreeNavigationAction& nav = wire.free_navigation();

@@ -42,6 +42,7 @@ v1::SensorFrame ToProto(const SensorFrame& frame) {
   }
   out.set_charger_contact(frame.charger_contact);
   out.set_bumper(frame.bumper);
+  out.set_lift_loaded(frame.lift_loaded);
   if (frame.battery_fraction) {
     out.set_has_battery(true);
     out.set_battery_fraction(*frame.battery_fraction);
@@ -75,6 +76,7 @@ SensorFrame FromProto(const v1::SensorFrame& frame) {
   }
   out.charger_contact = frame.charger_contact();
   out.bumper = frame.bumper();
+  out.lift_loaded = frame.lift_loaded();
   if (frame.has_battery()) out.battery_fraction = frame.battery_fraction();
   if (frame.has_gps())
     out.gps = GpsFix{frame.gps().x_m(), frame.gps().y_m(), frame.gps().stddev_m()};
@@ -113,12 +115,14 @@ v1::ActuatorCommand ToProto(const ActuatorCommand& command) {
   v1::ActuatorCommand out;
   out.set_tick(command.tick);
   std::visit(DriveToProto{&out}, command.drive);
+  out.set_lift_raised(command.lift_raised);
   return out;
 }
 
 absl::StatusOr<ActuatorCommand> FromProto(const v1::ActuatorCommand& command) {
   ActuatorCommand out;
   out.tick = command.tick();
+  out.lift_raised = command.lift_raised();
   switch (command.command_case()) {
     case v1::ActuatorCommand::kTwist: {
       const auto& t = command.twist();

@@ -5,6 +5,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "fleetnav/core/status_macros.hpp"
+#include "fleetnav/robot_agent/laser_filters.hpp"
 
 namespace fleetnav::agent {
 
@@ -16,6 +17,9 @@ absl::Status AgentParams::Validate() const {
   if (settle_ticks < 0) return absl::InvalidArgumentError("settle_ticks: must be >= 0");
   if (!(std::isfinite(ultrasonic_range_max_m) && ultrasonic_range_max_m > 0.0)) {
     return absl::InvalidArgumentError("ultrasonic_range_max_m: must be finite and > 0");
+  }
+  if (!(std::isfinite(load_mask_margin_m) && load_mask_margin_m >= 0.0)) {
+    return absl::InvalidArgumentError("load_mask_margin_m: must be finite and >= 0");
   }
   RETURN_IF_ERROR(modes.Validate());
   return safety.Validate();
@@ -32,6 +36,7 @@ Agent::Agent(RouteContext context, AgentPorts ports, std::optional<Route> route,
 
 void Agent::StartRoute(Route route, const RoutePosition& from) {
   const Pose2 here = localizer().estimate().pose_in_map;
+  context_.carried_load_m = carried_load_m_;
   executor_.emplace(std::move(route), context_, params_.modes, here, from);
   reported_action_ = -1;
   // Actions before the resume point were reported finished by the agent that ran them.
@@ -157,6 +162,18 @@ absl::Status Agent::PrepareSite(const JobAssignment& assignment) {
   return absl::OkStatus();
 }
 
+void Agent::MaskLoad(const Eigen::Vector2d& load_size_m, SensorFrame* frame) const {
+  // The trolley's legs stand at its corners: the box reaches a little beyond them.
+  const Eigen::Vector2d half =
+      0.5 * load_size_m + Eigen::Vector2d::Constant(params_.load_mask_margin_m);
+  const Eigen::AlignedBox2d load(-half, half);
+  for (LaserScanSample& scan : frame->lasers) {
+    if (const SensorMount* mount = context_.model.FindSensor(scan.name)) {
+      MaskCarriedLoad(load, mount->pose_in_base, &scan);
+    }
+  }
+}
+
 Telemetry Agent::MakeTelemetry(int64_t stamp_ns, const ExecutorOutput& output) const {
   const localization::LocalizerEstimate& estimate = localizer().estimate();
   Telemetry t;
@@ -196,6 +213,7 @@ absl::StatusOr<AgentResult> Agent::Run() {
         last_stamp_ns < 0 ? frame->control_period_s : (frame->stamp_ns - last_stamp_ns) * 1e-9;
     last_stamp_ns = frame->stamp_ns;
     if (first_stamp_ns < 0) first_stamp_ns = frame->stamp_ns;
+    if (carried_load_m_) MaskLoad(*carried_load_m_, &*frame);
     RETURN_IF_ERROR(localizer().Update(*frame));
     if (frame->battery_fraction) battery_fraction_ = *frame->battery_fraction;
     const localization::LocalizerEstimate& estimate = localizer().estimate();
@@ -238,6 +256,10 @@ absl::StatusOr<AgentResult> Agent::Run() {
     } else if (executor_) {
       output = executor_->Step(input, {});
     }
+    if (executor_) {
+      lift_raised_ = output.lift_raised;
+      carried_load_m_ = output.carried_load_m;
+    }
     if (executor_ && executor_->state() != ExecutionState::kRunning && !end_reported_) {
       end_reported_ = true;
       if (executor_->state() == ExecutionState::kSucceeded) {
@@ -260,6 +282,7 @@ absl::StatusOr<AgentResult> Agent::Run() {
     ActuatorCommand command;
     command.tick = frame->tick;
     command.drive = output.command;
+    command.lift_raised = lift_raised_;
     RETURN_IF_ERROR(ports_.hal->Send(command));
 
     if (frame->stamp_ns >= next_telemetry_ns) {

@@ -53,6 +53,32 @@ absl::Status FreeNavigationParams::Validate() const {
   return absl::OkStatus();
 }
 
+namespace {
+
+/// Frees the cells of `grid` whose centres lie in `box_in_base` placed at `base_in_map`.
+void FreeCellsIn(const Eigen::AlignedBox2d& box_in_base, const Pose2& base_in_map,
+                 OccupancyGrid* grid) {
+  const Pose2 base_from_map = base_in_map.Inverse();
+  const double r = box_in_base.diagonal().norm() * 0.5 + grid->resolution_m();
+  const Eigen::Vector2d c = base_in_map.TransformPoint(box_in_base.center());
+  const std::optional<CellIndex> lo = grid->WorldToCell(c - Eigen::Vector2d(r, r));
+  const std::optional<CellIndex> hi = grid->WorldToCell(c + Eigen::Vector2d(r, r));
+  const int x0 = lo ? lo->x : 0, y0 = lo ? lo->y : 0;
+  const int x1 = hi ? hi->x : grid->width() - 1;
+  const int y1 = hi ? hi->y : grid->height() - 1;
+  for (int y = std::max(0, y0); y <= y1; ++y) {
+    for (int x = std::max(0, x0); x <= x1; ++x) {
+      const CellIndex cell{x, y};
+      if (!grid->InBounds(cell)) continue;
+      if (box_in_base.contains(base_from_map.TransformPoint(grid->CellToWorld(cell)))) {
+        grid->SetValue(cell, OccupancyGrid::kFreeValue);
+      }
+    }
+  }
+}
+
+}  // namespace
+
 absl::Status CheckFreeNavigation(const FreeNavigationAction& action, const RobotModel& model,
                                  const OccupancyGrid& map, double padding_m) {
   absl::StatusOr<planner::Costmap> costmap =
@@ -86,12 +112,13 @@ absl::Status CheckFreeNavigation(const FreeNavigationAction& action, const Robot
 FreeNavigationController::FreeNavigationController(const FreeNavigationAction& action,
                                                    const RobotModel& model,
                                                    std::shared_ptr<const OccupancyGrid> map,
-                                                   FreeNavigationParams params)
+                                                   FreeNavigationParams params, bool carrying)
     : action_(action),
       model_(model),
       map_(std::move(map)),
       params_(params),
-      unmapped_(map_, params.unmapped) {
+      unmapped_(map_, params.unmapped),
+      carrying_(carrying) {
   if (model.kinematics == Kinematics::kOmnidirectional) {
     HolonomicTrackerParams p = params.holonomic;
     p.desired_speed_mps = action.speed_mps;
@@ -114,6 +141,13 @@ bool FreeNavigationController::AvoidsUnmappedObstacles() const {
 absl::Status FreeNavigationController::BuildPlanner(const Pose2& from_in_map) {
   OccupancyGrid grid = *map_;
   marked_cells_ = 0;
+  if (carrying_) {
+    if (!carried_from_in_map_) carried_from_in_map_ = from_in_map;
+    Eigen::AlignedBox2d load = model_.FootprintBounds();
+    load.min().array() -= grid.resolution_m();
+    load.max().array() += grid.resolution_m();
+    FreeCellsIn(load, *carried_from_in_map_, &grid);
+  }
   if (AvoidsUnmappedObstacles()) {
     // What the laser has seen and the map does not show, except under the robot and its
     // padding (where it would put the start in collision; VFH+ keeps the robot off that).

@@ -13,7 +13,7 @@ absl::Status TrolleyDockingParams::Validate() const {
   if (absl::Status s = spec.Validate(); !s.ok()) return s;
   for (double v : {max_range_m, search_timeout_s, expected_within_m, standoff_m, approach_speed_mps,
                    final_speed_mps, position_gain_per_s, yaw_gain_per_s, approach_tolerance_m,
-                   final_tolerance_m, tolerance_rad}) {
+                   final_tolerance_m, tolerance_rad, lift_timeout_s}) {
     if (!(v > 0.0) || !std::isfinite(v)) {
       return absl::InvalidArgumentError("trolley docking: parameters must be finite and > 0");
     }
@@ -89,6 +89,26 @@ ControlOutput TrolleyDockingController::Step(const ControlInput& input) {
     out.progress_fraction = 1.0;
     return out;
   }
+  if (stage_ == Stage::kLift) {
+    // Standing at the final frame with the lift raised until it reports the trolley on it.
+    out.lift_raised = true;
+    out.progress_fraction = 0.99;
+    if (input.perception.lift_loaded) {
+      stage_ = Stage::kDone;
+      out.done = true;
+      out.progress_fraction = 1.0;
+      return out;
+    }
+    lifting_s_ += input.dt_s;
+    if (lifting_s_ > params_.lift_timeout_s) {
+      out.failure = absl::FailedPreconditionError(
+          absl::StrCat("dock: the lift was raised under ",
+                       target_id_.empty() ? std::string("the trolley")
+                                          : absl::StrCat("trolley '", target_id_, "'"),
+                       " but carries nothing after ", params_.lift_timeout_s, " s"));
+    }
+    return out;
+  }
   const std::optional<Pose2> seen = Measure(input);
   if (stage_ == Stage::kSearch) {
     if (!seen) {
@@ -137,10 +157,10 @@ ControlOutput TrolleyDockingController::Step(const ControlInput& input) {
   const Pose2 to = frames.final;
   if ((to.translation() - pose.translation()).norm() < params_.final_tolerance_m &&
       std::abs(AngleDifference(to.yaw_rad(), pose.yaw_rad())) < params_.tolerance_rad && slow) {
-    stage_ = Stage::kDone;
+    stage_ = Stage::kLift;
     last_command_ = Twist2{};
-    out.done = true;
-    out.progress_fraction = 1.0;
+    out.lift_raised = true;
+    out.progress_fraction = 0.99;
     return out;
   }
   out.command = DriveTo(to, pose, params_.final_speed_mps, input.dt_s);

@@ -39,6 +39,7 @@ std::vector<Eigen::Vector2d> UnmappedObstacles::AddScan(const LaserScanSample& s
   const double step_m = 0.5 * map_->resolution_m();
   for (size_t i = 0; i < scan.ranges_m.size() && !cells_.empty(); ++i) {
     const double range = scan.ranges_m[i];
+    if (std::isnan(range)) continue;  // masked: no reading, it clears nothing
     const bool hit = std::isfinite(range) && range < scan.range_max_m;
     const double clear_to_m =
         std::min(hit ? range - map_->resolution_m() : scan.range_max_m, params_.clearing_range_m);

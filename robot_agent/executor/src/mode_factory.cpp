@@ -110,10 +110,19 @@ absl::Status CheckAction(const RouteAction& action, int index, const RouteContex
                                  " is not supported by this agent version"));
     }
     if (context.map == nullptr) return refuse("free navigation needs the map (--map)");
-    if (absl::Status s = CheckFreeNavigation(*free, context.model, *context.map,
+    if (absl::Status s = CheckFreeNavigation(*free, context.NavigationModel(), *context.map,
                                              params.free_navigation.padding_m);
         !s.ok()) {
-      return refuse(std::string(s.message()));
+      return refuse(absl::StrCat(s.message(),
+                                 context.carried_load_m ? " (with the trolley it carries)" : ""));
+    }
+  }
+  if (std::holds_alternative<UndockAction>(action.params)) {
+    if (!context.model.has_lift) {
+      return refuse(absl::StrCat(context.model.kind_name, " has no lift to set a trolley down"));
+    }
+    if (!context.carried_load_m) {
+      return refuse("the robot carries no trolley here: undock follows a trolley dock");
     }
   }
   if (std::holds_alternative<MoveAction>(action.params) &&
@@ -144,10 +153,14 @@ absl::Status CheckAction(const RouteAction& action, int index, const RouteContex
   }
   if (const auto* dock = std::get_if<DockAction>(&action.params)) {
     if (dock->target == DockTarget::kTrolley) {
-      if (context.model.kinematics != Kinematics::kOmnidirectional || !HasLaser(context.model)) {
+      if (context.model.kinematics != Kinematics::kOmnidirectional || !HasLaser(context.model) ||
+          !context.model.has_lift) {
         return refuse(absl::StrCat(context.model.kind_name,
                                    " cannot dock under a trolley: that needs an omnidirectional "
-                                   "platform with a laser"));
+                                   "platform with a laser and a lift"));
+      }
+      if (context.carried_load_m) {
+        return refuse("the robot already carries a trolley: undock it first");
       }
       if (context.markers && !context.markers->trolleys.empty() &&
           context.markers->FindTrolley(dock->target_id) == nullptr) {
@@ -190,16 +203,33 @@ std::vector<std::string> SupportedActionTypes(const RobotModel& model) {
   if (model.kinematics == Kinematics::kOmnidirectional) {
     types.push_back("move");
     if (HasLaser(model) && !HasInductiveSensors(model)) types.push_back("dock");
+    if (model.has_lift) types.push_back("undock");
   }
   return types;
 }
 
+std::optional<Eigen::Vector2d> LoadAfter(const RouteAction& action, const RouteContext& context,
+                                         const ModeParams& params) {
+  if (std::holds_alternative<UndockAction>(action.params)) return std::nullopt;
+  const auto* dock = std::get_if<DockAction>(&action.params);
+  if (dock == nullptr || dock->target != DockTarget::kTrolley) return context.carried_load_m;
+  if (const TrolleyPlacement* placed =
+          context.markers ? context.markers->FindTrolley(dock->target_id) : nullptr) {
+    return placed->size_m;
+  }
+  const TrolleySpec& spec = params.trolley_docking.spec;
+  return Eigen::Vector2d(spec.leg_spacing_x_m + 2 * spec.leg_radius_m,
+                         spec.leg_spacing_y_m + 2 * spec.leg_radius_m);
+}
+
 absl::Status CheckRoute(const Route& route, const RouteContext& context, const ModeParams& params) {
+  // What the robot carries changes along the route.
+  RouteContext at = context;
   for (size_t i = 0; i < route.actions.size(); ++i) {
-    if (absl::Status s = CheckAction(route.actions[i], static_cast<int>(i), context, params);
-        !s.ok()) {
+    if (absl::Status s = CheckAction(route.actions[i], static_cast<int>(i), at, params); !s.ok()) {
       return s;
     }
+    at.carried_load_m = LoadAfter(route.actions[i], at, params);
   }
   return absl::OkStatus();
 }
@@ -234,13 +264,17 @@ absl::StatusOr<std::unique_ptr<MotionController>> MakeController(const RouteActi
         *fence, *FenceUltrasonic(*fence, context.model), params.profile, params.fence);
   }
   if (const auto* free = std::get_if<FreeNavigationAction>(&action.params)) {
-    return std::make_unique<FreeNavigationController>(*free, context.model, context.map,
-                                                      params.free_navigation);
+    return std::make_unique<FreeNavigationController>(*free, context.NavigationModel(), context.map,
+                                                      params.free_navigation,
+                                                      context.carried_load_m.has_value());
   }
   if (const auto* stripe = std::get_if<StripeNavigationAction>(&action.params)) {
     return std::make_unique<StripeFollowingController>(
         *stripe, action.end.kind, StripePieces(context, 0, MarkerKind::kFollowStripe),
         params.profile, params.stripe);
+  }
+  if (std::holds_alternative<UndockAction>(action.params)) {
+    return std::make_unique<UndockController>(params.trolley_docking.lift_timeout_s);
   }
   if (const DockAction& dock = std::get<DockAction>(action.params);
       dock.target == DockTarget::kTrolley) {

@@ -11,7 +11,10 @@ namespace fleetnav::agent {
 
 RouteExecutor::RouteExecutor(Route route, RouteContext context, ModeParams params,
                              std::optional<Pose2> start_in_map, const RoutePosition& from)
-    : route_(std::move(route)), context_(std::move(context)), params_(params) {
+    : route_(std::move(route)),
+      context_(std::move(context)),
+      params_(params),
+      lift_raised_(context_.carried_load_m.has_value()) {
   if (absl::Status s = params_.Validate(); !s.ok()) {
     failure_ = absl::InvalidArgumentError(absl::StrCat("mode parameters: ", s.message()));
   } else {
@@ -99,6 +102,14 @@ void RouteExecutor::Abort(const absl::Status& reason) {
 
 ExecutorOutput RouteExecutor::Step(const ControlInput& input,
                                    const std::vector<int>& detected_markers) {
+  ExecutorOutput out = StepActions(input, detected_markers);
+  out.lift_raised = lift_raised_;
+  out.carried_load_m = context_.carried_load_m;
+  return out;
+}
+
+ExecutorOutput RouteExecutor::StepActions(const ControlInput& input,
+                                          const std::vector<int>& detected_markers) {
   ExecutorOutput out;
   out.state = state_;
   if (state_ != ExecutionState::kRunning) {
@@ -124,6 +135,7 @@ ExecutorOutput RouteExecutor::Step(const ControlInput& input,
   while (true) {
     const RouteAction& action = route_.actions[index_];
     ControlOutput control = controller_->Step(input);
+    if (control.lift_raised) lift_raised_ = *control.lift_raised;
     if (!control.failure.ok()) {
       return Fail(absl::Status(
           control.failure.code(),
@@ -150,6 +162,7 @@ ExecutorOutput RouteExecutor::Step(const ControlInput& input,
       out.command = control.command;
       return out;
     }
+    context_.carried_load_m = LoadAfter(action, context_, params_);
     if (index_ + 1 >= static_cast<int>(route_.actions.size())) {
       state_ = ExecutionState::kSucceeded;
       controller_.reset();

@@ -50,4 +50,21 @@ LaserScanSample RemoveShadows(const LaserScanSample& scan, const ShadowFilterPar
   return out;
 }
 
+int MaskCarriedLoad(const Eigen::AlignedBox2d& load_in_base, const Pose2& laser_in_base,
+                    LaserScanSample* scan) {
+  int dropped = 0;
+  for (size_t i = 0; i < scan->ranges_m.size(); ++i) {
+    const double r = scan->ranges_m[i];
+    if (!std::isfinite(r) || r >= scan->range_max_m) continue;
+    const double angle = scan->angle_min_rad + static_cast<double>(i) * scan->angle_increment_rad;
+    const Eigen::Vector2d end =
+        laser_in_base.TransformPoint(Eigen::Vector2d(r * std::cos(angle), r * std::sin(angle)));
+    if (load_in_base.contains(end)) {
+      scan->ranges_m[i] = std::numeric_limits<float>::quiet_NaN();
+      ++dropped;
+    }
+  }
+  return dropped;
+}
+
 }  // namespace fleetnav::agent

@@ -34,6 +34,7 @@ Perception PerceptionBuilder::Build(const SensorFrame& frame) const {
   }
   out.charger_contact = frame.charger_contact;
   out.bumper = frame.bumper;
+  out.lift_loaded = frame.lift_loaded;
   return out;
 }
 

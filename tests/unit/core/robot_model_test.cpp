@@ -186,5 +186,23 @@ TEST(RobotModelTest, KinematicsNames) {
   EXPECT_EQ(KinematicsName(Kinematics::kAckermann), "ackermann");
 }
 
+// Carrying a trolley, the platform is as large as the two together: the planner and the tracker
+// must keep the trolley's legs off the shelves too.
+TEST(RobotModelTest, CarryingALoadGrowsTheFootprintToBoth) {
+  const RobotModel platform = MecanumPlatformModel();
+  EXPECT_TRUE(platform.has_lift);
+  EXPECT_FALSE(LelyVectorModel().has_lift);
+  const Eigen::AlignedBox2d grown = platform.CarryingLoad({1.0, 0.7}).FootprintBounds();
+  EXPECT_NEAR(grown.min().x(), -0.5, 1e-12);
+  EXPECT_NEAR(grown.max().x(), 0.5, 1e-12);
+  EXPECT_NEAR(grown.min().y(), -0.35, 1e-12);
+  EXPECT_NEAR(grown.max().y(), 0.35, 1e-12);
+  // A load shorter than the platform leaves the platform's length.
+  const Eigen::AlignedBox2d short_load = platform.CarryingLoad({0.5, 0.9}).FootprintBounds();
+  EXPECT_NEAR(short_load.max().x(), 0.394, 1e-12);
+  EXPECT_NEAR(short_load.max().y(), 0.45, 1e-12);
+  EXPECT_TRUE(platform.CarryingLoad({1.0, 0.7}).Validate().ok());
+}
+
 }  // namespace
 }  // namespace fleetnav

@@ -132,6 +132,8 @@ actions:
     until: goal_reached
   - straight: {distance: 2}
     until: distance
+  - undock: {}
+  - undock:
 )");
   ASSERT_TRUE(route.ok()) << route.status();
   EXPECT_DOUBLE_EQ(std::get<TurnAction>(route->actions[0].params).angle_rad, -1.25);
@@ -140,7 +142,18 @@ actions:
   EXPECT_EQ(std::get<DockAction>(route->actions[2].params).target_id, "cart-7");
   EXPECT_EQ(route->actions[2].end.kind, EndConditionKind::kGoalReached);
   EXPECT_DOUBLE_EQ(std::get<FreeNavigationAction>(route->actions[3].params).goal.yaw_rad(), 0.5);
+  EXPECT_TRUE(std::holds_alternative<UndockAction>(route->actions[5].params));
+  EXPECT_TRUE(std::holds_alternative<UndockAction>(route->actions[6].params));
+  EXPECT_EQ(route->actions[5].end.kind, EndConditionKind::kDistance);
   EXPECT_TRUE(route->map_id.empty());
+  // Written back and read again, the undock stays an undock; it takes no parameters.
+  absl::StatusOr<Route> back = ParseRouteYaml(RouteToYaml(*route));
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_TRUE(std::holds_alternative<UndockAction>(back->actions[6].params));
+  const absl::StatusOr<Route> bad =
+      ParseRouteYaml("name: r\nactions:\n  - undock: {height: 0.1}\n");
+  EXPECT_EQ(bad.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(bad.status().message().find("height"), std::string::npos) << bad.status();
 }
 
 TEST(RouteYamlTest, WaypointsMayFixTheYawThere) {

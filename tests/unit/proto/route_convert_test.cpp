@@ -38,6 +38,7 @@ Route EveryActionRoute() {
       Act(StripeNavigationAction{3, 0.0, 0.15}, {EndConditionKind::kMarkerDetected, 4}),
       Act(DockAction{DockTarget::kCharger, "pole-1"}, {EndConditionKind::kChargerContact, 0}),
       Act(DockAction{DockTarget::kTrolley, "trolley-7"}, {EndConditionKind::kGoalReached, 0}),
+      Act(UndockAction{}),
   };
   return route;
 }
@@ -70,6 +71,8 @@ void ExpectSameAction(const RouteAction& actual, const RouteAction& expected) {
     EXPECT_EQ(a.stripe_id, e->stripe_id);
     EXPECT_EQ(a.distance_m, e->distance_m);
     EXPECT_EQ(a.speed_mps, e->speed_mps);
+  } else if (std::holds_alternative<UndockAction>(expected.params)) {
+    // no parameters: the variant's index above says it all
   } else {
     const auto& e_dock = std::get<DockAction>(expected.params);
     const auto& a = std::get<DockAction>(actual.params);
@@ -84,7 +87,8 @@ TEST(RouteConvertTest, EveryActionTypeRoundTrips) {
   const v1::Route wire = ToProto(route);
   EXPECT_EQ(wire.name(), "feed-round-1");
   EXPECT_EQ(wire.map_id(), "barn");
-  ASSERT_EQ(wire.actions_size(), 8);
+  ASSERT_EQ(wire.actions_size(), 9);
+  EXPECT_EQ(wire.actions(8).action_case(), v1::RouteAction::kUndock);
   EXPECT_EQ(wire.actions(0).action_case(), v1::RouteAction::kStraight);
   EXPECT_EQ(wire.actions(1).action_case(), v1::RouteAction::kTurn);
   EXPECT_EQ(wire.actions(2).action_case(), v1::RouteAction::kFreeNavigation);

@@ -167,7 +167,7 @@ TEST(RouteExecutorTest, EachKindAdvertisesWhatItsSensorsAndDriveAllow) {
               ElementsAre("straight", "turn", "fence_navigation", "stripe_navigation", "dock",
                           "free_navigation"));
   EXPECT_THAT(SupportedActionTypes(MecanumPlatformModel()),
-              ElementsAre("straight", "turn", "free_navigation", "move", "dock"));
+              ElementsAre("straight", "turn", "free_navigation", "move", "dock", "undock"));
   EXPECT_THAT(SupportedActionTypes(AckermannDeliveryModel()),
               ElementsAre("straight", "free_navigation"));
 }

@@ -63,6 +63,9 @@ struct RobotModel {
   double height_m = 1.0;
   MotionLimits limits;
   std::vector<SensorMount> sensors;
+  /// A lift under the platform that raises a trolley the robot stands under (KUKA thesis's
+  /// final dock frame): the trolley is then carried.
+  bool has_lift = false;
 
   absl::Status Validate() const;
   /// Radius of the smallest circle around base_link containing the footprint.
@@ -70,6 +73,10 @@ struct RobotModel {
   /// The footprint's axis-aligned bounding box in base_link.
   Eigen::AlignedBox2d FootprintBounds() const;
   const SensorMount* FindSensor(std::string_view name) const;
+  /// This robot carrying a load of `load_size_m` (length along x, width along y) centred on
+  /// base_link, as the planner and the tracker must see it: the footprint grown to the bounding
+  /// box of both.
+  RobotModel CarryingLoad(const Eigen::Vector2d& load_size_m) const;
 };
 
 /// Lely Vector MFR (thesis ch. 3): 2.27 × 1.60 m footprint, 1485 kg, wheels Ø 300 mm on a

@@ -72,15 +72,19 @@ struct MoveAction {
   double speed_mps = 0.25;
 };
 enum class DockTarget { kCharger, kTrolley };
-/// Dock at the charger or under a trolley.
+/// Dock at the charger or under a trolley. Docking under a trolley ends with the platform's
+/// lift raised under it: the trolley is latched and carried until an UndockAction.
 struct DockAction {
   DockTarget target = DockTarget::kCharger;
   std::string target_id;
 };
+/// Lower the lift and leave the carried trolley standing where it is. The robot stays under it;
+/// a following move drives out. Only after a trolley dock.
+struct UndockAction {};
 
 using ActionParams =
     std::variant<TurnAction, StraightAction, FreeNavigationAction, FenceNavigationAction,
-                 StripeNavigationAction, DockAction, MoveAction>;
+                 StripeNavigationAction, DockAction, MoveAction, UndockAction>;
 
 /// One step of a route with its end condition.
 struct RouteAction {
@@ -130,6 +134,8 @@ absl::StatusOr<EndConditionKind> ParseEndConditionKind(std::string_view name);
 ///       until: stripe_end
 ///     - dock: {target: charger}
 ///     - move: {dx: 0, dy: 1.0, speed: 0.2}  # sideways, heading held (omnidirectional robots)
+///     - dock: {target: trolley, target_id: trolley-2}  # under it, lift raised: carried
+///     - undock: {}                       # lift lowered: the trolley stands
 /// Unknown action types and unknown keys are InvalidArgument naming the index.
 absl::StatusOr<Route> ParseRouteYaml(std::string_view yaml_text);
 std::string RouteToYaml(const Route& route);

@@ -65,6 +65,8 @@ struct SensorFrame {
   std::vector<LaserScanSample> lasers;
   bool charger_contact = false;
   bool bumper = false;
+  /// The lift (robots that have one) carries a load: a trolley rests on it.
+  bool lift_loaded = false;
   /// State of charge in [0, 1], when the robot reports one.
   std::optional<double> battery_fraction;
   std::optional<GpsFix> gps;
@@ -89,11 +91,13 @@ struct AckermannDrive {
   double steering_rad = 0.0;
 };
 
-/// What the agent tells the drive for one tick: a body twist (tracked by the robot's own motor
-/// controller), wheel speeds, or an Ackermann command.
+/// What the agent tells the actuators for one tick: a body twist (tracked by the robot's own
+/// motor controller), wheel speeds, or an Ackermann command; and where the lift should be
+/// (robots with a lift: raised under a trolley latches it, lowered sets it down).
 struct ActuatorCommand {
   uint64_t tick = 0;
   std::variant<Twist2, WheelSpeeds, AckermannDrive> drive = Twist2{};
+  bool lift_raised = false;
 };
 
 }  // namespace fleetnav

@@ -53,6 +53,7 @@ class DiffDriveRobot final : public RobotBody {
     return {{"left", left_angle_rad_}, {"right", right_angle_rad_}};
   }
   bool physical() const override { return true; }
+  dBodyID chassis_body() const override { return chassis_; }
 
  private:
   dBodyID CreateWheel(double y_m, const Pose2& start, double axle_z_m);

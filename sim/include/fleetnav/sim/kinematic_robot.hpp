@@ -36,6 +36,7 @@ class KinematicRobot final : public RobotBody {
   const RobotModel& model() const override { return model_; }
   std::vector<WheelAngle> WheelAngles() const override;
   bool physical() const override { return false; }
+  dBodyID chassis_body() const override { return body_; }
   double steering_rad() const { return steering_rad_; }
 
  private:

@@ -81,6 +81,7 @@ class MecanumRobot final : public RobotBody {
   double yaw_rate_radps() const override;
   std::vector<WheelAngle> WheelAngles() const override;
   bool physical() const override { return true; }
+  dBodyID chassis_body() const override { return chassis_; }
   /// Heading of caster `i` (FL, FR, RL, RR) relative to the chassis, in (-pi, pi]: the
   /// direction from its contact point to its swivel axis (0 when it trails forward motion).
   double caster_angle_rad(int i) const;

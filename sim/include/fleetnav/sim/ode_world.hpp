@@ -38,6 +38,8 @@ struct GeomTag {
   GeomRole role = GeomRole::kStatic;
   int robot_index = -1;    ///< for robot geoms
   int trolley_index = -1;  ///< for trolley geoms
+  /// For a latched trolley's geoms: the robot carrying it (its contacts are that robot's).
+  int carrier_robot_index = -1;
   /// Friction against the floor when set (>= 0), e.g. a trolley leg's swivel caster; else the
   /// role's default.
   double floor_mu = -1.0;

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <ode/ode.h>
+
 #include <string>
 #include <utility>
 #include <variant>
@@ -43,6 +45,8 @@ class RobotBody {
   virtual std::vector<WheelAngle> WheelAngles() const = 0;
   /// Whether the body is moved by ODE (else the simulation moves it kinematically).
   virtual bool physical() const = 0;
+  /// The ODE body a load is latched to (the chassis).
+  virtual dBodyID chassis_body() const = 0;
 };
 
 }  // namespace fleetnav::sim

@@ -99,11 +99,16 @@ struct SimulationTiming {
 /// control ticks of whole physics steps. The tick counter is the only clock of a simulated run
 /// (sim time = tick × control period). The robots are physical in ODE (omni and Ackermann
 /// robots kinematic with SimulationParams::kinematic_omni / kinematic_ackermann: those stop
-/// rather than drive into something), and so are the trolleys, which move when pushed. Faults of
+/// rather than drive into something), and so are the trolleys, which move when pushed and are
+/// carried by the lift of a robot that raises it under one (ActuatorCommand::lift_raised: the
+/// robot's centre within kLatchRadiusM of the trolley's, aligned within kLatchYawRad). Faults of
 /// the world file are in force from the start; InjectFault adds more at run time; Reset starts
 /// over. Deterministic for a seed. Not thread-safe: the lockstep coordinator serialises access.
 class Simulation {
  public:
+  static constexpr double kLatchRadiusM = 0.05;
+  static constexpr double kLatchYawRad = 0.1;
+
   static absl::StatusOr<std::unique_ptr<Simulation>> Create(const WorldDescription& world,
                                                             SimulationParams params);
 
@@ -118,9 +123,12 @@ class Simulation {
 
   /// The sensor frame of a robot for the current tick.
   absl::StatusOr<SensorFrame> Sense(const std::string& robot_id);
-  /// The drive command a robot follows from now on (until the next command); InvalidArgument
-  /// for a command its drive does not take (the robot keeps its last command).
+  /// The drive command and lift setpoint a robot follows from now on (until the next command);
+  /// InvalidArgument for a command its drive does not take or a raised lift it does not have
+  /// (the robot keeps its last command).
   absl::Status Command(const std::string& robot_id, const ActuatorCommand& command);
+  /// Stops a robot's drive (its agent left); the lift holds where it is, and its load with it.
+  void StopDrive(const std::string& robot_id);
   /// Advances one control tick.
   void Advance();
 
@@ -157,6 +165,8 @@ class Simulation {
     Eigen::Vector2d accel_body = Eigen::Vector2d::Zero();
     double battery_fraction = 1.0;
     bool charger_contact = false;  ///< as last sensed
+    bool lift_raised = false;      ///< the lift's setpoint (robots with a lift)
+    int carried_trolley = -1;      ///< index into trolleys_, or -1
   };
   struct ActiveFault {
     FaultSpec spec;
@@ -169,6 +179,8 @@ class Simulation {
   void ApplyWorldFaults();
   void EnsureScene();
   void MoveKinematic(SimRobot& robot, int index, double traction);
+  /// Latches the trolley a raised lift stands under, sets down the one a lowered lift carries.
+  void UpdateLift(SimRobot& robot, int index);
   double TractionAt(const Pose2& pose) const;
   double SlowFactor(const std::string& robot_id) const;
   std::set<std::string> DroppedSensors(const std::string& robot_id) const;

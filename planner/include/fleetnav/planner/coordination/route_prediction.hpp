@@ -42,6 +42,8 @@ struct RoutePredictionParams {
   /// frame: its standoff plus the robot's front), then under it, at this speed.
   double trolley_approach_m = 1.0;
   double trolley_dock_speed_mps = 0.15;
+  /// Raising or lowering the lift (the robot stands meanwhile).
+  double lift_s = 1.0;
 };
 
 /// Predicts the poses a route's actions sweep, from `start`, before the robot drives (the

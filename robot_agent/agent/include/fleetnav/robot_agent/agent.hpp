@@ -32,6 +32,8 @@ struct AgentParams {
   int max_jobs = 0;
   /// Ultrasonic readings at or beyond this range are "no echo".
   double ultrasonic_range_max_m = 2.5;
+  /// Laser returns within this of a carried trolley's outline are its own legs (dropped).
+  double load_mask_margin_m = 0.05;
   ModeParams modes;
   SafetyParams safety;
   absl::Status Validate() const;
@@ -86,6 +88,8 @@ class Agent {
 
  private:
   Telemetry MakeTelemetry(int64_t stamp_ns, const ExecutorOutput& output) const;
+  /// Drops the laser returns of the trolley the robot carries (its legs ride along in view).
+  void MaskLoad(const Eigen::Vector2d& load_size_m, SensorFrame* frame) const;
   /// Takes new assignments and commands, and reports the current job's end.
   void ApplyCommand(const JobCommand& command, const ExecutorOutput& output, AgentResult* result);
   void ServeJobs(const ExecutorOutput& output, AgentResult* result);
@@ -118,6 +122,9 @@ class Agent {
   bool paused_ = false;
   bool end_reported_ = false;
   double battery_fraction_ = 1.0;  ///< as the robot last reported it
+  /// The lift's setpoint and the trolley on it, kept across routes (a route may end carrying).
+  bool lift_raised_ = false;
+  std::optional<Eigen::Vector2d> carried_load_m_;
   std::unique_ptr<localization::Localizer> job_localizer_;
   std::string site_key_;  ///< map id and versions of the site in use ("" : the start's)
   Twist2 last_command_;

@@ -74,11 +74,15 @@ absl::Status CheckFreeNavigation(const FreeNavigationAction& action, const Robot
 /// from where the robot is when it has left the path — an Ackermann robot that steers round
 /// obstacles plans round those its laser has seen too (UnmappedObstacles, marked on a copy of
 /// the map), and plans again as soon as the path ahead runs into one. A goal the planner cannot
-/// reach exactly fails the action with the reason. Not thread-safe.
+/// reach exactly fails the action with the reason. A robot that carries a trolley is given as
+/// `model` grown to it (RouteContext::NavigationModel) with `carrying`: the map's obstacles
+/// under that footprint where the action starts are the carried trolley's own legs as the map
+/// remembers them, and are left off the plan. Not thread-safe.
 class FreeNavigationController : public MotionController {
  public:
   FreeNavigationController(const FreeNavigationAction& action, const RobotModel& model,
-                           std::shared_ptr<const OccupancyGrid> map, FreeNavigationParams params);
+                           std::shared_ptr<const OccupancyGrid> map, FreeNavigationParams params,
+                           bool carrying = false);
   ControlOutput Step(const ControlInput& input) override;
 
  private:
@@ -117,6 +121,9 @@ class FreeNavigationController : public MotionController {
   double elapsed_s_ = 0.0;
   double last_plan_s_ = 0.0;
   std::vector<double> replans_at_s_;
+  bool carrying_ = false;
+  /// Where the action started, carrying: the map is cleared under the footprint there.
+  std::optional<Pose2> carried_from_in_map_;
 };
 
 }  // namespace fleetnav::agent

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "absl/status/status.h"
@@ -30,6 +31,8 @@ struct ControlOutput {
   /// Set on the tick the controller switches between reactive and map-based: why.
   std::string mode_reason;
   absl::Status failure;
+  /// Set: where the lift must go (raised latches the trolley above); unset: it stays.
+  std::optional<bool> lift_raised;
 };
 
 /// One navigation mode of the hybrid controller (Lely thesis §6.6, Fig. 6.12): turn, straight,

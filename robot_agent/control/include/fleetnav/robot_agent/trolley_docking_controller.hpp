@@ -25,6 +25,8 @@ struct TrolleyDockingParams {
   double final_tolerance_m = 0.003;
   double tolerance_rad = 0.01;
   double expected_within_m = 1.0;
+  /// At the final frame the lift rises; without a load on it after this long the dock fails.
+  double lift_timeout_s = 2.0;
   absl::Status Validate() const;
 };
 
@@ -34,8 +36,10 @@ struct TrolleyDockingParams {
 /// range gives the dock frames. The platform drives holonomically on its odometry to the
 /// approach frame in front of the trolley's near end, re-measuring the trolley as it goes, then
 /// straight under it to the final frame (the trolley's centre) measured last from the approach
-/// frame, where all four legs are in view, and stops. Fails when no trolley is in view within
-/// `search_timeout_s`. Not thread-safe.
+/// frame, where all four legs are in view, stops and raises its lift, which latches the
+/// trolley: the action is done when the lift reports the load. Fails when no trolley is in view
+/// within `search_timeout_s`, or when the raised lift carries nothing after `lift_timeout_s`.
+/// Not thread-safe.
 class TrolleyDockingController : public MotionController {
  public:
   /// `expected_in_map`: where the site says trolley `target_id` stands (the marker set's
@@ -46,7 +50,7 @@ class TrolleyDockingController : public MotionController {
   ControlOutput Step(const ControlInput& input) override;
 
  private:
-  enum class Stage { kSearch, kApproach, kFinal, kDone };
+  enum class Stage { kSearch, kApproach, kFinal, kLift, kDone };
   /// The trolley in the scan, in the odometry frame, or nullopt.
   std::optional<Pose2> Measure(const ControlInput& input);
   Twist2 DriveTo(const Pose2& target_in_odom, const Pose2& pose_in_odom, double speed_mps,
@@ -59,6 +63,7 @@ class TrolleyDockingController : public MotionController {
   TemporalMedianFilter median_;
   Stage stage_ = Stage::kSearch;
   double searched_s_ = 0.0;
+  double lifting_s_ = 0.0;
   std::optional<Pose2> trolley_in_odom_;
   double start_distance_m_ = 0.0;
   Twist2 last_command_;

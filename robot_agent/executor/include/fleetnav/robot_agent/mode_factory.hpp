@@ -17,6 +17,7 @@
 #include "fleetnav/robot_agent/motion_controllers.hpp"
 #include "fleetnav/robot_agent/move_controller.hpp"
 #include "fleetnav/robot_agent/trolley_docking_controller.hpp"
+#include "fleetnav/robot_agent/undock_controller.hpp"
 
 namespace fleetnav::agent {
 
@@ -35,12 +36,25 @@ struct ModeParams {
 
 /// What the robot brings to a route: its model and, when it has them, the marker set of the
 /// route's map (marker end conditions, the stripes' geometry) and the map itself (free
-/// navigation).
+/// navigation), and the trolley on its lift when it carries one.
 struct RouteContext {
   RobotModel model;
   std::optional<MarkerSet> markers;
   std::shared_ptr<const OccupancyGrid> map;
+  /// The outer size (length, width) of the trolley latched on the robot's lift; nullopt when
+  /// it carries none.
+  std::optional<Eigen::Vector2d> carried_load_m;
+  /// The robot as the planner and the tracker must see it: grown to the trolley it carries.
+  RobotModel NavigationModel() const {
+    return carried_load_m ? model.CarryingLoad(*carried_load_m) : model;
+  }
 };
+
+/// What the robot carries after `action` completes, given what it carried before it
+/// (`context.carried_load_m`): a trolley dock latches the trolley (its size from the marker
+/// set's placement, else the docking spec's legs), an undock sets it down.
+std::optional<Eigen::Vector2d> LoadAfter(const RouteAction& action, const RouteContext& context,
+                                         const ModeParams& params);
 
 /// The action types this agent version executes on a robot of `model`, as advertised to
 /// fleetnavd: turning in place needs a drive that can (not Ackermann), fence following a side

@@ -28,6 +28,10 @@ struct ExecutorOutput {
   /// Action action_index is done (or none has started) and the next one is not cleared by
   /// traffic coordination: the robot stands.
   bool waiting = false;
+  /// Where the lift must be, and the trolley on it (nullopt: none): a trolley dock latches one,
+  /// an undock sets it down, and it stays on the lift when a route ends or fails.
+  bool lift_raised = false;
+  std::optional<Eigen::Vector2d> carried_load_m;
 };
 
 /// Runs a route's actions one after another (Lely thesis §6.3): each action gets its
@@ -51,6 +55,8 @@ class RouteExecutor {
   /// One control tick. `detected_markers` are the calibration markers the localizer associated
   /// with an inductive edge this tick.
   ExecutorOutput Step(const ControlInput& input, const std::vector<int>& detected_markers = {});
+  /// The trolley on the lift now (the context's at the start, then as docks and undocks left it).
+  const std::optional<Eigen::Vector2d>& carried_load_m() const { return context_.carried_load_m; }
   /// Fails the current action with `reason` (prefixed with its index); the robot is told to stop.
   void Abort(const absl::Status& reason);
   /// Actions up to `index` may start (-1: none).
@@ -65,6 +71,7 @@ class RouteExecutor {
   /// Moves the start to `position` (see the constructor).
   absl::Status ResumeAt(const RoutePosition& position, const Pose2& pose_in_map);
   absl::Status StartAction(int index);
+  ExecutorOutput StepActions(const ControlInput& input, const std::vector<int>& detected_markers);
   ExecutorOutput Fail(absl::Status status);
   ExecutorOutput Waiting() const;
   /// The progress of action index_ given its controller's, counted from the resumed fraction.
@@ -81,6 +88,7 @@ class RouteExecutor {
   std::unique_ptr<MotionController> controller_;
   ExecutionState state_ = ExecutionState::kRunning;
   absl::Status failure_;
+  bool lift_raised_ = false;
 };
 
 }  // namespace fleetnav::agent

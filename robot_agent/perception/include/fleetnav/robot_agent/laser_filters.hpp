@@ -1,9 +1,11 @@
 #pragma once
 
+#include <Eigen/Geometry>
 #include <deque>
 #include <vector>
 
 #include "absl/status/status.h"
+#include "fleetnav/core/pose2.hpp"
 #include "fleetnav/core/sensor_frame.hpp"
 
 namespace fleetnav::agent {
@@ -30,6 +32,12 @@ struct ShadowFilterParams {
   int neighbours = 3;
   absl::Status Validate() const;
 };
+
+/// Drops (sets to NaN: no reading, neither a hit nor free space) the returns that end inside
+/// `load_in_base`, the box of a load the robot carries: the legs of a latched trolley stand in
+/// the laser's view wherever the robot goes and are not obstacles. Returns how many it dropped.
+int MaskCarriedLoad(const Eigen::AlignedBox2d& load_in_base, const Pose2& laser_in_base,
+                    LaserScanSample* scan);
 
 /// The laser shadow filter (KUKA ch. 12): drops (sets to +infinity) the returns that veil the
 /// edges of objects, such as the mixed pixels between a trolley leg and the shelf behind it.

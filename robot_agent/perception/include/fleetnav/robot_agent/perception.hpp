@@ -27,6 +27,8 @@ struct Perception {
   double stripe_sensor_x_m = 0.0;
   bool charger_contact = false;
   bool bumper = false;
+  /// The lift carries a load (a trolley is latched on it).
+  bool lift_loaded = false;
   /// The laser's scan, on the ticks a new one arrived (10 Hz), and where the laser sits.
   std::optional<LaserScanSample> laser;
   Pose2 laser_in_base;
