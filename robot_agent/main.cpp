@@ -94,6 +94,10 @@ int main(int argc, char** argv) {
   app.add_flag("--no-obstacle-avoidance", no_obstacle_avoidance,
                "Ackermann free navigation follows its planned path blind, without VFH+ on the "
                "laser (the baseline for obstacles that are not on the map)");
+  bool steering_odometry = false;
+  app.add_flag("--steering-odometry", steering_odometry,
+               "Ackermann robots: odometry turns by the measured steering angle (bicycle model) "
+               "instead of the rear wheels' difference");
   app.add_flag("--ignore-markers", ignore_markers,
                "plain AMCL: do not calibrate on stripe markers (the SAMCL baseline)");
   app.add_option("--max-jobs", params.max_jobs,
@@ -148,6 +152,7 @@ int main(int argc, char** argv) {
   lp.amcl.seed = seed;
   lp.amcl.motion.kinematics = model->kinematics;  // the odometry motion model of its drive
   lp.use_markers = !ignore_markers;
+  lp.odometry.ackermann_yaw_from_steering = steering_odometry;
   lp.ultrasonic_range_max_m = params.ultrasonic_range_max_m;
   std::unique_ptr<fleetnav::localization::Localizer> localizer;
   if (!map_path.empty()) {

@@ -231,6 +231,7 @@ absl::StatusOr<SensorFrame> Simulation::Sense(const std::string& robot_id) {
   frame.control_period_s = params_.control_period_s;
   const std::set<std::string> dropped = DroppedSensors(robot_id);
   robot.sensors->SampleEncoders(robot.body->WheelAngles(), &frame);
+  robot.sensors->SampleSteering(robot.body->SteeringAngleRad(), &frame);
   const bool imu_off = dropped.count("imu") != 0 || dropped.count("") != 0;
   robot.sensors->SampleImu(imu_off ? 0.0 : robot.body->yaw_rate_radps(),
                            imu_off ? 0.0 : robot.accel_body.x(),

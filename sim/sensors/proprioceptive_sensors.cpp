@@ -33,6 +33,14 @@ void ProprioceptiveSensors::SampleEncoders(const std::vector<WheelAngle>& wheels
     frame->encoders.push_back({wheel.name, Ticks(wheel.angle_rad)});
 }
 
+void ProprioceptiveSensors::SampleSteering(std::optional<double> steering_rad,
+                                           SensorFrame* frame) const {
+  frame->steering_angle_rad.reset();
+  if (!steering_rad) return;
+  const double step = params_.steering_resolution_rad;
+  frame->steering_angle_rad = step > 0.0 ? std::round(*steering_rad / step) * step : *steering_rad;
+}
+
 void ProprioceptiveSensors::SampleImu(double yaw_rate_radps, double accel_x_mps2,
                                       double accel_y_mps2, double period_s, SensorFrame* frame) {
   gyro_bias_radps_ +=

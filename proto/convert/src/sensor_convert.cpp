@@ -43,6 +43,10 @@ v1::SensorFrame ToProto(const SensorFrame& frame) {
   out.set_charger_contact(frame.charger_contact);
   out.set_bumper(frame.bumper);
   out.set_lift_loaded(frame.lift_loaded);
+  if (frame.steering_angle_rad) {
+    out.set_has_steering_angle(true);
+    out.set_steering_angle_rad(*frame.steering_angle_rad);
+  }
   if (frame.battery_fraction) {
     out.set_has_battery(true);
     out.set_battery_fraction(*frame.battery_fraction);
@@ -77,6 +81,7 @@ SensorFrame FromProto(const v1::SensorFrame& frame) {
   out.charger_contact = frame.charger_contact();
   out.bumper = frame.bumper();
   out.lift_loaded = frame.lift_loaded();
+  if (frame.has_steering_angle()) out.steering_angle_rad = frame.steering_angle_rad();
   if (frame.has_battery()) out.battery_fraction = frame.battery_fraction();
   if (frame.has_gps())
     out.gps = GpsFix{frame.gps().x_m(), frame.gps().y_m(), frame.gps().stddev_m()};

@@ -50,7 +50,8 @@ OdometryFrontEnd::OdometryFrontEnd(const RobotModel& model, const OdometryFrontE
       params_(params),
       ekf_(params.ekf),
       diff_(DiffParams(model)),
-      mecanum_(MecanumParams(model)) {}
+      mecanum_(MecanumParams(model)),
+      ackermann_(AckermannOdometryParams{model.wheelbase_m}) {}
 
 absl::StatusOr<OdometryFrontEnd> OdometryFrontEnd::Create(const RobotModel& model,
                                                           const OdometryFrontEndParams& params) {
@@ -61,6 +62,11 @@ absl::StatusOr<OdometryFrontEnd> OdometryFrontEnd::Create(const RobotModel& mode
     }
   } else if (absl::Status s = DiffParams(model).Validate(); !s.ok()) {
     return absl::InvalidArgumentError(absl::StrCat(model.kind_name, ": ", s.message()));
+  }
+  if (model.kinematics == Kinematics::kAckermann) {
+    if (absl::Status s = AckermannOdometryParams{model.wheelbase_m}.Validate(); !s.ok()) {
+      return absl::InvalidArgumentError(absl::StrCat(model.kind_name, ": ", s.message()));
+    }
   }
   return OdometryFrontEnd(model, params);
 }
@@ -112,6 +118,11 @@ absl::Status OdometryFrontEnd::Update(const SensorFrame& frame) {
     increment = mecanum_.Update(wheel_rad);
   } else {
     increment = diff_.Update(ticks["left"], ticks["right"]);
+    if (params_.ackermann_yaw_from_steering && model_.kinematics == Kinematics::kAckermann &&
+        frame.steering_angle_rad) {
+      // The rear axle's arc from the encoders, the turn from the steering angle.
+      increment = ackermann_.Update(increment.forward_m, *frame.steering_angle_rad);
+    }
   }
   last_ticks_ = ticks;
   last_stamp_ns_ = frame.stamp_ns;

@@ -31,6 +31,8 @@ SensorFrame SampleFrame() {
   frame.charger_contact = true;
   frame.bumper = false;
   frame.gps = GpsFix{12.5, -7.25, 0.8};
+  frame.lift_loaded = true;
+  frame.steering_angle_rad = -0.3125;
   return frame;
 }
 
@@ -69,6 +71,9 @@ TEST(SensorFrameConvertTest, RoundTripsEveryField) {
   EXPECT_EQ(back.gps->x_m, 12.5);
   EXPECT_EQ(back.gps->y_m, -7.25);
   EXPECT_EQ(back.gps->stddev_m, 0.8);
+  EXPECT_TRUE(back.lift_loaded);
+  ASSERT_TRUE(back.steering_angle_rad.has_value());
+  EXPECT_EQ(*back.steering_angle_rad, -0.3125);
 }
 
 TEST(SensorFrameConvertTest, NoGpsStaysAbsent) {
@@ -79,11 +84,20 @@ TEST(SensorFrameConvertTest, NoGpsStaysAbsent) {
   EXPECT_FALSE(FromProto(wire).gps.has_value());
 }
 
+TEST(SensorFrameConvertTest, NoSteeringAngleStaysAbsent) {
+  SensorFrame frame = SampleFrame();
+  frame.steering_angle_rad.reset();
+  const v1::SensorFrame wire = ToProto(frame);
+  EXPECT_FALSE(wire.has_steering_angle());
+  EXPECT_FALSE(FromProto(wire).steering_angle_rad.has_value());
+}
+
 TEST(ActuatorCommandConvertTest, EveryDriveKindRoundTrips) {
   const ActuatorCommand commands[] = {
       {7, Twist2{0.3, -0.1, 0.25}},
       {8, WheelSpeeds{2.0, -1.5}},
       {9, AckermannDrive{0.8, -0.35}},
+      {10, Twist2{}, /*lift_raised=*/true},
   };
   for (const ActuatorCommand& command : commands) {
     const v1::ActuatorCommand wire = ToProto(command);
@@ -91,6 +105,7 @@ TEST(ActuatorCommandConvertTest, EveryDriveKindRoundTrips) {
     const absl::StatusOr<ActuatorCommand> back = FromProto(wire);
     ASSERT_TRUE(back.ok()) << back.status();
     EXPECT_EQ(back->tick, command.tick);
+    EXPECT_EQ(back->lift_raised, command.lift_raised);
     ASSERT_EQ(back->drive.index(), command.drive.index());
     if (const auto* twist = std::get_if<Twist2>(&command.drive)) {
       const auto& got = std::get<Twist2>(back->drive);

@@ -66,6 +66,11 @@ TEST(AckermannRobotTest, TurnsOnTheCircleOfItsSteeringLock) {
   EXPECT_NEAR(body.steering_rad(), 0.5 * model.limits.max_steering_rate_radps, 0.011);
   Drive(*sim, 0.3, 1.2, 3.0);
   EXPECT_NEAR(body.steering_rad(), model.limits.max_steering_rad, 1e-9);
+  // The steering encoder reports the angle, to its 12-bit resolution; a Lely has none.
+  absl::StatusOr<SensorFrame> frame = sim->Sense("car");
+  ASSERT_TRUE(frame.ok()) << frame.status();
+  ASSERT_TRUE(frame->steering_angle_rad.has_value());
+  EXPECT_NEAR(*frame->steering_angle_rad, model.limits.max_steering_rad, M_PI / 4096.0);
   // Round the circle: the rear axle's middle keeps L / tan(δ) from the centre.
   const double radius_m = model.wheelbase_m / std::tan(model.limits.max_steering_rad);
   const Twist2 v = sim->GroundTruth().robots[0].velocity;

@@ -85,6 +85,7 @@ TEST(SimulatedEncodersTest, TicksMatchTheDistanceDriven) {
   ASSERT_TRUE(sim->AddRobot("lely1", "lely-vector", Pose2(1, 2, DegToRad(60))).ok());
   absl::StatusOr<SensorFrame> first = sim->Sense("lely1");
   ASSERT_TRUE(first.ok()) << first.status();
+  EXPECT_FALSE(first->steering_angle_rad.has_value()) << "a differential drive does not steer";
   const Pose2 start = sim->GroundTruth().robots.at(0).pose;
 
   ASSERT_TRUE(sim->Command("lely1", TwistCommand(0.3, 0.0)).ok());

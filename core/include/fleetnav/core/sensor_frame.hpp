@@ -67,6 +67,9 @@ struct SensorFrame {
   bool bumper = false;
   /// The lift (robots that have one) carries a load: a trolley rests on it.
   bool lift_loaded = false;
+  /// Ackermann robots: the measured steering angle of the virtual front wheel (bicycle model),
+  /// positive left.
+  std::optional<double> steering_angle_rad;
   /// State of charge in [0, 1], when the robot reports one.
   std::optional<double> battery_fraction;
   std::optional<GpsFix> gps;

@@ -59,6 +59,7 @@ class AckermannRobot final : public RobotBody {
   /// The rear wheels' encoders ("left", "right").
   std::vector<WheelAngle> WheelAngles() const override;
   bool physical() const override { return true; }
+  std::optional<double> SteeringAngleRad() const override { return steering_rad_; }
   dBodyID chassis_body() const override { return chassis_; }
   /// The virtual front wheel's steering angle now.
   double steering_rad() const { return steering_rad_; }

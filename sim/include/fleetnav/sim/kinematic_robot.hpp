@@ -36,6 +36,10 @@ class KinematicRobot final : public RobotBody {
   const RobotModel& model() const override { return model_; }
   std::vector<WheelAngle> WheelAngles() const override;
   bool physical() const override { return false; }
+  std::optional<double> SteeringAngleRad() const override {
+    if (model_.kinematics != Kinematics::kAckermann) return std::nullopt;
+    return steering_rad_;
+  }
   dBodyID chassis_body() const override { return body_; }
   double steering_rad() const { return steering_rad_; }
 

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "fleetnav/core/sensor_frame.hpp"
@@ -20,6 +21,8 @@ struct ProprioceptiveParams {
   double gyro_bias_walk_radps_per_sqrt_s = 1e-5;
   /// Accelerometer white noise per sample (m/s²).
   double accel_noise_stddev_mps2 = 0.02;
+  /// Resolution of an Ackermann robot's steering-angle encoder (12 bits a turn).
+  double steering_resolution_rad = 2.0 * 3.14159265358979 / 4096.0;
 };
 
 /// Wheel encoders (cumulative ticks from the integrated wheel angle, thesis eq. 3.4's input)
@@ -35,6 +38,8 @@ class ProprioceptiveSensors {
               double period_s, SensorFrame* frame);
   /// Encoders of any drive: one reading per wheel, named as the body names them.
   void SampleEncoders(const std::vector<WheelAngle>& wheels, SensorFrame* frame) const;
+  /// The steering encoder's reading of `steering_rad` (nothing for robots that do not steer).
+  void SampleSteering(std::optional<double> steering_rad, SensorFrame* frame) const;
   /// Gyro and accelerometer (body-frame acceleration, gravity removed), each with noise.
   void SampleImu(double yaw_rate_radps, double accel_x_mps2, double accel_y_mps2, double period_s,
                  SensorFrame* frame);

@@ -2,6 +2,7 @@
 
 #include <ode/ode.h>
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <variant>
@@ -41,6 +42,8 @@ class RobotBody {
   virtual Pose2 GroundTruthPose() const = 0;
   virtual Twist2 GroundTruthVelocity() const = 0;  ///< in base_link
   virtual double UpVectorZ() const { return 1.0; }
+  /// The steering angle of the virtual front wheel (Ackermann bodies), else nullopt.
+  virtual std::optional<double> SteeringAngleRad() const { return std::nullopt; }
   virtual double yaw_rate_radps() const = 0;
   virtual std::vector<WheelAngle> WheelAngles() const = 0;
   /// Whether the body is moved by ODE (else the simulation moves it kinematically).
