@@ -235,7 +235,7 @@ absl::StatusOr<std::vector<PredictedAction>> PredictRoute(const Route& route, co
             AppendPolyline(predicted.poses, {pose.translation(), approach, facing.translation()},
                            0.0, params.pose_step_m);
         predicted.poses.push_back(facing);
-        predicted.duration_s = length_m / params.trolley_dock_speed_mps;
+        predicted.duration_s = length_m / params.trolley_dock_speed_mps + params.lift_s;
       } else if (pieces.empty()) {
         straight(params.default_dock_distance_m, 0.2);
       } else {

@@ -36,7 +36,6 @@ Agent::Agent(RouteContext context, AgentPorts ports, std::optional<Route> route,
 
 void Agent::StartRoute(Route route, const RoutePosition& from) {
   const Pose2 here = localizer().estimate().pose_in_map;
-  context_.carried_load_m = carried_load_m_;
   executor_.emplace(std::move(route), context_, params_.modes, here, from);
   reported_action_ = -1;
   // Actions before the resume point were reported finished by the agent that ran them.
@@ -213,7 +212,7 @@ absl::StatusOr<AgentResult> Agent::Run() {
         last_stamp_ns < 0 ? frame->control_period_s : (frame->stamp_ns - last_stamp_ns) * 1e-9;
     last_stamp_ns = frame->stamp_ns;
     if (first_stamp_ns < 0) first_stamp_ns = frame->stamp_ns;
-    if (carried_load_m_) MaskLoad(*carried_load_m_, &*frame);
+    if (context_.carried_load_m) MaskLoad(*context_.carried_load_m, &*frame);
     RETURN_IF_ERROR(localizer().Update(*frame));
     if (frame->battery_fraction) battery_fraction_ = *frame->battery_fraction;
     const localization::LocalizerEstimate& estimate = localizer().estimate();
@@ -258,7 +257,7 @@ absl::StatusOr<AgentResult> Agent::Run() {
     }
     if (executor_) {
       lift_raised_ = output.lift_raised;
-      carried_load_m_ = output.carried_load_m;
+      context_.carried_load_m = output.carried_load_m;
     }
     if (executor_ && executor_->state() != ExecutionState::kRunning && !end_reported_) {
       end_reported_ = true;

@@ -63,9 +63,9 @@ TEST(AckermannRobotTest, TurnsOnTheCircleOfItsSteeringLock) {
   const RobotModel model = AckermannDeliveryModel();
   // Asked for more than the lock: the steering turns at its rate limit and stops at the lock.
   Drive(*sim, 0.3, 1.2, 0.5);
-  EXPECT_NEAR(body.steering_rad(), 0.5 * model.limits.max_steering_rate_radps, 0.011);
+  EXPECT_NEAR(*body.SteeringAngleRad(), 0.5 * model.limits.max_steering_rate_radps, 0.011);
   Drive(*sim, 0.3, 1.2, 3.0);
-  EXPECT_NEAR(body.steering_rad(), model.limits.max_steering_rad, 1e-9);
+  EXPECT_NEAR(*body.SteeringAngleRad(), model.limits.max_steering_rad, 1e-9);
   // The steering encoder reports the angle, to its 12-bit resolution; a Lely has none.
   absl::StatusOr<SensorFrame> frame = sim->Sense("car");
   ASSERT_TRUE(frame.ok()) << frame.status();

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <memory>
+#include <vector>
 
 #include "absl/strings/str_cat.h"
 #include "fleetnav/core/angles.hpp"
@@ -16,19 +17,28 @@
 namespace fleetnav::sim {
 namespace {
 
-/// An empty floor with one 0.9 × 0.55 m trolley "t1" at (x, y), yaw 0, standing 0.3 m left of
-/// the x axis so that a platform driving along it meets its right legs.
-std::unique_ptr<Simulation> TrolleyFloor(SimulationParams params = {}) {
+/// An empty floor with trolleys of `size_m` at `centers`, yaw 0, named t1, t2, … .
+std::unique_ptr<Simulation> TrolleysOnFloor(const std::vector<Eigen::Vector2d>& centers,
+                                            const Eigen::Vector2d& size_m, double leg_radius_m,
+                                            SimulationParams params) {
   WorldDescription world = testing::EmptyWorld();
-  Trolley trolley;
-  trolley.id = "t1";
-  trolley.center_m = Eigen::Vector2d(1.5, 0.3);
-  trolley.size_m = Eigen::Vector2d(0.9, 0.55);
-  trolley.leg_radius_m = 0.02;
-  world.trolleys.push_back(trolley);
+  for (size_t i = 0; i < centers.size(); ++i) {
+    Trolley trolley;
+    trolley.id = absl::StrCat("t", i + 1);
+    trolley.center_m = centers[i];
+    trolley.size_m = size_m;
+    trolley.leg_radius_m = leg_radius_m;
+    world.trolleys.push_back(trolley);
+  }
   absl::StatusOr<std::unique_ptr<Simulation>> sim = Simulation::Create(world, params);
   EXPECT_TRUE(sim.ok()) << sim.status();
   return sim.ok() ? std::move(*sim) : nullptr;
+}
+
+/// One 0.9 × 0.55 m trolley "t1" standing 0.3 m left of the x axis, so that a platform driving
+/// along it meets its right legs.
+std::unique_ptr<Simulation> TrolleyFloor(SimulationParams params = {}) {
+  return TrolleysOnFloor({{1.5, 0.3}}, {0.9, 0.55}, 0.02, params);
 }
 
 TrolleyTruth TrolleyOf(const Simulation& sim) { return sim.GroundTruth().trolleys.at(0); }
@@ -81,22 +91,10 @@ TEST(TrolleyBodyTest, AKinematicPlatformStopsAtATrolleyLeg) {
   EXPECT_LT(truth.robots[0].pose.x_m(), 1.0);
 }
 
-/// A floor with store trolleys of 1.0 × 0.7 m (the platform fits between their legs) at
-/// `centers`, yaw 0, named t1, t2, … .
+/// Store trolleys of 1.0 × 0.7 m (the platform fits between their legs) at `centers`.
 std::unique_ptr<Simulation> StoreTrolleys(const std::vector<Eigen::Vector2d>& centers,
                                           SimulationParams params = {}) {
-  WorldDescription world = testing::EmptyWorld();
-  for (size_t i = 0; i < centers.size(); ++i) {
-    Trolley trolley;
-    trolley.id = absl::StrCat("t", i + 1);
-    trolley.center_m = centers[i];
-    trolley.size_m = Eigen::Vector2d(1.0, 0.7);
-    trolley.leg_radius_m = 0.025;
-    world.trolleys.push_back(trolley);
-  }
-  absl::StatusOr<std::unique_ptr<Simulation>> sim = Simulation::Create(world, params);
-  EXPECT_TRUE(sim.ok()) << sim.status();
-  return sim.ok() ? std::move(*sim) : nullptr;
+  return TrolleysOnFloor(centers, {1.0, 0.7}, 0.025, params);
 }
 
 absl::Status Drive(Simulation& sim, const Twist2& twist, bool lift_raised, int ticks) {

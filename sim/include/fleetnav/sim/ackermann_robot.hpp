@@ -61,8 +61,6 @@ class AckermannRobot final : public RobotBody {
   bool physical() const override { return true; }
   std::optional<double> SteeringAngleRad() const override { return steering_rad_; }
   dBodyID chassis_body() const override { return chassis_; }
-  /// The virtual front wheel's steering angle now.
-  double steering_rad() const { return steering_rad_; }
 
  private:
   /// Points each front wheel's grip along its steered plane and sets the rear wheels' rim

@@ -41,7 +41,6 @@ class KinematicRobot final : public RobotBody {
     return steering_rad_;
   }
   dBodyID chassis_body() const override { return body_; }
-  double steering_rad() const { return steering_rad_; }
 
  private:
   void PlaceBody();

@@ -42,7 +42,8 @@ struct RoutePredictionParams {
   /// frame: its standoff plus the robot's front), then under it, at this speed.
   double trolley_approach_m = 1.0;
   double trolley_dock_speed_mps = 0.15;
-  /// Raising or lowering the lift (the robot stands meanwhile).
+  /// Raising the lift at the end of a trolley dock, or lowering it to undock (the robot stands
+  /// meanwhile).
   double lift_s = 1.0;
 };
 

@@ -122,9 +122,9 @@ class Agent {
   bool paused_ = false;
   bool end_reported_ = false;
   double battery_fraction_ = 1.0;  ///< as the robot last reported it
-  /// The lift's setpoint and the trolley on it, kept across routes (a route may end carrying).
+  /// The lift's setpoint, kept across routes (a route may end carrying; the trolley on the lift
+  /// is context_.carried_load_m, which each new route starts from).
   bool lift_raised_ = false;
-  std::optional<Eigen::Vector2d> carried_load_m_;
   std::unique_ptr<localization::Localizer> job_localizer_;
   std::string site_key_;  ///< map id and versions of the site in use ("" : the start's)
   Twist2 last_command_;

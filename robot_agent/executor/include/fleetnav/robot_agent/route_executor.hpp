@@ -55,8 +55,6 @@ class RouteExecutor {
   /// One control tick. `detected_markers` are the calibration markers the localizer associated
   /// with an inductive edge this tick.
   ExecutorOutput Step(const ControlInput& input, const std::vector<int>& detected_markers = {});
-  /// The trolley on the lift now (the context's at the start, then as docks and undocks left it).
-  const std::optional<Eigen::Vector2d>& carried_load_m() const { return context_.carried_load_m; }
   /// Fails the current action with `reason` (prefixed with its index); the robot is told to stop.
   void Abort(const absl::Status& reason);
   /// Actions up to `index` may start (-1: none).
