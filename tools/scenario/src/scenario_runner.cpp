@@ -156,6 +156,7 @@ class Run {
   void Submit(size_t index);
   void Inject(const ScenarioFault& fault);
   void Poll(double sim_s);
+  void PaceWhileDispatching();
   void DrawProgress(double sim_s);
   void Finish(ScenarioReport* report);
   int RobotIndex(const std::string& robot_id) const {
@@ -204,6 +205,10 @@ class Run {
   std::unique_ptr<v1::SimService::Stub> simulator_;
   std::vector<JobOutcome> jobs_;
   std::vector<bool> submitted_;
+  /// When each job last became queued or assigned (the server has yet to start it on a robot).
+  std::vector<std::optional<Clock::time_point>> undispatched_since_;
+  /// The sim's pace the runner last asked for (nullopt: the scenario's own).
+  std::optional<double> paced_rtf_;
   std::vector<double> progress_;
   std::vector<bool> injected_;
   std::map<std::string, RobotFigures> figures_;
@@ -460,10 +465,42 @@ void Run::Poll(double sim_s) {
                                         jobs_[i].robot_id, state,
                                         jobs_[i].reason.empty() ? "" : ": " + jobs_[i].reason);
     }
+    const bool undispatched = state == "queued" || state == "assigned";
+    if (!undispatched) {
+      undispatched_since_[i].reset();
+    } else if (!undispatched_since_[i]) {
+      undispatched_since_[i] = Clock::now();
+    }
     jobs_[i].state = state;
     progress_[i] = response.job().progress_fraction();
     if (IsEnd(state)) jobs_[i].end_sim_s = sim_s;
   }
+}
+
+// Dispatching a job is wall-clock work (fleetnavd's database, the agent's stream). A simulator
+// running free meanwhile would spend sim time on it that a real site never sees, and on a loaded
+// machine enough of it to miss a deadline. So while a job waits to be started, the sim runs at
+// most kDispatchRealTimeFactor; for at most kDispatchPaceWall, since a job may rightly wait for
+// a busy robot.
+void Run::PaceWhileDispatching() {
+  constexpr double kDispatchRealTimeFactor = 4.0;
+  constexpr auto kDispatchPaceWall = std::chrono::seconds(20);
+  const bool dispatching = std::any_of(undispatched_since_.begin(), undispatched_since_.end(),
+                                       [&](const std::optional<Clock::time_point>& since) {
+                                         return since && Clock::now() - *since < kDispatchPaceWall;
+                                       });
+  const bool scenario_faster =
+      s_.real_time_factor == 0.0 || s_.real_time_factor > kDispatchRealTimeFactor;
+  const std::optional<double> wanted = dispatching && scenario_faster
+                                           ? std::optional<double>(kDispatchRealTimeFactor)
+                                           : std::nullopt;
+  if (wanted == paced_rtf_) return;
+  grpc::ClientContext context;
+  WithDeadline(&context);
+  v1::RunRequest request;
+  request.set_real_time_factor(wanted.value_or(s_.real_time_factor));
+  v1::RunResponse response;
+  if (simulator_->Run(&context, request, &response).ok()) paced_rtf_ = wanted;
 }
 
 void Run::DrawProgress(double sim_s) {
@@ -512,6 +549,7 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   }
   jobs_.resize(s_.jobs.size());
   submitted_.assign(s_.jobs.size(), false);
+  undispatched_since_.assign(s_.jobs.size(), std::nullopt);
   progress_.assign(s_.jobs.size(), 0.0);
   injected_.assign(s_.faults.size(), false);
   for (size_t i = 0; i < s_.jobs.size(); ++i) {
@@ -648,6 +686,7 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
         if (!submitted_[i] && sim_s >= s_.jobs[i].at_s) Submit(i);
       }
       Poll(sim_s);
+      PaceWhileDispatching();
     }
     for (auto it = link_restores_.begin(); it != link_restores_.end();) {
       if (sim_s < it->sim_s) {
