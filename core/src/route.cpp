@@ -6,6 +6,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "fleetnav/core/angles.hpp"
+#include "fleetnav/core/stripe_marker.hpp"
 #include "strings_internal.hpp"
 
 namespace fleetnav {
@@ -223,6 +224,17 @@ absl::StatusOr<EndConditionKind> ParseEndConditionKind(std::string_view name) {
   return absl::InvalidArgumentError(absl::StrCat(
       "unknown end condition '", internal::ToAbsl(name),
       "' (expected distance, marker_detected, stripe_end, charger_contact or goal_reached)"));
+}
+
+std::optional<Eigen::Vector2d> CarriedLoadAfter(const RouteAction& action,
+                                                const std::optional<Eigen::Vector2d>& before_m,
+                                                const MarkerSet* markers,
+                                                const Eigen::Vector2d& unknown_trolley_size_m) {
+  if (std::holds_alternative<UndockAction>(action.params)) return std::nullopt;
+  const auto* dock = std::get_if<DockAction>(&action.params);
+  if (dock == nullptr || dock->target != DockTarget::kTrolley) return before_m;
+  const TrolleyPlacement* placed = markers ? markers->FindTrolley(dock->target_id) : nullptr;
+  return placed ? placed->size_m : unknown_trolley_size_m;
 }
 
 }  // namespace fleetnav

@@ -66,6 +66,10 @@ v1::Telemetry ToProto(const Telemetry& telemetry) {
   out.set_action_index(telemetry.action_index);
   out.set_job_progress_fraction(telemetry.job_progress_fraction);
   out.set_action_progress_fraction(telemetry.action_progress_fraction);
+  if (telemetry.carried_load_m) {
+    out.mutable_carried_load_size()->set_x_m(telemetry.carried_load_m->x());
+    out.mutable_carried_load_size()->set_y_m(telemetry.carried_load_m->y());
+  }
   return out;
 }
 
@@ -107,6 +111,16 @@ absl::StatusOr<Telemetry> FromProto(const v1::Telemetry& telemetry) {
     return absl::InvalidArgumentError(
         absl::StrCat("telemetry.action_progress_fraction: must be in [0, 1], got ",
                      out.action_progress_fraction));
+  }
+  if (telemetry.has_carried_load_size()) {
+    const Eigen::Vector2d size_m(telemetry.carried_load_size().x_m(),
+                                 telemetry.carried_load_size().y_m());
+    if (!(size_m.x() > 0.0 && size_m.y() > 0.0 && size_m.allFinite())) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("telemetry.carried_load_size: must be finite and > 0, got ", size_m.x(),
+                       " × ", size_m.y(), " m"));
+    }
+    out.carried_load_m = size_m;
   }
   return out;
 }

@@ -157,6 +157,7 @@ absl::Status Agent::PrepareSite(const JobAssignment& assignment) {
   job_localizer_ = *std::move(made);
   context_.map = site->map;
   context_.markers = site->markers;
+  context_.lifted_from.clear();  // places on the map the agent worked on before
   site_key_ = key;
   return absl::OkStatus();
 }
@@ -191,6 +192,7 @@ Telemetry Agent::MakeTelemetry(int64_t stamp_ns, const ExecutorOutput& output) c
   t.action_index = output.action_index;
   t.job_progress_fraction = output.progress_fraction;
   t.action_progress_fraction = output.action_fraction;
+  t.carried_load_m = context_.carried_load_m;
   return t;
 }
 
@@ -258,6 +260,9 @@ absl::StatusOr<AgentResult> Agent::Run() {
     if (executor_) {
       lift_raised_ = output.lift_raised;
       context_.carried_load_m = output.carried_load_m;
+      if (executor_->lifted_from().size() != context_.lifted_from.size()) {
+        context_.lifted_from = executor_->lifted_from();
+      }
     }
     if (executor_ && executor_->state() != ExecutionState::kRunning && !end_reported_) {
       end_reported_ = true;

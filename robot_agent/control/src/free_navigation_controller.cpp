@@ -112,13 +112,15 @@ absl::Status CheckFreeNavigation(const FreeNavigationAction& action, const Robot
 FreeNavigationController::FreeNavigationController(const FreeNavigationAction& action,
                                                    const RobotModel& model,
                                                    std::shared_ptr<const OccupancyGrid> map,
-                                                   FreeNavigationParams params, bool carrying)
+                                                   FreeNavigationParams params, bool carrying,
+                                                   std::vector<LoadOutline> lifted_from)
     : action_(action),
       model_(model),
       map_(std::move(map)),
       params_(params),
       unmapped_(map_, params.unmapped),
-      carrying_(carrying) {
+      carrying_(carrying),
+      lifted_from_(std::move(lifted_from)) {
   if (model.kinematics == Kinematics::kOmnidirectional) {
     HolonomicTrackerParams p = params.holonomic;
     p.desired_speed_mps = action.speed_mps;
@@ -147,6 +149,11 @@ absl::Status FreeNavigationController::BuildPlanner(const Pose2& from_in_map) {
     load.min().array() -= grid.resolution_m();
     load.max().array() += grid.resolution_m();
     FreeCellsIn(load, *carried_from_in_map_, &grid);
+  }
+  for (const LoadOutline& lifted : lifted_from_) {
+    const Eigen::Vector2d half_m =
+        0.5 * lifted.size_m + Eigen::Vector2d::Constant(grid.resolution_m());
+    FreeCellsIn(Eigen::AlignedBox2d(-half_m, half_m), lifted.pose_in_map, &grid);
   }
   if (AvoidsUnmappedObstacles()) {
     // What the laser has seen and the map does not show, except under the robot and its

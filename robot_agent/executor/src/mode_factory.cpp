@@ -210,16 +210,10 @@ std::vector<std::string> SupportedActionTypes(const RobotModel& model) {
 
 std::optional<Eigen::Vector2d> LoadAfter(const RouteAction& action, const RouteContext& context,
                                          const ModeParams& params) {
-  if (std::holds_alternative<UndockAction>(action.params)) return std::nullopt;
-  const auto* dock = std::get_if<DockAction>(&action.params);
-  if (dock == nullptr || dock->target != DockTarget::kTrolley) return context.carried_load_m;
-  if (const TrolleyPlacement* placed =
-          context.markers ? context.markers->FindTrolley(dock->target_id) : nullptr) {
-    return placed->size_m;
-  }
   const TrolleySpec& spec = params.trolley_docking.spec;
-  return Eigen::Vector2d(spec.leg_spacing_x_m + 2 * spec.leg_radius_m,
-                         spec.leg_spacing_y_m + 2 * spec.leg_radius_m);
+  return CarriedLoadAfter(
+      action, context.carried_load_m, context.markers ? &*context.markers : nullptr,
+      {spec.leg_spacing_x_m + 2 * spec.leg_radius_m, spec.leg_spacing_y_m + 2 * spec.leg_radius_m});
 }
 
 absl::Status CheckRoute(const Route& route, const RouteContext& context, const ModeParams& params) {
@@ -264,9 +258,9 @@ absl::StatusOr<std::unique_ptr<MotionController>> MakeController(const RouteActi
         *fence, *FenceUltrasonic(*fence, context.model), params.profile, params.fence);
   }
   if (const auto* free = std::get_if<FreeNavigationAction>(&action.params)) {
-    return std::make_unique<FreeNavigationController>(*free, context.NavigationModel(), context.map,
-                                                      params.free_navigation,
-                                                      context.carried_load_m.has_value());
+    return std::make_unique<FreeNavigationController>(
+        *free, context.NavigationModel(), context.map, params.free_navigation,
+        context.carried_load_m.has_value(), context.lifted_from);
   }
   if (const auto* stripe = std::get_if<StripeNavigationAction>(&action.params)) {
     return std::make_unique<StripeFollowingController>(

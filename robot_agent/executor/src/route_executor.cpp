@@ -162,7 +162,12 @@ ExecutorOutput RouteExecutor::StepActions(const ControlInput& input,
       out.command = control.command;
       return out;
     }
+    const bool was_carrying = context_.carried_load_m.has_value();
     context_.carried_load_m = LoadAfter(action, context_, params_);
+    if (!was_carrying && context_.carried_load_m) {
+      // The lift latched the trolley centred on the robot.
+      context_.lifted_from.push_back({input.pose_in_map, *context_.carried_load_m});
+    }
     if (index_ + 1 >= static_cast<int>(route_.actions.size())) {
       state_ = ExecutionState::kSucceeded;
       controller_.reset();

@@ -134,7 +134,8 @@ planner::SingleRobotPlanner* TrafficCoordinator::PlannerFor(const Tracked& track
   return it->second.planner.get();
 }
 
-void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose) {
+void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
+                                 const std::optional<Eigen::Vector2d>& carried_load_m) {
   std::shared_ptr<const storage::StoredMarkerSet> markers;
   if (tracked.assignment.marker_set_version > 0) {
     absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> stored =
@@ -164,11 +165,15 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose) {
   planner::ScheduledRoute schedule;
   schedule.robot_id = tracked.robot_id;
   schedule.job_id = tracked.assignment.job.job_id;
-  const auto sweep = [&](const std::vector<Pose2>& poses) {
-    return planner::CellSet::Sweep(poses, tracked.model.footprint_m, params_.margin_m,
-                                   params_.cell_m);
+  // A robot carrying a trolley sweeps the trolley's outline too (RobotModel::CarryingLoad); the
+  // load changes where a trolley dock or an undock ends.
+  const auto sweep = [&](const std::vector<Pose2>& poses,
+                         const std::optional<Eigen::Vector2d>& load_m) {
+    const RobotModel& model = load_m ? tracked.model.CarryingLoad(*load_m) : tracked.model;
+    return planner::CellSet::Sweep(poses, model.footprint_m, params_.margin_m, params_.cell_m);
   };
-  schedule.start_cells = sweep({pose});
+  std::optional<Eigen::Vector2d> load_m = carried_load_m;
+  schedule.start_cells = sweep({pose}, load_m);
   schedule.cells_id = next_cells_id_++;
   schedule.action_cells.resize(skipped);
   schedule.action_end_cells.assign(skipped, schedule.start_cells);
@@ -177,8 +182,11 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose) {
   for (size_t i = 0; i < remaining.actions.size(); ++i) {
     if (predicted.ok()) {
       const planner::PredictedAction& action = predicted->at(i);
-      schedule.action_cells.push_back(sweep(action.poses));
-      schedule.action_end_cells.push_back(sweep({action.poses.back()}));
+      const std::optional<Eigen::Vector2d> load_after_m =
+          CarriedLoadAfter(remaining.actions[i], load_m, marker_set, Eigen::Vector2d::Zero());
+      schedule.action_cells.push_back(sweep(action.poses, load_m));
+      schedule.action_end_cells.push_back(sweep({action.poses.back()}, load_after_m));
+      load_m = load_after_m;
       schedule.action_start_s.push_back(t_s);
       t_s += action.duration_s;
     } else {
@@ -252,7 +260,7 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
         if (telemetry.job_id != job_id) continue;
         tracked.start_action = std::max(tracked.start_action, telemetry.action_index);
       }
-      Predict(tracked, telemetry.pose_in_map);
+      Predict(tracked, telemetry.pose_in_map, telemetry.carried_load_m);
     }
     for (const auto& [job_id, tracked] : jobs_) {
       // A job still waiting for its robot's pose is looked at again on the next update.
@@ -278,14 +286,19 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
           r.connection == ConnectionState::kOffline) {
         continue;
       }
-      // Swept again only when the robot has moved.
+      // Swept again only when the robot has moved or its load changed.
       const Pose2& pose = r.last_telemetry->pose_in_map;
+      const std::optional<Eigen::Vector2d>& load_m = r.last_telemetry->carried_load_m;
       auto [cached, inserted] = parked_cells_.try_emplace(r.identity.robot_id);
-      if (inserted || !cached->second.first.IsNear(pose, 0.0, 0.0)) {
-        cached->second = {pose, planner::CellSet::Sweep({pose}, r.identity.model.footprint_m,
-                                                        params_.margin_m, params_.cell_m)};
+      if (inserted || !cached->second.pose.IsNear(pose, 0.0, 0.0) ||
+          cached->second.carried_load_m != load_m) {
+        const RobotModel& model =
+            load_m ? r.identity.model.CarryingLoad(*load_m) : r.identity.model;
+        cached->second = {
+            pose, load_m,
+            planner::CellSet::Sweep({pose}, model.footprint_m, params_.margin_m, params_.cell_m)};
       }
-      parked.push_back({r.identity.robot_id, cached->second.second});
+      parked.push_back({r.identity.robot_id, cached->second.cells});
     }
     if (parked_cells_.size() > 2 * robots.size()) parked_cells_.clear();  // robots forgotten
     std::erase_if(deciders_, [&](const auto& entry) { return !by_map.contains(entry.first); });

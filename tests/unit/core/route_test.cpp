@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "fleetnav/core/angles.hpp"
+#include "fleetnav/core/stripe_marker.hpp"
 
 namespace fleetnav {
 namespace {
@@ -123,6 +124,35 @@ TEST(RouteValidateTest, DockEndConditions) {
   route.actions[6] =
       Act(DockAction{DockTarget::kTrolley, "t1"}, {EndConditionKind::kGoalReached, 0});
   EXPECT_TRUE(route.Validate().ok());
+}
+
+TEST(CarriedLoadTest, ATrolleyDockLoadsTheLiftAndAnUndockEmptiesIt) {
+  MarkerSet markers;
+  TrolleyPlacement trolley;
+  trolley.id = "t1";
+  trolley.size_m = Eigen::Vector2d(1.2, 0.8);
+  markers.trolleys.push_back(trolley);
+  const Eigen::Vector2d unknown_m(0.9, 0.6);
+  const std::optional<Eigen::Vector2d> none;
+
+  const auto docked =
+      CarriedLoadAfter(Act(DockAction{DockTarget::kTrolley, "t1"}), none, &markers, unknown_m);
+  ASSERT_TRUE(docked.has_value());
+  EXPECT_EQ(*docked, trolley.size_m);
+  // A trolley the marker set does not hold, or no marker set: the caller's size.
+  EXPECT_EQ(
+      *CarriedLoadAfter(Act(DockAction{DockTarget::kTrolley, "t9"}), none, &markers, unknown_m),
+      unknown_m);
+  EXPECT_EQ(
+      *CarriedLoadAfter(Act(DockAction{DockTarget::kTrolley, "t1"}), none, nullptr, unknown_m),
+      unknown_m);
+  // Driving keeps the load; a charger dock does not load; an undock sets it down.
+  EXPECT_EQ(*CarriedLoadAfter(Act(StraightAction{1.0, 0.3}), docked, &markers, unknown_m),
+            trolley.size_m);
+  EXPECT_FALSE(
+      CarriedLoadAfter(Act(DockAction{DockTarget::kCharger, ""}), none, &markers, unknown_m)
+          .has_value());
+  EXPECT_FALSE(CarriedLoadAfter(Act(UndockAction{}), docked, &markers, unknown_m).has_value());
 }
 
 TEST(RouteNamesTest, ActionAndEndConditionNames) {

@@ -35,6 +35,7 @@ Telemetry SampleTelemetry() {
   t.job_id = "job-17";
   t.action_index = 3;
   t.job_progress_fraction = 0.25;
+  t.carried_load_m = Eigen::Vector2d(1.04, 0.74);
   return t;
 }
 
@@ -60,6 +61,24 @@ TEST(TelemetryConvertTest, RoundTripsEveryField) {
   EXPECT_EQ(back->job_id, t.job_id);
   EXPECT_EQ(back->action_index, t.action_index);
   EXPECT_EQ(back->job_progress_fraction, t.job_progress_fraction);
+  ASSERT_TRUE(back->carried_load_m.has_value());
+  EXPECT_EQ(*back->carried_load_m, *t.carried_load_m);
+}
+
+TEST(TelemetryConvertTest, AnEmptyLiftStaysEmptyAndANonsenseLoadIsRefused) {
+  Telemetry t = SampleTelemetry();
+  t.carried_load_m.reset();
+  const v1::Telemetry wire = ToProto(t);
+  EXPECT_FALSE(wire.has_carried_load_size());
+  const absl::StatusOr<Telemetry> back = FromProto(wire);
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_FALSE(back->carried_load_m.has_value());
+
+  v1::Telemetry bad = ToProto(SampleTelemetry());
+  bad.mutable_carried_load_size()->set_y_m(0.0);
+  ExpectInvalid(FromProto(bad), "telemetry.carried_load_size");
+  bad.mutable_carried_load_size()->set_y_m(kNan);
+  ExpectInvalid(FromProto(bad), "telemetry.carried_load_size");
 }
 
 TEST(TelemetryConvertTest, EveryNavigationModeRoundTrips) {

@@ -182,6 +182,46 @@ TEST(FreeNavigationControllerTest, AnOmniPlatformReachesTheGoalPoseWithoutTouchi
   }
 }
 
+// A trolley lifted off in a 1 m door of a closed wall: the map still shows it there, blocking
+// the only way. Told where it was lifted from, the platform plans through the door and drives
+// to the goal; not told, the goal is unreachable.
+TEST(FreeNavigationControllerTest, AMapsCopyOfALiftedTrolleyIsLeftOffThePlan) {
+  OccupancyGrid grid = *DoorMap();
+  for (int y = 60; y < 100; ++y) {
+    const bool door = y >= 75 && y < 85;
+    const bool trolley_block = y >= 77 && y < 83;
+    for (int x = 112; x < 128; ++x) {
+      const bool wall = x >= 118 && x < 122;
+      if ((wall && !door) || (trolley_block && x >= 116 && x < 124)) {
+        grid.SetValue({x, y}, OccupancyGrid::kOccupiedValue);
+      }
+    }
+  }
+  const auto map = std::make_shared<const OccupancyGrid>(std::move(grid));
+  FreeNavigationAction action;
+  action.goal = Pose2(19.0, 8.0, 0.0);
+  action.speed_mps = 0.4;
+  const Pose2 start(4.0, 8.0, 0.0);
+  {
+    FreeNavigationController blocked(action, MecanumPlatformModel(), map, FreeNavigationParams{});
+    const ControlOutput out = blocked.Step(OdometryInput(start, kDt));
+    EXPECT_THAT(std::string(out.failure.message()), HasSubstr("cannot be reached"));
+  }
+  const LoadOutline lifted{Pose2(12.0, 8.0, 0.0), Eigen::Vector2d(1.0, 0.7)};
+  FreeNavigationController controller(action, MecanumPlatformModel(), map, FreeNavigationParams{},
+                                      false, {lifted});
+  KinematicOmni robot(start);
+  bool done = false;
+  for (int step = 0; step < 30000 && !done; ++step) {
+    const ControlOutput out = controller.Step(OdometryInput(robot.pose(), kDt));
+    ASSERT_TRUE(out.failure.ok()) << out.failure;
+    done = out.done;
+    robot.Step(out.command, kDt);
+  }
+  EXPECT_TRUE(done);
+  EXPECT_TRUE(robot.pose().IsNear(action.goal, 0.05, 0.05)) << robot.pose().DebugString();
+}
+
 /// A perfect car: the bicycle model about the rear axle, steering = atan(ω L / v) within the
 /// lock, as the simulator turns a twist into a steering angle.
 class KinematicCar {

@@ -42,18 +42,21 @@ class TrafficCoordinatorTest : public ::testing::Test {
   }
 
   /// Connects a robot standing at `pose` (telemetry in map).
-  void Connect(const std::string& robot_id, const Pose2& pose) {
+  void Connect(const std::string& robot_id, const Pose2& pose,
+               const RobotModel& model = LelyVectorModel()) {
     RobotIdentity identity;
     identity.robot_id = robot_id;
-    identity.model = LelyVectorModel();
+    identity.model = model;
     sessions_[robot_id] = registry_.Connect(identity);
     Move(robot_id, pose);
   }
 
-  /// The robot reports a new pose (telemetry in map).
-  void Move(const std::string& robot_id, const Pose2& pose) {
+  /// The robot reports a new pose (telemetry in map), carrying `carried_load_m` on its lift.
+  void Move(const std::string& robot_id, const Pose2& pose,
+            const std::optional<Eigen::Vector2d>& carried_load_m = std::nullopt) {
     Telemetry telemetry;
     telemetry.pose_in_map = pose;
+    telemetry.carried_load_m = carried_load_m;
     ASSERT_TRUE(registry_.RecordTelemetry(robot_id, sessions_[robot_id], telemetry).ok());
   }
 
@@ -171,6 +174,46 @@ TEST_F(TrafficCoordinatorTest, AReconnectedRobotIsSentItsClearanceAgain) {
   ASSERT_EQ(mailbox_.sent["a"].size(), 2u);
   EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
   EXPECT_EQ(mailbox_.sent["a"].back().job_id, "job-a");
+}
+
+// A wide trolley (2.8 m across) on a platform's lift: the platform's own footprint passes 2.6 m
+// from the other robot's way, the trolley it carries does not.
+const Eigen::Vector2d kWideTrolleyM(1.0, 2.8);
+
+TEST_F(TrafficCoordinatorTest, AParkedRobotCarryingATrolleyBlocksWithTheTrolleysOutline) {
+  Connect("a", Pose2(-8, 0, 0));
+  Connect("carrier", Pose2(0, 2.6, 0), MecanumPlatformModel());
+  coordinator_.Begin("a", Job("job-a1", {{StraightAction{12.0, 0.5}, {}}}));
+  coordinator_.Update();
+  ASSERT_FALSE(mailbox_.sent["a"].empty());
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+  coordinator_.End("job-a1");
+
+  // The carrier has picked the trolley up where it stands: the same drive waits for it now.
+  Move("carrier", Pose2(0, 2.6, 0), kWideTrolleyM);
+  coordinator_.Begin("a", Job("job-a2", {{StraightAction{12.0, 0.5}, {}}}));
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, -1);
+  EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("carrier, which stands in its way"));
+}
+
+TEST_F(TrafficCoordinatorTest, AJobCarryingATrolleySweepsItsOutlineUntilTheUndock) {
+  Connect("idle", Pose2(2, 2.6, 0), MecanumPlatformModel());
+  Connect("carrier", Pose2(-8, 0, 0), MecanumPlatformModel());
+  Move("carrier", Pose2(-8, 0, 0), kWideTrolleyM);
+  coordinator_.Begin("carrier", Job("job-carry", {{StraightAction{12.0, 0.3}, {}}}));
+  coordinator_.Update();
+  ASSERT_FALSE(mailbox_.sent["carrier"].empty());
+  EXPECT_EQ(mailbox_.sent["carrier"].back().cleared_up_to_action, -1);
+  EXPECT_THAT(mailbox_.sent["carrier"].back().wait_reason,
+              HasSubstr("idle, which stands in its way"));
+  coordinator_.End("job-carry");
+
+  // Set down first, the same drive passes.
+  coordinator_.Begin("carrier",
+                     Job("job-set-down", {{UndockAction{}, {}}, {StraightAction{12.0, 0.3}, {}}}));
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["carrier"].back().cleared_up_to_action, 1);
 }
 
 }  // namespace

@@ -48,7 +48,11 @@ nlohmann::json RobotJson(const v1::RobotState& robot) {
           {"stamp_ns", t.stamp_ns()},
           {"progress", t.job_progress_fraction()},
           {"job_id", robot.current_job_id()},
-          {"traffic_wait", robot.traffic_wait()}};
+          {"traffic_wait", robot.traffic_wait()},
+          {"carried_load_m",
+           t.has_carried_load_size()
+               ? nlohmann::json::array({t.carried_load_size().x_m(), t.carried_load_size().y_m()})
+               : nlohmann::json(nullptr)}};
 }
 
 std::string PoseCell(const v1::RobotState& robot) {

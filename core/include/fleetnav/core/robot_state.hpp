@@ -59,6 +59,8 @@ struct Telemetry {
   int action_index = -1;
   double job_progress_fraction = 0.0;
   double action_progress_fraction = 0.0;  ///< of action action_index
+  /// The outline (length × width) of the trolley on the robot's lift; nullopt: it carries none.
+  std::optional<Eigen::Vector2d> carried_load_m;
 };
 
 /// Who a robot says it is when it connects.

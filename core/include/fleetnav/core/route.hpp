@@ -115,6 +115,17 @@ struct Route {
 /// route) and a fraction in [0, 1].
 absl::Status CheckRoutePosition(const Route& route, const RoutePosition& position);
 
+struct MarkerSet;
+
+/// The outline (length × width, metres) of what a robot carries on its lift once `action` is
+/// done, given what it carried before (nullopt: nothing): a trolley dock latches the trolley,
+/// its size from `markers` (or `unknown_trolley_size_m` when the marker set is absent or does
+/// not hold it); an undock sets the load down; every other action keeps it.
+std::optional<Eigen::Vector2d> CarriedLoadAfter(const RouteAction& action,
+                                                const std::optional<Eigen::Vector2d>& before_m,
+                                                const MarkerSet* markers,
+                                                const Eigen::Vector2d& unknown_trolley_size_m);
+
 std::string_view ActionTypeName(const ActionParams& params);
 std::string_view EndConditionKindName(EndConditionKind kind);
 absl::StatusOr<EndConditionKind> ParseEndConditionKind(std::string_view name);

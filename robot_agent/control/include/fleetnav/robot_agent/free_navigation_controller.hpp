@@ -62,6 +62,13 @@ struct FreeNavigationParams {
 absl::Status CheckFreeNavigation(const FreeNavigationAction& action, const RobotModel& model,
                                  const OccupancyGrid& map, double padding_m);
 
+/// A trolley's outline on the map where a robot lifted it off: its centre and heading (the
+/// robot's pose when the lift latched it) and its size (length, width).
+struct LoadOutline {
+  Pose2 pose_in_map;
+  Eigen::Vector2d size_m;
+};
+
 /// Free navigation (Lely thesis §6.6.5): plan on the map from the estimated pose through the
 /// route's waypoints to the goal — the lattice planner for differential drive (no reversing
 /// for the Lely) and omni platforms, Reeds-Shepp curves for Ackermann robots — and track the
@@ -77,12 +84,14 @@ absl::Status CheckFreeNavigation(const FreeNavigationAction& action, const Robot
 /// reach exactly fails the action with the reason. A robot that carries a trolley is given as
 /// `model` grown to it (RouteContext::NavigationModel) with `carrying`: the map's obstacles
 /// under that footprint where the action starts are the carried trolley's own legs as the map
-/// remembers them, and are left off the plan. Not thread-safe.
+/// remembers them, and are left off the plan; so are the map's obstacles within each of
+/// `lifted_from`, the places trolleys were lifted off (the map still shows them there). Not
+/// thread-safe.
 class FreeNavigationController : public MotionController {
  public:
   FreeNavigationController(const FreeNavigationAction& action, const RobotModel& model,
                            std::shared_ptr<const OccupancyGrid> map, FreeNavigationParams params,
-                           bool carrying = false);
+                           bool carrying = false, std::vector<LoadOutline> lifted_from = {});
   ControlOutput Step(const ControlInput& input) override;
 
  private:
@@ -124,6 +133,7 @@ class FreeNavigationController : public MotionController {
   bool carrying_ = false;
   /// Where the action started, carrying: the map is cleared under the footprint there.
   std::optional<Pose2> carried_from_in_map_;
+  std::vector<LoadOutline> lifted_from_;
 };
 
 }  // namespace fleetnav::agent

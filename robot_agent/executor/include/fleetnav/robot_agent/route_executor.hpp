@@ -64,6 +64,8 @@ class RouteExecutor {
   const absl::Status& failure() const { return failure_; }
   const Route& route() const { return route_; }
   int action_index() const { return index_; }
+  /// Where trolleys were lifted off, those the route started with and those it lifted since.
+  const std::vector<LoadOutline>& lifted_from() const { return context_.lifted_from; }
 
  private:
   /// Moves the start to `position` (see the constructor).

@@ -96,7 +96,11 @@ class TrafficCoordinator {
     Pose2 map_origin;
   };
 
-  void Predict(Tracked& tracked, const Pose2& pose) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Schedules the window of `tracked`'s actions ahead from `pose`, the robot carrying
+  /// `carried_load_m` (nullopt: nothing) as it starts.
+  void Predict(Tracked& tracked, const Pose2& pose,
+               const std::optional<Eigen::Vector2d>& carried_load_m)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   planner::SingleRobotPlanner* PlannerFor(const Tracked& tracked, Pose2* map_origin)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Why the decision holds the robot, for people ("" when it does not).
@@ -110,9 +114,14 @@ class TrafficCoordinator {
   TrafficCoordinatorParams params_;
   absl::Mutex mutex_;
   std::map<std::string, Tracked> jobs_ ABSL_GUARDED_BY(mutex_);
-  /// Where each robot without a coordinated job stood when last swept, and the cells.
-  std::map<std::string, std::pair<Pose2, planner::CellSet>> parked_cells_
-      ABSL_GUARDED_BY(mutex_);  ///< by job id
+  /// Where each robot without a coordinated job stood when last swept, what it carried, and
+  /// the cells.
+  struct ParkedSweep {
+    Pose2 pose;
+    std::optional<Eigen::Vector2d> carried_load_m;
+    planner::CellSet cells;
+  };
+  std::map<std::string, ParkedSweep> parked_cells_ ABSL_GUARDED_BY(mutex_);  ///< by job id
   /// Costmap and planner per (map id, map version, robot kind).
   std::map<std::tuple<std::string, uint32_t, std::string>, PlannerCache> planners_
       ABSL_GUARDED_BY(mutex_);
