@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -454,6 +455,35 @@ TEST_F(ClosedLoop, ShippedStoreRoundEndsAtHomeWithoutContact) {
     EXPECT_EQ(trolley.carrier_robot_id(), "");
   }
   EXPECT_TRUE(found);
+}
+
+// Another store (tests/scenarios/store_aisles): north-south aisles, one trolley along an aisle
+// between shelf faces (whose corners make three-leg look-alikes), one at -30° in the open. The
+// platform moves both, passing the first where it set it down (the map does not show it there),
+// and goes home; judged by the truth: no contact, both trolleys standing where the route set
+// them down, carried by nobody.
+TEST_F(ClosedLoop, ATrolleyRoundInAStoreWithNorthSouthAisles) {
+  const std::string dir = std::string(FLEETNAV_SCENARIOS_DIR) + "/store_aisles";
+  StartSim(false, 13, dir + "/world.yaml");
+  ASSERT_EQ(RunAgent(dir + "/round.yaml", {}, "mecanum-platform", {-6.5, -3.6, 0.0}, "omni1"), 0)
+      << AgentLog();
+  const v1::GroundTruth truth = Truth();
+  const v1::RobotGroundTruth& omni = Robot(truth, "omni1");
+  EXPECT_EQ(omni.collisions(), 0);
+  EXPECT_NEAR(omni.pose().x_m(), -6.5, 0.1);
+  EXPECT_NEAR(omni.pose().y_m(), 0.0, 0.1);
+  const std::map<std::string, Eigen::Vector2d> set_down = {{"cart-a", {2.25, -3.3}},
+                                                           {"cart-b", {-5.0, -3.5}}};
+  int found = 0;
+  for (const v1::TrolleyGroundTruth& trolley : truth.trolleys()) {
+    const auto it = set_down.find(trolley.trolley_id());
+    if (it == set_down.end()) continue;
+    ++found;
+    EXPECT_NEAR(trolley.pose().x_m(), it->second.x(), 0.1) << trolley.trolley_id();
+    EXPECT_NEAR(trolley.pose().y_m(), it->second.y(), 0.1) << trolley.trolley_id();
+    EXPECT_EQ(trolley.carrier_robot_id(), "");
+  }
+  EXPECT_EQ(found, 2);
 }
 
 // The shipped yard delivery (deploy/routes/yard_delivery.yaml): through the row of parcels with

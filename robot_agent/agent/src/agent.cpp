@@ -157,7 +157,7 @@ absl::Status Agent::PrepareSite(const JobAssignment& assignment) {
   job_localizer_ = *std::move(made);
   context_.map = site->map;
   context_.markers = site->markers;
-  context_.lifted_from.clear();  // places on the map the agent worked on before
+  context_.moved_loads = {};  // places on the map the agent worked on before
   site_key_ = key;
   return absl::OkStatus();
 }
@@ -260,8 +260,8 @@ absl::StatusOr<AgentResult> Agent::Run() {
     if (executor_) {
       lift_raised_ = output.lift_raised;
       context_.carried_load_m = output.carried_load_m;
-      if (executor_->lifted_from().size() != context_.lifted_from.size()) {
-        context_.lifted_from = executor_->lifted_from();
+      if (executor_->moved_loads().count() != context_.moved_loads.count()) {
+        context_.moved_loads = executor_->moved_loads();
       }
     }
     if (executor_ && executor_->state() != ExecutionState::kRunning && !end_reported_) {

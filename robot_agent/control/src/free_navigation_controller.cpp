@@ -55,9 +55,10 @@ absl::Status FreeNavigationParams::Validate() const {
 
 namespace {
 
-/// Frees the cells of `grid` whose centres lie in `box_in_base` placed at `base_in_map`.
-void FreeCellsIn(const Eigen::AlignedBox2d& box_in_base, const Pose2& base_in_map,
-                 OccupancyGrid* grid) {
+/// Sets the cells of `grid` whose centres lie in `box_in_base` placed at `base_in_map` to
+/// `value`.
+void SetCellsIn(const Eigen::AlignedBox2d& box_in_base, const Pose2& base_in_map, int8_t value,
+                OccupancyGrid* grid) {
   const Pose2 base_from_map = base_in_map.Inverse();
   const double r = box_in_base.diagonal().norm() * 0.5 + grid->resolution_m();
   const Eigen::Vector2d c = base_in_map.TransformPoint(box_in_base.center());
@@ -71,13 +72,35 @@ void FreeCellsIn(const Eigen::AlignedBox2d& box_in_base, const Pose2& base_in_ma
       const CellIndex cell{x, y};
       if (!grid->InBounds(cell)) continue;
       if (box_in_base.contains(base_from_map.TransformPoint(grid->CellToWorld(cell)))) {
-        grid->SetValue(cell, OccupancyGrid::kFreeValue);
+        grid->SetValue(cell, value);
       }
     }
   }
 }
 
+void FreeCellsIn(const Eigen::AlignedBox2d& box_in_base, const Pose2& base_in_map,
+                 OccupancyGrid* grid) {
+  SetCellsIn(box_in_base, base_in_map, OccupancyGrid::kFreeValue, grid);
+}
+
+void FillCellsIn(const Eigen::AlignedBox2d& box_in_base, const Pose2& base_in_map,
+                 OccupancyGrid* grid) {
+  SetCellsIn(box_in_base, base_in_map, OccupancyGrid::kOccupiedValue, grid);
+}
+
 }  // namespace
+
+void MovedLoads::Lifted(const Pose2& pose_in_map, const Eigen::Vector2d& size_m) {
+  std::erase_if(set_down_at, [&](const LoadOutline& placed) {
+    return (placed.pose_in_map.translation() - pose_in_map.translation()).norm() <
+           0.5 * placed.size_m.minCoeff();
+  });
+  lifted_from.push_back({pose_in_map, size_m});
+}
+
+void MovedLoads::SetDown(const Pose2& pose_in_map, const Eigen::Vector2d& size_m) {
+  set_down_at.push_back({pose_in_map, size_m});
+}
 
 absl::Status CheckFreeNavigation(const FreeNavigationAction& action, const RobotModel& model,
                                  const OccupancyGrid& map, double padding_m) {
@@ -113,14 +136,14 @@ FreeNavigationController::FreeNavigationController(const FreeNavigationAction& a
                                                    const RobotModel& model,
                                                    std::shared_ptr<const OccupancyGrid> map,
                                                    FreeNavigationParams params, bool carrying,
-                                                   std::vector<LoadOutline> lifted_from)
+                                                   MovedLoads moved)
     : action_(action),
       model_(model),
       map_(std::move(map)),
       params_(params),
       unmapped_(map_, params.unmapped),
       carrying_(carrying),
-      lifted_from_(std::move(lifted_from)) {
+      moved_(std::move(moved)) {
   if (model.kinematics == Kinematics::kOmnidirectional) {
     HolonomicTrackerParams p = params.holonomic;
     p.desired_speed_mps = action.speed_mps;
@@ -150,10 +173,19 @@ absl::Status FreeNavigationController::BuildPlanner(const Pose2& from_in_map) {
     load.max().array() += grid.resolution_m();
     FreeCellsIn(load, *carried_from_in_map_, &grid);
   }
-  for (const LoadOutline& lifted : lifted_from_) {
+  for (const LoadOutline& lifted : moved_.lifted_from) {
     const Eigen::Vector2d half_m =
         0.5 * lifted.size_m + Eigen::Vector2d::Constant(grid.resolution_m());
     FreeCellsIn(Eigen::AlignedBox2d(-half_m, half_m), lifted.pose_in_map, &grid);
+  }
+  for (const LoadOutline& set_down : moved_.set_down_at) {
+    const Eigen::Vector2d half_m = 0.5 * set_down.size_m;
+    const Eigen::AlignedBox2d outline(-half_m, half_m);
+    if (outline.contains(
+            set_down.pose_in_map.Inverse().TransformPoint(from_in_map.translation()))) {
+      continue;  // the robot is still under it
+    }
+    FillCellsIn(outline, set_down.pose_in_map, &grid);
   }
   if (AvoidsUnmappedObstacles()) {
     // What the laser has seen and the map does not show, except under the robot and its

@@ -11,9 +11,9 @@ namespace fleetnav::agent {
 
 absl::Status TrolleyDockingParams::Validate() const {
   if (absl::Status s = spec.Validate(); !s.ok()) return s;
-  for (double v : {max_range_m, search_timeout_s, expected_within_m, standoff_m, approach_speed_mps,
-                   final_speed_mps, position_gain_per_s, yaw_gain_per_s, approach_tolerance_m,
-                   final_tolerance_m, tolerance_rad, lift_timeout_s}) {
+  for (double v : {max_range_m, search_timeout_s, expected_within_m, axis_within_rad, standoff_m,
+                   approach_speed_mps, final_speed_mps, position_gain_per_s, yaw_gain_per_s,
+                   approach_tolerance_m, final_tolerance_m, tolerance_rad, lift_timeout_s}) {
     if (!(v > 0.0) || !std::isfinite(v)) {
       return absl::InvalidArgumentError("trolley docking: parameters must be finite and > 0");
     }
@@ -32,6 +32,16 @@ TrolleyDockingController::TrolleyDockingController(const RobotModel& model,
       expected_in_map_(expected_in_map),
       median_(params.median_window) {}
 
+namespace {
+
+/// How far apart two trolley axes are, either way round (a trolley is symmetric): [0, π/2].
+double AxisDifference(double a_rad, double b_rad) {
+  const double d = std::abs(AngleDifference(a_rad, b_rad));
+  return std::min(d, M_PI - d);
+}
+
+}  // namespace
+
 std::optional<Pose2> TrolleyDockingController::Measure(const ControlInput& input) {
   if (!input.perception.laser) return std::nullopt;
   const LaserScanSample scan = median_.Apply(*input.perception.laser);
@@ -42,23 +52,40 @@ std::optional<Pose2> TrolleyDockingController::Measure(const ControlInput& input
   if (expected_in_map_) {
     expected = input.pose_in_odom * input.pose_in_map.Inverse() * *expected_in_map_;
   }
+  // Three legs and something else (a shelf's corner, another trolley's leg) can also make a
+  // trolley's shape: the trolley being docked at, else the one the site expects, gates the
+  // candidates by place and axis; four legs seen beat three; then the nearest to that reference
+  // (or to the robot) wins.
+  const std::optional<Pose2>& reference = trolley_in_odom_ ? trolley_in_odom_ : expected;
+  const double within_m = trolley_in_odom_ ? 0.2 : params_.expected_within_m;
+  std::optional<Pose2> best;
+  int best_legs = 0;
+  double best_distance_m = 0.0;
   for (const TrolleyDetection& t : trolleys) {
-    if (t.pose_in_base.translation().norm() > params_.max_range_m) break;
+    if (t.pose_in_base.translation().norm() > params_.max_range_m) continue;
     const Pose2 seen = input.pose_in_odom * t.pose_in_base;
-    if (trolley_in_odom_) {
-      // Keep to the trolley being docked at; its x axis may be found either way round.
-      if ((seen.translation() - trolley_in_odom_->translation()).norm() > 0.2) continue;
-      double yaw = seen.yaw_rad();
-      if (std::abs(AngleDifference(yaw, trolley_in_odom_->yaw_rad())) > M_PI_2) yaw += M_PI;
-      return Pose2(seen.x_m(), seen.y_m(), yaw);
+    double distance_m = t.pose_in_base.translation().norm();
+    if (reference) {
+      distance_m = (seen.translation() - reference->translation()).norm();
+      if (distance_m > within_m ||
+          AxisDifference(seen.yaw_rad(), reference->yaw_rad()) > params_.axis_within_rad) {
+        continue;
+      }
     }
-    if (expected &&
-        (seen.translation() - expected->translation()).norm() > params_.expected_within_m) {
+    if (best &&
+        (t.legs_seen < best_legs || (t.legs_seen == best_legs && distance_m >= best_distance_m))) {
       continue;
     }
-    return seen;
+    best = seen;
+    best_legs = t.legs_seen;
+    best_distance_m = distance_m;
   }
-  return std::nullopt;
+  if (best && trolley_in_odom_ &&
+      std::abs(AngleDifference(best->yaw_rad(), trolley_in_odom_->yaw_rad())) > M_PI_2) {
+    // Keep to the trolley's x axis as first found; it may be measured either way round.
+    best = Pose2(best->x_m(), best->y_m(), best->yaw_rad() + M_PI);
+  }
+  return best;
 }
 
 Twist2 TrolleyDockingController::DriveTo(const Pose2& target, const Pose2& pose, double speed_mps,

@@ -260,7 +260,7 @@ absl::StatusOr<std::unique_ptr<MotionController>> MakeController(const RouteActi
   if (const auto* free = std::get_if<FreeNavigationAction>(&action.params)) {
     return std::make_unique<FreeNavigationController>(
         *free, context.NavigationModel(), context.map, params.free_navigation,
-        context.carried_load_m.has_value(), context.lifted_from);
+        context.carried_load_m.has_value(), context.moved_loads);
   }
   if (const auto* stripe = std::get_if<StripeNavigationAction>(&action.params)) {
     return std::make_unique<StripeFollowingController>(

@@ -162,11 +162,13 @@ ExecutorOutput RouteExecutor::StepActions(const ControlInput& input,
       out.command = control.command;
       return out;
     }
-    const bool was_carrying = context_.carried_load_m.has_value();
+    const std::optional<Eigen::Vector2d> carried_before_m = context_.carried_load_m;
     context_.carried_load_m = LoadAfter(action, context_, params_);
-    if (!was_carrying && context_.carried_load_m) {
-      // The lift latched the trolley centred on the robot.
-      context_.lifted_from.push_back({input.pose_in_map, *context_.carried_load_m});
+    // The lift latches and sets down a trolley centred on the robot.
+    if (!carried_before_m && context_.carried_load_m) {
+      context_.moved_loads.Lifted(input.pose_in_map, *context_.carried_load_m);
+    } else if (carried_before_m && !context_.carried_load_m) {
+      context_.moved_loads.SetDown(input.pose_in_map, *carried_before_m);
     }
     if (index_ + 1 >= static_cast<int>(route_.actions.size())) {
       state_ = ExecutionState::kSucceeded;

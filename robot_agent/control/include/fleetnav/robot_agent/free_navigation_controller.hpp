@@ -62,11 +62,25 @@ struct FreeNavigationParams {
 absl::Status CheckFreeNavigation(const FreeNavigationAction& action, const RobotModel& model,
                                  const OccupancyGrid& map, double padding_m);
 
-/// A trolley's outline on the map where a robot lifted it off: its centre and heading (the
-/// robot's pose when the lift latched it) and its size (length, width).
+/// A trolley's outline on the map: its centre and heading (the robot's pose when its lift
+/// latched or set down the trolley) and its size (length, width).
 struct LoadOutline {
   Pose2 pose_in_map;
   Eigen::Vector2d size_m;
+};
+
+/// The trolleys a robot has moved on the map it navigates: where it lifted them off (the map
+/// still shows them there) and where it set them down (the map does not show them there).
+struct MovedLoads {
+  std::vector<LoadOutline> lifted_from;
+  std::vector<LoadOutline> set_down_at;
+
+  /// Records a trolley of `size_m` latched at `pose_in_map` (a set-down place there is
+  /// forgotten: the trolley has left it again).
+  void Lifted(const Pose2& pose_in_map, const Eigen::Vector2d& size_m);
+  /// Records a trolley of `size_m` set down at `pose_in_map`.
+  void SetDown(const Pose2& pose_in_map, const Eigen::Vector2d& size_m);
+  size_t count() const { return lifted_from.size() + set_down_at.size(); }
 };
 
 /// Free navigation (Lely thesis §6.6.5): plan on the map from the estimated pose through the
@@ -84,14 +98,15 @@ struct LoadOutline {
 /// reach exactly fails the action with the reason. A robot that carries a trolley is given as
 /// `model` grown to it (RouteContext::NavigationModel) with `carrying`: the map's obstacles
 /// under that footprint where the action starts are the carried trolley's own legs as the map
-/// remembers them, and are left off the plan; so are the map's obstacles within each of
-/// `lifted_from`, the places trolleys were lifted off (the map still shows them there). Not
-/// thread-safe.
+/// remembers them, and are left off the plan. The trolleys the robot moved (`moved`) are where
+/// it left them: the map's obstacles within a place one was lifted off are left off the plan,
+/// and the outline of each one set down is an obstacle (unless the robot stands under it as it
+/// plans: a `move` takes it out first). Not thread-safe.
 class FreeNavigationController : public MotionController {
  public:
   FreeNavigationController(const FreeNavigationAction& action, const RobotModel& model,
                            std::shared_ptr<const OccupancyGrid> map, FreeNavigationParams params,
-                           bool carrying = false, std::vector<LoadOutline> lifted_from = {});
+                           bool carrying = false, MovedLoads moved = {});
   ControlOutput Step(const ControlInput& input) override;
 
  private:
@@ -133,7 +148,7 @@ class FreeNavigationController : public MotionController {
   bool carrying_ = false;
   /// Where the action started, carrying: the map is cleared under the footprint there.
   std::optional<Pose2> carried_from_in_map_;
-  std::vector<LoadOutline> lifted_from_;
+  MovedLoads moved_;
 };
 
 }  // namespace fleetnav::agent

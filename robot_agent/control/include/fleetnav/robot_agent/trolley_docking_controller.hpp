@@ -25,6 +25,9 @@ struct TrolleyDockingParams {
   double final_tolerance_m = 0.003;
   double tolerance_rad = 0.01;
   double expected_within_m = 1.0;
+  /// A measured trolley whose axis is further than this (either way round) from the expected
+  /// one, or from the one being docked at, is another shape of legs.
+  double axis_within_rad = 0.5;
   /// At the final frame the lift rises; without a load on it after this long the dock fails.
   double lift_timeout_s = 2.0;
   absl::Status Validate() const;
@@ -32,8 +35,9 @@ struct TrolleyDockingParams {
 
 /// Docking under a trolley (KUKA thesis ch. 12–15). Each laser scan goes through the temporal
 /// median and shadow filters, clustering, the iterative end-point fit and circle extraction
-/// (LegCandidates), and the trolley recognition from leg distances; the nearest trolley within
-/// range gives the dock frames. The platform drives holonomically on its odometry to the
+/// (LegCandidates), and the trolley recognition from leg distances; the trolley within range
+/// and near where the site expects it (place and axis), four legs seen before three, gives the
+/// dock frames. The platform drives holonomically on its odometry to the
 /// approach frame in front of the trolley's near end, re-measuring the trolley as it goes, then
 /// straight under it to the final frame (the trolley's centre) measured last from the approach
 /// frame, where all four legs are in view, stops and raises its lift, which latches the

@@ -44,9 +44,8 @@ struct RouteContext {
   /// The outer size (length, width) of the trolley latched on the robot's lift; nullopt when
   /// it carries none.
   std::optional<Eigen::Vector2d> carried_load_m;
-  /// Where this robot lifted trolleys off on `map`: the map still shows their legs there, and
-  /// free navigation leaves them off its plans.
-  std::vector<LoadOutline> lifted_from;
+  /// The trolleys this robot moved on `map`: free navigation plans with them where they are.
+  MovedLoads moved_loads;
   /// The robot as the planner and the tracker must see it: grown to the trolley it carries.
   RobotModel NavigationModel() const {
     return carried_load_m ? model.CarryingLoad(*carried_load_m) : model;

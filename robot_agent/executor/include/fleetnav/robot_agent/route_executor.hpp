@@ -64,8 +64,8 @@ class RouteExecutor {
   const absl::Status& failure() const { return failure_; }
   const Route& route() const { return route_; }
   int action_index() const { return index_; }
-  /// Where trolleys were lifted off, those the route started with and those it lifted since.
-  const std::vector<LoadOutline>& lifted_from() const { return context_.lifted_from; }
+  /// The trolleys moved on the map, those the route started with and those it moved since.
+  const MovedLoads& moved_loads() const { return context_.moved_loads; }
 
  private:
   /// Moves the start to `position` (see the constructor).
