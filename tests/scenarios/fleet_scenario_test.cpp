@@ -87,10 +87,12 @@ TEST(FleetScenario, AGoalJobEndsAtTheGoal) {
 /// Runs a shipped scenario with --json (keeping its folder in `keep`) and returns its report.
 nlohmann::json RunShipped(const std::string& file, const std::string& keep, int* exit_code) {
   std::filesystem::remove_all(keep);
+  std::string stem = file;  // a scenario in a subfolder: one file name for its output
+  std::replace(stem.begin(), stem.end(), '/', '-');
   ChildProcess run({FLEETNAV_SCENARIO_PATH, "run", std::string(FLEETNAV_SCENARIOS_DIR) + "/" + file,
                     "--json", "--keep", keep},
-                   TempPath(absl::StrCat(file, ".", getpid(), ".out")),
-                   TempPath(absl::StrCat(file, ".", getpid(), ".err")));
+                   TempPath(absl::StrCat(stem, ".", getpid(), ".out")),
+                   TempPath(absl::StrCat(stem, ".", getpid(), ".err")));
   const std::optional<int> code = run.Wait(900.0);
   *exit_code = code.value_or(-1);
   const std::string out = run.Stdout();
@@ -261,6 +263,27 @@ TEST(FleetScenario, AKilledAgentResumesItsJobWhereTheRobotIs) {
 
 // fleetnavd killed mid-job and restarted on its database: both jobs go on (no job lost or
 // made twice), and traffic coordination holds lely2 until lely1 has said where it is.
+// Through fleetnavd: omni1 docks under two trolleys in turn, carries each away and sets it
+// down (tests/scenarios/store_aisles/round.yaml) while omni2 drives down the store's east side
+// past the second one; traffic coordination holds omni2 until omni1 has carried it off. Judged
+// by the truth: no contact, both at their ends.
+TEST(FleetScenario, APlatformCarryingTrolleysSharesTheStore) {
+  int code = -1;
+  const nlohmann::json report =
+      RunShipped("store_aisles/fleet.yaml", TempPath("store-aisles-fleet"), &code);
+  EXPECT_EQ(code, 0) << report.dump();
+  EXPECT_EQ(report.value("contacts", -1), 0);
+  for (const auto& job : report["jobs"]) EXPECT_EQ(job.value("state", ""), "succeeded");
+  const nlohmann::json& carrier = RobotIn(report, "omni1");
+  const nlohmann::json& other = RobotIn(report, "omni2");
+  EXPECT_NEAR(carrier["final_pose"].value("x_m", 1e9), -6.5, 0.15);
+  EXPECT_NEAR(carrier["final_pose"].value("y_m", 1e9), 0.0, 0.15);
+  EXPECT_NEAR(other["final_pose"].value("x_m", 1e9), 6.6, 0.15);
+  EXPECT_NEAR(other["final_pose"].value("y_m", 1e9), -4.2, 0.15);
+  EXPECT_GT(other.value("waiting_s", 0.0), 0.0);
+  EXPECT_THAT(other["waits"].dump(), HasSubstr("waits for omni1"));
+}
+
 TEST(FleetScenario, AServerRestartMidJobLosesNothing) {
   int code = -1;
   const std::string keep = TempPath("server-restart");
