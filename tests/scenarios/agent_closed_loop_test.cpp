@@ -509,6 +509,23 @@ TEST_F(ClosedLoop, ShippedYardDeliveryPassesTheParcelRowAndReturnsWithoutContact
   EXPECT_TRUE(crossed);
 }
 
+// Another yard (tests/scenarios/yard_west_dock): through a north-south parcel row with
+// near-equal gaps to a dock in the south-west and back, ending with a turn-round to face west
+// where it started (a short manoeuvre with cusps the car used to overshoot back and forth).
+// Judged by the truth: no contact, back at the start.
+TEST_F(ClosedLoop, AnAckermannDeliveryInAYardWithAWestDock) {
+  const std::string dir = std::string(FLEETNAV_SCENARIOS_DIR) + "/yard_west_dock";
+  StartSim(false, 14, dir + "/world.yaml");
+  ASSERT_EQ(
+      RunAgent(dir + "/delivery.yaml", {}, "ackermann-delivery", {10.0, 0.0, 180.0}, "delivery1"),
+      0)
+      << AgentLog();
+  const v1::RobotGroundTruth& car = Robot(Truth(), "delivery1");
+  EXPECT_EQ(car.collisions(), 0);
+  EXPECT_NEAR(car.pose().x_m(), 10.0, 0.15);
+  EXPECT_NEAR(car.pose().y_m(), 0.0, 0.15);
+}
+
 // VFH+ in the loop (Ashesi capstone §5.2): a row of parcels with near-equal gaps stands across
 // the Ackermann robot's way but is not on its map. It steers through a gap and on to the goal
 // without a contact; followed blind (--no-obstacle-avoidance), the same route drives into the

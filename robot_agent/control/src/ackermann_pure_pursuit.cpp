@@ -143,9 +143,14 @@ Twist2 AckermannPurePursuit::Step(const Pose2& pose, double dt_s) {
     const Pose2& end_pose = path_[end];
     const Eigen::Vector2d end_local = pose.Inverse().TransformPoint(end_pose.translation());
     const int sign = piece_sign_[piece_];
-    const bool reached =
-        end_local.norm() <= params_.goal_tolerance_m ||
-        (sign * end_local.x() <= 0.0 && std::abs(end_local.y()) <= 2.0 * params_.goal_tolerance_m);
+    // Passed a little aside near the end of the piece also counts: driving on along the end's
+    // heading would only take the car further away (the next piece, or the goal check, corrects
+    // the offset).
+    const bool passed = sign * end_local.x() <= 0.0;
+    const bool near_end = to_goal_m_[closest_] - to_goal_m_[end] <= params_.passed_end_window_m;
+    const bool reached = end_local.norm() <= params_.goal_tolerance_m ||
+                         (passed && std::abs(end_local.y()) <= 2.0 * params_.goal_tolerance_m) ||
+                         (passed && near_end && std::abs(end_local.y()) <= params_.passed_aside_m);
     if (!reached) break;
     if (piece_ + 1 == pieces_.size()) {
       done_ = true;

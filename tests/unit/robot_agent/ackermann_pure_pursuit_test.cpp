@@ -111,5 +111,33 @@ TEST(AckermannPurePursuitTest, TheLastMetreFollowsThePolarLaw) {
   EXPECT_GT(std::abs(polar.curvature_per_m - pure_pursuit), 0.05);
 }
 
+// A car that has passed the end of its path 0.2 m aside (a short manoeuvre it overshot) stops
+// there, done, for the goal check to correct; it does not drive on along the end's heading.
+// Passed far aside (0.5 m), or passed with most of the path still ahead, it does not count.
+TEST(AckermannPurePursuitTest, AnEndPassedALittleAsideIsReached) {
+  AckermannPurePursuit tracker(AckermannPurePursuitParams{}, AckermannDeliveryModel());
+  tracker.SetPath(StraightPath(1.0));
+  tracker.Step(Pose2(0.9, 0.2, 0.0), kDt);
+  EXPECT_FALSE(tracker.done());
+  tracker.Step(Pose2(1.05, 0.2, 0.0), kDt);
+  EXPECT_TRUE(tracker.done());
+
+  AckermannPurePursuit far_aside(AckermannPurePursuitParams{}, AckermannDeliveryModel());
+  far_aside.SetPath(StraightPath(1.0));
+  far_aside.Step(Pose2(1.05, 0.5, 0.0), kDt);
+  EXPECT_FALSE(far_aside.done());
+
+  // A path that loops back: its end lies behind the car at the start, 0.2 m aside.
+  std::vector<Pose2> loop;
+  for (double a = 0.0; a <= 2 * M_PI - 0.1; a += 0.05) {
+    loop.emplace_back(1.2 * std::sin(a) + 0.0, 1.2 * (1.0 - std::cos(a)) + 0.0, a);
+  }
+  loop.emplace_back(-0.1, 0.2, 0.0);
+  AckermannPurePursuit looping(AckermannPurePursuitParams{}, AckermannDeliveryModel());
+  looping.SetPath(loop);
+  looping.Step(Pose2(0.0, 0.0, 0.0), kDt);
+  EXPECT_FALSE(looping.done());
+}
+
 }  // namespace
 }  // namespace fleetnav::agent

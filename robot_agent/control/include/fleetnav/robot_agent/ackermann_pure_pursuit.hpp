@@ -30,6 +30,10 @@ struct AckermannPurePursuitParams {
   double brake_share = 0.7;
   /// A cusp or the goal counts as reached within this distance, or once passed.
   double goal_tolerance_m = 0.05;
+  /// A piece's end passed (behind the car) within this much to the side, with the car within
+  /// passed_end_window_m along the piece of its end, is reached too.
+  double passed_aside_m = 0.3;
+  double passed_end_window_m = 0.5;
   /// Forward pieces steer round the obstacles they are given (FreeNavigationController gives
   /// those the map does not show) with VFH+, its robot radius and turning radius taken from the
   /// model.
