@@ -156,7 +156,9 @@ class Run {
   void Submit(size_t index);
   void Inject(const ScenarioFault& fault);
   void Poll(double sim_s);
-  void PaceWhileDispatching();
+  /// Whether a job waits to be started on a robot (see Pace).
+  bool Dispatching() const;
+  void Pace(bool dispatching);
   void DrawProgress(double sim_s);
   void Finish(ScenarioReport* report);
   int RobotIndex(const std::string& robot_id) const {
@@ -360,6 +362,7 @@ void Run::Submit(size_t index) {
       jobs_[index].state = "failed";
       jobs_[index].reason = absl::StrCat("refused by fleetnavd: ", status.error_message());
       submitted_[index] = true;
+      undispatched_since_[index].reset();
     }
     return;  // retried on the next poll while the server is away
   }
@@ -477,18 +480,22 @@ void Run::Poll(double sim_s) {
   }
 }
 
-// Dispatching a job is wall-clock work (fleetnavd's database, the agent's stream). A simulator
-// running free meanwhile would spend sim time on it that a real site never sees, and on a loaded
-// machine enough of it to miss a deadline. So while a job waits to be started, the sim runs at
-// most kDispatchRealTimeFactor; for at most kDispatchPaceWall, since a job may rightly wait for
-// a busy robot.
-void Run::PaceWhileDispatching() {
+// Connecting the agents and dispatching a job are wall-clock work (fleetnavd's database, the
+// agent's stream). A simulator running free meanwhile would spend sim time on them that a real
+// site never sees, and on a loaded machine enough of it to miss a deadline. So while the agents
+// connect and while a job waits to be started, the sim runs at most kDispatchRealTimeFactor;
+// for at most kDispatchPaceWall per job, since a job may rightly wait for a busy robot.
+constexpr auto kDispatchPaceWall = std::chrono::seconds(20);
+
+bool Run::Dispatching() const {
+  return std::any_of(undispatched_since_.begin(), undispatched_since_.end(),
+                     [&](const std::optional<Clock::time_point>& since) {
+                       return since && Clock::now() - *since < kDispatchPaceWall;
+                     });
+}
+
+void Run::Pace(bool dispatching) {
   constexpr double kDispatchRealTimeFactor = 4.0;
-  constexpr auto kDispatchPaceWall = std::chrono::seconds(20);
-  const bool dispatching = std::any_of(undispatched_since_.begin(), undispatched_since_.end(),
-                                       [&](const std::optional<Clock::time_point>& since) {
-                                         return since && Clock::now() - *since < kDispatchPaceWall;
-                                       });
   const bool scenario_faster =
       s_.real_time_factor == 0.0 || s_.real_time_factor > kDispatchRealTimeFactor;
   const std::optional<double> wanted = dispatching && scenario_faster
@@ -585,6 +592,7 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   }
   simulator_ = v1::SimService::NewStub(grpc::CreateChannel(absl::StrCat("127.0.0.1:", sim_port_),
                                                            grpc::InsecureChannelCredentials()));
+  Pace(true);  // until the agents have connected and the first jobs have started
   // fleetnavd counts the simulator's time: its timeouts then hold at any speed.
   servers_.resize(static_cast<size_t>(s_.replicas));
   // Replicas on the default SQLite file: fleetnavd refuses them, naming why.
@@ -683,10 +691,14 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
     }
     if (server_up) {
       for (size_t i = 0; i < s_.jobs.size(); ++i) {
-        if (!submitted_[i] && sim_s >= s_.jobs[i].at_s) Submit(i);
+        if (submitted_[i] || sim_s < s_.jobs[i].at_s) continue;
+        // Slowed before the submission: fleetnavd may take a while to answer it.
+        undispatched_since_[i] = Clock::now();
+        Pace(true);
+        Submit(i);
       }
       Poll(sim_s);
-      PaceWhileDispatching();
+      Pace(Dispatching());
     }
     for (auto it = link_restores_.begin(); it != link_restores_.end();) {
       if (sim_s < it->sim_s) {
