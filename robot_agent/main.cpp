@@ -94,10 +94,10 @@ int main(int argc, char** argv) {
   app.add_flag("--no-obstacle-avoidance", no_obstacle_avoidance,
                "Ackermann free navigation follows its planned path blind, without VFH+ on the "
                "laser (the baseline for obstacles that are not on the map)");
-  bool steering_odometry = false;
-  app.add_flag("--steering-odometry", steering_odometry,
-               "Ackermann robots: odometry turns by the measured steering angle (bicycle model) "
-               "instead of the rear wheels' difference");
+  bool steering_odometry = true;
+  app.add_flag("--steering-odometry,!--no-steering-odometry", steering_odometry,
+               "Ackermann robots: odometry turns by the measured steering angle (bicycle model; "
+               "the default); --no-steering-odometry: by the rear wheels' difference");
   app.add_flag("--ignore-markers", ignore_markers,
                "plain AMCL: do not calibrate on stripe markers (the SAMCL baseline)");
   app.add_option("--max-jobs", params.max_jobs,

