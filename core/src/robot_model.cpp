@@ -151,14 +151,19 @@ Eigen::AlignedBox2d RobotModel::FootprintBounds() const {
 }
 
 RobotModel RobotModel::CarryingLoad(const Eigen::Vector2d& load_size_m) const {
-  Eigen::AlignedBox2d box = FootprintBounds();
-  box.extend(Eigen::Vector2d(0.5 * load_size_m.x(), 0.5 * load_size_m.y()));
-  box.extend(Eigen::Vector2d(-0.5 * load_size_m.x(), -0.5 * load_size_m.y()));
   RobotModel carrying = *this;
-  carrying.footprint_m = {
-      box.corner(Eigen::AlignedBox2d::BottomLeft), box.corner(Eigen::AlignedBox2d::BottomRight),
-      box.corner(Eigen::AlignedBox2d::TopRight), box.corner(Eigen::AlignedBox2d::TopLeft)};
+  carrying.footprint_m = FootprintCarrying(load_size_m);
   return carrying;
+}
+
+std::vector<Eigen::Vector2d> RobotModel::FootprintCarrying(
+    const std::optional<Eigen::Vector2d>& load_size_m) const {
+  if (!load_size_m) return footprint_m;
+  Eigen::AlignedBox2d box = FootprintBounds();
+  box.extend(Eigen::Vector2d(0.5 * load_size_m->x(), 0.5 * load_size_m->y()));
+  box.extend(Eigen::Vector2d(-0.5 * load_size_m->x(), -0.5 * load_size_m->y()));
+  return {box.corner(Eigen::AlignedBox2d::BottomLeft), box.corner(Eigen::AlignedBox2d::BottomRight),
+          box.corner(Eigen::AlignedBox2d::TopRight), box.corner(Eigen::AlignedBox2d::TopLeft)};
 }
 
 const SensorMount* RobotModel::FindSensor(std::string_view name) const {

@@ -259,10 +259,9 @@ absl::StatusOr<AgentResult> Agent::Run() {
     }
     if (executor_) {
       lift_raised_ = output.lift_raised;
+      // What the route has done to the site outlives it (a cancel resets the executor at once).
       context_.carried_load_m = output.carried_load_m;
-      if (executor_->moved_loads().count() != context_.moved_loads.count()) {
-        context_.moved_loads = executor_->moved_loads();
-      }
+      context_.moved_loads = executor_->moved_loads();
     }
     if (executor_ && executor_->state() != ExecutionState::kRunning && !end_reported_) {
       end_reported_ = true;

@@ -169,8 +169,8 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
   // load changes where a trolley dock or an undock ends.
   const auto sweep = [&](const std::vector<Pose2>& poses,
                          const std::optional<Eigen::Vector2d>& load_m) {
-    const RobotModel& model = load_m ? tracked.model.CarryingLoad(*load_m) : tracked.model;
-    return planner::CellSet::Sweep(poses, model.footprint_m, params_.margin_m, params_.cell_m);
+    return planner::CellSet::Sweep(poses, tracked.model.FootprintCarrying(load_m), params_.margin_m,
+                                   params_.cell_m);
   };
   std::optional<Eigen::Vector2d> load_m = carried_load_m;
   schedule.start_cells = sweep({pose}, load_m);
@@ -292,11 +292,10 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
       auto [cached, inserted] = parked_cells_.try_emplace(r.identity.robot_id);
       if (inserted || !cached->second.pose.IsNear(pose, 0.0, 0.0) ||
           cached->second.carried_load_m != load_m) {
-        const RobotModel& model =
-            load_m ? r.identity.model.CarryingLoad(*load_m) : r.identity.model;
         cached->second = {
             pose, load_m,
-            planner::CellSet::Sweep({pose}, model.footprint_m, params_.margin_m, params_.cell_m)};
+            planner::CellSet::Sweep({pose}, r.identity.model.FootprintCarrying(load_m),
+                                    params_.margin_m, params_.cell_m)};
       }
       parked.push_back({r.identity.robot_id, cached->second.cells});
     }

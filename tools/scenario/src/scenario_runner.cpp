@@ -693,7 +693,7 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
       for (size_t i = 0; i < s_.jobs.size(); ++i) {
         if (submitted_[i] || sim_s < s_.jobs[i].at_s) continue;
         // Slowed before the submission: fleetnavd may take a while to answer it.
-        undispatched_since_[i] = Clock::now();
+        if (!undispatched_since_[i]) undispatched_since_[i] = Clock::now();
         Pace(true);
         Submit(i);
       }

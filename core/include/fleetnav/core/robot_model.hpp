@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -77,6 +78,9 @@ struct RobotModel {
   /// base_link, as the planner and the tracker must see it: the footprint grown to the bounding
   /// box of both.
   RobotModel CarryingLoad(const Eigen::Vector2d& load_size_m) const;
+  /// The footprint of CarryingLoad(*load_size_m), or the bare footprint without a load.
+  std::vector<Eigen::Vector2d> FootprintCarrying(
+      const std::optional<Eigen::Vector2d>& load_size_m) const;
 };
 
 /// Lely Vector MFR (thesis ch. 3): 2.27 × 1.60 m footprint, 1485 kg, wheels Ø 300 mm on a

@@ -80,7 +80,6 @@ struct MovedLoads {
   void Lifted(const Pose2& pose_in_map, const Eigen::Vector2d& size_m);
   /// Records a trolley of `size_m` set down at `pose_in_map`.
   void SetDown(const Pose2& pose_in_map, const Eigen::Vector2d& size_m);
-  size_t count() const { return lifted_from.size() + set_down_at.size(); }
 };
 
 /// Free navigation (Lely thesis §6.6.5): plan on the map from the estimated pose through the
