@@ -110,7 +110,7 @@ int main(int argc, char** argv) {
                  "(robot_id,estimate,x,y,t_s: the fleetnav-sim --trajectories format)");
   try {
     app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
+  } catch (const CLI::Success& e) {  // --help, --version
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     (void)app.exit(e);

@@ -180,6 +180,10 @@ int RunExperiment(int seeds) {
 }  // namespace fleetnav::loc_bench
 
 int main(int argc, char** argv) {
+  constexpr const char* kUsage =
+      "usage: fleetnav-loc-bench --json | --experiment samcl-vs-amcl [--seeds N] | --version\n"
+      "  --json        particle filter speed (ns per particle and beam) as JSON\n"
+      "  --experiment  samcl-vs-amcl: localization error with and without markers over seeds\n";
   std::string experiment;
   int seeds = 20;
   bool json = false;
@@ -189,6 +193,10 @@ int main(int argc, char** argv) {
       std::printf("%s\n", std::string(fleetnav::Version()).c_str());
       return 0;
     }
+    if (arg == "--help" || arg == "-h") {
+      std::printf("%s", kUsage);
+      return 0;
+    }
     if (arg == "--json") {
       json = true;
     } else if (arg == "--experiment" && i + 1 < argc) {
@@ -196,8 +204,7 @@ int main(int argc, char** argv) {
     } else if (arg == "--seeds" && i + 1 < argc) {
       seeds = std::atoi(argv[++i]);
     } else {
-      std::fprintf(stderr,
-                   "usage: fleetnav-loc-bench --json | --experiment samcl-vs-amcl [--seeds N]\n");
+      std::fprintf(stderr, "%s", kUsage);
       return 2;
     }
   }
@@ -209,7 +216,7 @@ int main(int argc, char** argv) {
     return fleetnav::loc_bench::RunExperiment(seeds);
   }
   if (!json) {
-    std::fprintf(stderr, "usage: fleetnav-loc-bench --json | --experiment samcl-vs-amcl\n");
+    std::fprintf(stderr, "%s", kUsage);
     return 2;
   }
   return fleetnav::loc_bench::RunSpeed();

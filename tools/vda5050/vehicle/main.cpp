@@ -19,6 +19,7 @@
 #include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/clock.hpp"
 #include "fleetnav/core/stop_signals.hpp"
+#include "fleetnav/core/version.hpp"
 #include "fleetnav/vda5050/mqtt_client.hpp"
 #include "fleetnav/vda5050/simulated_vehicle.hpp"
 #include "fleetnav/vda5050/vda_json.hpp"
@@ -56,6 +57,7 @@ int main(int argc, char** argv) {
   sigset_t stop_signals = fleetnav::BlockStopSignals();
 
   CLI::App app{"fleetnav-vda-vehicle: simulated VDA 5050 2.0 vehicles"};
+  app.set_version_flag("--version", std::string(fleetnav::Version()));
   std::string broker_host = "127.0.0.1", interface_name = "uagv", truth_path;
   int broker_port = 1883, vehicles = 1, first_serial = 1;
   double state_hz = 2.0, step_hz = 50.0, spacing_m = 1.5;
