@@ -239,7 +239,8 @@ TEST_F(JobFlowTest, JobsGoByPriorityAndARouteTheRobotCannotDriveStaysQueued) {
   v1::GetJobResponse job;
   ASSERT_TRUE(fleet_->GetJob(&context, get, &job).ok());
   EXPECT_EQ(job.job().state(), v1::JOB_STATE_QUEUED);  // no robot can follow a fence yet
-  EXPECT_EQ(job.job().reason(), "no connected robot can run fence_navigation");
+  EXPECT_EQ(job.job().reason(),
+            "no robot that has connected can run actions[0] (fence_navigation)");
   simulator_->Shutdown();
 }
 

@@ -118,7 +118,8 @@ std::unique_ptr<AgentSession> Connect(v1::AgentService::Stub& agents, const std:
   auto session = std::make_unique<AgentSession>();
   session->stream = agents.Connect(&session->context);
   v1::AgentMessage hello;
-  *hello.mutable_hello() = ToProto(RobotIdentity{robot_id, LelyVectorModel(), {}, "test"});
+  *hello.mutable_hello() =
+      ToProto(RobotIdentity{robot_id, LelyVectorModel(), {"free_navigation"}, "test"});
   v1::ServerMessage welcome;
   session->welcomed =
       session->stream->Write(hello) && session->stream->Read(&welcome) && welcome.has_welcome();

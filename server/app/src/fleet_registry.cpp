@@ -234,6 +234,16 @@ std::set<std::string> FleetRegistry::OnlineCapabilities() const {
   return out;
 }
 
+std::set<std::string> FleetRegistry::KnownCapabilities() const {
+  absl::ReaderMutexLock lock(&mutex_);
+  std::set<std::string> out;
+  for (const auto& [id, entry] : robots_) {
+    out.insert(entry.record.identity.capabilities.begin(),
+               entry.record.identity.capabilities.end());
+  }
+  return out;
+}
+
 std::vector<RobotRecord> FleetRegistry::ChangedSince(uint64_t after_revision,
                                                      uint64_t* latest_revision) const {
   absl::ReaderMutexLock lock(&mutex_);

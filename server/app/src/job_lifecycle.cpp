@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/server/map_catalog.hpp"
 
@@ -10,6 +11,7 @@ namespace fleetnav::server {
 
 absl::StatusOr<storage::CreatedJob> JobLifecycle::Submit(const SubmitJobRequest& request) {
   Job job;
+  std::vector<NeededCapability> needs;
   const bool has_route = !request.route_name.empty();
   if (has_route == request.goal.has_value()) {
     return absl::InvalidArgumentError("target: give either `route_name` or `goal`");
@@ -20,6 +22,7 @@ absl::StatusOr<storage::CreatedJob> JobLifecycle::Submit(const SubmitJobRequest&
     job.route_name = route->route.name;
     job.route_version = route->version;
     job.map_id = route->route.map_id;
+    needs = NeedsOfRoute(route->route);
   } else {
     if (!request.goal->IsFinite()) return absl::InvalidArgumentError("goal.goal: must be finite");
     RETURN_IF_ERROR(MapCatalog::ValidateMapId(request.goal_map_id));
@@ -32,8 +35,12 @@ absl::StatusOr<storage::CreatedJob> JobLifecycle::Submit(const SubmitJobRequest&
     }
     job.map_id = request.goal_map_id;
     job.goal = request.goal;
+    needs = NeedsOfGoal();
   }
-  if (!request.robot_id.empty()) RETURN_IF_ERROR(registry_->Get(request.robot_id).status());
+  if (!request.robot_id.empty()) {
+    ASSIGN_OR_RETURN(const RobotRecord robot, registry_->Get(request.robot_id));
+    RETURN_IF_ERROR(CheckRobotCanRun(robot, needs));
+  }
   if (request.idempotency_key.size() > 128) {
     return absl::InvalidArgumentError("idempotency_key: at most 128 characters");
   }
@@ -44,6 +51,21 @@ absl::StatusOr<storage::CreatedJob> JobLifecycle::Submit(const SubmitJobRequest&
   absl::StatusOr<storage::CreatedJob> created = ledger_->Create(job);
   if (created.ok() && !created->deduplicated) work_->Notify();
   return created;
+}
+
+absl::Status JobLifecycle::CheckRobotCanRun(const RobotRecord& robot,
+                                            const std::vector<NeededCapability>& needs) {
+  // A connected robot says what it can run; one that is away may come back with new software.
+  if (robot.connection == ConnectionState::kOffline) return absl::OkStatus();
+  const std::vector<std::string>& have = robot.identity.capabilities;
+  const std::optional<NeededCapability> unmet =
+      FirstUnmet(needs, [&](const std::string& capability) {
+        return std::find(have.begin(), have.end(), capability) != have.end();
+      });
+  if (!unmet) return absl::OkStatus();
+  return absl::FailedPreconditionError(absl::StrCat(
+      "robot_id: robot ", robot.identity.robot_id, " (", robot.identity.model.kind_name,
+      ") cannot run ", unmet->Describe(), "; it runs ", absl::StrJoin(have, ", ")));
 }
 
 absl::StatusOr<Job> JobLifecycle::Cancel(const std::string& job_id, const std::string& reason) {

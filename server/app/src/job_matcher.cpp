@@ -33,7 +33,7 @@ void JobMatcher::ForgetRobot(const std::string& robot_id) {
 }
 
 JobMatcher::RouteFacts JobMatcher::FactsOf(const Job& job) {
-  if (job.goal) return RouteFacts{{"free_navigation"}, job.goal->translation()};
+  if (job.goal) return RouteFacts{{"free_navigation"}, NeedsOfGoal(), job.goal->translation()};
   const auto key = std::make_pair(job.route_name, job.route_version);
   auto known = route_facts_.find(key);
   if (known != route_facts_.end()) return known->second;
@@ -50,12 +50,13 @@ JobMatcher::RouteFacts JobMatcher::FactsOf(const Job& job) {
       }
     }
     facts.needed.assign(needed.begin(), needed.end());
+    facts.needs = NeedsOfRoute((*route)->route);
   }
   return route_facts_.emplace(key, std::move(facts)).first->second;
 }
 
-void JobMatcher::SayWhyQueued(Job& job, const std::vector<std::string>& needed,
-                              const std::set<std::string>& online_capabilities) {
+void JobMatcher::SayWhyQueued(Job& job, const std::vector<NeededCapability>& needs,
+                              const FleetCapabilities& fleet) {
   std::string why;
   if (!job.requested_robot_id.empty()) {
     const std::string& id = job.requested_robot_id;
@@ -67,12 +68,13 @@ void JobMatcher::SayWhyQueued(Job& job, const std::vector<std::string>& needed,
           "robot ", id, " is ",
           robot->connection == ConnectionState::kStale ? "not reporting (stale)" : "offline");
     } else {
-      for (const std::string& capability : needed) {
-        const auto& have = robot->identity.capabilities;
-        if (std::find(have.begin(), have.end(), capability) == have.end()) {
-          why = absl::StrCat("robot ", id, " cannot run ", capability);
-          break;
-        }
+      const auto& have = robot->identity.capabilities;
+      if (const std::optional<NeededCapability> unmet =
+              FirstUnmet(needs, [&](const std::string& capability) {
+                return std::find(have.begin(), have.end(), capability) != have.end();
+              })) {
+        why = absl::StrCat("robot ", id, " (", robot->identity.model.kind_name, ") cannot run ",
+                           unmet->Describe());
       }
       if (why.empty() && !robot->current_job_id.empty()) {
         why = absl::StrCat("waits for robot ", id, " to finish job ", robot->current_job_id);
@@ -82,11 +84,13 @@ void JobMatcher::SayWhyQueued(Job& job, const std::vector<std::string>& needed,
       }
     }
   } else {
-    for (const std::string& capability : needed) {
-      if (!online_capabilities.contains(capability)) {
-        why = absl::StrCat("no connected robot can run ", capability);
-        break;
-      }
+    const auto in = [](const std::set<std::string>& set) {
+      return [&set](const std::string& capability) { return set.contains(capability); };
+    };
+    if (const std::optional<NeededCapability> never = FirstUnmet(needs, in(fleet.known))) {
+      why = absl::StrCat("no robot that has connected can run ", never->Describe());
+    } else if (const std::optional<NeededCapability> away = FirstUnmet(needs, in(fleet.online))) {
+      why = absl::StrCat("no connected robot can run ", away->Describe());
     }
     if (why.empty()) why = "every connected robot that can run it is busy or charging";
   }
@@ -213,7 +217,7 @@ int JobMatcher::AssignQueued() {
   });
   // A demand that found no robot finds none later in this pass either: idle robots only leave.
   std::vector<Demand> unmet;
-  std::optional<std::set<std::string>> online_capabilities;  // read once, when a job waits
+  std::optional<FleetCapabilities> fleet;  // read once, when a job waits
   int assigned = 0;
   for (size_t j = 0; j < queued.size(); ++j) {
     Job& job = queued[j];
@@ -223,8 +227,10 @@ int JobMatcher::AssignQueued() {
     auto best = known_unmet || idle.empty() ? idle.end() : Nearest(idle, job, job_facts[j]);
     if (best == idle.end()) {
       if (!known_unmet && !idle.empty()) unmet.push_back(demand);
-      if (!online_capabilities) online_capabilities = registry_->OnlineCapabilities();
-      SayWhyQueued(job, job_facts[j].needed, *online_capabilities);
+      if (!fleet) {
+        fleet = FleetCapabilities{registry_->OnlineCapabilities(), registry_->KnownCapabilities()};
+      }
+      SayWhyQueued(job, job_facts[j].needs, *fleet);
       continue;
     }
     if (!Assign(job, best->identity.robot_id)) continue;

@@ -127,6 +127,59 @@ TEST_F(JobServiceTest, AQueuedJobGoesToTheIdleCapableRobot) {
   EXPECT_EQ(sent.map_version, 1u);
 }
 
+TEST_F(JobServiceTest, AJobPinnedToAConnectedRobotThatCannotRunItIsRefusedAndNotStored) {
+  Route spin;
+  spin.name = "spin";
+  spin.map_id = "hall";
+  spin.actions.push_back(RouteAction{StraightAction{1.0, 0.25}, {}});
+  spin.actions.push_back(RouteAction{TurnAction{1.57, 0.3}, {}});
+  ASSERT_TRUE(site_.PutRoute(spin).ok());
+  RobotIdentity car;
+  car.robot_id = "car1";
+  car.model = AckermannDeliveryModel();
+  car.capabilities = {"straight", "free_navigation"};  // an Ackermann robot cannot turn on the spot
+  jobs_->OnRobotConnected(car, "");
+  const uint64_t session = registry_.Connect(car);
+  SubmitJobRequest request;
+  request.route_name = "spin";
+  request.robot_id = "car1";
+  const absl::Status refused = jobs_->Submit(request).status();
+  EXPECT_EQ(refused.code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_THAT(refused.message(),
+              HasSubstr("robot car1 (ackermann-delivery) cannot run actions[1] (turn)"));
+  EXPECT_TRUE(jobs_->List(storage::JobFilter{}).value().jobs.empty());
+  // The same robot can run the straight route; and once it is away it may come back able to.
+  request.route_name = "alley";
+  EXPECT_TRUE(jobs_->Submit(request).ok());
+  EXPECT_TRUE(registry_.Disconnect("car1", session));
+  jobs_->OnRobotDisconnected("car1");
+  request.route_name = "spin";
+  EXPECT_TRUE(jobs_->Submit(request).ok());
+}
+
+TEST_F(JobServiceTest, AJobNoRobotHasEverBeenAbleToRunSaysSoFromTheFirstPass) {
+  Route fence;
+  fence.name = "fence";
+  fence.map_id = "hall";
+  fence.actions.push_back(RouteAction{StraightAction{1.0, 0.25}, {}});
+  fence.actions.push_back(RouteAction{FenceNavigationAction{Side::kLeft, 0.5, 3.0, 0.25}, {}});
+  ASSERT_TRUE(site_.PutRoute(fence).ok());
+  const uint64_t session = Connect("lely1");  // straight and turn only
+  SubmitJobRequest request;
+  request.route_name = "fence";
+  const absl::StatusOr<storage::CreatedJob> created = jobs_->Submit(request);
+  ASSERT_TRUE(created.ok()) << created.status();
+  EXPECT_EQ(jobs_->DispatchOnce(), 0);
+  EXPECT_EQ(jobs_->Get(created->job.job_id).value().reason,
+            "no robot that has connected can run actions[1] (fence_navigation)");
+  // A job the fleet could run, were its robot connected, says that instead.
+  const std::string alley = Submit(RequeuePolicy::kFail);
+  EXPECT_TRUE(registry_.Disconnect("lely1", session));
+  jobs_->OnRobotDisconnected("lely1");
+  EXPECT_EQ(jobs_->DispatchOnce(), 0);
+  EXPECT_EQ(jobs_->Get(alley).value().reason, "no connected robot can run actions[0] (straight)");
+}
+
 TEST_F(JobServiceTest, JobAndEventTimesAreTheInjectedClocksCalendar) {
   const std::string job_id = Submit(RequeuePolicy::kFail);
   clock_.AdvanceNs(7 * kSecondNs);

@@ -74,6 +74,8 @@ class FleetRegistry {
   std::vector<RobotRecord> IdleOnline(const std::function<bool(const RobotRecord&)>& wanted) const;
   /// What the connected robots can run between them (the union of their capabilities).
   std::set<std::string> OnlineCapabilities() const;
+  /// What the robots that have ever connected (online, stale or offline) can run between them.
+  std::set<std::string> KnownCapabilities() const;
   /// Robots whose revision is greater than `after_revision`; sets *latest_revision.
   std::vector<RobotRecord> ChangedSince(uint64_t after_revision, uint64_t* latest_revision) const;
 

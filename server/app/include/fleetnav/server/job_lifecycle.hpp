@@ -8,6 +8,7 @@
 #include "fleetnav/core/job.hpp"
 #include "fleetnav/server/fleet_registry.hpp"
 #include "fleetnav/server/job_ledger.hpp"
+#include "fleetnav/server/job_needs.hpp"
 #include "fleetnav/server/job_recovery.hpp"
 #include "fleetnav/server/job_traffic.hpp"
 #include "fleetnav/server/robot_mailbox.hpp"
@@ -45,6 +46,9 @@ class JobLifecycle {
         recovery_(recovery),
         work_(work) {}
 
+  /// Checks the job against the site and, when it names a connected robot, against what that
+  /// robot can run (FailedPrecondition naming the robot, its kind and the action), then stores
+  /// it; nothing is stored when a check fails.
   absl::StatusOr<storage::CreatedJob> Submit(const SubmitJobRequest& request);
   /// FailedPrecondition for a job that has already ended.
   absl::StatusOr<Job> Cancel(const std::string& job_id, const std::string& reason);
@@ -56,6 +60,9 @@ class JobLifecycle {
   void OnTelemetry(const std::string& robot_id, const Telemetry& telemetry);
 
  private:
+  /// FailedPrecondition when `robot` is connected and lacks one of `needs`.
+  static absl::Status CheckRobotCanRun(const RobotRecord& robot,
+                                       const std::vector<NeededCapability>& needs);
   /// Stores the job's end reported by its robot and frees the robot.
   void End(Job& job, JobState state, const JobEvent& event, const std::string& robot_id);
 

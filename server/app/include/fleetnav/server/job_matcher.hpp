@@ -13,6 +13,7 @@
 #include "fleetnav/server/fleet_registry.hpp"
 #include "fleetnav/server/job_ledger.hpp"
 #include "fleetnav/server/job_lifecycle.hpp"
+#include "fleetnav/server/job_needs.hpp"
 #include "fleetnav/server/job_traffic.hpp"
 #include "fleetnav/server/robot_mailbox.hpp"
 #include "fleetnav/server/site_cache.hpp"
@@ -65,16 +66,23 @@ class JobMatcher {
   /// known point.
   struct RouteFacts {
     std::vector<std::string> needed;
+    std::vector<NeededCapability> needs;  ///< the same, with the first action needing each
     std::optional<Eigen::Vector2d> start;
   };
   /// A route's facts are kept by (route, version), which never changes, so a queued job costs
   /// nothing per pass however long its route.
   RouteFacts FactsOf(const Job& job);
-  /// Stores why `job` stays queued (one QUEUED event when the reason changes): "no connected
-  /// robot can run stripe_navigation", "robot lely2 is offline", "waits for robot lely2 to
-  /// finish job job-000004", ….
-  void SayWhyQueued(Job& job, const std::vector<std::string>& needed,
-                    const std::set<std::string>& online_capabilities);
+  /// What the fleet can run between its robots: those connected now, and all that ever did.
+  struct FleetCapabilities {
+    std::set<std::string> online;
+    std::set<std::string> known;
+  };
+  /// Stores why `job` stays queued (one QUEUED event when the reason changes): "no robot that
+  /// has connected can run actions[0] (turn)", "no connected robot can run actions[2]
+  /// (stripe_navigation)", "robot lely2 is offline", "waits for robot lely2 to finish job
+  /// job-000004", ….
+  void SayWhyQueued(Job& job, const std::vector<NeededCapability>& needs,
+                    const FleetCapabilities& fleet);
   /// Whether `robot` is kept for charging: its charging job runs, or it charges after it.
   bool HeldForCharging(const RobotRecord& robot);
   /// The idle robot nearest by path to the job's start among those that may take it.
