@@ -440,6 +440,17 @@ TEST_F(SecurityTest, BadSecurityFilesStopTheServerBeforeItOpensTheDatabase) {
   files.tokens_path = Pki("missing.yaml");
   EXPECT_EQ(start_with(files).code(), absl::StatusCode::kNotFound);
   files = good;
+  files.tokens_path = testing::UniqueTempPath("viewers-only") + ".yaml";
+  {
+    std::ofstream viewers(files.tokens_path);
+    viewers << "tokens:\n  - {name: vic, role: viewer, sha256: " << std::string(64, 'a') << "}\n";
+  }
+  const absl::Status no_admin = start_with(files);
+  EXPECT_EQ(no_admin.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(no_admin.message(), HasSubstr(files.tokens_path));
+  EXPECT_THAT(no_admin.message(), HasSubstr("no token of role admin"));
+  std::filesystem::remove(files.tokens_path);
+  files = good;
   files.cert_path.clear();
   EXPECT_THAT(start_with(files).message(), HasSubstr("tls cert: no file given"));
 }

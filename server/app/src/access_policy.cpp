@@ -166,8 +166,17 @@ absl::StatusOr<Caller> AccessPolicy::AuthorizeOperator(absl::string_view method,
         absl::StrCat(method, ": needs an operator token (authorization: Bearer TOKEN) of role ",
                      RoleName(needed), " or above"));
   }
+  // RFC 7235: the scheme is case-insensitive; RFC 6750: one or more spaces before the token.
   absl::string_view token = credentials.authorization;
-  if (!absl::ConsumePrefix(&token, "Bearer ") || token.empty()) {
+  constexpr absl::string_view kScheme = "bearer";
+  const bool bearer = token.size() > kScheme.size() &&
+                      absl::EqualsIgnoreCase(token.substr(0, kScheme.size()), kScheme) &&
+                      token[kScheme.size()] == ' ';
+  if (bearer) {
+    token.remove_prefix(kScheme.size());
+    while (!token.empty() && token.front() == ' ') token.remove_prefix(1);
+  }
+  if (!bearer || token.empty()) {
     return absl::UnauthenticatedError(
         absl::StrCat(method, ": malformed authorization header (expected 'Bearer TOKEN')"));
   }

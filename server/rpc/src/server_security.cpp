@@ -4,6 +4,7 @@
 #include <openssl/x509.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -66,6 +67,14 @@ absl::StatusOr<std::vector<OperatorToken>> TokensFromYaml(const YAML::Node& root
     token.role = *role;
     token.sha256_hex = entry["sha256"].as<std::string>();
     tokens.push_back(std::move(token));
+  }
+  // Tokens are made and revoked at run time by admins only: a file without one would leave
+  // the site unmanageable until someone edits it and restarts (docs/security.md).
+  if (std::none_of(tokens.begin(), tokens.end(),
+                   [](const OperatorToken& token) { return token.role == Role::kAdmin; })) {
+    return absl::InvalidArgumentError(
+        "tokens: no token of role admin; the file needs at least the first admin, who makes "
+        "the other tokens (docs/security.md)");
   }
   // The same checks the policy makes, so that a bad file is refused when it is loaded.
   if (absl::StatusOr<AccessPolicy> policy = AccessPolicy::Create(tokens); !policy.ok()) {

@@ -53,11 +53,23 @@ TEST(AccessPolicyTest, MissingMalformedAndUnknownTokensAreUnauthenticated) {
   const std::string method = std::string(kFleet) + "GetJob";
   for (const CallerCredentials& credentials :
        {CallerCredentials{}, CallerCredentials{"vic-secret", ""}, CallerCredentials{"Bearer", ""},
-        CallerCredentials{"Bearer ", ""}, CallerCredentials{"bearer vic-secret", ""},
-        Bearer("vic-secret "), Bearer("nobody")}) {
+        CallerCredentials{"Bearer ", ""}, CallerCredentials{"Bearervic-secret", ""},
+        CallerCredentials{"Basic vic-secret", ""}, Bearer("vic-secret "), Bearer("nobody")}) {
     const absl::Status status = policy.Authorize(method, credentials).status();
     EXPECT_EQ(status.code(), absl::StatusCode::kUnauthenticated) << credentials.authorization;
     EXPECT_THAT(status.message(), HasSubstr("GetJob"));
+  }
+}
+
+TEST(AccessPolicyTest, TheBearerSchemeIsCaseInsensitive) {
+  // RFC 7235 section 2.1: the authentication scheme is a case-insensitive token.
+  const AccessPolicy policy = Policy();
+  const std::string method = std::string(kFleet) + "GetJob";
+  for (const char* header :
+       {"Bearer vic-secret", "bearer vic-secret", "BEARER vic-secret", "bEaReR  vic-secret"}) {
+    const absl::StatusOr<Caller> caller = policy.Authorize(method, CallerCredentials{header, ""});
+    ASSERT_TRUE(caller.ok()) << header << ": " << caller.status();
+    EXPECT_EQ(caller->name, "vic") << header;
   }
 }
 
@@ -132,6 +144,15 @@ TEST(OperatorTokensTest, TheFileNamesWhatIsWrong) {
       HasSubstr("unknown key 'token'"));
   EXPECT_EQ(ParseOperatorTokens("users: []").status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(ParseOperatorTokens("tokens: [").status().code(), absl::StatusCode::kInvalidArgument);
+  // Without an admin nobody could make or revoke tokens until the file is edited.
+  const absl::Status no_admin =
+      ParseOperatorTokens("tokens:\n  - {name: otto, role: operator, sha256: " + hash +
+                          "}\n  - {name: vic, role: viewer, sha256: " + Sha256Hex("v") + "}\n")
+          .status();
+  EXPECT_EQ(no_admin.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(no_admin.message(), HasSubstr("no token of role admin"));
+  EXPECT_THAT(ParseOperatorTokens("tokens: []").status().message(),
+              HasSubstr("no token of role admin"));
   // A key that is itself a mapping (found by fuzz_operator_tokens: yaml-cpp threw).
   EXPECT_EQ(ParseOperatorTokens("tokens:\n  - {name: a, {x: 1}: admin}\n").status().code(),
             absl::StatusCode::kInvalidArgument);
