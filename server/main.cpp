@@ -59,6 +59,7 @@ struct ReplicaFlags {
   std::string site = "default";
   std::string peer_listen;
   std::string peer_advertise;
+  std::string peer_http_listen;
   double lease_ttl_s = 2.0;
 };
 
@@ -66,7 +67,8 @@ struct ReplicaFlags {
 /// public port until SIGINT/SIGTERM, and ends the process with kLeadershipLostExitCode when it
 /// loses the leadership it held.
 int RunReplica(const fleetnav::server::FleetServerParams& params, const ReplicaFlags& flags,
-               const std::string& port_file, sigset_t* stop_signals) {
+               const std::string& http_listen, const std::string& port_file,
+               const std::string& http_port_file, sigset_t* stop_signals) {
   fleetnav::server::ReplicaParams replica;
   replica.leader = params;
   replica.listen_address = params.listen_address;
@@ -74,6 +76,8 @@ int RunReplica(const fleetnav::server::FleetServerParams& params, const ReplicaF
   replica.leader.listen_address =
       flags.peer_listen.empty() ? listen_host + ":0" : flags.peer_listen;
   replica.advertise_address = flags.peer_advertise;
+  replica.http_listen_address = http_listen;
+  replica.leader_http_listen_address = flags.peer_http_listen;
   replica.leadership =
       fleetnav::server::SiteLeadershipParams::ForTtl(flags.site, flags.lease_ttl_s);
   replica.on_event = [](const std::string& what) { spdlog::info("fleetnavd: {}", what); };
@@ -84,14 +88,31 @@ int RunReplica(const fleetnav::server::FleetServerParams& params, const ReplicaF
     spdlog::default_logger()->flush();
     std::_Exit(kLeadershipLostExitCode);
   };
+  if (absl::Status valid = replica.Validate(); !valid.ok()) {
+    spdlog::error("fleetnavd: {}", valid.ToString());
+    return 2;
+  }
   fleetnav::server::ReplicaServer server(replica);
   absl::StatusOr<int> port = server.Start();
   if (!port.ok()) {
     spdlog::error("fleetnavd: {}", port.status().ToString());
-    return port.status().code() == absl::StatusCode::kInvalidArgument ? 2 : 1;
+    return 1;
   }
-  spdlog::info("fleetnavd replica {} serving on port {} for site '{}' (db {}, INSECURE: plaintext)",
-               server.holder(), *port, flags.site, server.store_description());
+  spdlog::info("fleetnavd replica {} serving on port {} for site '{}' (db {}, {})", server.holder(),
+               *port, flags.site, server.store_description(),
+               server.secure() ? "TLS, robot certificates and operator tokens"
+                               : "INSECURE: plaintext, no authentication");
+  if (server.http_port() > 0) {
+    spdlog::info("fleetnavd dashboard and /metrics on {}://{}:{}/ (relayed to the leader's)",
+                 server.secure() ? "https" : "http", http_listen.substr(0, http_listen.rfind(':')),
+                 server.http_port());
+    if (!http_port_file.empty()) {
+      if (absl::Status written = fleetnav::WritePortFile(http_port_file, server.http_port());
+          !written.ok()) {
+        spdlog::warn("fleetnavd: {}", std::string(written.message()));
+      }
+    }
+  }
   if (!port_file.empty()) {
     if (absl::Status written = fleetnav::WritePortFile(port_file, *port); !written.ok()) {
       spdlog::warn("fleetnavd: {}", std::string(written.message()));
@@ -182,6 +203,9 @@ int main(int argc, char** argv) {
   app.add_option("--peer-advertise", replica_flags.peer_advertise,
                  "with --replica: host:port the other replicas reach the leader port at "
                  "[--peer-listen's host and bound port]");
+  app.add_option("--peer-http-listen", replica_flags.peer_http_listen,
+                 "with --replica and --http-listen: where the leader serves its dashboard to the "
+                 "other replicas' HTTP ports [--peer-listen's host, any port]");
   app.add_option("--lease-ttl-s", replica_flags.lease_ttl_s,
                  "with --replica: a leader silent this long is replaced")
       ->capture_default_str();
@@ -242,13 +266,7 @@ int main(int argc, char** argv) {
   };
   params.on_token_change = [](const std::string& what) { spdlog::info("fleetnavd: {}", what); };
   if (replica) {
-    if (!http_listen.empty()) {
-      spdlog::error(
-          "fleetnavd: --http-listen is not served by replicas yet; run it without "
-          "--replica");
-      return 2;
-    }
-    return RunReplica(params, replica_flags, port_file, &stop_signals);
+    return RunReplica(params, replica_flags, http_listen, port_file, http_port_file, &stop_signals);
   }
   fleetnav::server::FleetServer server(params);
   absl::StatusOr<int> port = server.Start();

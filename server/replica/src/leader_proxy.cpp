@@ -7,6 +7,8 @@
 
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "fleetnav/server/rpc/access_gate.hpp"
+#include "fleetnav/server/rpc/replica_relay.hpp"
 
 namespace fleetnav::server {
 namespace {
@@ -22,6 +24,11 @@ class RefusedCall final : public grpc::ServerGenericBidiReactor {
 bool IsHopHeader(const std::string& key) {
   return key.empty() || key[0] == ':' || absl::StartsWith(key, "grpc-") || key == "te" ||
          key == "content-type" || key == "user-agent";
+}
+
+/// Headers only this replica may set on a relayed call: a caller's are dropped.
+bool IsRelayHeader(const std::string& key) {
+  return key == kRelayKeyHeader || key == kRelayedRobotHeader;
 }
 
 }  // namespace
@@ -40,10 +47,20 @@ class ProxiedCall {
   ProxiedCall(LeaderProxy* proxy, grpc::GenericCallbackServerContext* context)
       : proxy_(proxy), context_(context), caller_(this), leader_(this) {}
 
-  void Start(grpc::GenericStub* stub) {
+  /// `relay_key` empty: relay no identity (plaintext).
+  void Start(grpc::GenericStub* stub, const std::string& relay_key) {
     for (const auto& [key, value] : context_->client_metadata()) {
       const std::string name(key.data(), key.size());
-      if (!IsHopHeader(name)) upstream_.AddMetadata(name, std::string(value.data(), value.size()));
+      if (!IsHopHeader(name) && !IsRelayHeader(name)) {
+        upstream_.AddMetadata(name, std::string(value.data(), value.size()));
+      }
+    }
+    if (!relay_key.empty()) {
+      upstream_.AddMetadata(kRelayKeyHeader, relay_key);
+      // The robot CA verified this certificate in the handshake with the caller.
+      const std::shared_ptr<const grpc::AuthContext> auth = context_->auth_context();
+      const std::string robot_id = auth != nullptr ? CertificateIdentity(*auth) : "";
+      if (!robot_id.empty()) upstream_.AddMetadata(kRelayedRobotHeader, robot_id);
     }
     if (context_->deadline() != std::chrono::system_clock::time_point::max()) {
       upstream_.set_deadline(context_->deadline());
@@ -110,7 +127,9 @@ class ProxiedCall {
     {
       absl::MutexLock lock(&mutex_);
       leader_write_in_flight_ = false;
-      if (ok && !write_chain_ended_) {
+      // A leader that has already ended the stream (say, refused the hello this write carried)
+      // waits for nothing more: reading on from a silent caller would hold its status forever.
+      if (ok && !write_chain_ended_ && !leader_read_ended_) {
         read_more = true;
       } else {
         write_chain_ended_ = true;
@@ -135,6 +154,7 @@ class ProxiedCall {
     bool release_write_chain = false;
     {
       absl::MutexLock lock(&mutex_);
+      leader_read_ended_ = true;
       if (!write_chain_ended_ && !leader_write_in_flight_) {
         write_chain_ended_ = true;
         release_write_chain = true;
@@ -174,6 +194,7 @@ class ProxiedCall {
   absl::Mutex mutex_;
   bool write_chain_ended_ ABSL_GUARDED_BY(mutex_) = false;
   bool leader_write_in_flight_ ABSL_GUARDED_BY(mutex_) = false;
+  bool leader_read_ended_ ABSL_GUARDED_BY(mutex_) = false;
 };
 
 LeaderProxy::~LeaderProxy() { Close(); }
@@ -187,6 +208,11 @@ void LeaderProxy::SetLeader(int64_t epoch, std::shared_ptr<grpc::Channel> channe
   stub_ = channel != nullptr ? std::make_shared<grpc::GenericStub>(std::move(channel)) : nullptr;
 }
 
+void LeaderProxy::SetRelayKey(std::string relay_key) {
+  absl::MutexLock lock(&mutex_);
+  relay_key_ = std::move(relay_key);
+}
+
 void LeaderProxy::Close() {
   absl::MutexLock lock(&mutex_);
   closed_ = true;
@@ -197,6 +223,7 @@ void LeaderProxy::Close() {
 grpc::ServerGenericBidiReactor* LeaderProxy::CreateReactor(
     grpc::GenericCallbackServerContext* context) {
   std::shared_ptr<grpc::GenericStub> stub;
+  std::string relay_key;
   auto* call = new ProxiedCall(this, context);
   {
     absl::MutexLock lock(&mutex_);
@@ -213,10 +240,11 @@ grpc::ServerGenericBidiReactor* LeaderProxy::CreateReactor(
       return new RefusedCall(grpc::Status(grpc::StatusCode::UNAVAILABLE, refusal));
     }
     stub = stub_;
+    relay_key = relay_key_;
     calls_.insert(call);  // from here on a leader change cancels it
   }
   // Outside the lock: the call's reactions take it (Forget).
-  call->Start(stub.get());
+  call->Start(stub.get(), relay_key);
   return call->caller();
 }
 

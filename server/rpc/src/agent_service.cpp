@@ -120,8 +120,7 @@ class AgentConnection final {
       return limited;
     }
     if (service_->gate_ != nullptr) {
-      absl::Status claim =
-          service_->gate_->CheckRobotClaim(*context_.auth_context(), identity->robot_id);
+      absl::Status claim = service_->gate_->CheckRobotClaim(context_, identity->robot_id);
       if (!claim.ok()) return claim;
     }
     robot_id_ = identity->robot_id;

@@ -13,6 +13,7 @@
 #include "absl/time/clock.h"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/server/rpc/health_service.hpp"
+#include "fleetnav/server/rpc/replica_relay.hpp"
 #include "fleetnav/storage/fleet_database.hpp"
 
 namespace fleetnav::server {
@@ -64,8 +65,13 @@ absl::StatusOr<int> FleetServer::Start() {
     file_tokens = security.tokens;
     // The file's tokens until the stored ones are read (before the port opens).
     ASSIGN_OR_RETURN(AccessPolicy policy, AccessPolicy::Create(security.tokens));
-    access_gate_ = std::make_shared<AccessGate>(
-        std::make_shared<const AccessPolicy>(std::move(policy)), params_.on_access_refused);
+    std::string relay_key;
+    if (params_.accept_replica_relays) {
+      ASSIGN_OR_RETURN(relay_key, ReplicaRelayKey(security.private_key_pem));
+    }
+    access_gate_ =
+        std::make_shared<AccessGate>(std::make_shared<const AccessPolicy>(std::move(policy)),
+                                     params_.on_access_refused, std::move(relay_key));
     // Robots present certificates of the robot CA; operators present tokens over TLS without
     // one. A certificate that is presented must verify.
     grpc::SslServerCredentialsOptions options(GRPC_SSL_REQUEST_CLIENT_CERTIFICATE_AND_VERIFY);

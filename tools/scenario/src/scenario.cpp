@@ -78,7 +78,7 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
   };
   RETURN_IF_ERROR(CheckKeys(root, "",
                             {"name", "world", "routes", "seed", "real_time_factor", "replicas",
-                             "robots", "jobs", "faults", "expect"}));
+                             "tls_dev_certs", "robots", "jobs", "faults", "expect"}));
   Scenario s;
   s.path = path;
   s.name =
@@ -103,6 +103,13 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
       return absl::InvalidArgumentError("replicas: a whole number from 1 to 9");
     }
     s.replicas = static_cast<int>(replicas);
+  }
+  if (root["tls_dev_certs"]) {
+    s.tls_dev_certs = resolve(root["tls_dev_certs"].as<std::string>());
+    if (!std::filesystem::exists(s.tls_dev_certs)) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("tls_dev_certs: no such file '", s.tls_dev_certs, "'"));
+    }
   }
   // Routes: loaded here so that a bad file is refused before anything starts.
   std::set<std::string> route_names;

@@ -20,7 +20,9 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
+#include "absl/strings/strip.h"
 #include "fleetnav/core/angles.hpp"
+#include "fleetnav/proto/channel_credentials.hpp"
 #include "fleetnav/proto/geometry_convert.hpp"
 #include "fleetnav/proto/server_target.hpp"
 #include "fleetnav/scenario/child_process.hpp"
@@ -140,6 +142,13 @@ class Run {
  private:
   std::string Path(const std::string& name) const { return (fs::path(work_) / name).string(); }
   absl::Status Ctl(const std::vector<std::string>& args);
+  /// With `tls_dev_certs`: the run's development PKI (server, robot and token files).
+  absl::Status MakePki();
+  bool Tls() const { return !s_.tls_dev_certs.empty(); }
+  std::string Pki(const std::string& name) const { return Path("pki/" + name); }
+  /// A channel to fleetnavd at `target`: plaintext, or TLS trusting the run's server CA and
+  /// sending the admin token with every call.
+  std::shared_ptr<grpc::Channel> ServerChannel(const std::string& target) const;
   /// Starts fleetnavd (replica `replica` of s_.replicas) on its port.
   absl::Status StartServer(size_t replica);
   /// fleetnavd's address for clients: one port, or the list of the replicas' ports.
@@ -182,6 +191,7 @@ class Run {
     int starts = 0;
   };
   std::vector<ServerProcess> servers_;
+  std::string admin_token_;  ///< with TLS: what the runner and fleetnavctl show
   int sim_port_ = 0;
   /// A leader killed whose successor has not been seen yet.
   struct PendingFailover {
@@ -226,8 +236,45 @@ class Run {
   std::vector<Restart> restarts_;
 };
 
+/// The name the development server certificate carries (make-dev-certs' default names): a
+/// list of replicas is no name a certificate can match, so TLS clients are told it.
+constexpr char kDevServerName[] = "localhost";
+
+absl::Status Run::MakePki() {
+  std::vector<std::string> argv{s_.tls_dev_certs, Path("pki")};
+  for (const ScenarioRobot& robot : s_.robots) argv.push_back(robot.robot_id);
+  ChildProcess pki(argv, Path("pki.out"), Path("pki.err"));
+  if (pki.Wait(120.0) != 0) {
+    return absl::InternalError(
+        absl::StrCat(s_.tls_dev_certs, " did not make the run's PKI: ", pki.Stderr()));
+  }
+  admin_token_ = std::string(absl::StripAsciiWhitespace(ReadWholeFile(Pki("admin.token"))));
+  if (admin_token_.empty()) return absl::InternalError("the run's PKI holds no admin token");
+  return absl::OkStatus();
+}
+
+std::shared_ptr<grpc::Channel> Run::ServerChannel(const std::string& target) const {
+  if (!Tls()) return grpc::CreateChannel(target, grpc::InsecureChannelCredentials());
+  ClientTlsFiles files;
+  files.ca_path = Pki("server-ca.crt");
+  files.server_name = kDevServerName;
+  absl::StatusOr<std::shared_ptr<grpc::ChannelCredentials>> tls = MakeChannelCredentials(files);
+  grpc::ChannelArguments arguments;
+  AddTlsChannelArguments(files, &arguments);
+  // MakePki checked the files; should they have gone, every call fails UNAVAILABLE and says so.
+  return grpc::CreateCustomChannel(
+      target,
+      grpc::CompositeChannelCredentials(tls.ok() ? *tls : grpc::SslCredentials({}),
+                                        grpc::AccessTokenCredentials(admin_token_)),
+      arguments);
+}
+
 absl::Status Run::Ctl(const std::vector<std::string>& args) {
   std::vector<std::string> argv{bin_.ctl, "--server", ServerList()};
+  if (Tls()) {
+    argv.insert(argv.end(), {"--tls-ca", Pki("server-ca.crt"), "--tls-server-name", kDevServerName,
+                             "--token", admin_token_});
+  }
   argv.insert(argv.end(), args.begin(), args.end());
   ChildProcess ctl(argv, Path("ctl.out"), Path("ctl.err"));
   const std::optional<int> code = ctl.Wait(120.0);
@@ -268,14 +315,16 @@ absl::Status Run::StartServer(size_t replica) {
   const std::string port_file = Path(absl::StrCat("server", replica, ".port"));
   fs::remove(port_file);
   ++server.starts;
-  std::vector<std::string> argv{bin_.server,
-                                "--listen",
-                                absl::StrCat("127.0.0.1:", server.port),
-                                "--port-file",
-                                port_file,
-                                "--insecure",
-                                "--db",
-                                opt_.db.empty() ? Path("fleet.db") : opt_.db};
+  std::vector<std::string> argv{
+      bin_.server, "--listen", absl::StrCat("127.0.0.1:", server.port),     "--port-file",
+      port_file,   "--db",     opt_.db.empty() ? Path("fleet.db") : opt_.db};
+  if (Tls()) {
+    argv.insert(argv.end(),
+                {"--tls-cert", Pki("server.crt"), "--tls-key", Pki("server.key"), "--tls-client-ca",
+                 Pki("robot-ca.crt"), "--tokens", Pki("tokens.yaml")});
+  } else {
+    argv.push_back("--insecure");
+  }
   if (s_.replicas > 1) argv.push_back("--replica");
   server.process = std::make_unique<ChildProcess>(
       argv, ServerLog(replica, server.starts),
@@ -305,16 +354,34 @@ absl::Status Run::StartAgent(const ScenarioRobot& robot, const Pose2& pose) {
   const std::string server =
       link != links_.end() ? absl::StrCat("127.0.0.1:", link->second->port()) : ServerList();
   const std::string stem = absl::StrCat("agent-", robot.robot_id, ".", start);
+  std::vector<std::string> argv{bin_.agent,
+                                "--robot-id",
+                                robot.robot_id,
+                                "--kind",
+                                robot.kind_name,
+                                "--sim",
+                                absl::StrCat("127.0.0.1:", sim_port_),
+                                "--server",
+                                server,
+                                "--initial-pose",
+                                absl::StrFormat("%.4f", pose.x_m()),
+                                absl::StrFormat("%.4f", pose.y_m()),
+                                absl::StrFormat("%.3f", RadToDeg(pose.yaw_rad())),
+                                "--particles",
+                                absl::StrCat(robot.particles),
+                                "--seed",
+                                absl::StrCat(seed_ + 1000 * start + RobotIndex(robot.robot_id)),
+                                "--record",
+                                Path(absl::StrCat("estimate-", robot.robot_id, ".csv"))};
+  if (Tls()) {
+    // The robot's own certificate: its common name is its id.
+    argv.insert(argv.end(), {"--tls-ca", Pki("server-ca.crt"), "--tls-cert",
+                             Pki(absl::StrCat("robot-", robot.robot_id, ".crt")), "--tls-key",
+                             Pki(absl::StrCat("robot-", robot.robot_id, ".key")),
+                             "--tls-server-name", kDevServerName});
+  }
   agents_[robot.robot_id] = std::make_unique<ChildProcess>(
-      Niced(opt_.agent_niceness,
-            {bin_.agent, "--robot-id", robot.robot_id, "--kind", robot.kind_name, "--sim",
-             absl::StrCat("127.0.0.1:", sim_port_), "--server", server, "--initial-pose",
-             absl::StrFormat("%.4f", pose.x_m()), absl::StrFormat("%.4f", pose.y_m()),
-             absl::StrFormat("%.3f", RadToDeg(pose.yaw_rad())), "--particles",
-             absl::StrCat(robot.particles), "--seed",
-             absl::StrCat(seed_ + 1000 * start + RobotIndex(robot.robot_id)), "--record",
-             Path(absl::StrCat("estimate-", robot.robot_id, ".csv"))}),
-      Path(stem + ".out"), Path(stem + ".log"));
+      Niced(opt_.agent_niceness, argv), Path(stem + ".out"), Path(stem + ".log"));
   if (!agents_[robot.robot_id]->started()) {
     return absl::UnavailableError(
         absl::StrCat("fleetnav-agent for ", robot.robot_id, " did not start"));
@@ -593,6 +660,9 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   simulator_ = v1::SimService::NewStub(grpc::CreateChannel(absl::StrCat("127.0.0.1:", sim_port_),
                                                            grpc::InsecureChannelCredentials()));
   Pace(true);  // until the agents have connected and the first jobs have started
+  if (Tls()) {
+    if (absl::Status st = MakePki(); !st.ok()) return st;
+  }
   // fleetnavd counts the simulator's time: its timeouts then hold at any speed.
   servers_.resize(static_cast<size_t>(s_.replicas));
   // Replicas on the default SQLite file: fleetnavd refuses them, naming why.
@@ -601,8 +671,7 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   }
   // Every replica answers once it knows the leader.
   for (const ServerProcess& server : servers_) {
-    auto stub = v1::FleetService::NewStub(grpc::CreateChannel(
-        absl::StrCat("127.0.0.1:", server.port), grpc::InsecureChannelCredentials()));
+    auto stub = v1::FleetService::NewStub(ServerChannel(absl::StrCat("127.0.0.1:", server.port)));
     for (int tries = 0;; ++tries) {
       grpc::ClientContext context;
       WithDeadline(&context);
@@ -615,8 +684,7 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
   }
-  fleet_ = v1::FleetService::NewStub(grpc::CreateChannel(
-      fleetnav::ServerTarget(ServerList()).value(), grpc::InsecureChannelCredentials()));
+  fleet_ = v1::FleetService::NewStub(ServerChannel(fleetnav::ServerTarget(ServerList()).value()));
   const std::string map_yaml = Path(absl::StrCat("map/", s_.map_id, ".yaml"));
   const std::string markers_yaml = Path(absl::StrCat("map/", s_.map_id, ".markers.yaml"));
   if (absl::Status st = Ctl({"map", "import", "--id", s_.map_id, map_yaml}); !st.ok()) return st;

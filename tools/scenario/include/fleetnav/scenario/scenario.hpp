@@ -71,6 +71,10 @@ struct Scenario {
   double real_time_factor = 0.0;
   /// fleetnavd replicas sharing the run's PostgreSQL database (1: one plain fleetnavd).
   int replicas = 1;
+  /// `tls_dev_certs`: serve TLS with robot certificates and operator tokens, from a
+  /// development PKI this script (deploy/certs/make-dev-certs) makes for the run; empty:
+  /// plaintext (--insecure).
+  std::string tls_dev_certs;
   std::vector<ScenarioRobot> robots;
   std::vector<ScenarioJob> jobs;
   std::vector<ScenarioFault> faults;

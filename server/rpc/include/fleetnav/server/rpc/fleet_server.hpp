@@ -61,6 +61,10 @@ struct FleetServerParams {
   /// TLS and credentials; all empty: plaintext without authentication (fleetnavd only allows
   /// that with --insecure).
   ServerSecurityFiles security;
+  /// With TLS: also take the calls fleetnavd replicas relay (the leader of replicas, see
+  /// AccessGate and replica_relay.hpp); they prove themselves with the relay key of this
+  /// server's private key.
+  bool accept_replica_relays = false;
   /// Told about every refused call (method, caller and reason), for the log.
   std::function<void(const std::string&)> on_access_refused;
   /// Told about every job event stored (state changes and progress), for the log. Quick.
