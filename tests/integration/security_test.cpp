@@ -1,11 +1,14 @@
 // fleetnavd with TLS, robot certificates and operator tokens, over real TLS on loopback: every
 // RPC refuses missing, malformed and wrong credentials; a robot cannot speak for another; a
 // certificate of a foreign CA does not get in; and the server keeps serving throughout.
+#include <arpa/inet.h>
 #include <gmock/gmock.h>
 #include <google/protobuf/descriptor.h>
 #include <grpcpp/create_channel.h>
 #include <grpcpp/generic/generic_stub.h>
 #include <gtest/gtest.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -13,7 +16,9 @@
 #include <fstream>
 #include <future>
 #include <set>
+#include <thread>
 
+#include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/strip.h"
 #include "fleetnav/proto/channel_credentials.hpp"
@@ -104,6 +109,25 @@ class SecurityTest : public ::testing::Test {
   }
 
   static std::string Pki(const std::string& name) { return *pki_dir + "/" + name; }
+  /// Whether at least `count` refusal lines with "TLS handshake from ipv4:127.0.0.1:" and
+  /// `what` are logged within `seconds`.
+  bool LoggedWithin(double seconds, const std::string& what, size_t count) {
+    const auto give_up = std::chrono::steady_clock::now() +
+                         std::chrono::milliseconds(static_cast<int64_t>(seconds * 1000));
+    while (true) {
+      {
+        absl::MutexLock lock(&log_mutex_);
+        const auto found =
+            std::count_if(refusal_log_.begin(), refusal_log_.end(), [&](const std::string& line) {
+              return absl::StrContains(line, "TLS handshake from ipv4:127.0.0.1:") &&
+                     absl::StrContains(line, what);
+            });
+        if (static_cast<size_t>(found) >= count) return true;
+      }
+      if (std::chrono::steady_clock::now() > give_up) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
   static std::string Token(const std::string& role) { return ReadText(Pki(role + ".token")); }
 
   /// A TLS channel trusting the server's CA, with a robot's certificate when `robot` is set.
@@ -288,6 +312,35 @@ TEST_F(SecurityTest, ACertificateOfAForeignCaDoesNotGetInAndTheServerKeepsServin
                 .error_code(),
             grpc::StatusCode::OK);
   EXPECT_TRUE(ConnectAs(Channel("lely1"), "lely1").ok());
+  // Every refused handshake is a `refused:` line naming the peer, and counted.
+  EXPECT_TRUE(LoggedWithin(5.0, "did not verify against the robot CA", 2));
+  EXPECT_TRUE(LoggedWithin(5.0, "not TLS (a plaintext client?)", 1));
+  EXPECT_GE(server_->access_counts().handshakes_refused, 3u);
+}
+
+TEST_F(SecurityTest, ARefusedHandshakeNamesItsPeer) {
+  // A plaintext HTTP/2 client on a raw socket, whose own address is known.
+  const int client = socket(AF_INET, SOCK_STREAM, 0);
+  ASSERT_GE(client, 0);
+  sockaddr_in server{};
+  server.sin_family = AF_INET;
+  server.sin_port =
+      htons(static_cast<uint16_t>(std::stoi(address_.substr(address_.rfind(':') + 1))));
+  inet_pton(AF_INET, "127.0.0.1", &server.sin_addr);
+  ASSERT_EQ(connect(client, reinterpret_cast<sockaddr*>(&server), sizeof(server)), 0);
+  sockaddr_in self{};
+  socklen_t length = sizeof(self);
+  getsockname(client, reinterpret_cast<sockaddr*>(&self), &length);
+  const std::string preface = "PRI * HTTP/2.0\r\n\r\nSM\r\n\r\n";
+  ASSERT_EQ(send(client, preface.data(), preface.size(), 0), static_cast<ssize_t>(preface.size()));
+  char reply = 0;
+  EXPECT_LE(recv(client, &reply, 1, 0), 0);  // closed without a word
+  close(client);
+  const std::string peer = absl::StrCat("ipv4:127.0.0.1:", ntohs(self.sin_port));
+  EXPECT_TRUE(LoggedWithin(5.0, "TLS handshake from " + peer + ": not TLS", 1));
+  EXPECT_EQ(server_->access_counts().handshakes_refused, 1u);
+  // /metrics has the count.
+  EXPECT_THAT(server_->RenderMetrics(), HasSubstr("fleetnav_tls_handshakes_refused_total 1"));
 }
 
 TEST_F(SecurityTest, FleetnavctlSpeaksTlsWithATokenAndSaysWhenItIsRefused) {

@@ -122,7 +122,14 @@ absl::StatusOr<int> ReplicaServer::Start() {
   }
   grpc::ServerBuilder builder;
   int port = 0;
-  builder.AddListeningPort(params_.listen_address, credentials, &port);
+  if (secure_) {
+    // As the single server's: refused handshakes are logged and counted with their peer.
+    front_door_ = std::make_unique<TlsFrontDoor>(
+        TlsFrontDoorParams{params_.listen_address, params_.leader.on_access_refused});
+    ASSIGN_OR_RETURN(port, front_door_->Open(&builder, credentials));
+  } else {
+    builder.AddListeningPort(params_.listen_address, credentials, &port);
+  }
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.SetMaxReceiveMessageSize(params_.leader.max_message_bytes);
   builder.SetMaxSendMessageSize(params_.leader.max_message_bytes);
@@ -133,6 +140,7 @@ absl::StatusOr<int> ReplicaServer::Start() {
     return absl::UnavailableError(absl::StrCat("cannot listen: address ", params_.listen_address,
                                                " already in use or not available"));
   }
+  if (front_door_ != nullptr) front_door_->Start();
   leadership_->Start();
   return port;
 }
@@ -242,6 +250,7 @@ void ReplicaServer::Shutdown() {
   leadership_->Stop();
   if (http_relay_ != nullptr) http_relay_->Stop();
   proxy_.Close();
+  if (front_door_ != nullptr) front_door_->Stop();
   server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
   if (starter_.joinable()) starter_.join();
   std::unique_ptr<FleetServer> leader;

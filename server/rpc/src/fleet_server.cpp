@@ -144,7 +144,16 @@ absl::StatusOr<int> FleetServer::Start() {
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   int port = 0;
-  builder.AddListeningPort(params_.listen_address, credentials, &port);
+  if (access_gate_ != nullptr) {
+    // A TLS port is accepted by fleetnavd itself, so that refused handshakes name their peer.
+    front_door_ = std::make_unique<TlsFrontDoor>(
+        TlsFrontDoorParams{params_.listen_address, params_.on_access_refused});
+    absl::StatusOr<int> opened = front_door_->Open(&builder, credentials);
+    if (!opened.ok()) return opened.status();
+    port = *opened;
+  } else {
+    builder.AddListeningPort(params_.listen_address, credentials, &port);
+  }
   // gRPC binds with SO_REUSEPORT by default: a second server on a bound port would start and
   // the kernel would split the clients between the two. The port must be this server's alone.
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
@@ -163,6 +172,7 @@ absl::StatusOr<int> FleetServer::Start() {
     return absl::UnavailableError(absl::StrCat("cannot listen: address ", params_.listen_address,
                                                " already in use or not available"));
   }
+  if (front_door_ != nullptr) front_door_->Start();
   agent_service_->Start();
   watch_hub_->Start();
   dispatcher_ = std::make_unique<DispatcherLoop>(
@@ -223,7 +233,9 @@ std::string FleetServer::RenderMetrics() const {
 }
 
 AccessCounts FleetServer::access_counts() const {
-  return access_gate_ ? access_gate_->counts() : AccessCounts{};
+  AccessCounts counts = access_gate_ ? access_gate_->counts() : AccessCounts{};
+  if (front_door_ != nullptr) counts.handshakes_refused = front_door_->refused();
+  return counts;
 }
 
 PassFigures FleetServer::one_job_passes() const {
@@ -236,6 +248,7 @@ PassFigures FleetServer::one_job_pass_cpu() const {
 
 void FleetServer::Shutdown() {
   if (server_ == nullptr || stopping_.exchange(true)) return;
+  if (front_door_ != nullptr) front_door_->Stop();
   server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(1));
   agent_service_->Shutdown();
   watch_hub_->Shutdown();

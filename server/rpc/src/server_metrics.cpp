@@ -147,6 +147,13 @@ std::string ServerMetrics::Render(const FleetStateFigures& state) const {
             static_cast<double>(state.access.unauthenticated));
   AddSample(access, "outcome", "denied", static_cast<double>(state.access.denied));
   families.push_back(std::move(access));
+  prometheus::MetricFamily handshakes =
+      Family("fleetnav_tls_handshakes_refused_total",
+             "TLS handshakes refused before any call: plaintext clients, client certificates "
+             "of another CA, expired or not yet valid",
+             prometheus::MetricType::Counter);
+  AddSample(handshakes, "", "", static_cast<double>(state.access.handshakes_refused));
+  families.push_back(std::move(handshakes));
   return prometheus::TextSerializer().Serialize(families);
 }
 

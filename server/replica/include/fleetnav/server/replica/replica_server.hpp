@@ -17,6 +17,7 @@
 #include "fleetnav/server/replica/site_leadership.hpp"
 #include "fleetnav/server/rpc/fleet_server.hpp"
 #include "fleetnav/server/rpc/health_service.hpp"
+#include "fleetnav/server/rpc/tls_front_door.hpp"
 #include "fleetnav/storage/postgres/pg_database.hpp"
 #include "fleetnav/storage/postgres/pg_site_leases.hpp"
 
@@ -110,6 +111,7 @@ class ReplicaServer {
   std::unique_ptr<SiteLeadership> leadership_;
   LeaderProxy proxy_;
   std::unique_ptr<HealthServiceImpl> health_;
+  std::unique_ptr<TlsFrontDoor> front_door_;  ///< the public TLS port's acceptor; null without TLS
   std::unique_ptr<grpc::Server> server_;
   bool secure_ = false;
   std::string leader_certificate_pem_;  ///< the server certificate the replicas pin

@@ -22,6 +22,9 @@ struct AccessCounts {
   uint64_t admitted = 0;
   uint64_t unauthenticated = 0;
   uint64_t denied = 0;
+  /// TLS handshakes refused before any call (TlsFrontDoor): plaintext clients, certificates
+  /// of another CA, expired ones.
+  uint64_t handshakes_refused = 0;
 };
 
 /// The common name of the client certificate the TLS handshake verified against the robot

@@ -27,6 +27,7 @@
 #include "fleetnav/server/rpc/server_metrics.hpp"
 #include "fleetnav/server/rpc/server_security.hpp"
 #include "fleetnav/server/rpc/sim_clock_feed.hpp"
+#include "fleetnav/server/rpc/tls_front_door.hpp"
 #include "fleetnav/server/rpc/watch_hub.hpp"
 #include "fleetnav/server/site_cache.hpp"
 #include "fleetnav/server/site_catalog.hpp"
@@ -148,7 +149,8 @@ class FleetServer {
   /// Stale robots, pose history and returning freed memory, off the dispatcher's thread.
   std::thread housekeeper_;
   absl::Notification stop_housekeeping_;
-  std::shared_ptr<AccessGate> access_gate_;  ///< null without TLS
+  std::shared_ptr<AccessGate> access_gate_;   ///< null without TLS
+  std::unique_ptr<TlsFrontDoor> front_door_;  ///< the TLS port's acceptor; null without TLS
   ServerMetrics metrics_;
   std::unique_ptr<grpc::Service> health_service_;
   std::unique_ptr<FleetServiceImpl> fleet_service_;
