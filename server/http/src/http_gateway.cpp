@@ -7,8 +7,10 @@
 
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/server/http/dashboard_assets.hpp"
 #include "fleetnav/server/http/dashboard_json.hpp"
+#include "http_listener.hpp"
 
 namespace fleetnav::server::http {
 namespace {
@@ -46,20 +48,7 @@ void SendJson(httplib::Response& res, const nlohmann::json& body) {
 }  // namespace
 
 absl::Status HttpGatewayParams::Validate() const {
-  const size_t colon = listen_address.rfind(':');
-  int port = 0;
-  if (colon == std::string::npos || colon == 0 ||
-      !absl::SimpleAtoi(listen_address.substr(colon + 1), &port) || port < 0 || port > 65535) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("http listen address '", listen_address, "': expected host:port"));
-  }
-  if (cert_path.empty() != key_path.empty()) {
-    return absl::InvalidArgumentError("http: a TLS certificate needs its key");
-  }
-  if (threads < 2 || threads > 256) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("http threads: must be in [2, 256], got ", threads));
-  }
+  RETURN_IF_ERROR(ValidateHttpListen(listen_address, cert_path, key_path, threads));
   if (!(push_rate_hz > 0.0 && push_rate_hz <= 50.0)) {
     return absl::InvalidArgumentError(
         absl::StrCat("http push rate: must be in (0, 50] Hz, got ", push_rate_hz));
@@ -74,33 +63,10 @@ HttpGateway::~HttpGateway() { Stop(); }
 
 absl::StatusOr<int> HttpGateway::Start() {
   if (absl::Status valid = params_.Validate(); !valid.ok()) return valid;
-  if (params_.cert_path.empty()) {
-    http_ = std::make_unique<httplib::Server>();
-  } else {
-    auto https =
-        std::make_unique<httplib::SSLServer>(params_.cert_path.c_str(), params_.key_path.c_str());
-    if (!https->is_valid()) {
-      return absl::InvalidArgumentError(absl::StrCat("http: cannot use the certificate '",
-                                                     params_.cert_path, "' with key '",
-                                                     params_.key_path, "'"));
-    }
-    http_ = std::move(https);
-  }
-  http_->set_payload_max_length(params_.max_request_bytes);
-  const size_t threads = static_cast<size_t>(params_.threads);
-  http_->new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
-  http_->set_read_timeout(5, 0);
+  ASSIGN_OR_RETURN(http_, MakeHttpServer(params_.cert_path, params_.key_path,
+                                         params_.max_request_bytes, params_.threads));
   AddHandlers();
-  const size_t colon = params_.listen_address.rfind(':');
-  const std::string host = params_.listen_address.substr(0, colon);
-  int port = 0;
-  (void)absl::SimpleAtoi(params_.listen_address.substr(colon + 1), &port);
-  const int bound =
-      port == 0 ? http_->bind_to_any_port(host) : (http_->bind_to_port(host, port) ? port : -1);
-  if (bound <= 0) {
-    return absl::UnavailableError(absl::StrCat("http: cannot listen on ", params_.listen_address,
-                                               ": already in use or not available"));
-  }
+  ASSIGN_OR_RETURN(const int bound, BindHttpServer(http_.get(), params_.listen_address));
   listener_ = std::thread([this] { http_->listen_after_bind(); });
   return bound;
 }

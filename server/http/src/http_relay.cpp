@@ -12,6 +12,8 @@
 #include "absl/strings/str_cat.h"
 #include "absl/synchronization/mutex.h"
 #include "absl/time/time.h"
+#include "fleetnav/core/status_macros.hpp"
+#include "http_listener.hpp"
 
 namespace fleetnav::server::http {
 namespace {
@@ -60,20 +62,7 @@ std::pair<time_t, time_t> SecondsAndMicros(double seconds) {
 }  // namespace
 
 absl::Status HttpRelayParams::Validate() const {
-  const size_t colon = listen_address.rfind(':');
-  int port = 0;
-  if (colon == std::string::npos || colon == 0 ||
-      !absl::SimpleAtoi(listen_address.substr(colon + 1), &port) || port < 0 || port > 65535) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("http listen address '", listen_address, "': expected host:port"));
-  }
-  if (cert_path.empty() != key_path.empty()) {
-    return absl::InvalidArgumentError("http: a TLS certificate needs its key");
-  }
-  if (threads < 2 || threads > 256) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("http threads: must be in [2, 256], got ", threads));
-  }
+  RETURN_IF_ERROR(ValidateHttpListen(listen_address, cert_path, key_path, threads));
   if (!(upstream_timeout_s > 0.0 && upstream_timeout_s <= 300.0)) {
     return absl::InvalidArgumentError(
         absl::StrCat("http upstream timeout: must be in (0, 300] s, got ", upstream_timeout_s));
@@ -88,22 +77,8 @@ HttpRelay::~HttpRelay() { Stop(); }
 
 absl::StatusOr<int> HttpRelay::Start() {
   if (absl::Status valid = params_.Validate(); !valid.ok()) return valid;
-  if (params_.cert_path.empty()) {
-    http_ = std::make_unique<httplib::Server>();
-  } else {
-    auto https =
-        std::make_unique<httplib::SSLServer>(params_.cert_path.c_str(), params_.key_path.c_str());
-    if (!https->is_valid()) {
-      return absl::InvalidArgumentError(absl::StrCat("http: cannot use the certificate '",
-                                                     params_.cert_path, "' with key '",
-                                                     params_.key_path, "'"));
-    }
-    http_ = std::move(https);
-  }
-  http_->set_payload_max_length(params_.max_request_bytes);
-  const size_t threads = static_cast<size_t>(params_.threads);
-  http_->new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
-  http_->set_read_timeout(5, 0);
+  ASSIGN_OR_RETURN(http_, MakeHttpServer(params_.cert_path, params_.key_path,
+                                         params_.max_request_bytes, params_.threads));
   http_->Get("/healthz", [](const httplib::Request&, httplib::Response& res) {
     res.set_content("ok\n", "text/plain");
   });
@@ -119,16 +94,7 @@ absl::StatusOr<int> HttpRelay::Start() {
           "application/json");
     }
   });
-  const size_t colon = params_.listen_address.rfind(':');
-  const std::string host = params_.listen_address.substr(0, colon);
-  int port = 0;
-  (void)absl::SimpleAtoi(params_.listen_address.substr(colon + 1), &port);
-  const int bound =
-      port == 0 ? http_->bind_to_any_port(host) : (http_->bind_to_port(host, port) ? port : -1);
-  if (bound <= 0) {
-    return absl::UnavailableError(absl::StrCat("http: cannot listen on ", params_.listen_address,
-                                               ": already in use or not available"));
-  }
+  ASSIGN_OR_RETURN(const int bound, BindHttpServer(http_.get(), params_.listen_address));
   listener_ = std::thread([this] { http_->listen_after_bind(); });
   return bound;
 }

@@ -52,8 +52,8 @@ void PrintLikeGrpc(const gpr_log_func_args& args) {
   const char letter = args.severity == GPR_LOG_SEVERITY_DEBUG  ? 'D'
                       : args.severity == GPR_LOG_SEVERITY_INFO ? 'I'
                                                                : 'E';
-  std::fprintf(stderr, "%c%02d%02d %02d:%02d:%02d.%09ld %7ld %.*s:%d] %s\n", letter,
-               utc.tm_mon + 1, utc.tm_mday, utc.tm_hour, utc.tm_min, utc.tm_sec, now.tv_nsec,
+  std::fprintf(stderr, "%c%02d%02d %02d:%02d:%02d.%09ld %7ld %.*s:%d] %s\n", letter, utc.tm_mon + 1,
+               utc.tm_mday, utc.tm_hour, utc.tm_min, utc.tm_sec, now.tv_nsec,
                static_cast<long>(syscall(SYS_gettid)), static_cast<int>(file.size()), file.data(),
                args.line, args.message != nullptr ? args.message : "");
 }

@@ -89,9 +89,9 @@ class TlsFrontDoor {
   std::atomic<uint64_t> refused_{0};
   std::thread thread_;
   // The loop's own state (its thread only).
-  std::map<int, Waiting> waiting_;      ///< accepted, first bytes not seen yet
-  std::map<int, std::string> handed_;   ///< duplicate of a handed-over socket → its peer
-  std::deque<std::string> ended_;       ///< peers of handed-over connections that just ended
+  std::map<int, Waiting> waiting_;     ///< accepted, first bytes not seen yet
+  std::map<int, std::string> handed_;  ///< duplicate of a handed-over socket → its peer
+  std::deque<std::string> ended_;      ///< peers of handed-over connections that just ended
   absl::Mutex reports_mutex_;
   std::deque<Report> reports_ ABSL_GUARDED_BY(reports_mutex_);
 };
