@@ -189,7 +189,7 @@ void HttpRelay::Relay(const httplib::Request& req, httplib::Response& res) {
     }
     res.status = exchange->status;
     if (!exchange->cache_control.empty()) res.set_header("Cache-Control", exchange->cache_control);
-    res.set_content(std::move(exchange->pending),
+    res.set_content(exchange->pending,
                     exchange->content_type.empty() ? "text/plain" : exchange->content_type);
     return;
   }

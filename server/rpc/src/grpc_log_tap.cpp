@@ -59,8 +59,8 @@ void PrintLikeGrpc(const gpr_log_func_args& args) {
 }
 
 void Tap(gpr_log_func_args* args) {
-  static const int operator_verbosity = OperatorVerbosity();
-  if (static_cast<int>(args->severity) >= operator_verbosity) PrintLikeGrpc(*args);
+  static const int kOperatorVerbosity = OperatorVerbosity();
+  if (static_cast<int>(args->severity) >= kOperatorVerbosity) PrintLikeGrpc(*args);
   if (args->severity != GPR_LOG_SEVERITY_ERROR || args->message == nullptr) return;
   Subscribers& subscribers = TheSubscribers();
   absl::MutexLock lock(&subscribers.mutex);
