@@ -66,6 +66,47 @@ TEST(FleetScenario, TwoLelyRobotsShareTheBarnWithoutContact) {
   EXPECT_TRUE(std::filesystem::exists(keep + "/truth.csv"));
 }
 
+// `fleetnav-scenario sweep`: one run per seed, two at a time; a failing seed is kept and comes
+// with the command that replays it.
+TEST(FleetScenario, ASweepCountsEverySeedAndKeepsWhatReplaysAFailure) {
+  ChildProcess passing({FLEETNAV_SCENARIO_PATH, "sweep", FLEETNAV_SCENARIOS_DIR "/barn_goal.yaml",
+                        "--seeds", "1-2", "--jobs", "2", "--json"},
+                       TempPath("sweep.out"), TempPath("sweep.err"));
+  ASSERT_EQ(passing.Wait(600.0).value_or(-1), 0) << passing.Stdout() << passing.Stderr();
+  const nlohmann::json swept = nlohmann::json::parse(passing.Stdout());
+  EXPECT_EQ(swept["runs"].get<int>(), 2);
+  EXPECT_EQ(swept["passed"].get<int>(), 2);
+  EXPECT_TRUE(swept["failing"].empty());
+  EXPECT_GT(swept["figures"]["sim_time_s"]["p50"].get<double>(), 0.0);
+  EXPECT_EQ(swept["figures"]["contacts"]["max"].get<double>(), 0.0);
+  // The same goal with a deadline no robot can meet.
+  const std::string file = TempPath("sweep-too-short.yaml");
+  {
+    std::ofstream yaml(file);
+    yaml << "name: too-short\nworld: " << FLEETNAV_WORLDS_DIR << "/barn.yaml\n"
+         << "jobs:\n  - {id: go, goal: [-3.0, 2.0, 90], robot: lely1}\n"
+         << "expect:\n  jobs: succeeded\n  deadline_s: 3\n";
+  }
+  const std::string keep = TempPath("sweep-failures");
+  std::filesystem::remove_all(keep);
+  ChildProcess failing(
+      {FLEETNAV_SCENARIO_PATH, "sweep", file, "--seeds", "4", "--keep-failures", keep, "--json"},
+      TempPath("sweep-fail.out"), TempPath("sweep-fail.err"));
+  ASSERT_EQ(failing.Wait(300.0).value_or(-1), 1) << failing.Stdout() << failing.Stderr();
+  const nlohmann::json failed = nlohmann::json::parse(failing.Stdout());
+  EXPECT_EQ(failed["passed"].get<int>(), 0);
+  ASSERT_EQ(failed["failing"].size(), 1u);
+  EXPECT_EQ(failed["failing"][0]["seed"].get<int>(), 4);
+  EXPECT_THAT(failed["failing"][0]["failure"].get<std::string>(),
+              ::testing::HasSubstr("expected succeeded"));
+  const std::string kept = keep + "/seed-4";
+  EXPECT_EQ(failed["failing"][0]["replay"].get<std::string>(),
+            absl::StrCat("fleetnav-scenario run ", file, " --seed 4 --keep ", kept));
+  EXPECT_TRUE(std::filesystem::exists(kept + "/truth.csv"));
+  std::filesystem::remove_all(keep);
+  std::filesystem::remove(file);
+}
+
 // `job submit --goal`'s job as a robot runs it: one free-navigation action to the goal.
 TEST(FleetScenario, AGoalJobEndsAtTheGoal) {
   ChildProcess run(

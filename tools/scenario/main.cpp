@@ -12,42 +12,61 @@
 #include "fleetnav/core/version.hpp"
 #include "fleetnav/scenario/scenario.hpp"
 #include "fleetnav/scenario/scenario_runner.hpp"
+#include "fleetnav/scenario/sweep.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"fleetnav-scenario: run a multi-robot scenario in the simulator and check it"};
   app.set_version_flag("--version", std::string(fleetnav::Version()));
   app.require_subcommand(1);
   CLI::App* run = app.add_subcommand("run", "run a scenario file");
+  CLI::App* sweep = app.add_subcommand(
+      "sweep",
+      "run a scenario file once per seed and print the pass rate, the failing seeds "
+      "(each with the command that replays it) and the figures' p50/p95/max");
   std::string file;
-  run->add_option("FILE", file, "scenario YAML (docs/scenarios.md)")->required();
+  bool json = false;
+  double timeout_s = 3600.0;
+  int agent_niceness = fleetnav::scenario::RunOptions().agent_niceness;
+  int sim_niceness = fleetnav::scenario::RunOptions().sim_niceness;
+  std::string db;
+  for (CLI::App* command : {run, sweep}) {
+    command->add_option("FILE", file, "scenario YAML (docs/scenarios.md)")->required();
+    command->add_flag("--json", json, "print one JSON object instead of the tables");
+    command->add_option("--wall-timeout-s", timeout_s, "give up a run after this much wall time")
+        ->capture_default_str();
+    command
+        ->add_option("--agent-niceness", agent_niceness,
+                     "nice value of the agent processes, which on a site run on the robots' own "
+                     "computers (0 = the runner's priority)")
+        ->check(CLI::Range(0, 19))
+        ->capture_default_str();
+    command->add_option("--db", db,
+                        "fleetnavd's database: a postgresql://USER@HOST:PORT/DB URI of an empty "
+                        "database (needed for scenarios with replicas) [a fresh SQLite file]");
+    command
+        ->add_option("--sim-niceness", sim_niceness,
+                     "nice value of the simulator, which stands for the world (0 = the runner's "
+                     "priority)")
+        ->check(CLI::Range(0, 19))
+        ->capture_default_str();
+  }
   unsigned seed = 0;
   CLI::Option* seed_option = run->add_option("--seed", seed, "overrides the scenario's seed");
-  bool json = false;
-  run->add_flag("--json", json, "print one JSON object instead of the tables");
   std::string picture;
   run->add_option("--picture", picture,
                   "draw the map and the true and estimated paths (.png/.svg)");
   std::string keep;
   run->add_option("--keep", keep, "keep logs, database and recordings in this folder");
-  double timeout_s = 3600.0;
-  run->add_option("--wall-timeout-s", timeout_s, "give up after this much wall time")
+  std::string seeds_text;
+  sweep->add_option("--seeds", seeds_text, "the seeds: a range 1-100, a list 1,5,9, or both")
+      ->required();
+  int jobs = 1;
+  sweep->add_option("--jobs", jobs, "runs at once (each is a whole fleet of processes)")
+      ->check(CLI::Range(1, 64))
       ->capture_default_str();
-  int agent_niceness = fleetnav::scenario::RunOptions().agent_niceness;
-  run->add_option("--agent-niceness", agent_niceness,
-                  "nice value of the agent processes, which on a site run on the robots' own "
-                  "computers (0 = the runner's priority)")
-      ->check(CLI::Range(0, 19))
-      ->capture_default_str();
-  std::string db;
-  run->add_option("--db", db,
-                  "fleetnavd's database: a postgresql://USER@HOST:PORT/DB URI of an empty "
-                  "database (needed for scenarios with replicas) [a fresh SQLite file]");
-  int sim_niceness = fleetnav::scenario::RunOptions().sim_niceness;
-  run->add_option("--sim-niceness", sim_niceness,
-                  "nice value of the simulator, which stands for the world (0 = the runner's "
-                  "priority)")
-      ->check(CLI::Range(0, 19))
-      ->capture_default_str();
+  std::string keep_failures;
+  sweep->add_option("--keep-failures", keep_failures,
+                    "keep each failing run in DIR/seed-N for its replay command");
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help, --version
@@ -68,13 +87,38 @@ int main(int argc, char** argv) {
     return 3;
   }
   fleetnav::scenario::RunOptions options;
-  if (*seed_option) options.seed = seed;
-  options.keep_dir = keep;
-  options.picture_path = picture;
   options.wall_timeout_s = timeout_s;
   options.agent_niceness = agent_niceness;
   options.sim_niceness = sim_niceness;
   options.db = db;
+  if (sweep->parsed()) {
+    absl::StatusOr<std::vector<unsigned>> seeds = fleetnav::scenario::ParseSeeds(seeds_text);
+    if (!seeds.ok()) {
+      std::cerr << "fleetnav-scenario: " << seeds.status().message() << "\n";
+      return 2;
+    }
+    fleetnav::scenario::SweepOptions sweep_options;
+    sweep_options.run = options;
+    sweep_options.seeds = *std::move(seeds);
+    sweep_options.jobs = jobs;
+    sweep_options.keep_failures_dir = keep_failures;
+    sweep_options.progress = &std::cerr;
+    absl::StatusOr<fleetnav::scenario::SweepSummary> summary =
+        fleetnav::scenario::RunSweep(*scenario, *binaries, sweep_options);
+    if (!summary.ok()) {
+      std::cerr << "fleetnav-scenario: " << summary.status().message() << "\n";
+      return 2;
+    }
+    if (json) {
+      std::cout << fleetnav::scenario::SweepJson(*summary, file) << "\n";
+    } else {
+      fleetnav::scenario::PrintSweep(*summary, file, std::cout);
+    }
+    return summary->passed() == static_cast<int>(summary->runs.size()) ? 0 : 1;
+  }
+  if (*seed_option) options.seed = seed;
+  options.keep_dir = keep;
+  options.picture_path = picture;
   options.progress = &std::cerr;
   options.progress_is_terminal = isatty(STDERR_FILENO) != 0;
   absl::StatusOr<fleetnav::scenario::ScenarioReport> report =
