@@ -317,8 +317,9 @@ int main(int argc, char** argv) {
   const fleetnav::server::PassFigures one_job_cpu = server.one_job_pass_cpu();
   if (server.secure()) {
     const fleetnav::server::AccessCounts access = server.access_counts();
-    spdlog::info("fleetnavd: calls admitted {}, unauthenticated {}, denied {}", access.admitted,
-                 access.unauthenticated, access.denied);
+    spdlog::info(
+        "fleetnavd: calls admitted {}, unauthenticated {}, denied {}; TLS handshakes refused {}",
+        access.admitted, access.unauthenticated, access.denied, access.handshakes_refused);
   }
   // Read by fleetnav-scenario (docs/scenarios.md): keep the wording.
   spdlog::info(

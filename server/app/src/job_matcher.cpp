@@ -32,8 +32,18 @@ void JobMatcher::ForgetRobot(const std::string& robot_id) {
   charging_job_.erase(robot_id);
 }
 
+JobMatcher::RouteFacts JobMatcher::RouteFacts::Of(std::vector<NeededCapability> needs,
+                                                  std::optional<Eigen::Vector2d> start) {
+  RouteFacts facts;
+  for (const NeededCapability& need : needs) facts.needed.push_back(need.capability);
+  std::sort(facts.needed.begin(), facts.needed.end());
+  facts.needs = std::move(needs);
+  facts.start = start;
+  return facts;
+}
+
 JobMatcher::RouteFacts JobMatcher::FactsOf(const Job& job) {
-  if (job.goal) return RouteFacts{{"free_navigation"}, NeedsOfGoal(), job.goal->translation()};
+  if (job.goal) return RouteFacts::Of(NeedsOfGoal(), job.goal->translation());
   const auto key = std::make_pair(job.route_name, job.route_version);
   auto known = route_facts_.find(key);
   if (known != route_facts_.end()) return known->second;
@@ -41,16 +51,14 @@ JobMatcher::RouteFacts JobMatcher::FactsOf(const Job& job) {
   absl::StatusOr<std::shared_ptr<const storage::StoredRoute>> route =
       site_->GetRoute(job.route_name, job.route_version);
   if (route.ok()) {
-    std::set<std::string> needed;
+    std::optional<Eigen::Vector2d> start;
     for (const RouteAction& action : (*route)->route.actions) {
-      needed.insert(std::string(ActionTypeName(action.params)));
       const auto* nav = std::get_if<FreeNavigationAction>(&action.params);
-      if (nav != nullptr && !facts.start) {
-        facts.start = nav->waypoints_m.empty() ? nav->goal.translation() : nav->waypoints_m.front();
+      if (nav != nullptr && !start) {
+        start = nav->waypoints_m.empty() ? nav->goal.translation() : nav->waypoints_m.front();
       }
     }
-    facts.needed.assign(needed.begin(), needed.end());
-    facts.needs = NeedsOfRoute((*route)->route);
+    facts = RouteFacts::Of(NeedsOfRoute((*route)->route), start);
   }
   return route_facts_.emplace(key, std::move(facts)).first->second;
 }

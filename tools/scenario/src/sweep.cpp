@@ -48,11 +48,9 @@ absl::StatusOr<std::vector<unsigned>> ParseSeeds(const std::string& text) {
   for (const absl::string_view part : absl::StrSplit(text, ',')) {
     const std::vector<absl::string_view> ends = absl::StrSplit(part, '-');
     unsigned first = 0;
-    unsigned last = 0;
-    const bool parsed =
-        (ends.size() == 1 && absl::SimpleAtoi(ends[0], &first) && (last = first, true)) ||
-        (ends.size() == 2 && absl::SimpleAtoi(ends[0], &first) &&
-         absl::SimpleAtoi(ends[1], &last));
+    bool parsed = ends.size() <= 2 && absl::SimpleAtoi(ends.front(), &first);
+    unsigned last = first;
+    if (parsed && ends.size() == 2) parsed = absl::SimpleAtoi(ends[1], &last);
     if (!parsed) {
       return absl::InvalidArgumentError(
           absl::StrCat("--seeds: '", part, "' is neither a seed nor a range A-B"));
@@ -113,9 +111,9 @@ absl::StatusOr<SweepSummary> RunSweep(const Scenario& scenario, const Binaries& 
       one.seed = run.seed;
       one.progress = nullptr;
       if (!options.keep_failures_dir.empty()) {
-        one.keep_dir = (std::filesystem::path(options.keep_failures_dir) /
-                        absl::StrCat("seed-", run.seed))
-                           .string();
+        one.keep_dir =
+            (std::filesystem::path(options.keep_failures_dir) / absl::StrCat("seed-", run.seed))
+                .string();
         std::filesystem::create_directories(one.keep_dir);
       }
       absl::StatusOr<ScenarioReport> report = RunScenario(scenario, binaries, one);
@@ -152,8 +150,8 @@ absl::StatusOr<SweepSummary> RunSweep(const Scenario& scenario, const Binaries& 
 
 void PrintSweep(const SweepSummary& summary, const std::string& scenario_file, std::ostream& out) {
   const int runs = static_cast<int>(summary.runs.size());
-  out << absl::StrFormat("sweep %s: %d/%d passed (%.1f %%)\n", summary.name, summary.passed(),
-                         runs, runs > 0 ? 100.0 * summary.passed() / runs : 0.0);
+  out << absl::StrFormat("sweep %s: %d/%d passed (%.1f %%)\n", summary.name, summary.passed(), runs,
+                         runs > 0 ? 100.0 * summary.passed() / runs : 0.0);
   for (const SweepRun& run : summary.runs) {
     if (run.passed) continue;
     out << absl::StrFormat("  seed %u FAILED: %s\n    replay: %s\n", run.seed, run.failure,
@@ -176,8 +174,9 @@ std::string SweepJson(const SweepSummary& summary, const std::string& scenario_f
   json["failing"] = nlohmann::json::array();
   for (const SweepRun& run : summary.runs) {
     if (run.passed) continue;
-    json["failing"].push_back(
-        {{"seed", run.seed}, {"failure", run.failure}, {"replay", ReplayCommand(run, scenario_file)}});
+    json["failing"].push_back({{"seed", run.seed},
+                               {"failure", run.failure},
+                               {"replay", ReplayCommand(run, scenario_file)}});
   }
   for (const auto& [figure, spread] : summary.figures) {
     json["figures"][figure] = {{"p50", spread.p50}, {"p95", spread.p95}, {"max", spread.max}};

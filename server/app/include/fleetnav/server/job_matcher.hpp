@@ -65,9 +65,11 @@ class JobMatcher {
   /// What matching needs to know of a job's route: the action types it needs and its first
   /// known point.
   struct RouteFacts {
+    /// The capabilities the job needs, sorted (what robots are matched on).
     std::vector<std::string> needed;
-    std::vector<NeededCapability> needs;  ///< the same, with the first action needing each
+    std::vector<NeededCapability> needs;  ///< the same, in the route's order, with the action
     std::optional<Eigen::Vector2d> start;
+    static RouteFacts Of(std::vector<NeededCapability> needs, std::optional<Eigen::Vector2d> start);
   };
   /// A route's facts are kept by (route, version), which never changes, so a queued job costs
   /// nothing per pass however long its route.
