@@ -206,7 +206,11 @@ int main(int argc, char** argv) {
   fleetnav::AddTlsChannelArguments(tls, &server_arguments);
   auto server_channel =
       grpc::CreateCustomChannel(*server_target, *server_credentials, server_arguments);
-  fleetnav::agent::ServerLink link(server_channel, identity);
+  // On the simulator the agent takes part in the lockstep: fleetnavd takes in each tick
+  // before the simulator advances, so that a run replays exactly (docs/simulator.md).
+  fleetnav::agent::ServerLinkParams link_params;
+  link_params.lockstep = true;
+  fleetnav::agent::ServerLink link(server_channel, identity, link_params);
   fleetnav::agent::SimHal hal(sim_channel, robot_id);
   std::ofstream record;
   std::optional<fleetnav::agent::TelemetryRecorder> recorder;

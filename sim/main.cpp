@@ -78,6 +78,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--max-sim-time-s", params.lockstep.max_sim_time_s, "stop after (0 = never)")
       ->capture_default_str();
+  app.add_flag("--hold", params.lockstep.start_held,
+               "start held at tick 0: ticks advance only as far as the RunUntil RPC asks (how "
+               "fleetnav-scenario replays a run tick for tick)");
   app.add_option("--export-map", export_dir,
                  "write the world's map (map_server YAML+PGM) and markers to DIR, then exit");
   app.add_option("--map-resolution-m", map_resolution_m, "resolution of --export-map")

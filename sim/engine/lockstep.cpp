@@ -1,7 +1,10 @@
 #include "fleetnav/sim/lockstep.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <thread>
+#include <vector>
 
 #include "absl/strings/str_cat.h"
 
@@ -26,7 +29,9 @@ absl::Status Attachment::Submit(const ActuatorCommand& command) {
 }
 
 Lockstep::Lockstep(Simulation* simulation, LockstepParams params)
-    : simulation_(simulation), params_(params) {}
+    : simulation_(simulation), params_(params) {
+  if (params.start_held) hold_at_tick_ = 0;
+}
 
 absl::StatusOr<std::unique_ptr<Attachment>> Lockstep::Attach(const std::string& robot_id) {
   absl::MutexLock lock(&mutex_);
@@ -82,6 +87,7 @@ absl::Status Lockstep::Submit(const std::string& robot_id, const ActuatorCommand
 
 bool Lockstep::ReadyToTick() const {
   if (stopping_) return true;
+  if (hold_at_tick_) return simulation_->tick() < *hold_at_tick_;
   if (requested_ticks_ > 0) return true;
   return static_cast<int>(slots_.size()) >= params_.min_attached && !slots_.empty();
 }
@@ -109,12 +115,7 @@ void Lockstep::Run() {
       break;
     }
     // Hand out this tick's frames, then wait for every attached agent to answer.
-    for (auto& [id, slot] : slots_) {
-      absl::StatusOr<SensorFrame> frame = simulation_->Sense(id);
-      slot.frame = frame.ok() ? std::optional<SensorFrame>(*frame) : std::nullopt;
-      slot.taken = false;
-      slot.answered = !frame.ok();
-    }
+    HandOutFrames();
     mutex_.Await(absl::Condition(this, &Lockstep::AllAnswered));
     if (stopping_) break;
     simulation_->Advance();
@@ -136,6 +137,40 @@ void Lockstep::Run() {
       mutex_.Lock();
     }
   }
+}
+
+void Lockstep::HandOutFrames() {
+  std::vector<std::string> in_tick;
+  for (auto& [id, slot] : slots_) {
+    absl::StatusOr<SensorFrame> frame = simulation_->Sense(id);
+    slot.frame = frame.ok() ? std::optional<SensorFrame>(*frame) : std::nullopt;
+    slot.taken = false;
+    slot.answered = !frame.ok();
+    if (frame.ok()) in_tick.push_back(id);  // a std::map: sorted
+  }
+  for (auto& [id, slot] : slots_) {
+    if (slot.frame) slot.frame->lockstep_robot_ids = in_tick;
+  }
+}
+
+uint64_t Lockstep::RunUntil(uint64_t tick) {
+  absl::MutexLock lock(&mutex_);
+  hold_at_tick_ = tick;
+  auto reached = [&]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) {
+    return stopping_ || simulation_->tick() >= tick;
+  };
+  mutex_.Await(absl::Condition(&reached));
+  return simulation_->tick();
+}
+
+uint64_t Lockstep::FirstTickAtOrAfter(int64_t sim_time_ns) const {
+  absl::MutexLock lock(&mutex_);
+  const double period_ns = simulation_->params().control_period_s * 1e9;
+  auto tick = static_cast<uint64_t>(std::max(0.0, std::floor(sim_time_ns / period_ns)));
+  // Tick times are rounded to whole nanoseconds (Simulation::now_ns).
+  while (std::llround(static_cast<double>(tick) * period_ns) < sim_time_ns) ++tick;
+  while (tick > 0 && std::llround(static_cast<double>(tick - 1) * period_ns) >= sim_time_ns) --tick;
+  return tick;
 }
 
 void Lockstep::SetTickObserver(std::function<void(const Simulation&)> observer) {
@@ -177,13 +212,23 @@ absl::Status Lockstep::InjectFault(const FaultSpec& fault) {
 void Lockstep::Reset(uint64_t seed) {
   absl::MutexLock lock(&mutex_);
   simulation_->Reset(seed);
+  bool owed = false;
   for (auto& [id, slot] : slots_) {
     if (slot.answered) continue;
+    owed = true;
     if (slot.frame && slot.taken) slot.stale_tick = slot.frame->tick;
-    absl::StatusOr<SensorFrame> frame = simulation_->Sense(id);
-    slot.frame = frame.ok() ? std::optional<SensorFrame>(*frame) : std::nullopt;
-    slot.taken = false;
-    slot.answered = !frame.ok();
+  }
+  // Every agent still owing an answer gets the frame of tick 0 (the others get theirs with
+  // the next tick).
+  if (!owed) return;
+  std::map<std::string, bool> answered;
+  for (const auto& [id, slot] : slots_) answered[id] = slot.answered;
+  HandOutFrames();
+  for (auto& [id, slot] : slots_) {
+    if (answered[id]) {
+      slot.frame.reset();
+      slot.answered = true;
+    }
   }
 }
 
@@ -205,6 +250,13 @@ uint64_t Lockstep::tick() const {
 int64_t Lockstep::now_ns() const {
   absl::MutexLock lock(&mutex_);
   return simulation_->now_ns();
+}
+
+std::set<std::string> Lockstep::attached_robot_ids() const {
+  absl::MutexLock lock(&mutex_);
+  std::set<std::string> ids;
+  for (const auto& [id, slot] : slots_) ids.insert(id);
+  return ids;
 }
 
 size_t Lockstep::attached_count() const {

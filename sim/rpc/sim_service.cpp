@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <set>
 #include <thread>
 
 #include "absl/strings/str_cat.h"
@@ -56,6 +57,7 @@ grpc::Status SimServiceImpl::Attach(
 
 grpc::Status SimServiceImpl::GetWorld(grpc::ServerContext*, const v1::GetWorldRequest*,
                                       v1::GetWorldResponse* response) {
+  const std::set<std::string> attached = lockstep_->attached_robot_ids();
   lockstep_->Inspect([&](const Simulation& simulation) {
     const WorldDescription& world = simulation.world();
     response->set_world_name(world.name);
@@ -67,6 +69,7 @@ grpc::Status SimServiceImpl::GetWorld(grpc::ServerContext*, const v1::GetWorldRe
     for (const std::string& id : simulation.robot_ids()) {
       v1::SimRobotInfo* info = response->add_robots();
       info->set_robot_id(id);
+      info->set_attached(attached.contains(id));
       absl::StatusOr<RobotModel> model = simulation.ModelOf(id);
       if (model.ok()) *info->mutable_model() = fleetnav::ToProto(*model);
     }
@@ -168,6 +171,17 @@ grpc::Status SimServiceImpl::Step(grpc::ServerContext* context, const v1::StepRe
   while (lockstep_->tick() < target && !lockstep_->stopped() && !context->IsCancelled()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
+  response->set_tick(lockstep_->tick());
+  response->set_sim_time_ns(lockstep_->now_ns());
+  return grpc::Status::OK;
+}
+
+grpc::Status SimServiceImpl::RunUntil(grpc::ServerContext*, const v1::RunUntilRequest* request,
+                                      v1::RunResponse* response) {
+  if (request->sim_time_ns() < 0) {
+    return ToGrpcStatus(absl::InvalidArgumentError("sim_time_ns: must be >= 0"));
+  }
+  lockstep_->RunUntil(lockstep_->FirstTickAtOrAfter(request->sim_time_ns()));
   response->set_tick(lockstep_->tick());
   response->set_sim_time_ns(lockstep_->now_ns());
   return grpc::Status::OK;

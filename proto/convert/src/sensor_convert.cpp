@@ -9,6 +9,7 @@ v1::SensorFrame ToProto(const SensorFrame& frame) {
   out.set_tick(frame.tick);
   out.set_sim_time_ns(frame.stamp_ns);
   out.set_control_period_s(frame.control_period_s);
+  for (const std::string& id : frame.lockstep_robot_ids) out.add_lockstep_robot_ids(id);
   for (const EncoderReading& e : frame.encoders) {
     v1::WheelEncoderReading* wire = out.add_encoders();
     wire->set_name(e.name);
@@ -64,6 +65,8 @@ SensorFrame FromProto(const v1::SensorFrame& frame) {
   out.tick = frame.tick();
   out.stamp_ns = frame.sim_time_ns();
   out.control_period_s = frame.control_period_s();
+  out.lockstep_robot_ids.assign(frame.lockstep_robot_ids().begin(),
+                                frame.lockstep_robot_ids().end());
   for (const auto& e : frame.encoders()) out.encoders.push_back({e.name(), e.ticks()});
   out.imu = {frame.imu().gyro_z_radps(), frame.imu().accel_x_mps2(), frame.imu().accel_y_mps2()};
   for (const auto& r : frame.ultrasonic())

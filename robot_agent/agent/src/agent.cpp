@@ -282,12 +282,6 @@ absl::StatusOr<AgentResult> Agent::Run() {
     }
     last_command_ = output.command;
     if (ports_.jobs != nullptr) ServeJobs(output, &result);
-    ActuatorCommand command;
-    command.tick = frame->tick;
-    command.drive = output.command;
-    command.lift_raised = lift_raised_;
-    RETURN_IF_ERROR(ports_.hal->Send(command));
-
     if (frame->stamp_ns >= next_telemetry_ns) {
       Telemetry telemetry = MakeTelemetry(frame->stamp_ns, output);
       telemetry.sequence = ++sequence_;
@@ -299,6 +293,15 @@ absl::StatusOr<AgentResult> Agent::Run() {
           static_cast<int64_t>(std::llround(params_.telemetry_period_s * 1e9));
       next_telemetry_ns = std::max(next_telemetry_ns + period_ns, frame->stamp_ns - period_ns / 2);
     }
+    // In a simulated run's lockstep the server takes in this tick before the simulator may
+    // advance past it.
+    if (ports_.jobs != nullptr) ports_.jobs->EndTick(*frame);
+    ActuatorCommand command;
+    command.tick = frame->tick;
+    command.drive = output.command;
+    command.lift_raised = lift_raised_;
+    RETURN_IF_ERROR(ports_.hal->Send(command));
+
     if (ports_.jobs != nullptr) {
       if (params_.max_jobs > 0 && result.jobs_finished >= params_.max_jobs &&
           settle_remaining-- <= 0) {

@@ -23,6 +23,11 @@ void ServerLink::Publish(const Telemetry& telemetry) {
   absl::MutexLock lock(&mutex_);
   if (closing_) return;
   queue_.push_back(telemetry);
+  DropOldTelemetry();
+  changed_.SignalAll();
+}
+
+void ServerLink::DropOldTelemetry() {
   while (queue_.size() > params_.max_queued) {
     queue_.pop_front();
     dropped_.fetch_add(1);
@@ -47,6 +52,7 @@ std::vector<JobCommand> ServerLink::TakeCommands() {
 void ServerLink::ReportEvent(const JobEvent& event) {
   absl::MutexLock lock(&mutex_);
   events_.push_back(event);
+  changed_.SignalAll();
 }
 
 void ServerLink::SetCurrentJob(const std::string& job_id) {
@@ -54,8 +60,103 @@ void ServerLink::SetCurrentJob(const std::string& job_id) {
   current_job_id_ = job_id;
 }
 
+void ServerLink::EndTick(const SensorFrame& frame) {
+  if (!params_.lockstep) return;
+  uint64_t session = 0;
+  {
+    absl::MutexLock lock(&mutex_);
+    if (closing_ || !session_live_) return;
+    v1::TickDone done;
+    done.set_tick(frame.tick);
+    done.set_sim_time_ns(frame.stamp_ns);
+    for (const std::string& id : frame.lockstep_robot_ids) done.add_lockstep_robot_ids(id);
+    tick_done_ = std::move(done);
+    session = session_;
+    changed_.SignalAll();
+  }
+  absl::MutexLock lock(&mutex_);
+  const uint64_t tick = frame.tick;
+  // No wall-clock timeout: a slow server makes the run slower, never different. A server that
+  // goes away ends the session, and with it the wait.
+  auto answered = [&]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) {
+    return closing_ || session_ != session || !session_live_ ||
+           (acknowledged_tick_ && *acknowledged_tick_ >= tick);
+  };
+  while (!answered()) changed_.Wait(&mutex_);
+}
+
 void ServerLink::OnServerMessage(const v1::ServerMessage& message) {
   absl::MutexLock lock(&mutex_);
+  changed_.SignalAll();  // on the way out, under the lock
+  if (!params_.lockstep || message.has_welcome()) {
+    ApplyServerMessage(message);
+    return;
+  }
+  if (!message.has_tick_ack()) {
+    held_.push_back(message);
+    return;
+  }
+  acknowledged_tick_ = message.tick_ack().tick();
+  for (const v1::ServerMessage& held : held_) ApplyServerMessage(held);
+  held_.clear();
+  while (!unacknowledged_.empty() && unacknowledged_.front().tick &&
+         *unacknowledged_.front().tick <= *acknowledged_tick_) {
+    unacknowledged_.pop_front();
+  }
+}
+
+void ServerLink::SessionEnded() {
+  for (const v1::ServerMessage& held : held_) ApplyServerMessage(held);
+  held_.clear();
+  session_live_ = false;
+  tick_done_.reset();
+  acknowledged_tick_.reset();
+  for (auto sent = unacknowledged_.rbegin(); sent != unacknowledged_.rend(); ++sent) {
+    if (sent->event) events_.push_front(std::move(*sent->event));
+    if (sent->telemetry) queue_.push_front(std::move(*sent->telemetry));
+  }
+  unacknowledged_.clear();
+  DropOldTelemetry();
+  changed_.SignalAll();
+}
+
+std::optional<v1::AgentMessage> ServerLink::NextMessage() {
+  v1::AgentMessage message;
+  if (!events_.empty()) {  // events first: they change job states
+    *message.mutable_event() = ToAgentEvent(events_.front(), 0);
+  } else if (!queue_.empty()) {
+    *message.mutable_telemetry() = ToProto(queue_.front());
+  } else if (tick_done_) {
+    *message.mutable_tick_done() = *tick_done_;
+  } else {
+    return std::nullopt;
+  }
+  return message;
+}
+
+void ServerLink::MessageWritten(const v1::AgentMessage& message) {
+  changed_.SignalAll();  // a queue may have drained (Close waits for that)
+  Unacknowledged sent;
+  if (message.has_event() && !events_.empty()) {
+    sent.event = std::move(events_.front());
+    events_.pop_front();
+  } else if (message.has_telemetry() && !queue_.empty()) {
+    sent.telemetry = std::move(queue_.front());
+    queue_.pop_front();
+    sent_.fetch_add(1);
+  } else if (message.has_tick_done()) {
+    // The server may have answered before Write returned, and the next tick's TickDone be
+    // waiting already: only the one written is done with.
+    if (tick_done_ && tick_done_->tick() == message.tick_done().tick()) tick_done_.reset();
+    for (Unacknowledged& earlier : unacknowledged_) {
+      if (!earlier.tick) earlier.tick = message.tick_done().tick();
+    }
+    return;
+  }
+  if (params_.lockstep) unacknowledged_.push_back(std::move(sent));
+}
+
+void ServerLink::ApplyServerMessage(const v1::ServerMessage& message) {
   if (message.has_assignment()) {
     absl::StatusOr<JobAssignment> assignment = FromProto(message.assignment());
     if (assignment.ok()) {
@@ -82,11 +183,12 @@ void ServerLink::Close(double timeout_s) {
   {
     absl::MutexLock lock(&mutex_);
     if (closing_ && !thread_.joinable()) return;
-    auto drained = [this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) {
-      return queue_.empty() && events_.empty();
-    };
-    mutex_.AwaitWithTimeout(absl::Condition(&drained), absl::Seconds(timeout_s));
+    const absl::Time give_up = absl::Now() + absl::Seconds(timeout_s);
+    while (!(queue_.empty() && events_.empty())) {
+      if (changed_.WaitWithDeadline(&mutex_, give_up)) break;
+    }
     closing_ = true;
+    changed_.SignalAll();
   }
   if (thread_.joinable()) thread_.join();
 }
@@ -102,8 +204,10 @@ void ServerLink::RunLoop() {
     RunSession();
     if (sent_.load() > sent_before) backoff_s = params_.initial_backoff_s;
     absl::MutexLock lock(&mutex_);
-    auto closing = [this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) { return closing_; };
-    if (mutex_.AwaitWithTimeout(absl::Condition(&closing), absl::Seconds(backoff_s))) return;
+    const absl::Time retry = absl::Now() + absl::Seconds(backoff_s);
+    while (!closing_ && !changed_.WaitWithDeadline(&mutex_, retry)) {
+    }
+    if (closing_) return;
     backoff_s = std::min(backoff_s * 2.0, params_.max_backoff_s);
   }
 }
@@ -113,9 +217,13 @@ void ServerLink::RunSession() {
   auto stream = stub_->Connect(&context);
   v1::AgentMessage hello;
   *hello.mutable_hello() = ToProto(identity_);
+  hello.mutable_hello()->set_lockstep(params_.lockstep);
   {
     absl::MutexLock lock(&mutex_);
     hello.mutable_hello()->set_resume_job_id(current_job_id_);
+    // Live before the hello goes: a tick that ends from now on is waited for by the server.
+    ++session_;
+    session_live_ = true;
     // A new session (perhaps a restarted server) clears afresh: until it says otherwise the
     // robot finishes the action it is in and stands.
     if (!current_job_id_.empty()) {
@@ -130,36 +238,34 @@ void ServerLink::RunSession() {
   std::thread reader([this, &stream, &server_done] {
     v1::ServerMessage message;
     while (stream->Read(&message)) OnServerMessage(message);
+    absl::MutexLock lock(&mutex_);
     server_done.store(true);
+    SessionEnded();
   });
   while (ok) {
-    v1::AgentMessage message;
-    bool is_event = false;
+    std::optional<v1::AgentMessage> message;
     {
       absl::MutexLock lock(&mutex_);
-      auto ready = [this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) {
-        return closing_ || !queue_.empty() || !events_.empty();
+      auto ready = [&]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) {
+        return closing_ || server_done.load() || !queue_.empty() || !events_.empty() ||
+               tick_done_.has_value();
       };
-      mutex_.Await(absl::Condition(&ready));
-      if (!events_.empty()) {  // events first: they change job states
-        *message.mutable_event() = ToAgentEvent(events_.front(), 0);
-        is_event = true;
-      } else if (!queue_.empty()) {
-        *message.mutable_telemetry() = ToProto(queue_.front());
-      } else {
-        break;  // closing with nothing left to send
-      }
+      while (!ready()) changed_.Wait(&mutex_);
+      if (server_done.load()) break;
+      message = NextMessage();
+      if (!message) break;  // closing with nothing left to send
     }
-    ok = stream->Write(message);
+    ok = stream->Write(*message);
     if (ok) {
       absl::MutexLock lock(&mutex_);
-      if (is_event && !events_.empty()) {
-        events_.pop_front();
-      } else if (!is_event && !queue_.empty()) {
-        queue_.pop_front();
-        sent_.fetch_add(1);
-      }
+      // A session that ended meanwhile put what it sent back in the queues, before this one.
+      if (session_live_) MessageWritten(*message);
     }
+  }
+  {
+    absl::MutexLock lock(&mutex_);
+    session_live_ = false;  // a tick ending now waits for no one
+    changed_.SignalAll();
   }
   // Half-close and let the server read everything it has; cancel only if it does not finish.
   stream->WritesDone();

@@ -129,6 +129,8 @@ absl::Status JobService::ForgetRobotLocked(const std::string& robot_id) {
 
 void JobService::WaitForWork(absl::Duration timeout) { work_.WaitFor(timeout); }
 
+bool JobService::TakeWork() { return work_.Take(); }
+
 void JobService::WakeDispatcher() { work_.Notify(); }
 
 int JobService::DispatchOnce() {

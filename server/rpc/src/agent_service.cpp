@@ -79,7 +79,14 @@ class AgentConnection final {
       End(absl::OkStatus());
       return;
     }
-    absl::Status status = hello_seen_ ? Handle(in_) : Hello(in_);
+    absl::Status status;
+    if (!hello_seen_) {
+      status = Hello(in_);
+    } else if (member_ && in_.has_tick_done()) {
+      service_->barrier_->EndTick(*member_, in_.tick_done());
+    } else if (!member_ || !service_->barrier_->Hold(*member_, in_)) {
+      status = Handle(in_);
+    }
     if (!status.ok()) {
       End(status);
       return;
@@ -100,6 +107,8 @@ class AgentConnection final {
   }
 
   void OnFinished() {
+    // What the robot sent of its last tick is taken in before it is disconnected.
+    if (member_) service_->barrier_->Leave(*member_);
     if (outbox_ != nullptr) mailbox_->Close(robot_id_, outbox_);
     if (hello_seen_ && registry_->Disconnect(robot_id_, session_)) {
       jobs_->OnRobotDisconnected(robot_id_);
@@ -135,6 +144,18 @@ class AgentConnection final {
     // hand it new work in between; its outbox is open (welcome first) before then too.
     outbox_ = mailbox_->Open(robot_id_, [this] { PumpWrites(); });
     outbox_->Push(std::move(welcome));
+    if (message.hello().lockstep() && service_->barrier_ != nullptr) {
+      member_ = service_->barrier_->Join(
+          robot_id_,
+          [this](const v1::AgentMessage& held) {
+            if (absl::Status taken = Handle(held); !taken.ok()) End(taken);
+          },
+          [outbox = outbox_](uint64_t tick) {
+            v1::ServerMessage ack;
+            ack.mutable_tick_ack()->set_tick(tick);
+            outbox->Push(std::move(ack));
+          });
+    }
     jobs_->OnRobotConnected(*identity, message.hello().resume_job_id());
     session_ = registry_->Connect(*identity);
     jobs_->WakeDispatcher();  // an idle robot: there may be a job for it now
@@ -173,6 +194,8 @@ class AgentConnection final {
       }
       case v1::AgentMessage::kHello:
         return absl::InvalidArgumentError("hello: sent twice on one stream");
+      case v1::AgentMessage::kTickDone:
+        return absl::OkStatus();  // a stream not in lockstep (no barrier here): nothing to wait for
       case v1::AgentMessage::PAYLOAD_NOT_SET:
         break;
     }
@@ -221,6 +244,7 @@ class AgentConnection final {
   std::string robot_id_;
   uint64_t session_ = 0;
   bool hello_seen_ = false;
+  std::optional<uint64_t> member_;  ///< the key in the tick barrier, for a lockstep stream
   std::shared_ptr<AgentOutbox> outbox_;
   absl::Mutex mutex_;
   v1::ServerMessage out_ ABSL_GUARDED_BY(mutex_);
@@ -233,12 +257,14 @@ class AgentConnection final {
 };
 
 AgentServiceImpl::AgentServiceImpl(FleetRegistry* registry, JobService* jobs, AgentMailbox* mailbox,
-                                   int threads, InputLimits limits, AccessGate* gate)
+                                   int threads, InputLimits limits, AccessGate* gate,
+                                   TickBarrier* barrier)
     : registry_(registry),
       jobs_(jobs),
       mailbox_(mailbox),
       limits_(limits),
       gate_(gate),
+      barrier_(barrier),
       thread_count_(std::max(1, threads)) {}
 
 AgentServiceImpl::~AgentServiceImpl() { Shutdown(); }

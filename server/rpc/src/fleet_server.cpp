@@ -123,9 +123,27 @@ absl::StatusOr<int> FleetServer::Start() {
   fleet_service_ = std::make_unique<FleetServiceImpl>(maps_.get(), site_.get(), jobs_.get(),
                                                       traffic_.get(), &registry_, &mailbox_);
   access_service_ = std::make_unique<AccessServiceImpl>(tokens_.get(), params_.on_token_change);
+  dispatcher_ = std::make_unique<DispatcherLoop>(
+      jobs_.get(), params_.dispatch_period_s,
+      [this](double seconds) { metrics_.ObserveDispatchPass(seconds); });
+  TickWork tick_work;
+  tick_work.first_join = [this] {
+    // The simulator is held while agents join (fleetnav-scenario): the clock read last is the
+    // tick's. From now on only the ticks move it.
+    if (sim_clock_feed_ != nullptr) sim_clock_feed_->Stop();
+    dispatcher_->TakeOver();
+  };
+  tick_work.begin = [this](int64_t sim_time_ns) {
+    if (clock_ == &sim_clock_) sim_clock_.SetNs(sim_time_ns);
+  };
+  tick_work.end = [this](int64_t /*sim_time_ns*/) {
+    dispatcher_->RunPassIfDue(clock_->NowNs());
+    KeepHouse(clock_->NowNs());
+  };
+  barrier_ = std::make_unique<TickBarrier>(std::move(tick_work));
   agent_service_ = std::make_unique<AgentServiceImpl>(&registry_, jobs_.get(), &mailbox_,
                                                       params_.agent_stream_threads, params_.limits,
-                                                      access_gate_.get());
+                                                      access_gate_.get(), barrier_.get());
   watch_hub_ = std::make_unique<WatchHub>(fleet_service_.get(), &registry_, jobs_.get());
   registry_.SetChangeListener([hub = watch_hub_.get()] { hub->OnFleetChanged(); });
   job_repository_->SetListener([this, hub = watch_hub_.get()](const std::string& job_id) {
@@ -175,39 +193,45 @@ absl::StatusOr<int> FleetServer::Start() {
   if (front_door_ != nullptr) front_door_->Start();
   agent_service_->Start();
   watch_hub_->Start();
-  dispatcher_ = std::make_unique<DispatcherLoop>(
-      jobs_.get(), params_.dispatch_period_s,
-      [this](double seconds) { metrics_.ObserveDispatchPass(seconds); });
   dispatcher_->Start();
   housekeeper_ = std::thread([this] {
-    const absl::Duration history_period = absl::Seconds(params_.pose_history.period_s);
-    const absl::Duration stale_period = absl::Seconds(params_.dispatch_period_s);
+    // Wakes often and compares the server's clock (the simulator's with --clock sim) with what
+    // is due; the wall clock only paces the wake-ups and the memory trim.
+    const absl::Duration wake_period = absl::Milliseconds(50);
     const absl::Duration trim_period = absl::Seconds(5);
-    absl::Time next_history = absl::Now() + history_period;
     absl::Time next_trim = absl::Now() + trim_period;
-    absl::Time next_stale = absl::Now();
-    while (!stop_housekeeping_.WaitForNotificationWithDeadline(
-        std::min({next_history, next_trim, next_stale}))) {
-      const absl::Time now = absl::Now();
-      // Once a period: it walks every robot under the registry's lock.
-      if (now >= next_stale) {
-        registry_.RefreshStale();
-        next_stale = now + stale_period;
-      }
-      if (now >= next_history) {
-        (void)pose_recorder_->RecordOnce(absl::ToUnixMillis(now));
-        next_history += history_period;
-      }
-      if (now >= next_trim) {
+    while (!stop_housekeeping_.WaitForNotificationWithTimeout(wake_period)) {
+      // In lockstep the ticks keep house, at the ticks' times.
+      if (!barrier_->active()) KeepHouse(clock_->NowNs());
+      if (absl::Now() >= next_trim) {
         // Large requests (a 100,000-marker set, a 10,000-action route, their assignments) are
         // parsed and sent through many small allocations; glibc keeps the freed pages mapped
         // between live ones, so the server's memory would stay at its peak for good.
         malloc_trim(0);
-        next_trim = now + trim_period;
+        next_trim = absl::Now() + trim_period;
       }
     }
   });
   return port;
+}
+
+void FleetServer::KeepHouse(int64_t now_ns) {
+  absl::MutexLock lock(&house_mutex_);
+  const auto history_period_ns = static_cast<int64_t>(params_.pose_history.period_s * 1e9);
+  const auto stale_period_ns = static_cast<int64_t>(params_.dispatch_period_s * 1e9);
+  // Once a period: it walks every robot under the registry's lock.
+  if (!next_stale_ns_ || now_ns >= *next_stale_ns_) {
+    registry_.RefreshStale();
+    next_stale_ns_ = now_ns + stale_period_ns;
+  }
+  if (!next_history_ns_) {
+    next_history_ns_ = now_ns + history_period_ns;
+  } else if (now_ns >= *next_history_ns_) {
+    (void)pose_recorder_->RecordOnce(clock_->UnixMs());
+    // On schedule, unless the clock jumped (a simulator that ran on while the server was away).
+    *next_history_ns_ += history_period_ns;
+    if (*next_history_ns_ <= now_ns) next_history_ns_ = now_ns + history_period_ns;
+  }
 }
 
 PassFigures FleetServer::assigning_passes() const {

@@ -324,5 +324,43 @@ TEST(PhysicalMeetsKinematicTest, LelyDrivingIntoAPhysicalPlatformPushesItAndIsRe
   EXPECT_TRUE(reported);
 }
 
+// Held from the start: no tick passes without RunUntil, which stops exactly at the first tick
+// at or after the time asked for; every frame names the robots of its tick's barrier.
+TEST_F(LockstepTest, AHeldLoopAdvancesOnlyAsFarAsRunUntilAsks) {
+  StartLoop(LockstepParams{.min_attached = 1, .start_held = true});
+  absl::StatusOr<std::unique_ptr<Attachment>> a = lockstep_->Attach("a");
+  absl::StatusOr<std::unique_ptr<Attachment>> b = lockstep_->Attach("b");
+  ASSERT_TRUE(a.ok() && b.ok());
+  RunLoop();
+  std::vector<std::vector<std::string>> a_names;
+  std::atomic<bool> stop{false};
+  auto answer = [&](Attachment* attachment, std::vector<std::vector<std::string>>* names) {
+    while (!stop.load()) {
+      std::optional<SensorFrame> frame = attachment->WaitFrame();
+      if (!frame) return;
+      if (names != nullptr) names->push_back(frame->lockstep_robot_ids);
+      EXPECT_TRUE(attachment->Submit(Answer(*frame)).ok());
+    }
+  };
+  std::thread agent_a(answer, a->get(), &a_names);
+  std::thread agent_b(answer, b->get(), nullptr);
+  absl::SleepFor(absl::Milliseconds(100));  // every chance to advance wrongly
+  EXPECT_EQ(lockstep_->tick(), 0u);
+  // 0.05 s at 20 ms ticks: tick 3 (60 ms) is the first at or after it.
+  EXPECT_EQ(lockstep_->FirstTickAtOrAfter(50'000'000), 3u);
+  EXPECT_EQ(lockstep_->FirstTickAtOrAfter(60'000'000), 3u);
+  EXPECT_EQ(lockstep_->RunUntil(3), 3u);
+  absl::SleepFor(absl::Milliseconds(100));
+  EXPECT_EQ(lockstep_->tick(), 3u);
+  EXPECT_EQ(lockstep_->now_ns(), 60'000'000);
+  EXPECT_EQ(lockstep_->RunUntil(10), 10u);
+  ASSERT_GE(a_names.size(), 10u);
+  EXPECT_EQ(a_names.front(), (std::vector<std::string>{"a", "b"}));
+  stop.store(true);
+  lockstep_->Stop();
+  agent_a.join();
+  agent_b.join();
+}
+
 }  // namespace
 }  // namespace fleetnav::sim

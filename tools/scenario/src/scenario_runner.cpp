@@ -11,6 +11,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -165,9 +166,14 @@ class Run {
   void Submit(size_t index);
   void Inject(const ScenarioFault& fault);
   void Poll(double sim_s);
-  /// Whether a job waits to be started on a robot (see Pace).
-  bool Dispatching() const;
-  void Pace(bool dispatching);
+  /// Advances the held simulation to the first tick at or after `sim_s`; returns its sim time
+  /// (nullopt when the simulator is gone).
+  std::optional<double> RunUntil(double sim_s);
+  /// After a start, kill, cut or restore, while the simulation is held: waits until the
+  /// simulator and fleetnavd both see it (every running agent attached; with fleetnavd up,
+  /// exactly the running agents with a link online), so that the next tick is the same tick in
+  /// every run.
+  absl::Status Settle(double wall_timeout_s);
   void DrawProgress(double sim_s);
   void Finish(ScenarioReport* report);
   int RobotIndex(const std::string& robot_id) const {
@@ -217,10 +223,6 @@ class Run {
   std::unique_ptr<v1::SimService::Stub> simulator_;
   std::vector<JobOutcome> jobs_;
   std::vector<bool> submitted_;
-  /// When each job last became queued or assigned (the server has yet to start it on a robot).
-  std::vector<std::optional<Clock::time_point>> undispatched_since_;
-  /// The sim's pace the runner last asked for (nullopt: the scenario's own).
-  std::optional<double> paced_rtf_;
   std::vector<double> progress_;
   std::vector<bool> injected_;
   std::map<std::string, RobotFigures> figures_;
@@ -229,7 +231,7 @@ class Run {
   double last_sim_s_ = 0.0;
   int drawn_lines_ = 0;
   struct Restart {
-    Clock::time_point due;
+    double due_sim_s = 0.0;
     std::string robot_id;  ///< empty: the server replica below
     size_t replica = 0;
   };
@@ -316,8 +318,10 @@ absl::Status Run::StartServer(size_t replica) {
   fs::remove(port_file);
   ++server.starts;
   std::vector<std::string> argv{
-      bin_.server, "--listen", absl::StrCat("127.0.0.1:", server.port),     "--port-file",
-      port_file,   "--db",     opt_.db.empty() ? Path("fleet.db") : opt_.db};
+      bin_.server, "--listen", absl::StrCat("127.0.0.1:", server.port), "--port-file", port_file,
+      "--db", opt_.db.empty() ? Path("fleet.db") : opt_.db,
+      // fleetnavd counts the simulator's time, tick by tick with its agents (the lockstep).
+      "--clock", "sim", "--sim", absl::StrCat("127.0.0.1:", sim_port_)};
   if (Tls()) {
     argv.insert(argv.end(),
                 {"--tls-cert", Pki("server.crt"), "--tls-key", Pki("server.key"), "--tls-client-ca",
@@ -429,7 +433,6 @@ void Run::Submit(size_t index) {
       jobs_[index].state = "failed";
       jobs_[index].reason = absl::StrCat("refused by fleetnavd: ", status.error_message());
       submitted_[index] = true;
-      undispatched_since_[index].reset();
     }
     return;  // retried on the next poll while the server is away
   }
@@ -444,9 +447,7 @@ void Run::Inject(const ScenarioFault& fault) {
       if (auto it = agents_.find(fault.robot_id); it != agents_.end()) {
         it->second->Stop(SIGKILL, 5.0);
         agents_cpu_s_ += it->second->cpu_s().value_or(0.0);
-        restarts_.push_back({Clock::now() + std::chrono::milliseconds(
-                                                static_cast<int64_t>(fault.restart_after_s * 1000)),
-                             fault.robot_id});
+        restarts_.push_back({fault.at_s + fault.restart_after_s, fault.robot_id});
       }
       return;
     case ScenarioFaultType::kKillServer:
@@ -461,9 +462,7 @@ void Run::Inject(const ScenarioFault& fault) {
       ServerProcess& server = servers_[replica];
       server.process->Stop(SIGKILL, 5.0);
       server_cpu_s_ += server.process->cpu_s().value_or(0.0);
-      restarts_.push_back({Clock::now() + std::chrono::milliseconds(
-                                              static_cast<int64_t>(fault.restart_after_s * 1000)),
-                           "", replica});
+      restarts_.push_back({fault.at_s + fault.restart_after_s, "", replica});
       return;
     }
     case ScenarioFaultType::kCutLink:
@@ -535,46 +534,71 @@ void Run::Poll(double sim_s) {
                                         jobs_[i].robot_id, state,
                                         jobs_[i].reason.empty() ? "" : ": " + jobs_[i].reason);
     }
-    const bool undispatched = state == "queued" || state == "assigned";
-    if (!undispatched) {
-      undispatched_since_[i].reset();
-    } else if (!undispatched_since_[i]) {
-      undispatched_since_[i] = Clock::now();
-    }
     jobs_[i].state = state;
     progress_[i] = response.job().progress_fraction();
     if (IsEnd(state)) jobs_[i].end_sim_s = sim_s;
   }
 }
 
-// Connecting the agents and dispatching a job are wall-clock work (fleetnavd's database, the
-// agent's stream). A simulator running free meanwhile would spend sim time on them that a real
-// site never sees, and on a loaded machine enough of it to miss a deadline. So while the agents
-// connect and while a job waits to be started, the sim runs at most kDispatchRealTimeFactor;
-// for at most kDispatchPaceWall per job, since a job may rightly wait for a busy robot.
-constexpr auto kDispatchPaceWall = std::chrono::seconds(20);
-
-bool Run::Dispatching() const {
-  return std::any_of(undispatched_since_.begin(), undispatched_since_.end(),
-                     [&](const std::optional<Clock::time_point>& since) {
-                       return since && Clock::now() - *since < kDispatchPaceWall;
-                     });
+std::optional<double> Run::RunUntil(double sim_s) {
+  grpc::ClientContext context;
+  // No deadline of its own: a slow machine makes the run slower, never different.
+  WithDeadline(&context, std::max(1.0, opt_.wall_timeout_s));
+  v1::RunUntilRequest request;
+  request.set_sim_time_ns(std::llround(sim_s * 1e9));
+  v1::RunResponse response;
+  if (!simulator_->RunUntil(&context, request, &response).ok()) return std::nullopt;
+  return static_cast<double>(response.sim_time_ns()) * 1e-9;
 }
 
-void Run::Pace(bool dispatching) {
-  constexpr double kDispatchRealTimeFactor = 4.0;
-  const bool scenario_faster =
-      s_.real_time_factor == 0.0 || s_.real_time_factor > kDispatchRealTimeFactor;
-  const std::optional<double> wanted = dispatching && scenario_faster
-                                           ? std::optional<double>(kDispatchRealTimeFactor)
-                                           : std::nullopt;
-  if (wanted == paced_rtf_) return;
-  grpc::ClientContext context;
-  WithDeadline(&context);
-  v1::RunRequest request;
-  request.set_real_time_factor(wanted.value_or(s_.real_time_factor));
-  v1::RunResponse response;
-  if (simulator_->Run(&context, request, &response).ok()) paced_rtf_ = wanted;
+absl::Status Run::Settle(double wall_timeout_s) {
+  const Clock::time_point give_up =
+      Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(wall_timeout_s * 1000));
+  const bool server_up =
+      s_.replicas > 1 || std::none_of(restarts_.begin(), restarts_.end(),
+                                      [](const Restart& r) { return r.robot_id.empty(); });
+  std::string missing;
+  while (Clock::now() < give_up) {
+    missing.clear();
+    std::set<std::string> attached;
+    {
+      grpc::ClientContext context;
+      WithDeadline(&context);
+      v1::GetWorldResponse world;
+      if (simulator_->GetWorld(&context, v1::GetWorldRequest{}, &world).ok()) {
+        for (const v1::SimRobotInfo& robot : world.robots()) {
+          if (robot.attached()) attached.insert(robot.robot_id());
+        }
+      }
+    }
+    std::set<std::string> online;
+    if (server_up) {
+      grpc::ClientContext context;
+      WithDeadline(&context);
+      v1::ListRobotsResponse robots;
+      if (fleet_->ListRobots(&context, v1::ListRobotsRequest{}, &robots).ok()) {
+        for (const v1::RobotState& r : robots.robots()) {
+          if (r.connection() == v1::CONNECTION_STATE_ONLINE) online.insert(r.robot_id());
+        }
+      } else {
+        missing = "fleetnavd's robots";
+      }
+    }
+    for (const auto& [id, agent] : agents_) {
+      const bool running = agent != nullptr && agent->running();
+      const auto link = links_.find(id);
+      const bool linked = running && (link == links_.end() || !link->second->cut());
+      if (running && !attached.contains(id)) absl::StrAppend(&missing, " ", id, " attached");
+      if (server_up && linked != online.contains(id)) {
+        absl::StrAppend(&missing, " ", id, linked ? " online" : " offline");
+      }
+    }
+    if (missing.empty()) return absl::OkStatus();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return absl::DeadlineExceededError(
+      absl::StrCat("the simulator and fleetnavd did not settle within ", wall_timeout_s,
+                   " s: waiting for", missing));
 }
 
 void Run::DrawProgress(double sim_s) {
@@ -623,7 +647,6 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   }
   jobs_.resize(s_.jobs.size());
   submitted_.assign(s_.jobs.size(), false);
-  undispatched_since_.assign(s_.jobs.size(), std::nullopt);
   progress_.assign(s_.jobs.size(), 0.0);
   injected_.assign(s_.faults.size(), false);
   for (size_t i = 0; i < s_.jobs.size(); ++i) {
@@ -650,8 +673,7 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
       Niced(opt_.sim_niceness,
             {bin_.sim, "--world", s_.world_path, "--listen", "127.0.0.1:0", "--port-file",
              sim_port_file, "--seed", absl::StrCat(seed_), "--real-time-factor",
-             absl::StrCat(s_.real_time_factor), "--min-agents", absl::StrCat(s_.robots.size()),
-             "--record-truth", Path("truth.csv")}),
+             absl::StrCat(s_.real_time_factor), "--hold", "--record-truth", Path("truth.csv")}),
       Path("sim.out"), Path("sim.log"));
   sim_port_ = WaitForPortFile(sim_port_file);
   if (!sim_->started() || sim_port_ == 0) {
@@ -659,7 +681,6 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   }
   simulator_ = v1::SimService::NewStub(grpc::CreateChannel(absl::StrCat("127.0.0.1:", sim_port_),
                                                            grpc::InsecureChannelCredentials()));
-  Pace(true);  // until the agents have connected and the first jobs have started
   if (Tls()) {
     if (absl::Status st = MakePki(); !st.ok()) return st;
   }
@@ -703,28 +724,25 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   for (const ScenarioRobot& robot : s_.robots) {
     if (absl::Status st = StartAgent(robot, robot.initial_pose); !st.ok()) return st;
   }
-  // Jobs name robots: submit once every agent has said hello.
-  for (size_t online = 0; online < s_.robots.size();) {
-    if (SecondsSince(wall_start) > 60.0) {
-      return absl::DeadlineExceededError(absl::StrCat("only ", online, " of ", s_.robots.size(),
-                                                      " agents connected to fleetnavd in 60 s"));
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    grpc::ClientContext context;
-    WithDeadline(&context);
-    v1::ListRobotsResponse robots;
-    if (!fleet_->ListRobots(&context, v1::ListRobotsRequest{}, &robots).ok()) continue;
-    online = static_cast<size_t>(std::count_if(
-        robots.robots().begin(), robots.robots().end(),
-        [](const v1::RobotState& r) { return r.connection() == v1::CONNECTION_STATE_ONLINE; }));
+  // Jobs name robots: submit once every agent has said hello (and is in the simulator's
+  // barrier), while the simulation is still held at tick 0.
+  if (absl::Status settled = Settle(60.0); !settled.ok()) {
+    return absl::DeadlineExceededError(
+        absl::StrCat("the agents did not all connect: ", settled.message()));
   }
 
+  // The simulation advances only as far as the runner asks (RunUntil), and everything the
+  // runner does — submitting, injecting, restarting, polling — happens while it is held at an
+  // exact tick: with the lockstep of agents and fleetnavd, a seed gives the same run every time.
+  constexpr double kPollPeriodS = 0.1;
+  constexpr double kDueS = 1e-6;  // tick times are whole nanoseconds
   double sim_s = 0.0;
   while (true) {
     if (SecondsSince(wall_start) > opt_.wall_timeout_s) break;
+    bool changed = false;
     // Restarts that are due.
     for (auto it = restarts_.begin(); it != restarts_.end();) {
-      if (Clock::now() < it->due) {
+      if (sim_s + kDueS < it->due_sim_s) {
         ++it;
         continue;
       }
@@ -738,13 +756,27 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
         }
       }
       it = restarts_.erase(it);
+      changed = true;
     }
     if (!sim_->running()) break;
-    grpc::ClientContext context;
-    WithDeadline(&context);
-    v1::GroundTruth truth;
-    if (simulator_->GetGroundTruth(&context, v1::GetGroundTruthRequest{}, &truth).ok()) {
-      sim_s = truth.sim_time_ns() * 1e-9;
+    for (auto it = link_restores_.begin(); it != link_restores_.end();) {
+      if (sim_s + kDueS < it->sim_s) {
+        ++it;
+        continue;
+      }
+      links_.at(it->robot_id)->Restore();
+      it = link_restores_.erase(it);
+      changed = true;
+    }
+    for (size_t i = 0; i < s_.faults.size(); ++i) {
+      if (!injected_[i] && sim_s + kDueS >= s_.faults[i].at_s) {
+        injected_[i] = true;
+        Inject(s_.faults[i]);
+        changed = true;
+      }
+    }
+    if (changed) {
+      if (absl::Status settled = Settle(120.0); !settled.ok()) return settled;
     }
     // With replicas the others serve while one is down.
     const bool server_up =
@@ -759,34 +791,30 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
     }
     if (server_up) {
       for (size_t i = 0; i < s_.jobs.size(); ++i) {
-        if (submitted_[i] || sim_s < s_.jobs[i].at_s) continue;
-        // Slowed before the submission: fleetnavd may take a while to answer it.
-        if (!undispatched_since_[i]) undispatched_since_[i] = Clock::now();
-        Pace(true);
-        Submit(i);
+        if (!submitted_[i] && sim_s + kDueS >= s_.jobs[i].at_s) Submit(i);
       }
       Poll(sim_s);
-      Pace(Dispatching());
-    }
-    for (auto it = link_restores_.begin(); it != link_restores_.end();) {
-      if (sim_s < it->sim_s) {
-        ++it;
-        continue;
-      }
-      links_.at(it->robot_id)->Restore();
-      it = link_restores_.erase(it);
-    }
-    for (size_t i = 0; i < s_.faults.size(); ++i) {
-      if (!injected_[i] && sim_s >= s_.faults[i].at_s) {
-        injected_[i] = true;
-        Inject(s_.faults[i]);
-      }
     }
     DrawProgress(sim_s);
     const bool all_ended =
         std::all_of(jobs_.begin(), jobs_.end(), [](const JobOutcome& j) { return IsEnd(j.state); });
     if (all_ended || sim_s >= s_.expect.deadline_s) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    // The next hold: the next poll, or an earlier event.
+    double next_s = sim_s + kPollPeriodS;
+    const auto earlier = [&](double at_s) {
+      if (at_s > sim_s + kDueS) next_s = std::min(next_s, at_s);
+    };
+    for (const Restart& restart : restarts_) earlier(restart.due_sim_s);
+    for (const LinkRestore& restore : link_restores_) earlier(restore.sim_s);
+    for (size_t i = 0; i < s_.faults.size(); ++i) {
+      if (!injected_[i]) earlier(s_.faults[i].at_s);
+    }
+    for (size_t i = 0; i < s_.jobs.size(); ++i) {
+      if (!submitted_[i]) earlier(s_.jobs[i].at_s);
+    }
+    const std::optional<double> reached = RunUntil(next_s);
+    if (!reached) break;  // the simulator is gone
+    sim_s = *reached;
   }
 
   ScenarioReport report;

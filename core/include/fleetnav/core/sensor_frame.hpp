@@ -73,6 +73,9 @@ struct SensorFrame {
   /// State of charge in [0, 1], when the robot reports one.
   std::optional<double> battery_fraction;
   std::optional<GpsFix> gps;
+  /// In a simulated run: the robots whose agents take part in this tick's lockstep barrier,
+  /// sorted (fleetnavd waits for their reports before it runs the tick). Empty on hardware.
+  std::vector<std::string> lockstep_robot_ids;
 
   const EncoderReading* FindEncoder(std::string_view name) const {
     for (const EncoderReading& e : encoders) {

@@ -5,6 +5,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 
 #include "absl/status/status.h"
@@ -21,6 +22,8 @@ struct LockstepParams {
   int min_attached = 1;
   /// Stop after this much sim time (0: never).
   double max_sim_time_s = 0.0;
+  /// Start held at tick 0: ticks advance only as far as RunUntil asks.
+  bool start_held = false;
   absl::Status Validate() const;
 };
 
@@ -47,9 +50,11 @@ class Attachment {
 
 /// Barrier lockstep over a Simulation (ARCHITECTURE.md, "sim time is the only clock"): each
 /// tick it hands every attached agent its sensor frame and advances only when every attached
-/// agent has answered; an agent that detaches leaves the barrier and its robot stops. With
-/// real_time_factor > 0 the loop sleeps so that sim time runs at most that much faster than
-/// wall time. Thread-safe: Run() on one thread, attachments and queries from any other.
+/// agent has answered; an agent that detaches leaves the barrier and its robot stops. Each
+/// frame names the robots in the tick's barrier, so that fleetnavd (to which the agents pass
+/// them) knows whom to wait for. With real_time_factor > 0 the loop sleeps so that sim time runs
+/// at most that much faster than wall time; RunUntil holds it at an exact tick. Thread-safe: Run()
+/// on one thread, attachments and queries from any other.
 class Lockstep {
  public:
   Lockstep(Simulation* simulation, LockstepParams params);
@@ -61,6 +66,12 @@ class Lockstep {
   void Stop();
   /// Advances `ticks` ticks now, whether or not min_attached agents are there.
   void RequestTicks(uint64_t ticks);
+  /// Holds the simulation at `tick` (before its frames are handed out) and blocks until it is
+  /// there or the loop stops; ticks advance meanwhile whatever min_attached says. Returns the
+  /// tick reached. The hold stays until the next RunUntil.
+  uint64_t RunUntil(uint64_t tick);
+  /// The first tick whose sim time is at or after `sim_time_ns`.
+  uint64_t FirstTickAtOrAfter(int64_t sim_time_ns) const;
   void SetRealTimeFactor(double real_time_factor);
   bool stopped() const;
 
@@ -80,6 +91,8 @@ class Lockstep {
   uint64_t tick() const;
   int64_t now_ns() const;
   size_t attached_count() const;
+  /// The robots that have an agent attached.
+  std::set<std::string> attached_robot_ids() const;
 
  private:
   friend class Attachment;
@@ -94,6 +107,8 @@ class Lockstep {
   absl::Status Submit(const std::string& robot_id, const ActuatorCommand& command);
   bool ReadyToTick() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   bool AllAnswered() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Senses every attached robot's frame for the current tick; each names the robots in it.
+  void HandOutFrames() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
 
   Simulation* simulation_;
   mutable absl::Mutex mutex_;
@@ -101,6 +116,7 @@ class Lockstep {
   LockstepParams params_ ABSL_GUARDED_BY(mutex_);
   std::map<std::string, Slot> slots_ ABSL_GUARDED_BY(mutex_);
   uint64_t requested_ticks_ ABSL_GUARDED_BY(mutex_) = 0;
+  std::optional<uint64_t> hold_at_tick_ ABSL_GUARDED_BY(mutex_);
   bool stopping_ ABSL_GUARDED_BY(mutex_) = false;
 };
 

@@ -30,6 +30,8 @@ class SimServiceImpl final : public v1::SimService::Service {
                     v1::StepResponse* response) override;
   grpc::Status Run(grpc::ServerContext* context, const v1::RunRequest* request,
                    v1::RunResponse* response) override;
+  grpc::Status RunUntil(grpc::ServerContext* context, const v1::RunUntilRequest* request,
+                        v1::RunResponse* response) override;
 
  private:
   Lockstep* lockstep_;

@@ -6,11 +6,13 @@
 
 #include "fleetnav/core/job.hpp"
 #include "fleetnav/core/job_assignment.hpp"
+#include "fleetnav/core/sensor_frame.hpp"
 
 namespace fleetnav::agent {
 
 /// The agent's side of job dispatch: assignments and commands in, job events out. The server
-/// link implements it; tests use a fake. Never blocks the control loop.
+/// link implements it; tests use a fake. Only EndTick may block the control loop, and only in a
+/// simulated run's lockstep, where the simulator waits for the server anyway.
 class JobChannel {
  public:
   virtual ~JobChannel() = default;
@@ -20,6 +22,11 @@ class JobChannel {
   virtual void ReportEvent(const JobEvent& event) = 0;
   /// The job the robot is executing, announced again on every reconnect ("" when idle).
   virtual void SetCurrentJob(const std::string& job_id) = 0;
+  /// Called once per frame, after everything of the frame's tick was reported and before the
+  /// command goes to the actuators. In a simulated run's lockstep it returns once the server has
+  /// taken in the tick (what it sent for the tick is then what the next Take* calls see), or at
+  /// once while there is no server to wait for. By default there is nothing to wait for.
+  virtual void EndTick(const SensorFrame& frame) { (void)frame; }
 };
 
 }  // namespace fleetnav::agent

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -40,7 +41,9 @@ class PassTimings {
 /// the new jobs — and separately those that assigned exactly one, the replanning latency when
 /// a job is added, both in wall time and in the dispatcher thread's CPU time (which leaves out
 /// the time other processes had the core: on a loaded machine the two differ). The dispatcher
-/// only dispatches, so a submitted job waits for nothing else.
+/// only dispatches, so a submitted job waits for nothing else. In a simulated run's lockstep
+/// the ticks take over (TakeOver): the thread ends, and each tick calls RunPassIfDue with its
+/// sim time, so that the passes fall on the same ticks in every run.
 /// Start once; Stop wakes and joins the thread.
 class DispatcherLoop {
  public:
@@ -55,17 +58,25 @@ class DispatcherLoop {
 
   void Start();
   void Stop();
-  /// Read after Stop (the figures belong to the dispatcher thread while it runs).
+  /// Ends the thread; from now on only RunPassIfDue runs passes. Idempotent.
+  void TakeOver();
+  /// A pass when there may be work or `period_s` of sim time passed since the last one.
+  void RunPassIfDue(int64_t sim_time_ns);
+  /// Read after Stop (the figures belong to the thread, or the ticks, that run the passes).
   PassFigures assigning_passes() const { return assigning_.Figures(); }
   PassFigures one_job_passes() const { return one_job_.Figures(); }
   PassFigures one_job_pass_cpu() const { return one_job_cpu_.Figures(); }
 
  private:
+  void RunPass();
+
   JobService* jobs_;
   double period_s_;
   std::function<void(double seconds)> on_assigning_pass_;
   std::atomic<bool> stopping_{false};
+  std::atomic<bool> taken_over_{false};
   std::thread thread_;
+  std::optional<int64_t> next_pass_ns_;  ///< lockstep: when the next pass is due at the latest
   PassTimings assigning_;
   PassTimings one_job_;
   PassTimings one_job_cpu_;

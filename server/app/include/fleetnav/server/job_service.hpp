@@ -85,6 +85,8 @@ class JobService {
   /// connected, a job ended, WakeDispatcher) or `timeout` passed, so that a job is dispatched
   /// when it can be rather than at the next period.
   void WaitForWork(absl::Duration timeout);
+  /// Whether there may be work since the last wait or take (a lockstep tick asks, not waits).
+  bool TakeWork();
   void WakeDispatcher();
 
   /// One dispatcher pass: lost-robot timeouts, evictions, assignments, then traffic clearances.

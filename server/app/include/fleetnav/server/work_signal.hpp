@@ -1,5 +1,7 @@
 #pragma once
 
+#include <utility>
+
 #include "absl/synchronization/mutex.h"
 #include "absl/time/time.h"
 
@@ -13,6 +15,11 @@ class WorkSignal {
   void Notify() {
     absl::MutexLock lock(&mutex_);
     pending_ = true;
+  }
+  /// Whether Notify came since the last wait or take; clears the signal.
+  bool Take() {
+    absl::MutexLock lock(&mutex_);
+    return std::exchange(pending_, false);
   }
   /// Blocks until Notify or `timeout`, then clears the signal.
   void WaitFor(absl::Duration timeout) {

@@ -13,6 +13,7 @@
 #include "fleetnav/server/job_service.hpp"
 #include "fleetnav/server/rpc/access_gate.hpp"
 #include "fleetnav/server/rpc/agent_mailbox.hpp"
+#include "fleetnav/server/rpc/tick_barrier.hpp"
 #include "fleetnav/v1/agent_service.grpc.pb.h"
 
 namespace fleetnav::server {
@@ -38,9 +39,11 @@ class AgentConnection;
 class AgentServiceImpl final {
  public:
   /// `gate` (may be null: no TLS) checks each hello's robot id against the stream's client
-  /// certificate.
+  /// certificate. `barrier` (may be null: no lockstep) takes in the streams whose hello asks for
+  /// lockstep tick by tick.
   AgentServiceImpl(FleetRegistry* registry, JobService* jobs, AgentMailbox* mailbox, int threads,
-                   InputLimits limits = {}, AccessGate* gate = nullptr);
+                   InputLimits limits = {}, AccessGate* gate = nullptr,
+                   TickBarrier* barrier = nullptr);
   ~AgentServiceImpl();
   AgentServiceImpl(const AgentServiceImpl&) = delete;
   AgentServiceImpl& operator=(const AgentServiceImpl&) = delete;
@@ -67,8 +70,9 @@ class AgentServiceImpl final {
   FleetRegistry* registry_;
   JobService* jobs_;
   AgentMailbox* mailbox_;
-  const InputLimits limits_;  ///< on what a hello may announce
-  AccessGate* const gate_;    ///< null without TLS
+  const InputLimits limits_;    ///< on what a hello may announce
+  AccessGate* const gate_;      ///< null without TLS
+  TickBarrier* const barrier_;  ///< null: lockstep streams are taken in as they come
   const int thread_count_;
   v1::AgentService::AsyncService service_;
   std::vector<std::unique_ptr<grpc::ServerCompletionQueue>> cqs_;

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -27,6 +28,7 @@
 #include "fleetnav/server/rpc/server_metrics.hpp"
 #include "fleetnav/server/rpc/server_security.hpp"
 #include "fleetnav/server/rpc/sim_clock_feed.hpp"
+#include "fleetnav/server/rpc/tick_barrier.hpp"
 #include "fleetnav/server/rpc/tls_front_door.hpp"
 #include "fleetnav/server/rpc/watch_hub.hpp"
 #include "fleetnav/server/site_cache.hpp"
@@ -119,6 +121,10 @@ class FleetServer {
   storage::PoseHistoryRepository& pose_history() { return *pose_history_repository_; }
 
  private:
+  /// Marks robots stale and records pose history when they are due at `now_ns` (the server's
+  /// clock): from the housekeeping thread, or at each tick in lockstep.
+  void KeepHouse(int64_t now_ns);
+
   FleetServerParams params_;
   SystemClock system_clock_;
   ManualClock sim_clock_;
@@ -146,9 +152,14 @@ class FleetServer {
   std::unique_ptr<JobService> jobs_;
   std::unique_ptr<TrafficPlanner> traffic_;
   std::unique_ptr<DispatcherLoop> dispatcher_;
+  /// Lockstep streams, tick by tick (then it drives the clock, the dispatcher and KeepHouse).
+  std::unique_ptr<TickBarrier> barrier_;
   /// Stale robots, pose history and returning freed memory, off the dispatcher's thread.
   std::thread housekeeper_;
   absl::Notification stop_housekeeping_;
+  absl::Mutex house_mutex_;
+  std::optional<int64_t> next_stale_ns_ ABSL_GUARDED_BY(house_mutex_);
+  std::optional<int64_t> next_history_ns_ ABSL_GUARDED_BY(house_mutex_);
   std::shared_ptr<AccessGate> access_gate_;   ///< null without TLS
   std::unique_ptr<TlsFrontDoor> front_door_;  ///< the TLS port's acceptor; null without TLS
   ServerMetrics metrics_;
