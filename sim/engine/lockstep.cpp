@@ -115,7 +115,8 @@ void Lockstep::Run() {
       break;
     }
     // Hand out this tick's frames, then wait for every attached agent to answer.
-    HandOutFrames();
+    const std::vector<std::string> in_tick = AttachedIds();
+    for (auto& [id, slot] : slots_) HandOutFrame(id, in_tick, &slot);
     mutex_.Await(absl::Condition(this, &Lockstep::AllAnswered));
     if (stopping_) break;
     simulation_->Advance();
@@ -139,18 +140,19 @@ void Lockstep::Run() {
   }
 }
 
-void Lockstep::HandOutFrames() {
-  std::vector<std::string> in_tick;
-  for (auto& [id, slot] : slots_) {
-    absl::StatusOr<SensorFrame> frame = simulation_->Sense(id);
-    slot.frame = frame.ok() ? std::optional<SensorFrame>(*frame) : std::nullopt;
-    slot.taken = false;
-    slot.answered = !frame.ok();
-    if (frame.ok()) in_tick.push_back(id);  // a std::map: sorted
-  }
-  for (auto& [id, slot] : slots_) {
-    if (slot.frame) slot.frame->lockstep_robot_ids = in_tick;
-  }
+void Lockstep::HandOutFrame(const std::string& robot_id, const std::vector<std::string>& in_tick,
+                            Slot* slot) {
+  absl::StatusOr<SensorFrame> frame = simulation_->Sense(robot_id);
+  slot->frame = frame.ok() ? std::optional<SensorFrame>(*frame) : std::nullopt;
+  if (slot->frame) slot->frame->lockstep_robot_ids = in_tick;
+  slot->taken = false;
+  slot->answered = !frame.ok();
+}
+
+std::vector<std::string> Lockstep::AttachedIds() const {
+  std::vector<std::string> ids;
+  for (const auto& [id, slot] : slots_) ids.push_back(id);  // a std::map: sorted
+  return ids;
 }
 
 uint64_t Lockstep::RunUntil(uint64_t tick) {
@@ -167,9 +169,9 @@ uint64_t Lockstep::FirstTickAtOrAfter(int64_t sim_time_ns) const {
   absl::MutexLock lock(&mutex_);
   const double period_ns = simulation_->params().control_period_s * 1e9;
   auto tick = static_cast<uint64_t>(std::max(0.0, std::floor(sim_time_ns / period_ns)));
-  // Tick times are rounded to whole nanoseconds (Simulation::now_ns).
-  while (std::llround(static_cast<double>(tick) * period_ns) < sim_time_ns) ++tick;
-  while (tick > 0 && std::llround(static_cast<double>(tick - 1) * period_ns) >= sim_time_ns) --tick;
+  // Tick times are rounded to whole nanoseconds: the estimate may be one off.
+  while (simulation_->TimeOfTickNs(tick) < sim_time_ns) ++tick;
+  while (tick > 0 && simulation_->TimeOfTickNs(tick - 1) >= sim_time_ns) --tick;
   return tick;
 }
 
@@ -212,23 +214,13 @@ absl::Status Lockstep::InjectFault(const FaultSpec& fault) {
 void Lockstep::Reset(uint64_t seed) {
   absl::MutexLock lock(&mutex_);
   simulation_->Reset(seed);
-  bool owed = false;
-  for (auto& [id, slot] : slots_) {
-    if (slot.answered) continue;
-    owed = true;
-    if (slot.frame && slot.taken) slot.stale_tick = slot.frame->tick;
-  }
   // Every agent still owing an answer gets the frame of tick 0 (the others get theirs with
   // the next tick).
-  if (!owed) return;
-  std::map<std::string, bool> answered;
-  for (const auto& [id, slot] : slots_) answered[id] = slot.answered;
-  HandOutFrames();
+  const std::vector<std::string> in_tick = AttachedIds();
   for (auto& [id, slot] : slots_) {
-    if (answered[id]) {
-      slot.frame.reset();
-      slot.answered = true;
-    }
+    if (slot.answered) continue;
+    if (slot.frame && slot.taken) slot.stale_tick = slot.frame->tick;
+    HandOutFrame(id, in_tick, &slot);
   }
 }
 
@@ -252,11 +244,9 @@ int64_t Lockstep::now_ns() const {
   return simulation_->now_ns();
 }
 
-std::set<std::string> Lockstep::attached_robot_ids() const {
+std::vector<std::string> Lockstep::attached_robot_ids() const {
   absl::MutexLock lock(&mutex_);
-  std::set<std::string> ids;
-  for (const auto& [id, slot] : slots_) ids.insert(id);
-  return ids;
+  return AttachedIds();
 }
 
 size_t Lockstep::attached_count() const {

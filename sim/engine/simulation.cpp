@@ -176,9 +176,11 @@ absl::StatusOr<RobotModel> Simulation::ModelOf(const std::string& robot_id) cons
   return robots_[it->second].body->model();
 }
 
-int64_t Simulation::now_ns() const {
+int64_t Simulation::now_ns() const { return TimeOfTickNs(tick_); }
+
+int64_t Simulation::TimeOfTickNs(uint64_t tick) const {
   return static_cast<int64_t>(
-      std::llround(static_cast<double>(tick_) * params_.control_period_s * 1e9));
+      std::llround(static_cast<double>(tick) * params_.control_period_s * 1e9));
 }
 
 void Simulation::EnsureScene() {

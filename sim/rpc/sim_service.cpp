@@ -1,8 +1,8 @@
 #include "fleetnav/sim/sim_service.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <set>
 #include <thread>
 
 #include "absl/strings/str_cat.h"
@@ -57,7 +57,7 @@ grpc::Status SimServiceImpl::Attach(
 
 grpc::Status SimServiceImpl::GetWorld(grpc::ServerContext*, const v1::GetWorldRequest*,
                                       v1::GetWorldResponse* response) {
-  const std::set<std::string> attached = lockstep_->attached_robot_ids();
+  const std::vector<std::string> attached = lockstep_->attached_robot_ids();
   lockstep_->Inspect([&](const Simulation& simulation) {
     const WorldDescription& world = simulation.world();
     response->set_world_name(world.name);
@@ -69,7 +69,7 @@ grpc::Status SimServiceImpl::GetWorld(grpc::ServerContext*, const v1::GetWorldRe
     for (const std::string& id : simulation.robot_ids()) {
       v1::SimRobotInfo* info = response->add_robots();
       info->set_robot_id(id);
-      info->set_attached(attached.contains(id));
+      info->set_attached(std::binary_search(attached.begin(), attached.end(), id));
       absl::StatusOr<RobotModel> model = simulation.ModelOf(id);
       if (model.ok()) *info->mutable_model() = fleetnav::ToProto(*model);
     }

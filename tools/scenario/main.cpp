@@ -14,6 +14,16 @@
 #include "fleetnav/scenario/scenario_runner.hpp"
 #include "fleetnav/scenario/sweep.hpp"
 
+namespace {
+
+/// Says what went wrong on stderr and returns the exit code.
+int Fail(const absl::Status& status, int exit_code) {
+  std::cerr << "fleetnav-scenario: " << status.message() << "\n";
+  return exit_code;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"fleetnav-scenario: run a multi-robot scenario in the simulator and check it"};
   app.set_version_flag("--version", std::string(fleetnav::Version()));
@@ -77,14 +87,12 @@ int main(int argc, char** argv) {
   }
   absl::StatusOr<fleetnav::scenario::Scenario> scenario = fleetnav::scenario::LoadScenario(file);
   if (!scenario.ok()) {
-    std::cerr << "fleetnav-scenario: " << scenario.status().message() << "\n";
-    return 2;
+    return Fail(scenario.status(), 2);
   }
   absl::StatusOr<fleetnav::scenario::Binaries> binaries =
       fleetnav::scenario::Binaries::Find(argv[0]);
   if (!binaries.ok()) {
-    std::cerr << "fleetnav-scenario: " << binaries.status().message() << "\n";
-    return 3;
+    return Fail(binaries.status(), 3);
   }
   fleetnav::scenario::RunOptions options;
   options.wall_timeout_s = timeout_s;
@@ -94,8 +102,7 @@ int main(int argc, char** argv) {
   if (sweep->parsed()) {
     absl::StatusOr<std::vector<unsigned>> seeds = fleetnav::scenario::ParseSeeds(seeds_text);
     if (!seeds.ok()) {
-      std::cerr << "fleetnav-scenario: " << seeds.status().message() << "\n";
-      return 2;
+      return Fail(seeds.status(), 2);
     }
     fleetnav::scenario::SweepOptions sweep_options;
     sweep_options.run = options;
@@ -106,8 +113,7 @@ int main(int argc, char** argv) {
     absl::StatusOr<fleetnav::scenario::SweepSummary> summary =
         fleetnav::scenario::RunSweep(*scenario, *binaries, sweep_options);
     if (!summary.ok()) {
-      std::cerr << "fleetnav-scenario: " << summary.status().message() << "\n";
-      return 2;
+      return Fail(summary.status(), 2);
     }
     if (json) {
       std::cout << fleetnav::scenario::SweepJson(*summary, file) << "\n";
@@ -124,8 +130,7 @@ int main(int argc, char** argv) {
   absl::StatusOr<fleetnav::scenario::ScenarioReport> report =
       fleetnav::scenario::RunScenario(*scenario, *binaries, options);
   if (!report.ok()) {
-    std::cerr << "fleetnav-scenario: " << report.status().message() << "\n";
-    return 3;
+    return Fail(report.status(), 3);
   }
   if (json) {
     std::cout << fleetnav::scenario::ReportJson(*report) << "\n";

@@ -62,19 +62,15 @@ void ServerLink::SetCurrentJob(const std::string& job_id) {
 
 void ServerLink::EndTick(const SensorFrame& frame) {
   if (!params_.lockstep) return;
-  uint64_t session = 0;
-  {
-    absl::MutexLock lock(&mutex_);
-    if (closing_ || !session_live_) return;
-    v1::TickDone done;
-    done.set_tick(frame.tick);
-    done.set_sim_time_ns(frame.stamp_ns);
-    for (const std::string& id : frame.lockstep_robot_ids) done.add_lockstep_robot_ids(id);
-    tick_done_ = std::move(done);
-    session = session_;
-    changed_.SignalAll();
-  }
   absl::MutexLock lock(&mutex_);
+  if (closing_ || !session_live_) return;
+  v1::TickDone done;
+  done.set_tick(frame.tick);
+  done.set_sim_time_ns(frame.stamp_ns);
+  for (const std::string& id : frame.lockstep_robot_ids) done.add_lockstep_robot_ids(id);
+  tick_done_ = std::move(done);
+  changed_.SignalAll();  // the writer sends it
+  const uint64_t session = session_;
   const uint64_t tick = frame.tick;
   // No wall-clock timeout: a slow server makes the run slower, never different. A server that
   // goes away ends the session, and with it the wait.
@@ -258,8 +254,9 @@ void ServerLink::RunSession() {
     ok = stream->Write(*message);
     if (ok) {
       absl::MutexLock lock(&mutex_);
-      // A session that ended meanwhile put what it sent back in the queues, before this one.
-      if (session_live_) MessageWritten(*message);
+      // In lockstep, a session that ended meanwhile put what it sent back in the queues, before
+      // this one, which is then still at the front: sent again with the others.
+      if (!params_.lockstep || session_live_) MessageWritten(*message);
     }
   }
   {

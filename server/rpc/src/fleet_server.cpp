@@ -136,7 +136,7 @@ absl::StatusOr<int> FleetServer::Start() {
   tick_work.begin = [this](int64_t sim_time_ns) {
     if (clock_ == &sim_clock_) sim_clock_.SetNs(sim_time_ns);
   };
-  tick_work.end = [this](int64_t /*sim_time_ns*/) {
+  tick_work.end = [this] {
     dispatcher_->RunPassIfDue(clock_->NowNs());
     KeepHouse(clock_->NowNs());
   };

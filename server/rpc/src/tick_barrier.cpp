@@ -1,7 +1,5 @@
 #include "fleetnav/server/rpc/tick_barrier.hpp"
 
-#include <algorithm>
-
 namespace fleetnav::server {
 
 uint64_t TickBarrier::Join(const std::string& robot_id, Handler handle, Acknowledger acknowledge) {
@@ -96,18 +94,16 @@ void TickBarrier::RunReadyTicks() {
       if (!member.done || member.done->tick() < tick) return;
     }
     if (work_.begin) work_.begin(sim_time_ns);
-    // Robot by robot in id order, whatever order the streams delivered in.
-    std::vector<Member*> in_order;
-    for (auto& [key, member] : members_) in_order.push_back(&member);
-    std::sort(in_order.begin(), in_order.end(),
-              [](const Member* a, const Member* b) { return a->robot_id < b->robot_id; });
-    for (Member* member : in_order) TakeIn(member);
-    if (work_.end) work_.end(sim_time_ns);
+    // Robot by robot in id order (member_of_robot_ is sorted by id), whatever order the streams
+    // delivered in.
+    for (const auto& [robot_id, key] : member_of_robot_) TakeIn(&members_.at(key));
+    if (work_.end) work_.end();
     last_tick_ = tick;
-    for (Member* member : in_order) {
-      if (member->done && member->done->tick() <= tick) {
-        member->done.reset();
-        member->acknowledge(tick);
+    for (const auto& [robot_id, key] : member_of_robot_) {
+      Member& member = members_.at(key);
+      if (member.done && member.done->tick() <= tick) {
+        member.done.reset();
+        member.acknowledge(tick);
       }
     }
   }

@@ -174,6 +174,12 @@ class Run {
   /// exactly the running agents with a link online), so that the next tick is the same tick in
   /// every run.
   absl::Status Settle(double wall_timeout_s);
+  /// Whether fleetnavd serves: no restart of it is pending (with replicas the others serve
+  /// while one is down).
+  bool ServerUp() const {
+    return s_.replicas > 1 || std::none_of(restarts_.begin(), restarts_.end(),
+                                           [](const Restart& r) { return r.robot_id.empty(); });
+  }
   void DrawProgress(double sim_s);
   void Finish(ScenarioReport* report);
   int RobotIndex(const std::string& robot_id) const {
@@ -554,9 +560,7 @@ std::optional<double> Run::RunUntil(double sim_s) {
 absl::Status Run::Settle(double wall_timeout_s) {
   const Clock::time_point give_up =
       Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(wall_timeout_s * 1000));
-  const bool server_up =
-      s_.replicas > 1 || std::none_of(restarts_.begin(), restarts_.end(),
-                                      [](const Restart& r) { return r.robot_id.empty(); });
+  const bool server_up = ServerUp();
   std::string missing;
   while (Clock::now() < give_up) {
     missing.clear();
@@ -735,14 +739,15 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   // runner does — submitting, injecting, restarting, polling — happens while it is held at an
   // exact tick: with the lockstep of agents and fleetnavd, a seed gives the same run every time.
   constexpr double kPollPeriodS = 0.1;
-  constexpr double kDueS = 1e-6;  // tick times are whole nanoseconds
   double sim_s = 0.0;
+  // Whether what is set for `at_s` is due at the held tick (tick times are whole nanoseconds).
+  const auto due = [&](double at_s) { return sim_s + 1e-6 >= at_s; };
   while (true) {
     if (SecondsSince(wall_start) > opt_.wall_timeout_s) break;
     bool changed = false;
     // Restarts that are due.
     for (auto it = restarts_.begin(); it != restarts_.end();) {
-      if (sim_s + kDueS < it->due_sim_s) {
+      if (!due(it->due_sim_s)) {
         ++it;
         continue;
       }
@@ -760,7 +765,7 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
     }
     if (!sim_->running()) break;
     for (auto it = link_restores_.begin(); it != link_restores_.end();) {
-      if (sim_s + kDueS < it->sim_s) {
+      if (!due(it->sim_s)) {
         ++it;
         continue;
       }
@@ -769,7 +774,7 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
       changed = true;
     }
     for (size_t i = 0; i < s_.faults.size(); ++i) {
-      if (!injected_[i] && sim_s + kDueS >= s_.faults[i].at_s) {
+      if (!injected_[i] && due(s_.faults[i].at_s)) {
         injected_[i] = true;
         Inject(s_.faults[i]);
         changed = true;
@@ -778,10 +783,7 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
     if (changed) {
       if (absl::Status settled = Settle(120.0); !settled.ok()) return settled;
     }
-    // With replicas the others serve while one is down.
-    const bool server_up =
-        s_.replicas > 1 || std::none_of(restarts_.begin(), restarts_.end(),
-                                        [](const Restart& r) { return r.robot_id.empty(); });
+    const bool server_up = ServerUp();
     if (failover_) {
       const std::optional<std::pair<size_t, int64_t>> leader = Leader();
       if (leader && leader->second > failover_->epoch) {
@@ -791,7 +793,7 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
     }
     if (server_up) {
       for (size_t i = 0; i < s_.jobs.size(); ++i) {
-        if (!submitted_[i] && sim_s + kDueS >= s_.jobs[i].at_s) Submit(i);
+        if (!submitted_[i] && due(s_.jobs[i].at_s)) Submit(i);
       }
       Poll(sim_s);
     }
@@ -802,7 +804,7 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
     // The next hold: the next poll, or an earlier event.
     double next_s = sim_s + kPollPeriodS;
     const auto earlier = [&](double at_s) {
-      if (at_s > sim_s + kDueS) next_s = std::min(next_s, at_s);
+      if (!due(at_s)) next_s = std::min(next_s, at_s);
     };
     for (const Restart& restart : restarts_) earlier(restart.due_sim_s);
     for (const LinkRestore& restore : link_restores_) earlier(restore.sim_s);

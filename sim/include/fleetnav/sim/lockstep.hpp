@@ -5,8 +5,8 @@
 #include <map>
 #include <memory>
 #include <optional>
-#include <set>
 #include <string>
+#include <vector>
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
@@ -91,8 +91,8 @@ class Lockstep {
   uint64_t tick() const;
   int64_t now_ns() const;
   size_t attached_count() const;
-  /// The robots that have an agent attached.
-  std::set<std::string> attached_robot_ids() const;
+  /// The robots that have an agent attached, sorted.
+  std::vector<std::string> attached_robot_ids() const;
 
  private:
   friend class Attachment;
@@ -107,8 +107,10 @@ class Lockstep {
   absl::Status Submit(const std::string& robot_id, const ActuatorCommand& command);
   bool ReadyToTick() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   bool AllAnswered() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
-  /// Senses every attached robot's frame for the current tick; each names the robots in it.
-  void HandOutFrames() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Senses the robot's frame for the current tick, naming the robots `in_tick`.
+  void HandOutFrame(const std::string& robot_id, const std::vector<std::string>& in_tick,
+                    Slot* slot) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  std::vector<std::string> AttachedIds() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
 
   Simulation* simulation_;
   mutable absl::Mutex mutex_;

@@ -141,6 +141,8 @@ class Simulation {
 
   uint64_t tick() const { return tick_; }
   int64_t now_ns() const;
+  /// The sim time of `tick` (tick × control period, rounded to whole nanoseconds).
+  int64_t TimeOfTickNs(uint64_t tick) const;
   const SimulationParams& params() const { return params_; }
   /// The world as given (without faults).
   const WorldDescription& world() const { return original_; }

@@ -20,7 +20,7 @@ struct TickWork {
   /// Before the tick's messages: the server's clock goes to the tick's sim time.
   std::function<void(int64_t sim_time_ns)> begin;
   /// After them: the dispatcher pass, staleness, pose history that are due at the tick.
-  std::function<void(int64_t sim_time_ns)> end;
+  std::function<void()> end;
 };
 
 /// The server's side of a simulated run's lockstep (docs/simulator.md, "Lockstep"). An agent in
@@ -73,6 +73,8 @@ class TickBarrier {
   mutable absl::Mutex mutex_;
   uint64_t next_key_ ABSL_GUARDED_BY(mutex_) = 1;
   std::map<uint64_t, Member> members_ ABSL_GUARDED_BY(mutex_);
+  /// Each robot's one member (a new stream replaces the old), by robot id: the order ticks
+  /// take the robots in.
   std::map<std::string, uint64_t> member_of_robot_ ABSL_GUARDED_BY(mutex_);
   bool active_ ABSL_GUARDED_BY(mutex_) = false;
   std::optional<uint64_t> last_tick_ ABSL_GUARDED_BY(mutex_);
