@@ -12,6 +12,7 @@
 
 #include "fleet_fixture.hpp"
 #include "fleetnav/core/robot_model.hpp"
+#include "fleetnav/proto/telemetry_convert.hpp"
 #include "fleetnav/robot_agent/server_link.hpp"
 
 namespace fleetnav {
@@ -135,6 +136,46 @@ TEST_F(LockstepTest, AJobSubmittedBetweenTicksReachesTheRobotWithTheNextTick) {
   EXPECT_FALSE(has_cancel(r1->TakeCommands()));
   r1->EndTick(frame(2));
   EXPECT_TRUE(has_cancel(r1->TakeCommands()));
+}
+
+// An agent whose stream reaches the server while the simulator waits for its command may have
+// answered that tick alone; its hello says from which tick it takes part, and the others' tick
+// does not wait for it (before, both agents of a run started under load could wait for ever).
+TEST_F(LockstepTest, AStreamThatJoinsMidTickIsNotWaitedForTheTicksItsAgentAnsweredAlone) {
+  std::unique_ptr<agent::ServerLink> r1 = Link("r1");
+  WaitOnline(1);
+  r1->EndTick(FrameOf(0));  // r2 has no stream yet: tick 0 is r1's alone
+
+  std::unique_ptr<v1::AgentService::Stub> agents = v1::AgentService::NewStub(Channel());
+  grpc::ClientContext context;
+  auto r2 = agents->Connect(&context);
+  v1::AgentMessage hello;
+  *hello.mutable_hello() = ToProto(RobotIdentity{"r2", LelyVectorModel(), {}, "test"});
+  hello.mutable_hello()->set_lockstep(true);
+  hello.mutable_hello()->set_lockstep_from_tick(2);  // it answered tick 1 before it was live
+  ASSERT_TRUE(r2->Write(hello));
+  WaitOnline(2);
+
+  auto tick_one = std::async(std::launch::async, [&] { r1->EndTick(FrameOf(1)); });
+  const bool answered = tick_one.wait_for(std::chrono::seconds(30)) == std::future_status::ready;
+  if (!answered) r1->Close(0.0);
+  EXPECT_TRUE(answered) << "tick 1 waits for r2, which answered it before it joined";
+
+  // From tick 2 on r2 is waited for.
+  auto tick_two = std::async(std::launch::async, [&] { r1->EndTick(FrameOf(2)); });
+  EXPECT_EQ(tick_two.wait_for(std::chrono::milliseconds(300)), std::future_status::timeout);
+  v1::AgentMessage done;
+  done.mutable_tick_done()->set_tick(2);
+  done.mutable_tick_done()->set_sim_time_ns(FrameOf(2).stamp_ns);
+  for (const std::string& id : FrameOf(2).lockstep_robot_ids) {
+    done.mutable_tick_done()->add_lockstep_robot_ids(id);
+  }
+  ASSERT_TRUE(r2->Write(done));
+  const bool second = tick_two.wait_for(std::chrono::seconds(30)) == std::future_status::ready;
+  if (!second) r1->Close(0.0);
+  EXPECT_TRUE(second) << "tick 2 never ended although both robots ended it";
+  r2->WritesDone();
+  context.TryCancel();
 }
 
 }  // namespace

@@ -63,7 +63,10 @@ void ServerLink::SetCurrentJob(const std::string& job_id) {
 void ServerLink::EndTick(const SensorFrame& frame) {
   if (!params_.lockstep) return;
   absl::MutexLock lock(&mutex_);
-  if (closing_ || !session_live_) return;
+  if (closing_ || !session_live_) {
+    last_tick_alone_ = frame.tick;
+    return;
+  }
   v1::TickDone done;
   done.set_tick(frame.tick);
   done.set_sim_time_ns(frame.stamp_ns);
@@ -217,6 +220,9 @@ void ServerLink::RunSession() {
   {
     absl::MutexLock lock(&mutex_);
     hello.mutable_hello()->set_resume_job_id(current_job_id_);
+    if (params_.lockstep && last_tick_alone_) {
+      hello.mutable_hello()->set_lockstep_from_tick(*last_tick_alone_ + 1);
+    }
     // Live before the hello goes: a tick that ends from now on is waited for by the server.
     ++session_;
     session_live_ = true;

@@ -146,7 +146,7 @@ class AgentConnection final {
     outbox_->Push(std::move(welcome));
     if (message.hello().lockstep() && service_->barrier_ != nullptr) {
       member_ = service_->barrier_->Join(
-          robot_id_,
+          robot_id_, message.hello().lockstep_from_tick(),
           [this](const v1::AgentMessage& held) {
             if (absl::Status taken = Handle(held); !taken.ok()) End(taken);
           },

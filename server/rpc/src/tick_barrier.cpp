@@ -2,7 +2,8 @@
 
 namespace fleetnav::server {
 
-uint64_t TickBarrier::Join(const std::string& robot_id, Handler handle, Acknowledger acknowledge) {
+uint64_t TickBarrier::Join(const std::string& robot_id, uint64_t from_tick, Handler handle,
+                           Acknowledger acknowledge) {
   absl::MutexLock lock(&mutex_);
   if (!active_ && work_.first_join) work_.first_join();
   if (auto old = member_of_robot_.find(robot_id); old != member_of_robot_.end()) {
@@ -12,7 +13,8 @@ uint64_t TickBarrier::Join(const std::string& robot_id, Handler handle, Acknowle
     }
   }
   const uint64_t key = next_key_++;
-  members_[key] = Member{robot_id, std::move(handle), std::move(acknowledge), {}, std::nullopt};
+  members_[key] =
+      Member{robot_id, from_tick, std::move(handle), std::move(acknowledge), {}, std::nullopt};
   member_of_robot_[robot_id] = key;
   active_ = true;
   return key;
@@ -86,17 +88,23 @@ void TickBarrier::RunReadyTicks() {
     if (earliest == nullptr) return;
     const uint64_t tick = earliest->tick();
     const int64_t sim_time_ns = earliest->sim_time_ns();
-    // Every robot of the tick's barrier that has a stream here must have ended it.
+    // Every robot of the tick's barrier that has a stream here must have ended it, unless its
+    // agent answered the tick before its stream took part (it joined meanwhile: waiting for it
+    // would wait for ever, since the simulator waits for the others).
     for (const std::string& robot_id : earliest->lockstep_robot_ids()) {
       auto key = member_of_robot_.find(robot_id);
       if (key == member_of_robot_.end()) continue;  // no stream (a link cut, a restart)
       const Member& member = members_.at(key->second);
+      if (tick < member.from_tick) continue;
       if (!member.done || member.done->tick() < tick) return;
     }
     if (work_.begin) work_.begin(sim_time_ns);
     // Robot by robot in id order (member_of_robot_ is sorted by id), whatever order the streams
-    // delivered in.
-    for (const auto& [robot_id, key] : member_of_robot_) TakeIn(&members_.at(key));
+    // delivered in; what a stream sent for a later tick waits for that tick.
+    for (const auto& [robot_id, key] : member_of_robot_) {
+      Member& member = members_.at(key);
+      if (member.done && member.done->tick() == tick) TakeIn(&member);
+    }
     if (work_.end) work_.end();
     last_tick_ = tick;
     for (const auto& [robot_id, key] : member_of_robot_) {

@@ -33,9 +33,10 @@ class Journal {
     work.end = [this] { log.push_back("end"); };
     return work;
   }
-  uint64_t Join(TickBarrier* barrier, const std::string& robot) {
+  uint64_t Join(TickBarrier* barrier, const std::string& robot, uint64_t from_tick = 0) {
     return barrier->Join(
-        robot, [this, robot](const v1::AgentMessage&) { log.push_back("take " + robot); },
+        robot, from_tick,
+        [this, robot](const v1::AgentMessage&) { log.push_back("take " + robot); },
         [this, robot](uint64_t tick) {
           log.push_back("ack " + robot + " " + std::to_string(tick));
         });
@@ -115,6 +116,27 @@ TEST(TickBarrierTest, AStreamEndingATickThatAlreadyRanIsAnsweredAtOnce) {
   EXPECT_EQ(barrier.last_tick(), 0u);  // tick 1 waits for b
   barrier.EndTick(b, Done(1, {"a", "b"}));
   EXPECT_EQ(barrier.last_tick(), 1u);
+}
+
+// An agent that answered tick 2 before its stream was live joins saying it takes part from tick
+// 3 on. Its simulator waits for the others' command at tick 2, so tick 2 must not wait for it
+// (it would wait for ever: the deadlock of a run whose agents start under load); what it sends
+// now is tick 3's and is taken in at tick 3.
+TEST(TickBarrierTest, AStreamIsNotWaitedForAtTicksItsAgentAnsweredBeforeItJoined) {
+  Journal journal;
+  TickBarrier barrier(journal.Work());
+  const uint64_t a = journal.Join(&barrier, "a");
+  const uint64_t b = journal.Join(&barrier, "b", /*from_tick=*/3);
+  ASSERT_TRUE(barrier.Hold(b, Telemetry(3)));
+  barrier.EndTick(a, Done(2, {"a", "b"}));
+  EXPECT_EQ(barrier.last_tick(), 2u);
+  EXPECT_EQ(journal.log, (std::vector<std::string>{"first join", "begin 2", "end", "ack a 2"}));
+  barrier.EndTick(a, Done(3, {"a", "b"}));
+  EXPECT_EQ(barrier.last_tick(), 2u);  // tick 3 waits for b
+  barrier.EndTick(b, Done(3, {"a", "b"}));
+  EXPECT_EQ(barrier.last_tick(), 3u);
+  EXPECT_EQ(std::vector<std::string>(journal.log.begin() + 4, journal.log.end()),
+            (std::vector<std::string>{"begin 3", "take b", "end", "ack a 3", "ack b 3"}));
 }
 
 }  // namespace

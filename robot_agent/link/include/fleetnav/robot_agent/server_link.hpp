@@ -96,6 +96,9 @@ class ServerLink final : public TelemetrySink, public JobChannel {
   std::optional<v1::TickDone> tick_done_ ABSL_GUARDED_BY(mutex_);
   std::optional<uint64_t> acknowledged_tick_ ABSL_GUARDED_BY(mutex_);
   bool session_live_ ABSL_GUARDED_BY(mutex_) = false;
+  /// The last tick ended while no session was live: the next session's hello says the server
+  /// must not wait for this stream at that tick or before.
+  std::optional<uint64_t> last_tick_alone_ ABSL_GUARDED_BY(mutex_);
   uint64_t session_ ABSL_GUARDED_BY(mutex_) = 0;
   std::atomic<uint64_t> sent_{0};
   std::atomic<uint64_t> dropped_{0};

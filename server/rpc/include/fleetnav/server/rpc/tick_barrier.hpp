@@ -42,9 +42,11 @@ class TickBarrier {
 
   explicit TickBarrier(TickWork work) : work_(std::move(work)) {}
 
-  /// A stream of `robot_id` whose hello asked for lockstep; it replaces an older stream of the
-  /// same robot. Returns the member's key.
-  uint64_t Join(const std::string& robot_id, Handler handle, Acknowledger acknowledge);
+  /// A stream of `robot_id` whose hello asked for lockstep, taking part from `from_tick` on (its
+  /// agent answered the ticks before alone); it replaces an older stream of the same robot.
+  /// Returns the member's key.
+  uint64_t Join(const std::string& robot_id, uint64_t from_tick, Handler handle,
+                Acknowledger acknowledge);
   /// Keeps a message of the member's current tick; false when the member has left (the caller
   /// then takes it in itself).
   bool Hold(uint64_t member, const v1::AgentMessage& message);
@@ -60,6 +62,7 @@ class TickBarrier {
  private:
   struct Member {
     std::string robot_id;
+    uint64_t from_tick = 0;  ///< no earlier tick waits for it
     Handler handle;
     Acknowledger acknowledge;
     std::vector<v1::AgentMessage> held;
