@@ -144,7 +144,10 @@ void Lockstep::HandOutFrame(const std::string& robot_id, const std::vector<std::
                             Slot* slot) {
   absl::StatusOr<SensorFrame> frame = simulation_->Sense(robot_id);
   slot->frame = frame.ok() ? std::optional<SensorFrame>(*frame) : std::nullopt;
-  if (slot->frame) slot->frame->lockstep_robot_ids = in_tick;
+  if (slot->frame) {
+    slot->frame->lockstep_robot_ids = in_tick;
+    slot->frame->holds_after = hold_at_tick_ && slot->frame->tick + 1 >= *hold_at_tick_;
+  }
   slot->taken = false;
   slot->answered = !frame.ok();
 }

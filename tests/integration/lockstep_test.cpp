@@ -54,11 +54,14 @@ class LockstepTest : public FleetServerFixture {
   }
 };
 
+/// A frame of a tick after which the simulation holds: EndTick returns once the server has
+/// taken the tick in.
 SensorFrame FrameOf(uint64_t tick) {
   SensorFrame frame;
   frame.tick = tick;
   frame.stamp_ns = static_cast<int64_t>(tick) * 20'000'000;
   frame.lockstep_robot_ids = {"r1", "r2"};
+  frame.holds_after = true;
   return frame;
 }
 
@@ -70,11 +73,16 @@ TEST_F(LockstepTest, EveryTickEndsOnceBothRobotsHaveEndedIt) {
   std::barrier sim(2);  // the simulator's barrier: both answer a tick before the next
   auto drive = [&](agent::ServerLink* link) {
     for (uint64_t tick = 0; tick < kTicks; ++tick) {
+      // As the agent does: the server takes a tick in while the simulator steps, and a frame
+      // begins once it has; every 100th tick the simulation holds.
+      SensorFrame frame = FrameOf(tick);
+      frame.holds_after = tick % 100 == 99;
+      link->BeginTick();
       Telemetry telemetry;
-      telemetry.stamp_ns = FrameOf(tick).stamp_ns;
+      telemetry.stamp_ns = frame.stamp_ns;
       telemetry.sequence = tick + 1;
       if (tick % 5 == 0) link->Publish(telemetry);
-      link->EndTick(FrameOf(tick));
+      link->EndTick(frame);
       sim.arrive_and_wait();
     }
   };
@@ -114,7 +122,12 @@ TEST_F(LockstepTest, AJobSubmittedBetweenTicksReachesTheRobotWithTheNextTick) {
   // the next TickAck: nothing comes while the simulation stands.
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   EXPECT_FALSE(r1->TakeAssignment().has_value());
-  r1->EndTick(frame(1));
+  // Tick 1 does not hold: EndTick returns at once, the server takes the tick in while the
+  // simulator steps, and the next frame begins only once it has (and its assignment is in).
+  SensorFrame through = frame(1);
+  through.holds_after = false;
+  r1->EndTick(through);
+  r1->BeginTick();
   std::optional<JobAssignment> assignment = r1->TakeAssignment();
   ASSERT_TRUE(assignment.has_value());
   EXPECT_EQ(assignment->job.job_id, submitted.job().job_id());

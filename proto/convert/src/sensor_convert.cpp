@@ -10,6 +10,7 @@ v1::SensorFrame ToProto(const SensorFrame& frame) {
   out.set_sim_time_ns(frame.stamp_ns);
   out.set_control_period_s(frame.control_period_s);
   for (const std::string& id : frame.lockstep_robot_ids) out.add_lockstep_robot_ids(id);
+  out.set_holds_after(frame.holds_after);
   for (const EncoderReading& e : frame.encoders) {
     v1::WheelEncoderReading* wire = out.add_encoders();
     wire->set_name(e.name);
@@ -67,6 +68,7 @@ SensorFrame FromProto(const v1::SensorFrame& frame) {
   out.control_period_s = frame.control_period_s();
   out.lockstep_robot_ids.assign(frame.lockstep_robot_ids().begin(),
                                 frame.lockstep_robot_ids().end());
+  out.holds_after = frame.holds_after();
   for (const auto& e : frame.encoders()) out.encoders.push_back({e.name(), e.ticks()});
   out.imu = {frame.imu().gyro_z_radps(), frame.imu().accel_x_mps2(), frame.imu().accel_y_mps2()};
   for (const auto& r : frame.ultrasonic())

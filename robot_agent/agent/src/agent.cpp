@@ -209,6 +209,9 @@ absl::StatusOr<AgentResult> Agent::Run() {
   while (true) {
     ASSIGN_OR_RETURN(std::optional<SensorFrame> frame, ports_.hal->NextFrame());
     if (!frame) break;  // the hardware or simulation ended
+    // In a simulated run's lockstep, what the server sent for the last tick is in before this
+    // one is worked on.
+    if (ports_.jobs != nullptr) ports_.jobs->BeginTick();
     ++result.ticks;
     const double dt_s =
         last_stamp_ns < 0 ? frame->control_period_s : (frame->stamp_ns - last_stamp_ns) * 1e-9;
@@ -293,8 +296,7 @@ absl::StatusOr<AgentResult> Agent::Run() {
           static_cast<int64_t>(std::llround(params_.telemetry_period_s * 1e9));
       next_telemetry_ns = std::max(next_telemetry_ns + period_ns, frame->stamp_ns - period_ns / 2);
     }
-    // In a simulated run's lockstep the server takes in this tick before the simulator may
-    // advance past it.
+    // In a simulated run's lockstep the server takes in this tick while the simulator steps.
     if (ports_.jobs != nullptr) ports_.jobs->EndTick(*frame);
     ActuatorCommand command;
     command.tick = frame->tick;

@@ -73,13 +73,29 @@ void ServerLink::EndTick(const SensorFrame& frame) {
   for (const std::string& id : frame.lockstep_robot_ids) done.add_lockstep_robot_ids(id);
   tick_done_ = std::move(done);
   changed_.SignalAll();  // the writer sends it
-  const uint64_t session = session_;
-  const uint64_t tick = frame.tick;
+  awaited_ack_ = AwaitedAck{session_, frame.tick};
+  // Before a hold whoever acts during it must find the server done with the tick; otherwise the
+  // server takes it in while the simulator steps, and the next frame waits for that.
+  if (frame.holds_after) {
+    AwaitAck(*awaited_ack_);
+    awaited_ack_.reset();
+  }
+}
+
+void ServerLink::BeginTick() {
+  if (!params_.lockstep) return;
+  absl::MutexLock lock(&mutex_);
+  if (!awaited_ack_) return;
+  AwaitAck(*awaited_ack_);
+  awaited_ack_.reset();
+}
+
+void ServerLink::AwaitAck(const AwaitedAck& awaited) {
   // No wall-clock timeout: a slow server makes the run slower, never different. A server that
   // goes away ends the session, and with it the wait.
   auto answered = [&]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) {
-    return closing_ || session_ != session || !session_live_ ||
-           (acknowledged_tick_ && *acknowledged_tick_ >= tick);
+    return closing_ || session_ != awaited.session || !session_live_ ||
+           (acknowledged_tick_ && *acknowledged_tick_ >= awaited.tick);
   };
   while (!answered()) changed_.Wait(&mutex_);
 }

@@ -333,12 +333,16 @@ TEST_F(LockstepTest, AHeldLoopAdvancesOnlyAsFarAsRunUntilAsks) {
   ASSERT_TRUE(a.ok() && b.ok());
   RunLoop();
   std::vector<std::vector<std::string>> a_names;
+  std::vector<uint64_t> a_holds_after;  // the ticks whose frames said the loop holds after them
   std::atomic<bool> stop{false};
   auto answer = [&](Attachment* attachment, std::vector<std::vector<std::string>>* names) {
     while (!stop.load()) {
       std::optional<SensorFrame> frame = attachment->WaitFrame();
       if (!frame) return;
-      if (names != nullptr) names->push_back(frame->lockstep_robot_ids);
+      if (names != nullptr) {
+        names->push_back(frame->lockstep_robot_ids);
+        if (frame->holds_after) a_holds_after.push_back(frame->tick);
+      }
       EXPECT_TRUE(attachment->Submit(Answer(*frame)).ok());
     }
   };
@@ -356,6 +360,8 @@ TEST_F(LockstepTest, AHeldLoopAdvancesOnlyAsFarAsRunUntilAsks) {
   EXPECT_EQ(lockstep_->RunUntil(10), 10u);
   ASSERT_GE(a_names.size(), 10u);
   EXPECT_EQ(a_names.front(), (std::vector<std::string>{"a", "b"}));
+  // The last frame before each hold says so (its agent then waits for fleetnavd).
+  EXPECT_EQ(a_holds_after, (std::vector<uint64_t>{2, 9}));
   stop.store(true);
   lockstep_->Stop();
   agent_a.join();

@@ -166,6 +166,8 @@ class Run {
   void Submit(size_t index);
   void Inject(const ScenarioFault& fault);
   void Poll(double sim_s);
+  /// The jobs fleetnavd has not ended, by id; false when it did not answer.
+  bool ListUnfinishedJobs(std::map<std::string, v1::Job>* jobs);
   /// Advances the held simulation to the first tick at or after `sim_s`; returns its sim time
   /// (nullopt when the simulator is gone).
   std::optional<double> RunUntil(double sim_s);
@@ -524,26 +526,57 @@ void Run::Poll(double sim_s) {
       }
     }
   }
+  // One listing of the unfinished jobs per hold: a GetJob per job would be most of the run's
+  // messages with dozens of jobs. A job no longer listed has ended and is read once more.
+  std::map<std::string, v1::Job> unfinished;
+  if (!ListUnfinishedJobs(&unfinished)) return;  // the server did not answer: the next hold
   for (size_t i = 0; i < jobs_.size(); ++i) {
     if (!submitted_[i] || jobs_[i].job_id.empty() || IsEnd(jobs_[i].state)) continue;
-    grpc::ClientContext context;
-    WithDeadline(&context);
-    v1::GetJobRequest request;
-    request.set_job_id(jobs_[i].job_id);
-    v1::GetJobResponse response;
-    if (!fleet_->GetJob(&context, request, &response).ok()) continue;
-    const std::string state = StateName(response.job().state());
-    jobs_[i].robot_id = response.job().assigned_robot_id();
-    jobs_[i].reason = response.job().reason();
+    v1::Job job;
+    if (auto listed = unfinished.find(jobs_[i].job_id); listed != unfinished.end()) {
+      job = std::move(listed->second);
+    } else {
+      grpc::ClientContext context;
+      WithDeadline(&context);
+      v1::GetJobRequest request;
+      request.set_job_id(jobs_[i].job_id);
+      v1::GetJobResponse response;
+      if (!fleet_->GetJob(&context, request, &response).ok()) continue;
+      job = std::move(*response.mutable_job());
+    }
+    const std::string state = StateName(job.state());
+    jobs_[i].robot_id = job.assigned_robot_id();
+    jobs_[i].reason = job.reason();
     if (state != jobs_[i].state && opt_.progress != nullptr && !opt_.progress_is_terminal) {
       *opt_.progress << absl::StrFormat("t=%7.1f s  %-16s %-8s %s%s\n", sim_s, jobs_[i].name,
                                         jobs_[i].robot_id, state,
                                         jobs_[i].reason.empty() ? "" : ": " + jobs_[i].reason);
     }
     jobs_[i].state = state;
-    progress_[i] = response.job().progress_fraction();
+    progress_[i] = job.progress_fraction();
     if (IsEnd(state)) jobs_[i].end_sim_s = sim_s;
   }
+}
+
+bool Run::ListUnfinishedJobs(std::map<std::string, v1::Job>* jobs) {
+  v1::ListJobsRequest request;
+  for (const v1::JobState state : {v1::JOB_STATE_QUEUED, v1::JOB_STATE_ASSIGNED,
+                                   v1::JOB_STATE_RUNNING, v1::JOB_STATE_PAUSED}) {
+    request.add_states(state);
+  }
+  request.set_page_size(1000);
+  do {
+    grpc::ClientContext context;
+    WithDeadline(&context);
+    v1::ListJobsResponse response;
+    if (!fleet_->ListJobs(&context, request, &response).ok()) return false;
+    for (v1::Job& job : *response.mutable_jobs()) {
+      const std::string id = job.job_id();
+      (*jobs)[id] = std::move(job);
+    }
+    request.set_page_token(response.next_page_token());
+  } while (!request.page_token().empty());
+  return true;
 }
 
 std::optional<double> Run::RunUntil(double sim_s) {

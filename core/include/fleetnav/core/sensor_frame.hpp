@@ -76,6 +76,9 @@ struct SensorFrame {
   /// In a simulated run: the robots whose agents take part in this tick's lockstep barrier,
   /// sorted (fleetnavd waits for their reports before it runs the tick). Empty on hardware.
   std::vector<std::string> lockstep_robot_ids;
+  /// In a simulated run: the simulation holds after this tick (fleetnav-scenario acts there),
+  /// so the agent waits for fleetnavd to have taken in the tick before it answers.
+  bool holds_after = false;
 
   const EncoderReading* FindEncoder(std::string_view name) const {
     for (const EncoderReading& e : encoders) {

@@ -11,8 +11,8 @@
 namespace fleetnav::agent {
 
 /// The agent's side of job dispatch: assignments and commands in, job events out. The server
-/// link implements it; tests use a fake. Only EndTick may block the control loop, and only in a
-/// simulated run's lockstep, where the simulator waits for the server anyway.
+/// link implements it; tests use a fake. Only BeginTick and EndTick may block the control loop,
+/// and only in a simulated run's lockstep, where the simulator waits for the server anyway.
 class JobChannel {
  public:
   virtual ~JobChannel() = default;
@@ -22,10 +22,16 @@ class JobChannel {
   virtual void ReportEvent(const JobEvent& event) = 0;
   /// The job the robot is executing, announced again on every reconnect ("" when idle).
   virtual void SetCurrentJob(const std::string& job_id) = 0;
+  /// Called once per frame as it arrives. In a simulated run's lockstep it returns once the
+  /// server has taken in the tick ended last (what the server sent for that tick is then what
+  /// the Take* calls of this frame see), or at once while there is no server to wait for. By
+  /// default there is nothing to wait for.
+  virtual void BeginTick() {}
   /// Called once per frame, after everything of the frame's tick was reported and before the
-  /// command goes to the actuators. In a simulated run's lockstep it returns once the server has
-  /// taken in the tick (what it sent for the tick is then what the next Take* calls see), or at
-  /// once while there is no server to wait for. By default there is nothing to wait for.
+  /// command goes to the actuators. In a simulated run's lockstep it tells the server the tick
+  /// is complete; the server takes it in while the simulator steps, and the next BeginTick
+  /// waits for that. Before a hold of the simulation (`frame.holds_after`) it returns only once
+  /// the server has taken the tick in. By default there is nothing to tell.
   virtual void EndTick(const SensorFrame& frame) { (void)frame; }
 };
 

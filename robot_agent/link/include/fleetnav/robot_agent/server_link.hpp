@@ -29,8 +29,9 @@ struct ServerLinkParams {
 /// (with the job it is executing, so the server can resume it), then forwards job events (never
 /// dropped) before queued telemetry, and receives assignments and commands; on any failure it
 /// reconnects with exponential back-off and says hello again. Nothing here blocks the control
-/// loop, except EndTick in lockstep: then each tick ends with TickDone, EndTick waits for the
-/// server's TickAck, what the server sends is handed to the agent only once the TickAck that
+/// loop, except BeginTick and EndTick in lockstep: then each tick ends with TickDone, the next
+/// frame begins once the server's TickAck for it has come (EndTick itself waits for it only
+/// before a hold), what the server sends is handed to the agent only once the TickAck that
 /// follows it has come (so a message reaches the agent at the same tick in every run), and what
 /// the agent sent is kept until a TickAck covers it and sent again on the next session if none
 /// does. Thread-safe.
@@ -45,6 +46,7 @@ class ServerLink final : public TelemetrySink, public JobChannel {
   std::vector<JobCommand> TakeCommands() override;
   void ReportEvent(const JobEvent& event) override;
   void SetCurrentJob(const std::string& job_id) override;
+  void BeginTick() override;
   void EndTick(const SensorFrame& frame) override;
   /// Sends what is queued (waiting up to timeout_s), then closes the stream.
   void Close(double timeout_s = 2.0);
@@ -99,6 +101,14 @@ class ServerLink final : public TelemetrySink, public JobChannel {
   /// The last tick ended while no session was live: the next session's hello says the server
   /// must not wait for this stream at that tick or before.
   std::optional<uint64_t> last_tick_alone_ ABSL_GUARDED_BY(mutex_);
+  /// The tick ended last in a live session, and that session: BeginTick waits for its TickAck.
+  struct AwaitedAck {
+    uint64_t session = 0;
+    uint64_t tick = 0;
+  };
+  std::optional<AwaitedAck> awaited_ack_ ABSL_GUARDED_BY(mutex_);
+  /// Waits until the session `awaited` ended or the server acknowledged its tick.
+  void AwaitAck(const AwaitedAck& awaited) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   uint64_t session_ ABSL_GUARDED_BY(mutex_) = 0;
   std::atomic<uint64_t> sent_{0};
   std::atomic<uint64_t> dropped_{0};
