@@ -78,6 +78,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--max-sim-time-s", params.lockstep.max_sim_time_s, "stop after (0 = never)")
       ->capture_default_str();
+  app.add_option("--server-tick-every", params.lockstep.server_tick_every,
+                 "in lockstep, agents report to fleetnavd every N ticks (on the last of each N "
+                 "and before a hold; 1 = every tick)")
+      ->capture_default_str();
   app.add_flag("--hold", params.lockstep.start_held,
                "start held at tick 0: ticks advance only as far as the RunUntil RPC asks (how "
                "fleetnav-scenario replays a run tick for tick)");

@@ -17,6 +17,10 @@ absl::Status LockstepParams::Validate() const {
   }
   if (min_attached < 0) return absl::InvalidArgumentError("min_attached: must be >= 0");
   if (!(max_sim_time_s >= 0.0)) return absl::InvalidArgumentError("max_sim_time_s: must be >= 0");
+  if (server_tick_every < 1) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("server_tick_every: must be >= 1, got ", server_tick_every));
+  }
   return absl::OkStatus();
 }
 
@@ -145,8 +149,14 @@ void Lockstep::HandOutFrame(const std::string& robot_id, const std::vector<std::
   absl::StatusOr<SensorFrame> frame = simulation_->Sense(robot_id);
   slot->frame = frame.ok() ? std::optional<SensorFrame>(*frame) : std::nullopt;
   if (slot->frame) {
-    slot->frame->lockstep_robot_ids = in_tick;
-    slot->frame->holds_after = hold_at_tick_ && slot->frame->tick + 1 >= *hold_at_tick_;
+    const uint64_t tick = slot->frame->tick;
+    slot->frame->holds_after = hold_at_tick_ && tick + 1 >= *hold_at_tick_;
+    // Only fleetnavd's ticks name whom it waits for; on the others the agents report nothing
+    // of the tick (what they send is taken in at fleetnavd's next tick).
+    if (slot->frame->holds_after ||
+        (tick + 1) % static_cast<uint64_t>(params_.server_tick_every) == 0) {
+      slot->frame->lockstep_robot_ids = in_tick;
+    }
   }
   slot->taken = false;
   slot->answered = !frame.ok();

@@ -74,9 +74,11 @@ TEST_F(LockstepTest, EveryTickEndsOnceBothRobotsHaveEndedIt) {
   auto drive = [&](agent::ServerLink* link) {
     for (uint64_t tick = 0; tick < kTicks; ++tick) {
       // As the agent does: the server takes a tick in while the simulator steps, and a frame
-      // begins once it has; every 100th tick the simulation holds.
+      // begins once it has; the server's tick is every 5th and every 100th tick the
+      // simulation holds. Telemetry goes on the other ticks.
       SensorFrame frame = FrameOf(tick);
       frame.holds_after = tick % 100 == 99;
+      if (tick % 5 != 4 && !frame.holds_after) frame.lockstep_robot_ids.clear();
       link->BeginTick();
       Telemetry telemetry;
       telemetry.stamp_ns = frame.stamp_ns;
@@ -96,6 +98,14 @@ TEST_F(LockstepTest, EveryTickEndsOnceBothRobotsHaveEndedIt) {
   }
   EXPECT_TRUE(one_done) << "r1 waits for a tick that never ends";
   EXPECT_TRUE(two_done) << "r2 waits for a tick that never ends";
+  // The last tick held: everything sent before it, on whichever tick, has been taken in.
+  grpc::ClientContext context;
+  v1::ListRobotsResponse robots;
+  ASSERT_TRUE(fleet_->ListRobots(&context, v1::ListRobotsRequest{}, &robots).ok());
+  ASSERT_EQ(robots.robots_size(), 2);
+  for (const v1::RobotState& robot : robots.robots()) {
+    EXPECT_EQ(robot.last_telemetry().sequence(), kTicks - 4) << robot.robot_id();
+  }
 }
 
 // A job submitted while the simulation stands between ticks is dispatched at the next tick and

@@ -61,7 +61,8 @@ void ServerLink::SetCurrentJob(const std::string& job_id) {
 }
 
 void ServerLink::EndTick(const SensorFrame& frame) {
-  if (!params_.lockstep) return;
+  // Not one of fleetnavd's ticks: what was sent is taken in at its next one.
+  if (!params_.lockstep || frame.lockstep_robot_ids.empty()) return;
   absl::MutexLock lock(&mutex_);
   if (closing_ || !session_live_) {
     last_tick_alone_ = frame.tick;

@@ -73,8 +73,9 @@ struct SensorFrame {
   /// State of charge in [0, 1], when the robot reports one.
   std::optional<double> battery_fraction;
   std::optional<GpsFix> gps;
-  /// In a simulated run: the robots whose agents take part in this tick's lockstep barrier,
-  /// sorted (fleetnavd waits for their reports before it runs the tick). Empty on hardware.
+  /// In a simulated run, on fleetnavd's ticks: the robots whose agents take part in the tick's
+  /// lockstep barrier, sorted (fleetnavd waits for their reports before it runs the tick).
+  /// Empty on the simulator's other ticks and on hardware.
   std::vector<std::string> lockstep_robot_ids;
   /// In a simulated run: the simulation holds after this tick (fleetnav-scenario acts there),
   /// so the agent waits for fleetnavd to have taken in the tick before it answers.

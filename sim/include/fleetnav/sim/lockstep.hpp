@@ -24,6 +24,10 @@ struct LockstepParams {
   double max_sim_time_s = 0.0;
   /// Start held at tick 0: ticks advance only as far as RunUntil asks.
   bool start_held = false;
+  /// fleetnavd's tick: the agents report to it (their frames name the robots it waits for)
+  /// every this many ticks, on the last tick of each period, and on the tick before a hold.
+  /// 1 = every tick; the default, 5, is 100 ms at 20 ms ticks (the agents' telemetry rate).
+  int server_tick_every = 5;
   absl::Status Validate() const;
 };
 
