@@ -252,6 +252,9 @@ TEST(LockstepParamsTest, Validate) {
             absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(LockstepParams{.max_sim_time_s = -0.1}.Validate().code(),
             absl::StatusCode::kInvalidArgument);
+  const absl::Status no_server_tick = LockstepParams{.server_tick_every = 0}.Validate();
+  EXPECT_EQ(no_server_tick.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(no_server_tick.message().find("server_tick_every"), std::string::npos);
 }
 
 // A reset while an agent holds a frame: the agent's late answer to the old frame is ignored,
