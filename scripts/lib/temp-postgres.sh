@@ -3,7 +3,8 @@
 #   start_temp_postgres DIR   starts it in DIR/pg and sets PG_URI_BASE (postgresql://fleetnav@127.0.0.1:PORT)
 #   new_temp_database NAME    creates database NAME and prints its URI
 #   temp_psql NAME SQL        runs SQL on database NAME, unaligned output without headers
-#   stop_temp_postgres        stops it (safe to call when it never started)
+#   stop_temp_postgres [DIR]  stops it (safe to call when it never started); with DIR, the one
+#                             started in DIR by another shell
 pg_ctl_as=()
 pg_dir=""
 start_temp_postgres() {
@@ -25,6 +26,12 @@ temp_psql() {
   "$pg_bin/psql" -h 127.0.0.1 -p "$pg_port" -U fleetnav -d "$1" -At -c "$2"
 }
 stop_temp_postgres() {
-  [ -n "$pg_dir" ] && "${pg_ctl_as[@]}" "$pg_bin/pg_ctl" -D "$pg_dir" -m fast stop >/dev/null 2>&1
+  local dir=${1:+$1/pg}
+  dir=${dir:-$pg_dir}
+  [ -n "$dir" ] || return 0
+  local bin as=()
+  bin=$(ls -d /usr/lib/postgresql/*/bin | sort -V | tail -1)
+  [ "$(id -u)" -eq 0 ] && as=(runuser -u postgres --)
+  "${as[@]}" "$bin/pg_ctl" -D "$dir" -m fast stop >/dev/null 2>&1
   return 0
 }

@@ -119,8 +119,8 @@ void Lockstep::Run() {
       break;
     }
     // Hand out this tick's frames, then wait for every attached agent to answer.
-    const std::vector<std::string> in_tick = AttachedIds();
-    for (auto& [id, slot] : slots_) HandOutFrame(id, in_tick, &slot);
+    const TickHeader header = CurrentTickHeader();
+    for (auto& [id, slot] : slots_) HandOutFrame(id, header, &slot);
     mutex_.Await(absl::Condition(this, &Lockstep::AllAnswered));
     if (stopping_) break;
     simulation_->Advance();
@@ -144,19 +144,24 @@ void Lockstep::Run() {
   }
 }
 
-void Lockstep::HandOutFrame(const std::string& robot_id, const std::vector<std::string>& in_tick,
-                            Slot* slot) {
+Lockstep::TickHeader Lockstep::CurrentTickHeader() const {
+  const uint64_t tick = simulation_->tick();
+  TickHeader header;
+  header.holds_after = hold_at_tick_ && tick + 1 >= *hold_at_tick_;
+  // Only fleetnavd's ticks name whom it waits for; on the others the agents report nothing of
+  // the tick (what they send is taken in at fleetnavd's next tick).
+  if (header.holds_after || (tick + 1) % static_cast<uint64_t>(params_.server_tick_every) == 0) {
+    header.lockstep_robot_ids = AttachedIds();
+  }
+  return header;
+}
+
+void Lockstep::HandOutFrame(const std::string& robot_id, const TickHeader& header, Slot* slot) {
   absl::StatusOr<SensorFrame> frame = simulation_->Sense(robot_id);
   slot->frame = frame.ok() ? std::optional<SensorFrame>(*frame) : std::nullopt;
   if (slot->frame) {
-    const uint64_t tick = slot->frame->tick;
-    slot->frame->holds_after = hold_at_tick_ && tick + 1 >= *hold_at_tick_;
-    // Only fleetnavd's ticks name whom it waits for; on the others the agents report nothing
-    // of the tick (what they send is taken in at fleetnavd's next tick).
-    if (slot->frame->holds_after ||
-        (tick + 1) % static_cast<uint64_t>(params_.server_tick_every) == 0) {
-      slot->frame->lockstep_robot_ids = in_tick;
-    }
+    slot->frame->holds_after = header.holds_after;
+    slot->frame->lockstep_robot_ids = header.lockstep_robot_ids;
   }
   slot->taken = false;
   slot->answered = !frame.ok();
@@ -229,11 +234,11 @@ void Lockstep::Reset(uint64_t seed) {
   simulation_->Reset(seed);
   // Every agent still owing an answer gets the frame of tick 0 (the others get theirs with
   // the next tick).
-  const std::vector<std::string> in_tick = AttachedIds();
+  const TickHeader header = CurrentTickHeader();
   for (auto& [id, slot] : slots_) {
     if (slot.answered) continue;
     if (slot.frame && slot.taken) slot.stale_tick = slot.frame->tick;
-    HandOutFrame(id, in_tick, &slot);
+    HandOutFrame(id, header, &slot);
   }
 }
 

@@ -77,21 +77,19 @@ void ServerLink::EndTick(const SensorFrame& frame) {
   awaited_ack_ = AwaitedAck{session_, frame.tick};
   // Before a hold whoever acts during it must find the server done with the tick; otherwise the
   // server takes it in while the simulator steps, and the next frame waits for that.
-  if (frame.holds_after) {
-    AwaitAck(*awaited_ack_);
-    awaited_ack_.reset();
-  }
+  if (frame.holds_after) AwaitAck();
 }
 
 void ServerLink::BeginTick() {
   if (!params_.lockstep) return;
   absl::MutexLock lock(&mutex_);
-  if (!awaited_ack_) return;
-  AwaitAck(*awaited_ack_);
-  awaited_ack_.reset();
+  AwaitAck();
 }
 
-void ServerLink::AwaitAck(const AwaitedAck& awaited) {
+void ServerLink::AwaitAck() {
+  if (!awaited_ack_) return;
+  const AwaitedAck awaited = *awaited_ack_;
+  awaited_ack_.reset();
   // No wall-clock timeout: a slow server makes the run slower, never different. A server that
   // goes away ends the session, and with it the wait.
   auto answered = [&]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) {

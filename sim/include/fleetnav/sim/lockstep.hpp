@@ -111,9 +111,15 @@ class Lockstep {
   absl::Status Submit(const std::string& robot_id, const ActuatorCommand& command);
   bool ReadyToTick() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   bool AllAnswered() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
-  /// Senses the robot's frame for the current tick, naming the robots `in_tick`.
-  void HandOutFrame(const std::string& robot_id, const std::vector<std::string>& in_tick,
-                    Slot* slot) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// What every frame of the current tick says besides its readings.
+  struct TickHeader {
+    std::vector<std::string> lockstep_robot_ids;  ///< on fleetnavd's ticks: whom it waits for
+    bool holds_after = false;
+  };
+  TickHeader CurrentTickHeader() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Senses the robot's frame for the current tick, with the tick's header.
+  void HandOutFrame(const std::string& robot_id, const TickHeader& header, Slot* slot)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   std::vector<std::string> AttachedIds() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
 
   Simulation* simulation_;

@@ -107,8 +107,8 @@ class ServerLink final : public TelemetrySink, public JobChannel {
     uint64_t tick = 0;
   };
   std::optional<AwaitedAck> awaited_ack_ ABSL_GUARDED_BY(mutex_);
-  /// Waits until the session `awaited` ended or the server acknowledged its tick.
-  void AwaitAck(const AwaitedAck& awaited) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Waits, if a tick is awaited, until its session ended or the server acknowledged it.
+  void AwaitAck() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   uint64_t session_ ABSL_GUARDED_BY(mutex_) = 0;
   std::atomic<uint64_t> sent_{0};
   std::atomic<uint64_t> dropped_{0};
