@@ -10,6 +10,7 @@
 #include <fstream>
 #include <thread>
 
+#include "fleetnav/core/clock.hpp"
 #include "fleetnav/core/map_io.hpp"
 #include "fleetnav/core/port_file.hpp"
 #include "fleetnav/core/stop_signals.hpp"
@@ -82,6 +83,11 @@ int main(int argc, char** argv) {
                  "in lockstep, agents report to fleetnavd every N ticks (on the last of each N "
                  "and before a hold; 1 = every tick)")
       ->capture_default_str();
+  app.add_option("--start-unix-ms", params.start_unix_ms,
+                 "the calendar at sim time 0, ms since 1970-01-01 UTC (0 = the wall clock at "
+                 "start); fleetnavd with --clock sim stamps its records with it plus sim time")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_flag("--hold", params.lockstep.start_held,
                "start held at tick 0: ticks advance only as far as the RunUntil RPC asks (how "
                "fleetnav-scenario replays a run tick for tick)");
@@ -114,6 +120,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (!export_dir.empty()) return ExportMap(*world, export_dir, map_resolution_m);
+  if (params.start_unix_ms == 0) params.start_unix_ms = fleetnav::SystemClock().UnixMs();
   if (!render_path.empty()) {
     std::vector<fleetnav::sim::TrajectoryTrace> traces;
     if (!trajectory_path.empty()) {

@@ -16,7 +16,10 @@ int64_t SystemClock::UnixMs() const {
       .count();
 }
 
-int64_t ManualClock::UnixMs() const { return unix_ms_at_zero_ + NowNs() / 1'000'000; }
+int64_t ManualClock::UnixMs() const {
+  absl::MutexLock lock(&mutex_);
+  return unix_ms_at_zero_ + now_ns_ / 1'000'000;
+}
 
 int64_t ManualClock::NowNs() const {
   absl::MutexLock lock(&mutex_);
@@ -32,6 +35,11 @@ void ManualClock::AdvanceNs(int64_t delta_ns) {
 void ManualClock::SetNs(int64_t now_ns) {
   absl::MutexLock lock(&mutex_);
   if (now_ns > now_ns_) now_ns_ = now_ns;
+}
+
+void ManualClock::SetUnixMsAtZero(int64_t unix_ms) {
+  absl::MutexLock lock(&mutex_);
+  unix_ms_at_zero_ = unix_ms;
 }
 
 }  // namespace fleetnav

@@ -21,7 +21,7 @@ absl::StatusOr<int> SimServer::Start() {
     RETURN_IF_ERROR(simulation_->AddRobot(spawn.robot_id, spawn.kind_name, spawn.pose));
   }
   lockstep_ = std::make_unique<Lockstep>(simulation_.get(), params_.lockstep);
-  service_ = std::make_unique<SimServiceImpl>(lockstep_.get());
+  service_ = std::make_unique<SimServiceImpl>(lockstep_.get(), params_.start_unix_ms);
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();

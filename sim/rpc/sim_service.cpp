@@ -89,6 +89,7 @@ grpc::Status SimServiceImpl::GetGroundTruth(grpc::ServerContext*, const v1::GetG
   const GroundTruthSnapshot truth = lockstep_->GroundTruth();
   response->set_sim_time_ns(truth.sim_time_ns);
   response->set_tick(truth.tick);
+  response->set_start_unix_ms(start_unix_ms_);
   for (const RobotTruth& robot : truth.robots) {
     v1::RobotGroundTruth* wire = response->add_robots();
     wire->set_robot_id(robot.robot_id);

@@ -16,6 +16,9 @@
 namespace fleetnav {
 namespace {
 
+/// The simulation's calendar at sim time 0: 2023-11-14 22:13:20 UTC.
+constexpr int64_t kStartUnixMs = 1'700'000'000'000;
+
 class SimClockTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -24,6 +27,7 @@ class SimClockTest : public ::testing::Test {
     ASSERT_TRUE(world.ok()) << world.status();
     sim::SimServerParams sim_params;
     sim_params.listen_address = "127.0.0.1:0";
+    sim_params.start_unix_ms = kStartUnixMs;
     simulator_ = std::make_unique<sim::SimServer>(*world, sim_params);
     absl::StatusOr<int> port = simulator_->Start();
     ASSERT_TRUE(port.ok()) << port.status();
@@ -69,6 +73,20 @@ TEST_F(SimClockTest, StaleTimeoutCountsSimulatedSeconds) {
   ASSERT_TRUE(sim->Step(&context, step, &stepped).ok());
   std::this_thread::sleep_for(std::chrono::milliseconds(200));  // a few polls of the feed
   EXPECT_EQ(State(), ConnectionState::kStale);
+}
+
+TEST_F(SimClockTest, RecordsAreStampedOnTheSimulationsCalendar) {
+  StartServer(sim_address_);
+  auto sim = v1::SimService::NewStub(
+      grpc::CreateChannel(sim_address_, grpc::InsecureChannelCredentials()));
+  grpc::ClientContext context;
+  v1::StepRequest step;
+  step.set_ticks(150);
+  v1::StepResponse stepped;
+  ASSERT_TRUE(sim->Step(&context, step, &stepped).ok());
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // a few polls of the feed
+  // Whenever this server started, its calendar is the simulation's: the start plus 3 s.
+  EXPECT_EQ(server_->clock().UnixMs(), kStartUnixMs + 3'000);
 }
 
 TEST_F(SimClockTest, WallClockServerGoesStaleInWallSeconds) {

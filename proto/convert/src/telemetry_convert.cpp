@@ -162,6 +162,7 @@ v1::RobotState ToProto(const RobotRecord& record) {
   out.set_last_seen_ns(record.last_seen_ns);
   out.set_current_job_id(record.current_job_id);
   out.set_traffic_wait(record.traffic_wait);
+  out.set_traffic_held_s(record.traffic_held_s);
   return out;
 }
 

@@ -1,5 +1,6 @@
 #include "fleetnav/server/fleet_registry.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -69,8 +70,13 @@ absl::Status FleetRegistry::RecordTelemetry(const std::string& robot_id, uint64_
   absl::MutexLock lock(&mutex_);
   if (absl::Status s = CheckSessionLocked(robot_id, session); !s.ok()) return s;
   Entry& entry = *Find(robot_id);
+  const int64_t now_ns = clock_->NowNs();
+  if (!entry.record.traffic_wait.empty() && telemetry.mode == NavigationMode::kIdle) {
+    entry.record.traffic_held_s +=
+        static_cast<double>(std::max<int64_t>(0, now_ns - entry.record.last_seen_ns)) * 1e-9;
+  }
   entry.record.last_telemetry = telemetry;
-  entry.record.last_seen_ns = clock_->NowNs();
+  entry.record.last_seen_ns = now_ns;
   entry.record.connection = ConnectionState::kOnline;
   ++entry.record.telemetry_count;
   entry.record.revision = NextRevision();

@@ -33,7 +33,8 @@ nlohmann::json FleetStateJson(const std::vector<RobotRecord>& robots, const std:
                             {"kind", robot.identity.model.kind_name},
                             {"connection", std::string(ConnectionStateName(robot.connection))},
                             {"job_id", robot.current_job_id},
-                            {"traffic_wait", robot.traffic_wait}};
+                            {"traffic_wait", robot.traffic_wait},
+                            {"traffic_held_s", robot.traffic_held_s}};
     if (robot.last_telemetry) {
       const Telemetry& t = *robot.last_telemetry;
       const CovarianceEllipse ellipse = EllipseOf(t.covariance);

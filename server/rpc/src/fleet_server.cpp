@@ -46,8 +46,8 @@ absl::Status FleetServerParams::Validate() const {
 
 FleetServer::FleetServer(FleetServerParams params)
     : params_(std::move(params)),
-      // On the simulator's clock, records are stamped from the server's start on in simulated
-      // time.
+      // On the simulator's clock, records are stamped with the simulation's calendar start (read
+      // from the simulator at Start) plus simulated time; the server's own start until then.
       sim_clock_(0, SystemClock().UnixMs()),
       clock_(params_.sim_clock_address.empty() ? static_cast<const Clock*>(&system_clock_)
                                                : &sim_clock_),

@@ -39,6 +39,14 @@ TEST(ManualClockTest, NeverGoesBackwards) {
   EXPECT_EQ(clock.NowNs(), 5'000);
 }
 
+TEST(ManualClockTest, ItsCalendarIsTheZeroSetPlusTheTime) {
+  ManualClock clock(2'500'000'000, 1'000'000);
+  EXPECT_EQ(clock.UnixMs(), 1'002'500);
+  clock.SetUnixMsAtZero(1'700'000'000'000);  // a simulation's calendar start
+  EXPECT_EQ(clock.UnixMs(), 1'700'000'002'500);
+  EXPECT_EQ(clock.NowNs(), 2'500'000'000);
+}
+
 TEST(ManualClockTest, IsUsableThroughTheInterface) {
   ManualClock manual;
   const Clock& clock = manual;

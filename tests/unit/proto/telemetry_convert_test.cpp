@@ -211,6 +211,7 @@ TEST(TelemetryConvertTest, ARobotRecordBecomesTheOperatorsRobotState) {
   record.last_seen_ns = 42;
   record.current_job_id = "job-7";
   record.traffic_wait = "waits for lely2";
+  record.traffic_held_s = 12.5;
   const v1::RobotState wire = ToProto(record);
   EXPECT_EQ(wire.robot_id(), "lely1");
   EXPECT_EQ(wire.kind_name(), record.identity.model.kind_name);
@@ -223,6 +224,7 @@ TEST(TelemetryConvertTest, ARobotRecordBecomesTheOperatorsRobotState) {
   EXPECT_EQ(wire.last_seen_ns(), 42);
   EXPECT_EQ(wire.current_job_id(), "job-7");
   EXPECT_EQ(wire.traffic_wait(), "waits for lely2");
+  EXPECT_DOUBLE_EQ(wire.traffic_held_s(), 12.5);
   record.last_telemetry.reset();
   EXPECT_FALSE(ToProto(record).has_last_telemetry());
 }

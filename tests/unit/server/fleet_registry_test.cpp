@@ -87,6 +87,32 @@ TEST_F(FleetRegistryTest, RecordTelemetryUpdatesLastTelemetryAndCount) {
   EXPECT_EQ(record.last_seen_ns, 101 * kSecondNs);
 }
 
+TEST_F(FleetRegistryTest, TimeHeldByTrafficCountsOnlyWhileTheRobotStandsHeld) {
+  const uint64_t session = registry_.Connect(Identity("vector-1"));
+  Telemetry standing = TelemetryAt(1, 0.0);
+  standing.mode = NavigationMode::kIdle;
+  Telemetry driving = TelemetryAt(2, 0.0);
+  driving.mode = NavigationMode::kStripeReactive;
+  const auto held_s = [&] { return GetOrDie("vector-1").traffic_held_s; };
+
+  clock_.AdvanceNs(kSecondNs);
+  ASSERT_TRUE(registry_.RecordTelemetry("vector-1", session, standing).ok());
+  EXPECT_EQ(held_s(), 0.0);  // standing, but nothing holds it
+  registry_.SetTrafficWait("vector-1", "waits for lely2");
+  clock_.AdvanceNs(kSecondNs / 10);
+  ASSERT_TRUE(registry_.RecordTelemetry("vector-1", session, standing).ok());
+  clock_.AdvanceNs(kSecondNs / 10);
+  ASSERT_TRUE(registry_.RecordTelemetry("vector-1", session, standing).ok());
+  EXPECT_NEAR(held_s(), 0.2, 1e-9);
+  clock_.AdvanceNs(kSecondNs / 10);
+  ASSERT_TRUE(registry_.RecordTelemetry("vector-1", session, driving).ok());
+  EXPECT_NEAR(held_s(), 0.2, 1e-9);  // still cleared for what it drives
+  registry_.SetTrafficWait("vector-1", "");
+  clock_.AdvanceNs(kSecondNs);
+  ASSERT_TRUE(registry_.RecordTelemetry("vector-1", session, standing).ok());
+  EXPECT_NEAR(held_s(), 0.2, 1e-9);
+}
+
 TEST_F(FleetRegistryTest, SilentRobotBecomesStaleAndTelemetryBringsItBack) {
   const uint64_t session = registry_.Connect(Identity("vector-1"));
   ASSERT_TRUE(registry_.RecordTelemetry("vector-1", session, TelemetryAt(1, 0.0)).ok());

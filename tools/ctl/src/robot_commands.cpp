@@ -49,6 +49,7 @@ nlohmann::json RobotJson(const v1::RobotState& robot) {
           {"progress", t.job_progress_fraction()},
           {"job_id", robot.current_job_id()},
           {"traffic_wait", robot.traffic_wait()},
+          {"traffic_held_s", robot.traffic_held_s()},
           {"carried_load_m",
            t.has_carried_load_size()
                ? nlohmann::json::array({t.carried_load_size().x_m(), t.carried_load_size().y_m()})

@@ -168,6 +168,9 @@ class Run {
   void Poll(double sim_s);
   /// The jobs fleetnavd has not ended, by id; false when it did not answer.
   bool ListUnfinishedJobs(std::map<std::string, v1::Job>* jobs);
+  /// When an ended job ended, in sim time, from fleetnavd's record of it (held_at_s, the hold
+  /// at which it was seen ended, when the record cannot say).
+  double EndSimS(const v1::Job& job, double held_at_s) const;
   /// Advances the held simulation to the first tick at or after `sim_s`; returns its sim time
   /// (nullopt when the simulator is gone).
   std::optional<double> RunUntil(double sim_s);
@@ -236,7 +239,10 @@ class Run {
   std::map<std::string, RobotFigures> figures_;
   std::map<std::string, std::string> waits_;
   std::map<std::string, Pose2> estimates_;
-  double last_sim_s_ = 0.0;
+  /// The simulation's calendar at sim time 0 (GroundTruth.start_unix_ms).
+  int64_t sim_start_unix_ms_ = 0;
+  /// Each robot's traffic_held_s at the last poll.
+  std::map<std::string, double> held_seen_s_;
   int drawn_lines_ = 0;
   struct Restart {
     double due_sim_s = 0.0;
@@ -502,8 +508,6 @@ void Run::Inject(const ScenarioFault& fault) {
 }
 
 void Run::Poll(double sim_s) {
-  const double dt_s = std::max(0.0, sim_s - last_sim_s_);
-  last_sim_s_ = sim_s;
   {
     grpc::ClientContext context;
     WithDeadline(&context);
@@ -511,14 +515,18 @@ void Run::Poll(double sim_s) {
     if (fleet_->ListRobots(&context, v1::ListRobotsRequest{}, &robots).ok()) {
       for (const v1::RobotState& robot : robots.robots()) {
         waits_[robot.robot_id()] = robot.traffic_wait();
+        RobotFigures& f = figures_[robot.robot_id()];
+        // fleetnavd sums, in sim time, how long each robot stood held (exact between holds);
+        // a fleetnavd that started again (or a replica that took over) counts from zero.
+        double& seen_s = held_seen_s_[robot.robot_id()];
+        const double held_s = robot.traffic_held_s();
+        f.waiting_s += held_s >= seen_s ? held_s - seen_s : held_s;
+        seen_s = held_s;
         // Held means standing: a robot still driving the actions it was cleared for is not.
         const bool standing = robot.last_telemetry().mode() == v1::NAVIGATION_MODE_IDLE;
-        if (!robot.traffic_wait().empty() && standing) {
-          RobotFigures& f = figures_[robot.robot_id()];
-          f.waiting_s += dt_s;
-          if (std::find(f.waits.begin(), f.waits.end(), robot.traffic_wait()) == f.waits.end()) {
-            f.waits.push_back(robot.traffic_wait());
-          }
+        if (!robot.traffic_wait().empty() && standing &&
+            std::find(f.waits.begin(), f.waits.end(), robot.traffic_wait()) == f.waits.end()) {
+          f.waits.push_back(robot.traffic_wait());
         }
         absl::StatusOr<Pose2> pose =
             fleetnav::FromProto(robot.last_telemetry().pose_in_map().pose());
@@ -554,8 +562,15 @@ void Run::Poll(double sim_s) {
     }
     jobs_[i].state = state;
     progress_[i] = job.progress_fraction();
-    if (IsEnd(state)) jobs_[i].end_sim_s = sim_s;
+    if (IsEnd(state)) jobs_[i].end_sim_s = EndSimS(job, sim_s);
   }
+}
+
+double Run::EndSimS(const v1::Job& job, double held_at_s) const {
+  // fleetnavd stamps on the simulation's calendar: the record says at which tick it ended.
+  if (sim_start_unix_ms_ <= 0 || job.updated_unix_ms() < sim_start_unix_ms_) return held_at_s;
+  return std::min(held_at_s,
+                  static_cast<double>(job.updated_unix_ms() - sim_start_unix_ms_) * 1e-3);
 }
 
 bool Run::ListUnfinishedJobs(std::map<std::string, v1::Job>* jobs) {
@@ -718,6 +733,15 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   }
   simulator_ = v1::SimService::NewStub(grpc::CreateChannel(absl::StrCat("127.0.0.1:", sim_port_),
                                                            grpc::InsecureChannelCredentials()));
+  {
+    grpc::ClientContext context;
+    WithDeadline(&context);
+    v1::GroundTruth truth;
+    if (!simulator_->GetGroundTruth(&context, v1::GetGroundTruthRequest{}, &truth).ok()) {
+      return absl::UnavailableError("fleetnav-sim does not answer GetGroundTruth");
+    }
+    sim_start_unix_ms_ = truth.start_unix_ms();
+  }
   if (Tls()) {
     if (absl::Status st = MakePki(); !st.ok()) return st;
   }
@@ -771,7 +795,11 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   // The simulation advances only as far as the runner asks (RunUntil), and everything the
   // runner does — submitting, injecting, restarting, polling — happens while it is held at an
   // exact tick: with the lockstep of agents and fleetnavd, a seed gives the same run every time.
-  constexpr double kPollPeriodS = 0.1;
+  // Holds cost a drained pipeline each (agents, fleetnavd and the simulator all wait for the
+  // runner), so the runner holds once a sim second besides its events: what it reports of the
+  // time between holds — when jobs ended, how long robots stood held — fleetnavd recorded in
+  // sim time.
+  constexpr double kPollPeriodS = 1.0;
   double sim_s = 0.0;
   // Whether what is set for `at_s` is due at the held tick (tick times are whole nanoseconds).
   const auto due = [&](double at_s) { return sim_s + 1e-6 >= at_s; };
@@ -839,6 +867,7 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
     const auto earlier = [&](double at_s) {
       if (!due(at_s)) next_s = std::min(next_s, at_s);
     };
+    earlier(s_.expect.deadline_s);
     for (const Restart& restart : restarts_) earlier(restart.due_sim_s);
     for (const LinkRestore& restore : link_restores_) earlier(restore.sim_s);
     for (size_t i = 0; i < s_.faults.size(); ++i) {

@@ -28,8 +28,8 @@ class SystemClock final : public Clock {
 
 /// A clock that only moves when told to, for simulation and tests. Time never goes backwards:
 /// SetNs with an earlier time is ignored. Its calendar reads unix_ms_at_zero plus the time
-/// set, so a server on the simulator's clock stamps records at its start plus simulated time.
-/// Thread-safe.
+/// set, so a server on the simulator's clock stamps records at the simulation's calendar start
+/// (SetUnixMsAtZero, from the simulator) plus simulated time. Thread-safe.
 class ManualClock final : public Clock {
  public:
   explicit ManualClock(int64_t start_ns = 0, int64_t unix_ms_at_zero = 0)
@@ -38,10 +38,12 @@ class ManualClock final : public Clock {
   int64_t UnixMs() const override;
   void AdvanceNs(int64_t delta_ns);
   void SetNs(int64_t now_ns);
+  /// The calendar at time 0 (ms since 1970-01-01 UTC).
+  void SetUnixMsAtZero(int64_t unix_ms);
 
  private:
-  const int64_t unix_ms_at_zero_;
   mutable absl::Mutex mutex_;
+  int64_t unix_ms_at_zero_ ABSL_GUARDED_BY(mutex_);
   int64_t now_ns_ ABSL_GUARDED_BY(mutex_);
 };
 

@@ -81,7 +81,11 @@ struct RobotRecord {
   uint64_t telemetry_count = 0;  ///< messages accepted since the server started
   std::string current_job_id;
   std::string traffic_wait;  ///< why traffic coordination holds the robot; empty when not
-  uint64_t revision = 0;     ///< grows on every change; lets watchers send only what changed
+  /// Server-clock seconds it stood still (mode idle) while traffic coordination held it, since
+  /// the server started: each telemetry adds the time since the previous one when it shows
+  /// the robot standing and traffic_wait is set.
+  double traffic_held_s = 0.0;
+  uint64_t revision = 0;  ///< grows on every change; lets watchers send only what changed
 };
 
 }  // namespace fleetnav

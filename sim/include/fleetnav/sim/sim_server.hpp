@@ -17,6 +17,9 @@ struct SimServerParams {
   std::string listen_address = "127.0.0.1:50061";  ///< port 0 picks a free port
   SimulationParams simulation;
   LockstepParams lockstep;
+  /// The calendar at sim time 0 (ms since 1970-01-01 UTC), told to fleetnavd through
+  /// GroundTruth; 0: none (fleetnavd then stamps from its own start).
+  int64_t start_unix_ms = 0;
 };
 
 /// fleetnav-sim as a library: a Simulation of a world, its Lockstep loop on a thread of its

@@ -10,7 +10,9 @@ namespace fleetnav::sim {
 /// Thread-safe.
 class SimServiceImpl final : public v1::SimService::Service {
  public:
-  explicit SimServiceImpl(Lockstep* lockstep) : lockstep_(lockstep) {}
+  /// start_unix_ms: the calendar at sim time 0 (GroundTruth.start_unix_ms; 0 for none).
+  explicit SimServiceImpl(Lockstep* lockstep, int64_t start_unix_ms = 0)
+      : lockstep_(lockstep), start_unix_ms_(start_unix_ms) {}
 
   grpc::Status Attach(
       grpc::ServerContext* context,
@@ -35,6 +37,7 @@ class SimServiceImpl final : public v1::SimService::Service {
 
  private:
   Lockstep* lockstep_;
+  int64_t start_unix_ms_;
 };
 
 }  // namespace fleetnav::sim

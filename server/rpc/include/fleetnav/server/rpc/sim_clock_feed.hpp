@@ -15,7 +15,8 @@ namespace fleetnav::server {
 /// poll_period_s of wall time on its own thread, so that fleetnavd's stale and lost-robot
 /// timeouts and pose history count simulated seconds in a simulated run (a run at 50× real
 /// time then behaves as at 1×; a paused simulator stops the server's time). The clock never
-/// goes backwards. Thread-safe.
+/// goes backwards; its calendar starts at the simulation's (GroundTruth.start_unix_ms).
+/// Thread-safe.
 class SimClockFeed {
  public:
   SimClockFeed(const std::string& sim_address, ManualClock* clock, double poll_period_s = 0.05);
