@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "absl/strings/str_cat.h"
 #include "fleetnav/core/angles.hpp"
@@ -28,7 +29,95 @@ absl::Status SamclParams::Validate() const {
   if (!(std::isfinite(far_association_radius_m) && far_association_radius_m >= 0.0)) {
     return absl::InvalidArgumentError("far_association_radius_m must be finite and >= 0");
   }
+  if (!(std::isfinite(feature_sigma_m) && feature_sigma_m > 0.0)) {
+    return absl::InvalidArgumentError("feature_sigma_m must be finite and > 0");
+  }
+  if (!(std::isfinite(decisive_mahalanobis2) && decisive_mahalanobis2 >= 0.0)) {
+    return absl::InvalidArgumentError("decisive_mahalanobis2 must be finite and >= 0");
+  }
+  if (!(std::isfinite(edge_memory_m) && edge_memory_m >= 0.0)) {
+    return absl::InvalidArgumentError("edge_memory_m must be finite and >= 0");
+  }
   return absl::OkStatus();
+}
+
+namespace {
+
+/// The point of a marker's or stripe piece's strip nearest to `p`.
+Eigen::Vector2d NearestOnStrip(const StripeMarker& m, const Eigen::Vector2d& p) {
+  const Line2 line = m.AsLine();
+  const double t =
+      std::clamp((p - line.point).dot(line.direction), -0.5 * m.length_m, 0.5 * m.length_m);
+  return line.point + t * line.direction;
+}
+
+/// Where a sensor moving from `p` along `heading` meets a stripe piece: where its path crosses
+/// the piece (clamped to the piece's ends), or, for a piece that runs along the path, at the end
+/// the path reaches first — a piece the sensor runs beside is felt nowhere along it.
+Eigen::Vector2d EntryPoint(const StripeMarker& m, const Eigen::Vector2d& p,
+                           const Eigen::Vector2d& heading) {
+  const auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() * b.y() - a.y() * b.x();
+  };
+  const Line2 line = m.AsLine();
+  const double half_m = 0.5 * m.length_m;
+  constexpr double kAlongPathSin = 0.26;  // within 15 deg of the path
+  const double sin_angle = cross(line.direction, heading);
+  if (std::abs(sin_angle) > kAlongPathSin) {
+    const double t = cross(p - line.point, heading) / sin_angle;
+    return line.point + std::clamp(t, -half_m, half_m) * line.direction;
+  }
+  const Eigen::Vector2d a = line.point - half_m * line.direction;
+  const Eigen::Vector2d b = line.point + half_m * line.direction;
+  return (a - p).dot(heading) < (b - p).dot(heading) ? a : b;
+}
+
+}  // namespace
+
+const StripeMarker* Samcl::RivalStripe(const StripeMarker& marker, const SensorMount& mount,
+                                       const std::string& sensor_name,
+                                       const Pose2& odom_at_edge) const {
+  const Pose2 robot = amcl_.PoseInMap(odom_at_edge);
+  const Eigen::Vector2d s_in_base = mount.pose_in_base.translation();
+  const Eigen::Vector2d sensor = robot.TransformPoint(s_in_base);
+  const Eigen::Vector2d heading(std::cos(robot.yaw_rad()), std::sin(robot.yaw_rad()));
+  // The estimate's covariance carried to the sensor point: p = t + R(yaw)·s.
+  const double c = heading.x(), sn = heading.y();
+  Eigen::Matrix<double, 2, 3> jacobian;
+  jacobian << 1.0, 0.0, -sn * s_in_base.x() - c * s_in_base.y(),  //
+      0.0, 1.0, c * s_in_base.x() - sn * s_in_base.y();
+  const Eigen::Matrix2d spread =
+      jacobian * amcl_.estimate().covariance * jacobian.transpose() +
+      params_.feature_sigma_m * params_.feature_sigma_m * Eigen::Matrix2d::Identity();
+  const Eigen::Matrix2d information = spread.inverse();
+  const auto mahalanobis2 = [&](const Eigen::Vector2d& d) { return d.dot(information * d); };
+
+  const Eigen::Vector2d to_marker = NearestOnStrip(marker, sensor) - sensor;
+  const double marker_m2 = mahalanobis2(to_marker);
+  // Where this sensor's previous edge was, seen through the current estimate: if this edge is
+  // the marker, that point moves with the same correction.
+  std::optional<Eigen::Vector2d> previous_edge;
+  if (auto it = last_edge_odom_.find(sensor_name); it != last_edge_odom_.end()) {
+    const Pose2& odom_then = it->second;
+    const double travelled_m =
+        std::hypot(odom_at_edge.x_m() - odom_then.x_m(), odom_at_edge.y_m() - odom_then.y_m());
+    if (travelled_m <= params_.edge_memory_m) {
+      previous_edge = amcl_.PoseInMap(odom_then).TransformPoint(s_in_base) + to_marker;
+    }
+  }
+  constexpr double kFeltAgainM = 0.1;
+  for (const StripeMarker& m : markers_.markers) {
+    if (m.kind == MarkerKind::kCalibration) continue;
+    const Eigen::Vector2d to_piece = EntryPoint(m, sensor, heading) - sensor;
+    if (to_piece.norm() >= params_.association_radius_m) continue;
+    if (mahalanobis2(to_piece) >= marker_m2 + params_.decisive_mahalanobis2) continue;
+    if (previous_edge &&
+        (NearestOnStrip(m, *previous_edge) - *previous_edge).norm() < kFeltAgainM) {
+      continue;
+    }
+    return &m;
+  }
+  return nullptr;
 }
 
 const StripeMarker* Samcl::FarMarker(const Eigen::Vector2d& sensor_estimate,
@@ -140,12 +229,19 @@ absl::StatusOr<CalibrationResult> Samcl::OnInductiveEdge(const InductiveEdge& ed
   }
   if (candidates == 0 && params_.far_association_radius_m > params_.association_radius_m) {
     marker = FarMarker(sensor_estimate, heading);
-    if (marker == nullptr) return result;
-    candidates = 1;
+    if (marker != nullptr) candidates = 1;
   }
+  const StripeMarker* rival =
+      candidates == 1 ? RivalStripe(*marker, *mount, edge.sensor_name, *odom_at_edge) : nullptr;
+  // Whatever this edge turns out to be, the sensor's next edge looks back to it.
+  last_edge_odom_[edge.sensor_name] = *odom_at_edge;
   if (candidates == 0) return result;
   if (candidates > 1) {
     result.outcome = CalibrationOutcome::kAmbiguous;
+    return result;
+  }
+  if (rival != nullptr) {
+    result.outcome = CalibrationOutcome::kStripe;
     return result;
   }
   result.marker_id = marker->id;

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <string>
 #include <utility>
 
@@ -38,6 +39,19 @@ struct SamclParams {
   double marker_half_width_m = 0.0;
   /// Soft mode: standard deviation of the sensor point's distance to the marker line.
   double soft_sigma_m = 0.02;
+  /// Stripe pieces of the marker set (follow and charger stripes) are metal too. An edge is
+  /// the marker's only when the marker explains it decisively better than every stripe piece
+  /// near it: by the squared Mahalanobis distance from the estimated sensor point of where the
+  /// sensor's path meets the piece (the estimate's covariance carried to the sensor, plus
+  /// feature_sigma_m on each axis),
+  /// which must exceed the marker's by at least decisive_mahalanobis2 (6 ≈ 2 ln 20: the marker
+  /// 20 times as likely). Otherwise nothing is calibrated (CalibrationOutcome::kStripe).
+  double feature_sigma_m = 0.03;
+  double decisive_mahalanobis2 = 6.0;
+  /// A stripe piece that the same sensor's previous edge, no further back than this much
+  /// travel, already felt (where it lies if this edge is the marker) is no rival: crossing a
+  /// stripe's end and then the marker just beyond it are two edges, one feature each.
+  double edge_memory_m = 3.0;
   /// Odometry history kept to interpolate the pose at a detection edge.
   double odometry_history_s = 5.0;
   /// Edges older than the history (or in the future) are refused as OutOfRange.
@@ -51,7 +65,12 @@ struct InductiveEdge {
   int64_t stamp_ns = 0;
 };
 
-enum class CalibrationOutcome { kApplied, kNoMarker, kAmbiguous };
+enum class CalibrationOutcome {
+  kApplied,
+  kNoMarker,
+  kAmbiguous,  ///< two markers within h
+  kStripe,     ///< a stripe piece near the marker explains the edge as well as the marker
+};
 
 struct CalibrationResult {
   CalibrationOutcome outcome = CalibrationOutcome::kNoMarker;
@@ -62,8 +81,9 @@ struct CalibrationResult {
 
 /// Stripe-marker AMCL (Lely thesis §5.4, Algorithm 4): AMCL plus, on an inductive detection,
 /// (1) the marker within h of the estimate is associated — none, or two or more, and nothing
-/// is done (an ambiguous association is refused rather than guessed); (2) odometry is
-/// interpolated to the stamped detection edge, so that filter latency does not put the line
+/// is done (an ambiguous association is refused rather than guessed), nor when a stripe piece
+/// of the marker set explains the edge about as well, given the estimate's covariance; (2) odometry
+/// is interpolated to the stamped detection edge, so that filter latency does not put the line
 /// late; (3) hard mode: every particle is shifted so that its own detecting-sensor point lands
 /// on its foot point on the marker line — the calibration line of §5.4.2 step 2 for that
 /// particle — keeping its weight and yaw; soft mode: each particle's weight is multiplied by
@@ -99,12 +119,18 @@ class Samcl {
   /// SamclParams::far_association_radius_m), or nullptr.
   const StripeMarker* FarMarker(const Eigen::Vector2d& sensor_estimate,
                                 const Eigen::Vector2d& heading) const;
+  /// A stripe piece that explains an edge felt by `mount` at the odometry pose `odom_at_edge`
+  /// about as well as `marker` does (SamclParams::decisive_mahalanobis2), or nullptr.
+  const StripeMarker* RivalStripe(const StripeMarker& marker, const SensorMount& mount,
+                                  const std::string& sensor_name, const Pose2& odom_at_edge) const;
 
   Amcl amcl_;
   MarkerSet markers_;
   RobotModel model_;
   SamclParams params_;
   std::deque<std::pair<int64_t, Pose2>> odometry_;
+  /// Per inductive sensor, the odometry pose of its last edge.
+  std::map<std::string, Pose2> last_edge_odom_;
 };
 
 }  // namespace fleetnav::localization
