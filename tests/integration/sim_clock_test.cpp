@@ -53,6 +53,19 @@ class SimClockTest : public ::testing::Test {
 
   ConnectionState State() { return server_->registry().Get("lely1")->connection; }
 
+  /// 3 s of simulated time (150 ticks of 20 ms), in a fraction of that on the wall, then a few
+  /// polls of fleetnavd's feed.
+  void StepThreeSimSeconds() {
+    auto sim = v1::SimService::NewStub(
+        grpc::CreateChannel(sim_address_, grpc::InsecureChannelCredentials()));
+    grpc::ClientContext context;
+    v1::StepRequest step;
+    step.set_ticks(150);
+    v1::StepResponse stepped;
+    ASSERT_TRUE(sim->Step(&context, step, &stepped).ok());
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+
   std::unique_ptr<sim::SimServer> simulator_;
   std::string sim_address_;
   std::unique_ptr<server::FleetServer> server_;
@@ -63,28 +76,13 @@ TEST_F(SimClockTest, StaleTimeoutCountsSimulatedSeconds) {
   // No agent is attached: the lockstep simulator stands still, and so does fleetnavd's time.
   std::this_thread::sleep_for(std::chrono::milliseconds(2500));
   EXPECT_EQ(State(), ConnectionState::kOnline);
-  // 3 s of simulated time (150 ticks of 20 ms) pass in a fraction of that on the wall.
-  auto sim = v1::SimService::NewStub(
-      grpc::CreateChannel(sim_address_, grpc::InsecureChannelCredentials()));
-  grpc::ClientContext context;
-  v1::StepRequest step;
-  step.set_ticks(150);
-  v1::StepResponse stepped;
-  ASSERT_TRUE(sim->Step(&context, step, &stepped).ok());
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // a few polls of the feed
+  ASSERT_NO_FATAL_FAILURE(StepThreeSimSeconds());
   EXPECT_EQ(State(), ConnectionState::kStale);
 }
 
 TEST_F(SimClockTest, RecordsAreStampedOnTheSimulationsCalendar) {
   StartServer(sim_address_);
-  auto sim = v1::SimService::NewStub(
-      grpc::CreateChannel(sim_address_, grpc::InsecureChannelCredentials()));
-  grpc::ClientContext context;
-  v1::StepRequest step;
-  step.set_ticks(150);
-  v1::StepResponse stepped;
-  ASSERT_TRUE(sim->Step(&context, step, &stepped).ok());
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // a few polls of the feed
+  ASSERT_NO_FATAL_FAILURE(StepThreeSimSeconds());
   // Whenever this server started, its calendar is the simulation's: the start plus 3 s.
   EXPECT_EQ(server_->clock().UnixMs(), kStartUnixMs + 3'000);
 }

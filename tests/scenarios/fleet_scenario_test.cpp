@@ -333,6 +333,11 @@ TEST(FleetScenario, AServerRestartMidJobLosesNothing) {
   ASSERT_EQ(report["jobs"].size(), 2u);
   EXPECT_NE(report["jobs"][0]["job_id"], report["jobs"][1]["job_id"]);
   EXPECT_TRUE(std::filesystem::exists(keep + "/fleetnavd.2.log"));  // it was restarted
+  // lely2 stood held across the restart; the two fleetnavd starts' counts add up to no more
+  // than the time its job took (each start counts from zero).
+  const double waited_s = RobotIn(report, "lely2").value("waiting_s", -1.0);
+  EXPECT_GT(waited_s, 50.0);
+  EXPECT_LT(waited_s, report["jobs"][1].value("end_sim_s", 0.0));
 }
 
 /// How far `path` moves between sim times from_s and to_s (largest distance from where it was).

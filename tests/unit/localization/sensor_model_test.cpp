@@ -177,35 +177,50 @@ TEST(SamclTest, RefusesAmbiguousAndFarMarkers) {
 namespace fleetnav::localization {
 namespace {
 
-// The farm robot's failure on unseen barns: driving to a marker it first crosses the end of a
-// stripe 0.47 m before it. Whether the estimate is right or 0.4 m off along the track (normal
-// after a leg driven by distance), the stripe's edge calibrates nothing and the marker's does.
-TEST(SamclTest, AStripeEndCrossedJustBeforeAMarkerIsNotTakenForIt) {
-  const OccupancyGrid map = Barn();
-  const RobotModel model = LelyVectorModel();
-  const Eigen::Vector2d sensor = model.FindSensor("inductive_left")->pose_in_base.translation();
-  constexpr double kGapM = 0.47;
-  MarkerSet markers = Experiment2Markers();  // marker 1 across the lane at x = 0
+/// Experiment 2's markers (marker 1 across the lane at x = 0) and one follow stripe piece.
+MarkerSet MarkersWithStripe(const Eigen::Vector2d& centre_m, double yaw_rad, double length_m) {
+  MarkerSet markers = Experiment2Markers();
   StripeMarker stripe;
   stripe.id = 7;
   stripe.kind = MarkerKind::kFollowStripe;
   stripe.stripe_id = 1;
-  stripe.yaw_rad = NormalizeMarkerYaw(kPi / 2.0);
-  stripe.length_m = 2.0;  // from just below the sensor's line northwards
-  stripe.position_m = {-kGapM, 4.7 + sensor.y() - 0.05 + 1.0};
+  stripe.position_m = centre_m;
+  stripe.yaw_rad = NormalizeMarkerYaw(yaw_rad);
+  stripe.length_m = length_m;
   markers.markers.push_back(stripe);
+  return markers;
+}
+
+/// SAMCL over `markers` for a robot heading east along y = 4.7 whose estimate is at
+/// estimate_x_m with `stddev`, odometry starting at the origin at stamp 0.
+Samcl SamclAt(const MarkerSet& markers, double estimate_x_m, const Eigen::Vector3d& stddev) {
+  AmclParams params;
+  params.min_particles = params.max_particles = 500;
+  Amcl amcl = *Amcl::Create(params, Barn());
+  EXPECT_TRUE(amcl.InitializePose(Pose2(estimate_x_m, 4.7, 0), stddev, Pose2(), 0).ok());
+  Samcl samcl = *Samcl::Create(std::move(amcl), markers, LelyVectorModel(), SamclParams{});
+  samcl.RecordOdometry(Pose2(), 0);
+  return samcl;
+}
+
+Eigen::Vector2d LeftInductiveInBase() {
+  return LelyVectorModel().FindSensor("inductive_left")->pose_in_base.translation();
+}
+
+// The farm robot's failure on unseen barns: driving to a marker it first crosses the end of a
+// stripe 0.47 m before it. Whether the estimate is right or 0.4 m off along the track (normal
+// after a leg driven by distance), the stripe's edge calibrates nothing and the marker's does.
+TEST(SamclTest, AStripeEndCrossedJustBeforeAMarkerIsNotTakenForIt) {
+  const Eigen::Vector2d sensor = LeftInductiveInBase();
+  constexpr double kGapM = 0.47;
+  // Across the lane, from just below the sensor's line northwards.
+  const MarkerSet markers =
+      MarkersWithStripe({-kGapM, 4.7 + sensor.y() - 0.05 + 1.0}, kPi / 2.0, 2.0);
   for (const double along_error_m : {0.0, 0.4, -0.4}) {
     SCOPED_TRACE(along_error_m);
-    AmclParams params;
-    params.min_particles = params.max_particles = 500;
-    Amcl amcl = *Amcl::Create(params, map);
     // The sensor is on the stripe's end; the estimate along_error_m ahead of the truth.
     const double truth_x_m = -kGapM - sensor.x();
-    ASSERT_TRUE(amcl.InitializePose(Pose2(truth_x_m + along_error_m, 4.7, 0), {0.25, 0.02, 0.005},
-                                    Pose2(), 0)
-                    .ok());
-    Samcl samcl = *Samcl::Create(std::move(amcl), markers, model, SamclParams{});
-    samcl.RecordOdometry(Pose2(), 0);
+    Samcl samcl = SamclAt(markers, truth_x_m + along_error_m, {0.25, 0.02, 0.005});
     const CalibrationResult at_stripe = *samcl.OnInductiveEdge({"inductive_left", 0});
     EXPECT_NE(at_stripe.outcome, CalibrationOutcome::kApplied);
     EXPECT_NEAR(samcl.amcl().estimate().pose_in_map.x_m(), truth_x_m + along_error_m, 0.06);
@@ -219,26 +234,12 @@ TEST(SamclTest, AStripeEndCrossedJustBeforeAMarkerIsNotTakenForIt) {
 }
 
 TEST(SamclTest, AStripeBesideTheMarkerThatWasNeverFeltDoesNotBlockIt) {
-  const OccupancyGrid map = Barn();
-  const RobotModel model = LelyVectorModel();
-  const Eigen::Vector2d sensor = model.FindSensor("inductive_left")->pose_in_base.translation();
-  MarkerSet markers = Experiment2Markers();
-  StripeMarker stripe;  // 0.3 m along the lane before the marker, but ending 0.25 m aside
-  stripe.id = 7;
-  stripe.kind = MarkerKind::kFollowStripe;
-  stripe.stripe_id = 1;
-  stripe.yaw_rad = NormalizeMarkerYaw(kPi / 2.0);
-  stripe.length_m = 2.0;
-  stripe.position_m = {-0.3, 4.7 + sensor.y() + 0.25 + 1.0};
-  markers.markers.push_back(stripe);
-  AmclParams params;
-  params.min_particles = params.max_particles = 500;
-  Amcl amcl = *Amcl::Create(params, map);
+  const Eigen::Vector2d sensor = LeftInductiveInBase();
+  // 0.3 m along the lane before the marker, but ending 0.25 m aside of the sensor's line.
+  const MarkerSet markers =
+      MarkersWithStripe({-0.3, 4.7 + sensor.y() + 0.25 + 1.0}, kPi / 2.0, 2.0);
   const double truth_x_m = -sensor.x();  // the sensor on the marker
-  ASSERT_TRUE(
-      amcl.InitializePose(Pose2(truth_x_m - 0.2, 4.7, 0), {0.2, 0.02, 0.005}, Pose2(), 0).ok());
-  Samcl samcl = *Samcl::Create(std::move(amcl), markers, model, SamclParams{});
-  samcl.RecordOdometry(Pose2(), 0);
+  Samcl samcl = SamclAt(markers, truth_x_m - 0.2, {0.2, 0.02, 0.005});
   const CalibrationResult r = *samcl.OnInductiveEdge({"inductive_left", 0});
   EXPECT_EQ(r.outcome, CalibrationOutcome::kApplied);
   EXPECT_NEAR(samcl.amcl().estimate().pose_in_map.x_m(), truth_x_m, 0.03);
@@ -247,27 +248,10 @@ TEST(SamclTest, AStripeBesideTheMarkerThatWasNeverFeltDoesNotBlockIt) {
 // A barn's markers lie across the stripe the robot drives along; its sensors run beside the
 // stripe and feel only the marker.
 TEST(SamclTest, AMarkerAcrossTheStripeTheSensorsRunBesideIsCalibrated) {
-  const OccupancyGrid map = Barn();
-  const RobotModel model = LelyVectorModel();
-  const Eigen::Vector2d sensor = model.FindSensor("inductive_left")->pose_in_base.translation();
-  MarkerSet markers = Experiment2Markers();
-  StripeMarker stripe;  // along the lane, under the robot's centre line
-  stripe.id = 7;
-  stripe.kind = MarkerKind::kFollowStripe;
-  stripe.stripe_id = 1;
-  stripe.yaw_rad = 0.0;
-  stripe.length_m = 20.0;
-  stripe.position_m = {0.0, 4.7};
-  markers.markers.push_back(stripe);
-  AmclParams params;
-  params.min_particles = params.max_particles = 500;
-  Amcl amcl = *Amcl::Create(params, map);
-  const double truth_x_m = -sensor.x();
+  const MarkerSet markers = MarkersWithStripe({0.0, 4.7}, 0.0, 20.0);  // under the centre line
+  const double truth_x_m = -LeftInductiveInBase().x();
   // Lateral spread of 0.1 m: the stripe's line is well within it.
-  ASSERT_TRUE(
-      amcl.InitializePose(Pose2(truth_x_m - 0.2, 4.7, 0), {0.2, 0.1, 0.005}, Pose2(), 0).ok());
-  Samcl samcl = *Samcl::Create(std::move(amcl), markers, model, SamclParams{});
-  samcl.RecordOdometry(Pose2(), 0);
+  Samcl samcl = SamclAt(markers, truth_x_m - 0.2, {0.2, 0.1, 0.005});
   const CalibrationResult r = *samcl.OnInductiveEdge({"inductive_left", 0});
   EXPECT_EQ(r.outcome, CalibrationOutcome::kApplied);
   EXPECT_NEAR(samcl.amcl().estimate().pose_in_map.x_m(), truth_x_m, 0.03);

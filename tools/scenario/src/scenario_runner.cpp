@@ -476,6 +476,9 @@ void Run::Inject(const ScenarioFault& fault) {
       ServerProcess& server = servers_[replica];
       server.process->Stop(SIGKILL, 5.0);
       server_cpu_s_ += server.process->cpu_s().value_or(0.0);
+      // The registry that counted the time robots stood held is gone: the next one (the server
+      // started again, or the replica that takes the site over) counts from zero.
+      held_seen_s_.clear();
       restarts_.push_back({fault.at_s + fault.restart_after_s, "", replica});
       return;
     }
@@ -516,8 +519,9 @@ void Run::Poll(double sim_s) {
       for (const v1::RobotState& robot : robots.robots()) {
         waits_[robot.robot_id()] = robot.traffic_wait();
         RobotFigures& f = figures_[robot.robot_id()];
-        // fleetnavd sums, in sim time, how long each robot stood held (exact between holds);
-        // a fleetnavd that started again (or a replica that took over) counts from zero.
+        // fleetnavd sums, in sim time, how long each robot stood held (exact between holds).
+        // A fleetnavd that started again (or a replica that took over) counts from zero: the
+        // runner forgets what it saw when it kills one, and a count that fell is a new one.
         double& seen_s = held_seen_s_[robot.robot_id()];
         const double held_s = robot.traffic_held_s();
         f.waiting_s += held_s >= seen_s ? held_s - seen_s : held_s;
