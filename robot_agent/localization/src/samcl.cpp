@@ -131,10 +131,7 @@ const StripeMarker* Samcl::FarMarker(const Eigen::Vector2d& sensor_estimate,
         std::abs(heading.dot(along)) <= std::cos(params_.min_crossing_angle_rad);
     if (m.kind != MarkerKind::kCalibration) {
       // A stripe crossed nearby may be what the sensor felt: then nothing is associated.
-      const Line2 line = m.AsLine();
-      const double t = std::clamp((sensor_estimate - line.point).dot(line.direction),
-                                  -0.5 * m.length_m, 0.5 * m.length_m);
-      const double distance_m = (line.point + t * line.direction - sensor_estimate).norm();
+      const double distance_m = (NearestOnStrip(m, sensor_estimate) - sensor_estimate).norm();
       if (crosses_travel && distance_m < params_.far_association_radius_m) return nullptr;
       continue;
     }

@@ -23,9 +23,12 @@ bool SimClockFeed::ReadOnce(double deadline_s) {
                        std::chrono::milliseconds(static_cast<int64_t>(deadline_s * 1000)));
   v1::GroundTruth truth;
   if (!stub_->GetGroundTruth(&context, v1::GetGroundTruthRequest{}, &truth).ok()) return false;
-  // The simulation's calendar: every start of fleetnavd (and every replica) stamps its records
-  // alike, so a job's end reads as the same sim time whichever server recorded it.
-  if (truth.start_unix_ms() > 0) clock_->SetUnixMsAtZero(truth.start_unix_ms());
+  // The simulation's calendar, once: every start of fleetnavd (and every replica) stamps its
+  // records alike, so a job's end reads as the same sim time whichever server recorded it.
+  if (!calendar_set_ && truth.start_unix_ms() > 0) {
+    clock_->SetUnixMsAtZero(truth.start_unix_ms());
+    calendar_set_ = true;
+  }
   clock_->SetNs(truth.sim_time_ns());
   return true;
 }

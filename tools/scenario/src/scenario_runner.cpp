@@ -23,6 +23,7 @@
 #include "absl/strings/str_split.h"
 #include "absl/strings/strip.h"
 #include "fleetnav/core/angles.hpp"
+#include "fleetnav/core/clock.hpp"
 #include "fleetnav/proto/channel_credentials.hpp"
 #include "fleetnav/proto/geometry_convert.hpp"
 #include "fleetnav/proto/server_target.hpp"
@@ -239,7 +240,7 @@ class Run {
   std::map<std::string, RobotFigures> figures_;
   std::map<std::string, std::string> waits_;
   std::map<std::string, Pose2> estimates_;
-  /// The simulation's calendar at sim time 0 (GroundTruth.start_unix_ms).
+  /// The simulation's calendar at sim time 0 (fleetnav-sim --start-unix-ms).
   int64_t sim_start_unix_ms_ = 0;
   /// Each robot's traffic_held_s at the last poll.
   std::map<std::string, double> held_seen_s_;
@@ -572,7 +573,7 @@ void Run::Poll(double sim_s) {
 
 double Run::EndSimS(const v1::Job& job, double held_at_s) const {
   // fleetnavd stamps on the simulation's calendar: the record says at which tick it ended.
-  if (sim_start_unix_ms_ <= 0 || job.updated_unix_ms() < sim_start_unix_ms_) return held_at_s;
+  if (job.updated_unix_ms() < sim_start_unix_ms_) return held_at_s;
   return std::min(held_at_s,
                   static_cast<double>(job.updated_unix_ms() - sim_start_unix_ms_) * 1e-3);
 }
@@ -723,13 +724,16 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
       return absl::InternalError(absl::StrCat("map export failed: ", exporter.Stderr()));
     }
   }
+  // The simulation's calendar starts now; fleetnavd stamps its records from it.
+  sim_start_unix_ms_ = fleetnav::SystemClock().UnixMs();
   const std::string sim_port_file = Path("sim.port");
   fs::remove(sim_port_file);  // a kept folder's port file names a simulator long gone
   sim_ = std::make_unique<ChildProcess>(
       Niced(opt_.sim_niceness,
             {bin_.sim, "--world", s_.world_path, "--listen", "127.0.0.1:0", "--port-file",
              sim_port_file, "--seed", absl::StrCat(seed_), "--real-time-factor",
-             absl::StrCat(s_.real_time_factor), "--hold", "--record-truth", Path("truth.csv")}),
+             absl::StrCat(s_.real_time_factor), "--start-unix-ms", absl::StrCat(sim_start_unix_ms_),
+             "--hold", "--record-truth", Path("truth.csv")}),
       Path("sim.out"), Path("sim.log"));
   sim_port_ = WaitForPortFile(sim_port_file);
   if (!sim_->started() || sim_port_ == 0) {
@@ -737,15 +741,6 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
   }
   simulator_ = v1::SimService::NewStub(grpc::CreateChannel(absl::StrCat("127.0.0.1:", sim_port_),
                                                            grpc::InsecureChannelCredentials()));
-  {
-    grpc::ClientContext context;
-    WithDeadline(&context);
-    v1::GroundTruth truth;
-    if (!simulator_->GetGroundTruth(&context, v1::GetGroundTruthRequest{}, &truth).ok()) {
-      return absl::UnavailableError("fleetnav-sim does not answer GetGroundTruth");
-    }
-    sim_start_unix_ms_ = truth.start_unix_ms();
-  }
   if (Tls()) {
     if (absl::Status st = MakePki(); !st.ok()) return st;
   }

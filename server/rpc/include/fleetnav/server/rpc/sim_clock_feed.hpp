@@ -36,6 +36,7 @@ class SimClockFeed {
   ManualClock* clock_;
   double poll_period_s_;
   std::unique_ptr<v1::SimService::Stub> stub_;
+  bool calendar_set_ = false;  ///< by the first read (Start), before the thread runs
   std::atomic<bool> stopping_{false};
   std::thread thread_;
 };
