@@ -31,16 +31,19 @@ int main(int argc, char** argv) {
   CLI::App* run = app.add_subcommand("run", "run a scenario file");
   CLI::App* sweep = app.add_subcommand(
       "sweep",
-      "run a scenario file once per seed and print the pass rate, the failing seeds "
-      "(each with the command that replays it) and the figures' p50/p95/max");
+      "run scenario files (one or many sites) once per seed and print the pass rate, the "
+      "failures grouped by cause (each with the command that replays it), the figures' "
+      "p50/p95/max and, for several files, one line per site");
   std::string file;
+  std::vector<std::string> sweep_files;
   bool json = false;
   double timeout_s = 3600.0;
   int agent_niceness = fleetnav::scenario::RunOptions().agent_niceness;
   int sim_niceness = fleetnav::scenario::RunOptions().sim_niceness;
   std::string db;
+  run->add_option("FILE", file, "scenario YAML (docs/scenarios.md)")->required();
+  sweep->add_option("FILE", sweep_files, "scenario YAML files (docs/scenarios.md)")->required();
   for (CLI::App* command : {run, sweep}) {
-    command->add_option("FILE", file, "scenario YAML (docs/scenarios.md)")->required();
     command->add_flag("--json", json, "print one JSON object instead of the tables");
     command->add_option("--wall-timeout-s", timeout_s, "give up a run after this much wall time")
         ->capture_default_str();
@@ -85,43 +88,43 @@ int main(int argc, char** argv) {
     app.exit(e);
     return 2;
   }
-  absl::StatusOr<fleetnav::scenario::Scenario> scenario = fleetnav::scenario::LoadScenario(file);
-  if (!scenario.ok()) {
-    return Fail(scenario.status(), 2);
-  }
   absl::StatusOr<fleetnav::scenario::Binaries> binaries =
       fleetnav::scenario::Binaries::Find(argv[0]);
-  if (!binaries.ok()) {
-    return Fail(binaries.status(), 3);
-  }
   fleetnav::scenario::RunOptions options;
   options.wall_timeout_s = timeout_s;
   options.agent_niceness = agent_niceness;
   options.sim_niceness = sim_niceness;
   options.db = db;
   if (sweep->parsed()) {
-    absl::StatusOr<std::vector<unsigned>> seeds = fleetnav::scenario::ParseSeeds(seeds_text);
-    if (!seeds.ok()) {
-      return Fail(seeds.status(), 2);
+    std::vector<fleetnav::scenario::SweepSite> sites;
+    for (const std::string& sweep_file : sweep_files) {
+      absl::StatusOr<fleetnav::scenario::Scenario> scenario =
+          fleetnav::scenario::LoadScenario(sweep_file);
+      if (!scenario.ok()) return Fail(scenario.status(), 2);
+      sites.push_back({sweep_file, *std::move(scenario)});
     }
+    absl::StatusOr<std::vector<unsigned>> seeds = fleetnav::scenario::ParseSeeds(seeds_text);
+    if (!seeds.ok()) return Fail(seeds.status(), 2);
+    if (!binaries.ok()) return Fail(binaries.status(), 3);
     fleetnav::scenario::SweepOptions sweep_options;
     sweep_options.run = options;
     sweep_options.seeds = *std::move(seeds);
     sweep_options.jobs = jobs;
     sweep_options.keep_failures_dir = keep_failures;
     sweep_options.progress = &std::cerr;
-    absl::StatusOr<fleetnav::scenario::SweepSummary> summary =
-        fleetnav::scenario::RunSweep(*scenario, *binaries, sweep_options);
-    if (!summary.ok()) {
-      return Fail(summary.status(), 2);
-    }
+    absl::StatusOr<fleetnav::scenario::SweepResult> sweep_result =
+        fleetnav::scenario::RunSweep(sites, *binaries, sweep_options);
+    if (!sweep_result.ok()) return Fail(sweep_result.status(), 2);
     if (json) {
-      std::cout << fleetnav::scenario::SweepJson(*summary, file) << "\n";
+      std::cout << fleetnav::scenario::SweepJson(*sweep_result) << "\n";
     } else {
-      fleetnav::scenario::PrintSweep(*summary, file, std::cout);
+      fleetnav::scenario::PrintSweep(*sweep_result, std::cout);
     }
-    return summary->passed() == static_cast<int>(summary->runs.size()) ? 0 : 1;
+    return sweep_result->passed() == sweep_result->runs() ? 0 : 1;
   }
+  absl::StatusOr<fleetnav::scenario::Scenario> scenario = fleetnav::scenario::LoadScenario(file);
+  if (!scenario.ok()) return Fail(scenario.status(), 2);
+  if (!binaries.ok()) return Fail(binaries.status(), 3);
   if (*seed_option) options.seed = seed;
   options.keep_dir = keep;
   options.picture_path = picture;

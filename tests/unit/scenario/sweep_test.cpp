@@ -4,6 +4,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 namespace fleetnav::scenario {
 namespace {
 
@@ -54,9 +56,72 @@ TEST(SummarizeSweepTest, CountsFailuresInSeedOrderAndSpreadsTheFigures) {
   EXPECT_DOUBLE_EQ(summary.figures.at("sim_time_s").max, 120.0);
   EXPECT_DOUBLE_EQ(summary.figures.at("contacts").max, 2.0);
   EXPECT_DOUBLE_EQ(summary.figures.at("max_loc_error_m").max, 0.2);
-  const std::string json = SweepJson(summary, "barn.yaml");
+  SweepResult sweep;
+  sweep.sites.push_back(summary);
+  sweep.sites.back().file = "barn.yaml";
+  const std::string json = SweepJson(sweep);
   EXPECT_THAT(json, HasSubstr("\"pass_rate\":0.9"));
   EXPECT_THAT(json, HasSubstr("fleetnav-scenario run barn.yaml --seed 13"));
+  EXPECT_THAT(json, HasSubstr("{\"cause\":\"deadline of # s of sim time reached\",\"count\":2}"));
+}
+
+TEST(FailureCauseTest, TakesOutTheJobTheActionsIndexAndTheNumbers) {
+  EXPECT_EQ(FailureCause("job round-7 ended failed (expected succeeded): actions[12] (straight): "
+                         "marker 2 was not detected within the action's distance"),
+            "job ended failed: straight: marker # was not detected within the action's distance");
+  EXPECT_EQ(FailureCause("min separation 0.213 m (at least 0.500 m expected)"),
+            "min separation # m (at least # m expected)");
+  EXPECT_EQ(FailureCause("job go ended canceled (expected succeeded)"), "job ended canceled");
+  // The kind of the action stays: two kinds are two causes.
+  EXPECT_NE(FailureCause("job a ended failed (expected succeeded): actions[1] (fence): no fence"),
+            FailureCause("job a ended failed (expected succeeded): actions[1] (stripe): no fence"));
+}
+
+SweepSummary Site(const std::string& name, const std::vector<std::string>& failures) {
+  SweepSummary site;
+  site.name = name;
+  site.file = name + ".yaml";
+  unsigned seed = 1;
+  for (const std::string& failure : failures) {
+    SweepRun run;
+    run.seed = seed++;
+    run.passed = failure.empty();
+    run.failure = failure;
+    site.runs.push_back(run);
+  }
+  return site;
+}
+
+TEST(GroupFailuresTest, GroupsRunsOfEverySiteByCauseMostFrequentFirst) {
+  const std::string marker_a =
+      "job r ended failed (expected succeeded): actions[3] (straight): marker 2 was not detected";
+  const std::string marker_b =
+      "job q ended failed (expected succeeded): actions[9] (straight): marker 5 was not detected";
+  const std::string touched = "1 contact episode(s) (at most 0 expected)";
+  SweepResult sweep;
+  sweep.sites = {Site("barn-1", {"", marker_a, touched}), Site("barn-2", {marker_b, "", ""})};
+  const std::vector<SweepCause> causes = GroupFailures(sweep.sites);
+  ASSERT_EQ(causes.size(), 2u);
+  EXPECT_EQ(causes[0].cause, "job ended failed: straight: marker # was not detected");
+  ASSERT_EQ(causes[0].runs.size(), 2u);
+  EXPECT_EQ(causes[0].runs[0].first, "barn-1.yaml");
+  EXPECT_EQ(causes[0].runs[0].second.seed, 2u);
+  EXPECT_EQ(causes[0].runs[1].first, "barn-2.yaml");
+  EXPECT_EQ(causes[0].runs[1].second.seed, 1u);
+  EXPECT_EQ(causes[1].cause, "# contact episode(s) (at most # expected)");
+  EXPECT_EQ(sweep.runs(), 6);
+  EXPECT_EQ(sweep.passed(), 3);
+
+  const std::string json = SweepJson(sweep);
+  EXPECT_THAT(json, HasSubstr("\"sites_passed\":0"));
+  EXPECT_THAT(json, HasSubstr("\"pass_rate\":0.5"));
+  EXPECT_THAT(json, HasSubstr("fleetnav-scenario run barn-2.yaml --seed 1"));
+  EXPECT_THAT(json, HasSubstr("\"count\":2"));
+  std::ostringstream text;
+  PrintSweep(sweep, text);
+  EXPECT_THAT(text.str(), HasSubstr("sweep of 2 sites: 3/6 runs passed (50.0 %)"));
+  EXPECT_THAT(text.str(), HasSubstr("   2× job ended failed: straight: marker # was not detected"));
+  EXPECT_THAT(text.str(), HasSubstr("barn-2"));
 }
 
 }  // namespace

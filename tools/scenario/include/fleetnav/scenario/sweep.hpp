@@ -31,11 +31,13 @@ struct SweepRun {
   std::string kept_dir;
 };
 
-/// A sweep's findings: how many runs passed, which seeds failed and why, and the spread of the
-/// figures that tell a flaky behaviour (sim_time_s, wall_time_s, min_separation_m,
-/// waiting_share, max_loc_error_m, contacts) over the runs that produced a report.
+/// A sweep's findings on one scenario file: how many runs passed, which seeds failed and why,
+/// and the spread of the figures that tell a flaky behaviour (sim_time_s, wall_time_s,
+/// min_separation_m, waiting_share, max_loc_error_m, contacts) over the runs that produced a
+/// report.
 struct SweepSummary {
   std::string name;
+  std::string file;            ///< the scenario file as given on the command line
   std::vector<SweepRun> runs;  ///< in seed order
   std::map<std::string, FigureSpread> figures;
   int passed() const;
@@ -46,25 +48,65 @@ struct SweepSummary {
 SweepSummary SummarizeSweep(const std::string& name, std::vector<SweepRun> runs,
                             const std::vector<ScenarioReport>& reports);
 
+/// A failure with what differs between sites and seeds taken out, so that failures of one kind
+/// group together: the job's name, the action's index (its kind stays) and every number
+/// (written `#`). "job round-7 ended failed (expected succeeded): actions[7] (straight): marker
+/// 2 was not detected" becomes "job ended failed: straight: marker # was not detected".
+std::string FailureCause(const std::string& failure);
+
+/// One cause of failure over a sweep: how many runs failed of it and which (scenario file,
+/// seed) they were.
+struct SweepCause {
+  std::string cause;
+  std::vector<std::pair<std::string, SweepRun>> runs;  ///< (scenario file, run)
+};
+
+/// The failing runs of every site grouped by `FailureCause`, the most frequent cause first
+/// (ties in the order of the cause's text).
+std::vector<SweepCause> GroupFailures(const std::vector<SweepSummary>& sites);
+
+/// A scenario file of a sweep, loaded.
+struct SweepSite {
+  std::string file;  ///< as given on the command line (for the replay command)
+  Scenario scenario;
+};
+
 struct SweepOptions {
   RunOptions run;  ///< seed, keep_dir and progress are set per run
   std::vector<unsigned> seeds;
   int jobs = 1;  ///< runs at once
-  /// Keep each failing run here as seed-N (passing runs are removed); "" keeps none.
+  /// Keep each failing run here as seed-N (one site) or NAME/seed-N (several; NAME the
+  /// scenario's name); passing runs are removed. "" keeps none.
   std::string keep_failures_dir;
   std::ostream* progress = nullptr;  ///< one line per finished run
 };
 
-/// Runs the scenario once per seed, `jobs` runs at a time (each with its own processes and
-/// ports), and summarizes them. InvalidArgument for no seeds or jobs < 1.
-absl::StatusOr<SweepSummary> RunSweep(const Scenario& scenario, const Binaries& binaries,
-                                      const SweepOptions& options);
+/// A whole sweep: each site's summary (in the order given) and the figures' spread over every
+/// run of every site.
+struct SweepResult {
+  std::vector<SweepSummary> sites;
+  std::map<std::string, FigureSpread> figures;
+  int runs() const;
+  int passed() const;
+};
 
-/// The summary for people: pass rate, each failing seed with its reason and the command that
-/// replays it (`fleetnav-scenario run FILE --seed N [--keep DIR]`), then the figures' spread.
-void PrintSweep(const SweepSummary& summary, const std::string& scenario_file, std::ostream& out);
-/// The same as one JSON object: {name, runs, passed, pass_rate, failing: [{seed, failure,
-/// replay}], figures: {NAME: {p50, p95, max}}}.
-std::string SweepJson(const SweepSummary& summary, const std::string& scenario_file);
+/// Runs every site once per seed, `jobs` runs at a time (each with its own processes and
+/// ports; the sites' runs interleave), and summarizes each site and the whole.
+/// InvalidArgument for no site, no seeds or jobs < 1.
+absl::StatusOr<SweepResult> RunSweep(const std::vector<SweepSite>& sites, const Binaries& binaries,
+                                     const SweepOptions& options);
+
+/// The summary for people. One site: pass rate, each failing seed with its reason and the
+/// command that replays it (`fleetnav-scenario run FILE --seed N [--keep DIR]`), the failures
+/// by cause, then the figures' spread. Several: the pass rate over all runs and sites, the
+/// failures by cause (each run with its replay command), the figures over all runs, and one
+/// line per site.
+void PrintSweep(const SweepResult& sweep, std::ostream& out);
+/// The same as one JSON object. One site: {name, runs, passed, pass_rate, failing: [{seed,
+/// failure, cause, replay}], causes: [{cause, count}], figures: {NAME: {p50, p95, max}}}.
+/// Several: {sites: [the one-site object plus `file`, without `causes`], runs, passed,
+/// pass_rate, sites_passed, causes: [{cause, count, runs: [{file, seed, failure, replay}]}],
+/// figures}.
+std::string SweepJson(const SweepResult& sweep);
 
 }  // namespace fleetnav::scenario
