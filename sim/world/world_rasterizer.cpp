@@ -17,6 +17,17 @@ bool InsideBox(const BoxObstacle& box, const Eigen::Vector2d& p) {
   return std::abs(local_x) <= 0.5 * box.size_m.x() && std::abs(local_y) <= 0.5 * box.size_m.y();
 }
 
+/// A disc overlaps the square cell centred at `cell_centre`. Cylinders thinner than a cell
+/// (a trolley's legs, 2 cm on a 5 cm map) may cover no cell's centre; a map built by a laser
+/// shows them all the same, so every cell they touch is marked.
+bool DiscMeetsCell(const CylinderObstacle& c, const Eigen::Vector2d& cell_centre,
+                   double resolution_m) {
+  const Eigen::Vector2d half = Eigen::Vector2d::Constant(0.5 * resolution_m);
+  const Eigen::Vector2d nearest =
+      c.center_m.cwiseMax(cell_centre - half).cwiseMin(cell_centre + half);
+  return (nearest - c.center_m).norm() <= c.radius_m;
+}
+
 }  // namespace
 
 absl::StatusOr<OccupancyGrid> RasterizeWorld(const WorldDescription& world, double resolution_m) {
@@ -45,7 +56,8 @@ absl::StatusOr<OccupancyGrid> RasterizeWorld(const WorldDescription& world, doub
       bool occupied = false;
       for (const BoxObstacle& box : world.boxes) occupied = occupied || InsideBox(box, p);
       for (const CylinderObstacle& c : cylinders) {
-        occupied = occupied || (p - c.center_m).norm() <= c.radius_m;
+        occupied = occupied || (p - c.center_m).norm() <= c.radius_m ||
+                   (c.radius_m < resolution_m && DiscMeetsCell(c, p, resolution_m));
       }
       if (occupied) grid.SetValue({x, y}, OccupancyGrid::kOccupiedValue);
     }

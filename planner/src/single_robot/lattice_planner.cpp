@@ -6,7 +6,9 @@
 
 #include "absl/container/flat_hash_map.h"
 #include "absl/strings/str_cat.h"
+#include "fleetnav/planner/grid/body_clearance.hpp"
 #include "fleetnav/planner/single_robot/single_robot_planner.hpp"
+#include "shortest_curve_internal.hpp"
 
 namespace fleetnav::planner {
 namespace {
@@ -58,7 +60,33 @@ absl::Status LatticeParams::Validate() const {
   if (!(heuristic_weight >= 1.0))
     return absl::InvalidArgumentError("heuristic_weight: must be >= 1");
   if (max_expansions <= 0) return absl::InvalidArgumentError("max_expansions: must be > 0");
+  if (!(clearance_weight >= 0.0) || !std::isfinite(clearance_weight)) {
+    return absl::InvalidArgumentError("clearance_weight: must be finite and >= 0");
+  }
+  if (!Positive(preferred_clearance_m)) {
+    return absl::InvalidArgumentError("preferred_clearance_m: must be > 0");
+  }
+  if (analytic_every < 0) return absl::InvalidArgumentError("analytic_every: must be >= 0");
+  if (!(turning_radius_factor >= 1.0) || !std::isfinite(turning_radius_factor)) {
+    return absl::InvalidArgumentError("turning_radius_factor: must be finite and >= 1");
+  }
+  if (!Positive(analytic_range_m)) {
+    return absl::InvalidArgumentError("analytic_range_m: must be > 0");
+  }
+  if (!(analytic_min_clearance_m >= 0.0) || !std::isfinite(analytic_min_clearance_m)) {
+    return absl::InvalidArgumentError("analytic_min_clearance_m: must be finite and >= 0");
+  }
   return absl::OkStatus();
+}
+
+LatticeParams CarLatticeParams() {
+  LatticeParams p;
+  p.heading_bins = 32;
+  p.clearance_weight = 4.0;
+  p.preferred_clearance_m = 0.45;
+  p.analytic_every = 8;
+  p.turning_radius_factor = 1.3;
+  return p;
 }
 
 LatticePlanner::LatticePlanner(Costmap* costmap, const RobotModel& model,
@@ -86,7 +114,8 @@ LatticePlanner::LatticePlanner(Costmap* costmap, const RobotModel& model,
       primitives_.push_back({0, 0, -bin, turn});
       break;
     case Kinematics::kAckermann: {
-      turning_radius_m_ = model_.wheelbase_m / std::tan(model_.limits.max_steering_rad);
+      turning_radius_m_ = params_.turning_radius_factor * model_.wheelbase_m /
+                          std::tan(model_.limits.max_steering_rad);
       const double arc = std::max(turning_radius_m_ * bin, step);
       const double dyaw = arc / turning_radius_m_;
       for (double dir : {1.0, -1.0}) {
@@ -99,6 +128,32 @@ LatticePlanner::LatticePlanner(Costmap* costmap, const RobotModel& model,
       break;
     }
   }
+  if (params_.clearance_weight > 0.0 ||
+      (params_.analytic_every > 0 && model_.kinematics == Kinematics::kAckermann)) {
+    clearance_ = std::make_shared<BodyClearance>(costmap_, model_.footprint_m);
+  }
+}
+
+double LatticePlanner::ClearanceFactor(double clearance_m) const {
+  const double short_by = params_.preferred_clearance_m - clearance_m;
+  if (params_.clearance_weight <= 0.0 || short_by <= 0.0) return 1.0;
+  const double share = std::min(short_by / params_.preferred_clearance_m, 1.0);
+  return 1.0 + params_.clearance_weight * share * share;
+}
+
+std::vector<Pose2> LatticePlanner::AnalyticShot(const Pose2& from, const Pose2& goal) {
+  const double res = costmap_->resolution_m();
+  std::vector<Pose2> poses = internal::ShortestCurvePoses(
+      from, goal, turning_radius_m_, model_.limits.max_reverse_speed_mps > 0.0, 0.5 * res);
+  const double least_m =
+      std::min({params_.analytic_min_clearance_m, clearance_->At(from), clearance_->At(goal)});
+  for (const Pose2& q : poses) {
+    if (!costmap_->PoseFree(q.x_m(), q.y_m(), q.yaw_rad()) ||
+        clearance_->At(q) < least_m - 0.5 * res) {
+      return {};
+    }
+  }
+  return poses;
 }
 
 Pose2 LatticePlanner::Apply(const Pose2& from, const Primitive& p, double f) {
@@ -232,6 +287,7 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
   best[state_of(sx, sy, bin_of(request.start.yaw_rad()))] = 0.0f;
   open.push({params_.heuristic_weight * heuristic(request.start), 0});
   const bool turns_in_place = model_.kinematics != Kinematics::kAckermann;
+  const bool analytic = params_.analytic_every > 0 && model_.kinematics == Kinematics::kAckermann;
   int closest = 0;
   double closest_h = heuristic(request.start);
   int goal_node = -1;
@@ -271,11 +327,30 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
         }
       }
     }
+    if (analytic && dist <= params_.analytic_range_m &&
+        result.expanded % params_.analytic_every == 1 % params_.analytic_every) {
+      std::vector<Pose2> shot = AnalyticShot(cur.pose, request.goal);
+      if (!shot.empty()) {
+        int parent = id;
+        for (const Pose2& q : shot) {
+          nodes.push_back({q, cur.g, parent});
+          parent = static_cast<int>(nodes.size()) - 1;
+        }
+        goal_node = parent;
+        break;
+      }
+    }
     for (const Primitive& p : primitives_) {
       const Pose2 next = Apply(cur.pose, p, 1.0);
       int nx, ny;
       if (!cell_of(next.x_m(), next.y_m(), &nx, &ny)) continue;
-      const double g = cur.g + p.cost;
+      double cost = p.cost;
+      if (params_.clearance_weight > 0.0) {
+        const double near_m =
+            std::min(clearance_->At(Apply(cur.pose, p, 0.5)), clearance_->At(next));
+        cost *= ClearanceFactor(near_m);
+      }
+      const double g = cur.g + cost;
       const uint64_t state = state_of(nx, ny, bin_of(next.yaw_rad()));
       if (const auto known = best.find(state); known != best.end() && g >= known->second) {
         continue;

@@ -30,10 +30,11 @@ absl::StatusOr<PlannerKind> PlannerKindByName(std::string_view name) {
       "kind: '", std::string(name), "' is not lattice, ompl-omni or ompl-reeds-shepp"));
 }
 
-PlannerKind NavigationPlannerKind(const RobotModel& model) {
-  return model.kinematics == Kinematics::kAckermann && model.limits.max_reverse_speed_mps > 0.0
-             ? PlannerKind::kOmplReedsShepp
-             : PlannerKind::kLattice;
+SingleRobotPlannerParams NavigationPlannerParams(const RobotModel& model) {
+  SingleRobotPlannerParams params;
+  params.kind = PlannerKind::kLattice;
+  if (model.kinematics == Kinematics::kAckermann) params.lattice = CarLatticeParams();
+  return params;
 }
 
 absl::StatusOr<std::unique_ptr<SingleRobotPlanner>> MakeSingleRobotPlanner(

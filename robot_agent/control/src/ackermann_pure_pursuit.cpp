@@ -41,6 +41,13 @@ absl::Status AckermannPurePursuitParams::Validate() const {
         std::isfinite(vfh_target_distance_m) && vfh_target_distance_m > 0.0)) {
     return absl::InvalidArgumentError("polar_radius_m >= 0 and vfh_target_distance_m > 0 required");
   }
+  if (!(std::isfinite(tight_clearance_m) && std::isfinite(slow_clearance_m) &&
+        tight_clearance_m < slow_clearance_m && slowest_share > 0.0 && slowest_share <= 1.0 &&
+        std::isfinite(brake_lookahead_m) && brake_lookahead_m >= 0.0)) {
+    return absl::InvalidArgumentError(
+        "tight_clearance_m < slow_clearance_m, slowest_share in (0, 1] and brake_lookahead_m >= "
+        "0 required");
+  }
   if (absl::Status s = polar.Validate(); !s.ok()) return s;
   return vfh.Validate();
 }
@@ -85,6 +92,18 @@ bool AckermannPurePursuit::PathAheadObstructed(const Pose2& pose) const {
   return false;
 }
 
+double AckermannPurePursuit::ClearanceSpeedShare() const {
+  if (clearance_m_.size() != path_.size()) return 1.0;
+  double tightest_m = std::numeric_limits<double>::infinity();
+  for (size_t i = closest_; i < path_.size(); ++i) {
+    if (to_goal_m_[closest_] - to_goal_m_[i] > params_.brake_lookahead_m) break;
+    tightest_m = std::min(tightest_m, clearance_m_[i]);
+  }
+  const double span_m = params_.slow_clearance_m - params_.tight_clearance_m;
+  const double share = (tightest_m - params_.tight_clearance_m) / span_m;
+  return params_.slowest_share + (1.0 - params_.slowest_share) * std::clamp(share, 0.0, 1.0);
+}
+
 Twist2 AckermannPurePursuit::Brake(double dt_s) {
   last_speed_mps_ = StepTowards(last_speed_mps_, 0.0, limits_.max_accel_mps2 * dt_s);
   return Twist2{last_speed_mps_, 0.0, 0.0};
@@ -120,6 +139,7 @@ void AckermannPurePursuit::SetPath(std::vector<Pose2> path) {
   }
   pieces_.push_back({begin, path_.empty() ? 0 : path_.size() - 1});
   piece_sign_.push_back(sign == 0 ? 1 : sign);
+  clearance_m_.clear();
   piece_ = 0;
   closest_ = 0;
   last_speed_mps_ = 0.0;
@@ -180,7 +200,7 @@ Twist2 AckermannPurePursuit::Step(const Pose2& pose, double dt_s) {
   double curvature = 2.0 * local.y() / std::max(local.squaredNorm(), 1e-9);
   const double to_end_m = std::max(to_goal_m_[closest_] - to_goal_m_[end], straight_to_end_m);
   const double top = sign > 0 ? limits_.max_speed_mps : limits_.max_reverse_speed_mps;
-  double speed = std::min(params_.desired_speed_mps, top);
+  double speed = std::min(params_.desired_speed_mps * ClearanceSpeedShare(), top);
   blocked_ = false;
   const bool in_polar_zone =
       piece_ + 1 == pieces_.size() && straight_to_end_m <= params_.polar_radius_m;

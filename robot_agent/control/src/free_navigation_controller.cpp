@@ -7,6 +7,7 @@
 #include "absl/strings/str_format.h"
 #include "fleetnav/core/angles.hpp"
 #include "fleetnav/planner/coordination/route_prediction.hpp"
+#include "fleetnav/planner/grid/body_clearance.hpp"
 #include "fleetnav/robot_agent/scan_features.hpp"
 
 namespace fleetnav::agent {
@@ -34,6 +35,7 @@ absl::Status FreeNavigationParams::Validate() const {
   if (absl::Status s = ackermann.Validate(); !s.ok()) return s;
   if (absl::Status s = ompl.Validate(); !s.ok()) return s;
   if (absl::Status s = lattice.Validate(); !s.ok()) return s;
+  if (absl::Status s = car_lattice.Validate(); !s.ok()) return s;
   if (absl::Status s = unmapped.Validate(); !s.ok()) return s;
   if (!(std::isfinite(goal_check_m) && goal_check_m > 0.0 && std::isfinite(goal_check_rad) &&
         goal_check_rad > 0.0 && max_goal_corrections >= 0)) {
@@ -151,7 +153,9 @@ FreeNavigationController::FreeNavigationController(const FreeNavigationAction& a
   } else if (model.kinematics == Kinematics::kAckermann) {
     AckermannPurePursuitParams p = params.ackermann;
     p.desired_speed_mps = action.speed_mps;
-    tracker_ = std::make_unique<AckermannPurePursuit>(p, model);
+    auto car = std::make_unique<AckermannPurePursuit>(p, model);
+    car_tracker_ = car.get();
+    tracker_ = std::move(car);
   } else {
     RegulatedPurePursuitParams p = params.tracker;
     p.desired_speed_mps = action.speed_mps;
@@ -201,9 +205,9 @@ absl::Status FreeNavigationController::BuildPlanner(const Pose2& from_in_map) {
   if (!costmap.ok()) return costmap.status();
   planner_.reset();
   costmap_.emplace(*std::move(costmap));
-  planner::SingleRobotPlannerParams planner_params;
-  planner_params.kind = planner::NavigationPlannerKind(model_);
-  planner_params.lattice = params_.lattice;
+  planner::SingleRobotPlannerParams planner_params = planner::NavigationPlannerParams(model_);
+  planner_params.lattice =
+      model_.kinematics == Kinematics::kAckermann ? params_.car_lattice : params_.lattice;
   planner_params.ompl = params_.ompl;
   absl::StatusOr<std::unique_ptr<planner::SingleRobotPlanner>> planner =
       planner::MakeSingleRobotPlanner(&*costmap_, model_, planner_params);
@@ -236,9 +240,22 @@ absl::Status FreeNavigationController::Plan(const Pose2& from_in_map) {
   planned_length_m_ = path->length_m;
   last_plan_s_ = elapsed_s_;
   if (model_.kinematics == Kinematics::kOmnidirectional) path->poses = Smoothed(path->poses);
+  std::vector<double> clearances_m;
+  if (model_.kinematics == Kinematics::kAckermann) clearances_m = ClearancesAlong(path->poses);
   tracker_->SetPath(std::move(path->poses));
+  if (car_tracker_ != nullptr) car_tracker_->SetClearances(std::move(clearances_m));
   planned_ = true;
   return absl::OkStatus();
+}
+
+std::vector<double> FreeNavigationController::ClearancesAlong(
+    const std::vector<Pose2>& path_in_map) const {
+  const planner::BodyClearance clearance(&*costmap_, model_.footprint_m);
+  const Pose2 grid_from_map = map_->origin().Inverse();
+  std::vector<double> clearances_m;
+  clearances_m.reserve(path_in_map.size());
+  for (const Pose2& p : path_in_map) clearances_m.push_back(clearance.At(grid_from_map * p));
+  return clearances_m;
 }
 
 std::vector<Pose2> FreeNavigationController::Smoothed(const std::vector<Pose2>& path_in_map) {

@@ -120,8 +120,8 @@ planner::SingleRobotPlanner* TrafficCoordinator::PlannerFor(const Tracked& track
       if (costmap.ok()) {
         cache.costmap = std::make_unique<planner::Costmap>(*std::move(costmap));
         // The planner the robot's agent navigates with, so the prediction is its path.
-        planner::SingleRobotPlannerParams planner_params;
-        planner_params.kind = planner::NavigationPlannerKind(tracked.model);
+        const planner::SingleRobotPlannerParams planner_params =
+            planner::NavigationPlannerParams(tracked.model);
         absl::StatusOr<std::unique_ptr<planner::SingleRobotPlanner>> planner =
             planner::MakeSingleRobotPlanner(cache.costmap.get(), tracked.model, planner_params);
         if (planner.ok()) cache.planner = *std::move(planner);

@@ -141,3 +141,50 @@ TEST(AckermannPurePursuitTest, AnEndPassedALittleAsideIsReached) {
 
 }  // namespace
 }  // namespace fleetnav::agent
+
+namespace fleetnav::agent {
+namespace {
+
+/// The speed the tracker settles at driving along the straight path from x = 0 to `until_x`.
+double CruiseSpeedWith(const std::vector<double>& clearances_m, double until_x) {
+  AckermannPurePursuit tracker(AckermannPurePursuitParams{}, AckermannDeliveryModel());
+  tracker.SetPath(StraightPath(12.0));
+  tracker.SetClearances(clearances_m);
+  double x = 0.0;
+  double speed = 0.0;
+  while (x < until_x) {
+    speed = tracker.Step(Pose2(x, 0.0, 0.0), kDt).vx_mps;
+    x += speed * kDt;
+  }
+  return speed;
+}
+
+TEST(AckermannPurePursuitTest, SlowsWhereThePathRunsTightFromBrakingDistanceAhead) {
+  const size_t poses = StraightPath(12.0).size();  // every 5 cm
+  // A gap with 0.25 m a side from x = 8 m to 9 m; open elsewhere.
+  std::vector<double> clearances(poses, 3.0);
+  for (size_t i = 160; i <= 180; ++i) clearances[i] = 0.25;
+  const AckermannPurePursuitParams params;
+  const double open = CruiseSpeedWith({}, 4.0);
+  EXPECT_NEAR(open, params.desired_speed_mps, 1e-3);
+  // Far from the gap: full speed; within braking distance of it and in it: slowed in proportion.
+  EXPECT_NEAR(CruiseSpeedWith(clearances, 4.0), open, 1e-3);
+  const double share =
+      params.slowest_share + (1.0 - params.slowest_share) * (0.25 - params.tight_clearance_m) /
+                                 (params.slow_clearance_m - params.tight_clearance_m);
+  EXPECT_NEAR(CruiseSpeedWith(clearances, 8.5), share * params.desired_speed_mps, 0.01);
+  // Clearances that do not match the path (another path's) are ignored.
+  EXPECT_NEAR(CruiseSpeedWith(std::vector<double>(3, 0.0), 8.5), open, 1e-3);
+}
+
+TEST(AckermannPurePursuitTest, SlowingParamsAreChecked) {
+  AckermannPurePursuitParams params;
+  params.tight_clearance_m = params.slow_clearance_m;
+  EXPECT_EQ(params.Validate().code(), absl::StatusCode::kInvalidArgument);
+  params = AckermannPurePursuitParams{};
+  params.slowest_share = 0.0;
+  EXPECT_EQ(params.Validate().code(), absl::StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace fleetnav::agent

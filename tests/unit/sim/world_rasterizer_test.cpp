@@ -85,6 +85,21 @@ TEST(WorldRasterizerTest, CylinderOccupied) {
   EXPECT_NEAR(CountOccupied(*grid), kPi * 0.3 * 0.3 / (0.05 * 0.05), 12);
 }
 
+TEST(WorldRasterizerTest, ALegThinnerThanACellBetweenCellCentresIsOnTheMap) {
+  // A trolley leg of 2 cm radius on a 5 cm map, its centre on a cell corner: it covers no
+  // cell's centre, but a laser would see it, so the four cells it touches are occupied.
+  WorldDescription world = EmptyWorld();
+  world.cylinders.push_back({"leg", Eigen::Vector2d(1.0, 1.0), 0.02, 1.0});
+  absl::StatusOr<OccupancyGrid> grid = RasterizeWorld(world, 0.05);
+  ASSERT_TRUE(grid.ok()) << grid.status();
+  EXPECT_EQ(CountOccupied(*grid), 4);
+  for (const double dx : {-0.025, 0.025}) {
+    for (const double dy : {-0.025, 0.025}) {
+      EXPECT_EQ(StateAt(*grid, 1.0 + dx, 1.0 + dy), CellState::kOccupied);
+    }
+  }
+}
+
 TEST(WorldRasterizerTest, RotatedBox) {
   WorldDescription world = EmptyWorld();
   // A 2 m × 0.2 m box at (-3, 2) turned by 45°.

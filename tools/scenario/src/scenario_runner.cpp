@@ -901,6 +901,12 @@ absl::StatusOr<ScenarioReport> Run::Execute() {
         }
         report.contacts += static_cast<int>(robot.collisions());
       }
+      for (const v1::Contact& contact : truth.contacts()) {  // oldest first
+        auto it = figures_.find(contact.robot_id());
+        if (it == figures_.end() || it->second.first_contact_s) continue;
+        it->second.first_contact_s = static_cast<double>(contact.sim_time_ns()) * 1e-9;
+        it->second.first_contact_with = contact.other();
+      }
     } else {
       report.failures.push_back("the simulator's ground truth could not be read at the end");
     }
@@ -976,8 +982,21 @@ void Run::Finish(ScenarioReport* report) {
     }
   }
   if (report->contacts > s_.expect.max_contacts) {
+    // The earliest contact, to find it in the replay.
+    const RobotFigures* earliest = nullptr;
+    for (const RobotFigures& robot : report->robots) {
+      if (robot.first_contact_s &&
+          (earliest == nullptr || *robot.first_contact_s < *earliest->first_contact_s)) {
+        earliest = &robot;
+      }
+    }
+    const std::string first =
+        earliest == nullptr
+            ? ""
+            : absl::StrFormat(": %s first touched %s at %.2f s of sim time", earliest->robot_id,
+                              earliest->first_contact_with, *earliest->first_contact_s);
     report->failures.push_back(absl::StrCat(report->contacts, " contact episode(s) (at most ",
-                                            s_.expect.max_contacts, " expected)"));
+                                            s_.expect.max_contacts, " expected)", first));
   }
   if (s_.expect.min_separation_m && report->min_separation_m < *s_.expect.min_separation_m) {
     report->failures.push_back(absl::StrFormat("min separation %.3f m (at least %.3f m expected)",

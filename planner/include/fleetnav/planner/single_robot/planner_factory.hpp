@@ -22,17 +22,18 @@ std::string_view PlannerKindName(PlannerKind kind);
 /// "lattice", "ompl-omni" or "ompl-reeds-shepp"; InvalidArgument otherwise.
 absl::StatusOr<PlannerKind> PlannerKindByName(std::string_view name);
 
-/// The planner a robot of `model` navigates with: Reeds-Shepp curves for Ackermann models
-/// that may reverse (they reach any goal yaw; the lattice's arcs only reach its heading bins),
-/// the lattice for every other model.
-PlannerKind NavigationPlannerKind(const RobotModel& model);
-
 /// Parameters of MakeSingleRobotPlanner: the kind and each kind's own parameters.
 struct SingleRobotPlannerParams {
   PlannerKind kind = PlannerKind::kLattice;
   LatticeParams lattice;
   OmplPlannerParams ompl;
 };
+
+/// The planner a robot of `model` navigates with (the agent) and is predicted with
+/// (fleetnavd): the lattice, for Ackermann models with CarLatticeParams (clearance costs, so
+/// that a car passes a gap in its middle along its axis, and Reeds-Shepp shots to the exact
+/// goal yaw), for every other model with the default LatticeParams.
+SingleRobotPlannerParams NavigationPlannerParams(const RobotModel& model);
 
 /// The planner of `params.kind` for a robot model. InvalidArgument for bad params or model, or
 /// a kind that does not fit the model's kinematics (OMPL omni needs an omnidirectional model;

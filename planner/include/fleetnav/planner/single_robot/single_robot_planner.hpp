@@ -7,6 +7,7 @@
 #include "absl/status/statusor.h"
 #include "fleetnav/core/pose2.hpp"
 #include "fleetnav/core/robot_model.hpp"
+#include "fleetnav/planner/grid/body_clearance.hpp"
 #include "fleetnav/planner/grid/costmap.hpp"
 
 namespace fleetnav::planner {
@@ -56,9 +57,32 @@ struct LatticeParams {
   double heuristic_weight = 1.5;     ///< weighted A*, ≥ 1 (bounded suboptimal)
   bool allow_approximate = true;     ///< return the closest reachable pose when no path exists
   int max_expansions = 4'000'000;    ///< > 0
+  /// Cost of nearing obstacles: each metre of a primitive costs 1 + clearance_weight ×
+  /// ((preferred_clearance_m − c) / preferred_clearance_m)² where the body's clearance c is
+  /// below preferred_clearance_m, so a path keeps to the middle of a gap and passes it along
+  /// its axis. 0 (the default): length alone. ≥ 0.
+  double clearance_weight = 0.0;
+  double preferred_clearance_m = 0.5;  ///< > 0
+  /// Ackermann models: every analytic_every-th expansion within analytic_range_m of the goal,
+  /// try the shortest Reeds-Shepp curve (Dubins without reversing) to the goal itself and end
+  /// the search with it when it is free and keeps analytic_min_clearance_m (or as much as the
+  /// start of the curve and the goal have, where they have less). 0: never (the goal is then
+  /// reached within the request's tolerances only).
+  int analytic_every = 0;
+  /// Ackermann arcs (and shots) at this many times the minimum turning radius, ≥ 1: a path at
+  /// full lock leaves the tracker no steering to correct with, and the car drifts outside the
+  /// curve.
+  double turning_radius_factor = 1.0;
+  double analytic_range_m = 8.0;          ///< > 0
+  double analytic_min_clearance_m = 0.3;  ///< ≥ 0
 
   absl::Status Validate() const;
 };
+
+/// The lattice for car-like robots in tight places (box fields, gates): clearance-weighted
+/// costs, analytic Reeds-Shepp expansion to the exact goal pose, 32 heading bins, and arcs
+/// 1.3 times the minimum turning radius.
+LatticeParams CarLatticeParams();
 
 /// A hybrid-A* lattice planner of our own (Dolgov, Thrun, Montemerlo and Diebel, "Path
 /// Planning for Autonomous Vehicles in Unknown Semi-structured Environments", IJRR 2010:
@@ -68,7 +92,10 @@ struct LatticeParams {
 /// omnidirectional moves in 8 directions at any yaw and turns in place; Ackermann drives arcs of
 /// the minimum turning radius wheelbase / tan(max_steering) and straights, forward and (if the
 /// model allows) backward. Every primitive is checked against the costmap's footprint test
-/// every half cell. Holds a pointer to the costmap, which must outlive it. Not thread-safe.
+/// every half cell. With LatticeParams::clearance_weight its cost grows as the body nears
+/// obstacles, and with analytic_every an Ackermann search ends on the shortest Reeds-Shepp
+/// curve to the exact goal (Dolgov et al.'s analytic expansion). Holds a pointer to the
+/// costmap, which must outlive it. Not thread-safe.
 class LatticePlanner : public SingleRobotPlanner {
  public:
   LatticePlanner(Costmap* costmap, const RobotModel& model, const LatticeParams& params);
@@ -84,12 +111,18 @@ class LatticePlanner : public SingleRobotPlanner {
   };
   bool SegmentFree(const Pose2& from, const Primitive& p) const;
   static Pose2 Apply(const Pose2& from, const Primitive& p, double fraction);
+  /// The cost multiplier of a body clearance (LatticeParams::clearance_weight).
+  double ClearanceFactor(double clearance_m) const;
+  /// The analytic expansion from `from` to `goal` (poses after `from`, the goal last), or
+  /// empty when the curve collides or passes closer to obstacles than allowed.
+  std::vector<Pose2> AnalyticShot(const Pose2& from, const Pose2& goal);
 
   Costmap* costmap_;
   RobotModel model_;
   LatticeParams params_;
   double turning_radius_m_ = 0.0;
   std::vector<Primitive> primitives_;
+  std::shared_ptr<const BodyClearance> clearance_;  ///< with clearance costs or shots
 };
 
 /// The lattice planner for a robot model (every kinematics kind); InvalidArgument for bad

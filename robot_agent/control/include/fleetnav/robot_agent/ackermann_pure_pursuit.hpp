@@ -49,6 +49,14 @@ struct AckermannPurePursuitParams {
   /// checked against the map).
   double polar_radius_m = 1.0;
   PolarPoseGains polar;
+  /// Slowing in tight places (SetClearances): where the body's clearance on the path from
+  /// here to brake_lookahead_m ahead is below slow_clearance_m, the speed is cut in proportion,
+  /// to slowest_share of the desired speed at tight_clearance_m and below, so that a gap with
+  /// 0.3 m a side is passed at walking pace and the car's tracking error stays small.
+  double slow_clearance_m = 0.6;
+  double tight_clearance_m = 0.2;
+  double slowest_share = 0.35;
+  double brake_lookahead_m = 3.0;
   absl::Status Validate() const;
 };
 
@@ -64,7 +72,9 @@ struct AckermannPurePursuitParams {
 /// path_obstructed() and steers with VFH+ (Ashesi capstone) towards the path point
 /// vfh_target_distance_m ahead, slowing with the clearance, until its caller has replanned; with
 /// every direction blocked it brakes to a stop and reports blocked(). The last metre to the goal is
-/// driven with the polar move-to-pose law where the car can follow it. Never turns in place.
+/// driven with the polar move-to-pose law where the car can follow it. Given the body's
+/// clearance along the path (SetClearances), it slows where the path runs tight (regulated
+/// pure pursuit's proximity heuristic, Macenski et al. 2023). Never turns in place.
 /// Twist2{v, 0, v κ}, which the drive turns into a steering angle.
 class AckermannPurePursuit : public PathTracker {
  public:
@@ -78,6 +88,9 @@ class AckermannPurePursuit : public PathTracker {
   void SetObstacles(std::vector<Eigen::Vector2d> points_in_base) override {
     obstacles_ = std::move(points_in_base);
   }
+  /// The body's clearance at each pose of the path last set (metres; the planner's costmap),
+  /// for slowing in tight places; empty (the default after SetPath): no slowing.
+  void SetClearances(std::vector<double> clearance_m) { clearance_m_ = std::move(clearance_m); }
   bool blocked() const override { return blocked_; }
   bool path_obstructed() const override { return path_obstructed_; }
 
@@ -90,6 +103,9 @@ class AckermannPurePursuit : public PathTracker {
   /// The first pose of the current piece, from the closest one on, at least `distance_m` from
   /// the robot; nullopt when the piece ends nearer.
   std::optional<size_t> FirstPoseAtLeast(const Pose2& pose, double distance_m) const;
+  /// The share of the desired speed the clearances from the closest pose to
+  /// brake_lookahead_m ahead allow (1 without clearances).
+  double ClearanceSpeedShare() const;
 
   AckermannPurePursuitParams params_;
   MotionLimits limits_;
@@ -102,6 +118,7 @@ class AckermannPurePursuit : public PathTracker {
 
   std::vector<Pose2> path_;
   std::vector<double> to_goal_m_;
+  std::vector<double> clearance_m_;  ///< per path pose, or empty
   /// Pieces of one direction: [begin, end] index ranges and their sign (+1 forwards).
   std::vector<std::pair<size_t, size_t>> pieces_;
   std::vector<int> piece_sign_;

@@ -27,10 +27,12 @@ struct FreeNavigationParams {
   /// Omnidirectional platforms: the path is spline-smoothed, then tracked holonomically.
   HolonomicTrackerParams holonomic;
   planner::SmoothingParams smoothing;
-  /// Ackermann robots: Reeds-Shepp paths (OMPL) reach any goal yaw; tracked with cusps.
+  /// Ackermann robots: hybrid A* with clearance costs and Reeds-Shepp shots to the exact goal
+  /// (car_lattice), tracked with cusps.
   AckermannPurePursuitParams ackermann;
   planner::OmplPlannerParams ompl;
-  planner::LatticeParams lattice;
+  planner::LatticeParams lattice;  ///< differential and omnidirectional robots
+  planner::LatticeParams car_lattice = planner::CarLatticeParams();
   /// Clearance kept around the footprint when planning.
   double padding_m = 0.1;
   double plan_time_limit_s = 2.0;
@@ -116,6 +118,8 @@ class FreeNavigationController : public MotionController {
   /// Ackermann robots steer (VFH+) and plan round what the laser sees that the map does not
   /// show; the other drives follow their plans.
   bool AvoidsUnmappedObstacles() const;
+  /// The body's clearance at each pose of a path (map frame), from the planning costmap.
+  std::vector<double> ClearancesAlong(const std::vector<Pose2>& path_in_map) const;
   /// An omni platform's path (map frame) as a spline with augmented end points.
   std::vector<Pose2> Smoothed(const std::vector<Pose2>& path_in_map);
   /// The latest scan's points, carried to this tick's base_link by odometry, for the tracker.
@@ -128,6 +132,7 @@ class FreeNavigationController : public MotionController {
   std::optional<planner::Costmap> costmap_;
   std::unique_ptr<planner::SingleRobotPlanner> planner_;
   std::unique_ptr<PathTracker> tracker_;
+  AckermannPurePursuit* car_tracker_ = nullptr;  ///< tracker_ for Ackermann robots
   size_t next_waypoint_ = 0;
   int goal_corrections_ = 0;
   double planned_length_m_ = 0.0;

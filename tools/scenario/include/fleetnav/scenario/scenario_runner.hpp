@@ -54,11 +54,14 @@ struct JobOutcome {
 
 struct RobotFigures {
   std::string robot_id;
-  int jobs = 0;                    ///< jobs it ran to an end
-  double distance_m = 0.0;         ///< true path length
-  double waiting_s = 0.0;          ///< sim time held by traffic coordination
-  double max_loc_error_m = 0.0;    ///< truth vs the agent's estimate, at equal sim times
-  int contacts = 0;                ///< contact episodes (world and robots)
+  int jobs = 0;                  ///< jobs it ran to an end
+  double distance_m = 0.0;       ///< true path length
+  double waiting_s = 0.0;        ///< sim time held by traffic coordination
+  double max_loc_error_m = 0.0;  ///< truth vs the agent's estimate, at equal sim times
+  int contacts = 0;              ///< contact episodes (world and robots)
+  /// The first contact: when (sim s) and with what ("static", a robot's or a trolley's id).
+  std::optional<double> first_contact_s;
+  std::string first_contact_with;
   Pose2 final_pose;                ///< the true pose at the end
   std::vector<std::string> waits;  ///< each distinct reason traffic coordination held it
 };
