@@ -13,6 +13,11 @@
 namespace fleetnav::planner {
 namespace {
 
+/// A start deeper than this in collision (BodyClearance below minus this) is not backed out of:
+/// that is a wrong pose, not a touch. BodyClearance's discs reach up to 0.19 m past the delivery
+/// robot's nose and tail, so a car touching a box head-on measures about -0.19 m.
+constexpr double kEscapableDepthM = 0.25;
+
 /// The heuristic's Dijkstra from the goal runs until it is this many times the start's
 /// distance plus the margin away: weighted A* rarely strays further from the straight way.
 constexpr double kHeuristicReachFactor = 2.0;
@@ -67,6 +72,9 @@ absl::Status LatticeParams::Validate() const {
     return absl::InvalidArgumentError("preferred_clearance_m: must be > 0");
   }
   if (analytic_every < 0) return absl::InvalidArgumentError("analytic_every: must be >= 0");
+  if (!(escape_m >= 0.0) || !std::isfinite(escape_m)) {
+    return absl::InvalidArgumentError("escape_m: must be finite and >= 0");
+  }
   if (!(turning_radius_factor >= 1.0) || !std::isfinite(turning_radius_factor)) {
     return absl::InvalidArgumentError("turning_radius_factor: must be finite and >= 1");
   }
@@ -79,6 +87,14 @@ absl::Status LatticeParams::Validate() const {
   return absl::OkStatus();
 }
 
+LatticeParams PlatformLatticeParams() {
+  LatticeParams p;
+  p.clearance_weight = 4.0;
+  p.preferred_clearance_m = 0.45;
+  p.escape_m = 1.0;
+  return p;
+}
+
 LatticeParams CarLatticeParams() {
   LatticeParams p;
   p.heading_bins = 32;
@@ -86,6 +102,7 @@ LatticeParams CarLatticeParams() {
   p.preferred_clearance_m = 0.45;
   p.analytic_every = 8;
   p.turning_radius_factor = 1.3;
+  p.escape_m = 1.0;
   return p;
 }
 
@@ -128,7 +145,17 @@ LatticePlanner::LatticePlanner(Costmap* costmap, const RobotModel& model,
       break;
     }
   }
-  if (params_.clearance_weight > 0.0 ||
+  // The largest disc round base_link inside the footprint (a convex polygon round it).
+  base_room_m_ = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < model_.footprint_m.size(); ++i) {
+    const Eigen::Vector2d a = model_.footprint_m[i];
+    const Eigen::Vector2d b = model_.footprint_m[(i + 1) % model_.footprint_m.size()];
+    const Eigen::Vector2d edge = b - a;
+    const double t = std::clamp(-a.dot(edge) / std::max(edge.squaredNorm(), 1e-12), 0.0, 1.0);
+    base_room_m_ = std::min(base_room_m_, (a + t * edge).norm());
+  }
+  if (!std::isfinite(base_room_m_)) base_room_m_ = 0.0;
+  if (params_.clearance_weight > 0.0 || params_.escape_m > 0.0 ||
       (params_.analytic_every > 0 && model_.kinematics == Kinematics::kAckermann)) {
     clearance_ = std::make_shared<BodyClearance>(costmap_, model_.footprint_m);
   }
@@ -197,8 +224,16 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
     return costmap_->InBounds(*cx, *cy);
   };
   int sx, sy, gx, gy;
-  if (!cell_of(request.start.x_m(), request.start.y_m(), &sx, &sy) ||
-      !costmap_->PoseFree(request.start.x_m(), request.start.y_m(), request.start.yaw_rad())) {
+  if (!cell_of(request.start.x_m(), request.start.y_m(), &sx, &sy)) {
+    return absl::InvalidArgumentError("start: outside the map");
+  }
+  // A start within the padding, or touching (a robot that has just touched a box): with
+  // escape_m the search first backs out, each step gaining clearance; deeper in, or without
+  // it, the start is refused.
+  const bool start_free =
+      costmap_->PoseFree(request.start.x_m(), request.start.y_m(), request.start.yaw_rad());
+  if (!start_free && (params_.escape_m <= 0.0 || clearance_ == nullptr ||
+                      clearance_->At(request.start) < -kEscapableDepthM)) {
     return absl::InvalidArgumentError("start: outside the map or in collision");
   }
   if (!cell_of(request.goal.x_m(), request.goal.y_m(), &gx, &gy)) {
@@ -239,7 +274,15 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
             costmap_->DistanceToObstacle_m(nx, ny) < need) {
           continue;
         }
-        const float nd = d + static_cast<float>(res * (k < 4 ? 1.0 : M_SQRT2));
+        // With clearance costs, the least factor the body can have with its base in this cell
+        // (its clearance is at most the cell's distance less the base's own room in the body):
+        // the heuristic stays a lower bound and steers the search round tight places as the
+        // cost does.
+        const double factor =
+            params_.clearance_weight > 0.0
+                ? ClearanceFactor(costmap_->DistanceToObstacle_m(nx, ny) - base_room_m_)
+                : 1.0;
+        const float nd = d + static_cast<float>(res * (k < 4 ? 1.0 : M_SQRT2) * factor);
         const size_t n = static_cast<size_t>(ny) * w + nx;
         if (nd < hdist[n]) {
           hdist[n] = nd;
@@ -274,6 +317,7 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
     Pose2 pose;
     double g;
     int parent;
+    double escaped_m = -1.0;  ///< ≥ 0: still backing out of collision, this far so far
   };
   std::vector<Node> nodes;
   // Best cost per (cell, heading bin), only for the states the search met.
@@ -283,7 +327,7 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
   };
   using Entry = std::pair<double, int>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
-  nodes.push_back({request.start, 0.0, -1});
+  nodes.push_back({request.start, 0.0, -1, start_free ? -1.0 : 0.0});
   best[state_of(sx, sy, bin_of(request.start.yaw_rad()))] = 0.0f;
   open.push({params_.heuristic_weight * heuristic(request.start), 0});
   const bool turns_in_place = model_.kinematics != Kinematics::kAckermann;
@@ -312,7 +356,8 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
       closest_h = dist;
       closest = id;
     }
-    if (dist <= request.goal_tolerance_m) {
+    const bool escaping = cur.escaped_m >= 0.0;
+    if (dist <= request.goal_tolerance_m && !escaping) {
       const double dyaw = AngleDiff(request.goal.yaw_rad(), cur.pose.yaw_rad());
       if (std::abs(dyaw) <= request.goal_tolerance_rad) {
         goal_node = id;
@@ -327,7 +372,7 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
         }
       }
     }
-    if (analytic && dist <= params_.analytic_range_m &&
+    if (analytic && !escaping && dist <= params_.analytic_range_m &&
         result.expanded % params_.analytic_every == 1 % params_.analytic_every) {
       std::vector<Pose2> shot = AnalyticShot(cur.pose, request.goal);
       if (!shot.empty()) {
@@ -344,20 +389,27 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
       const Pose2 next = Apply(cur.pose, p, 1.0);
       int nx, ny;
       if (!cell_of(next.x_m(), next.y_m(), &nx, &ny)) continue;
-      double cost = p.cost;
-      if (params_.clearance_weight > 0.0) {
-        const double near_m =
-            std::min(clearance_->At(Apply(cur.pose, p, 0.5)), clearance_->At(next));
-        cost *= ClearanceFactor(near_m);
-      }
-      const double g = cur.g + cost;
+      // The length alone first: most successors are known no better without the clearance.
+      double g = cur.g + p.cost;
       const uint64_t state = state_of(nx, ny, bin_of(next.yaw_rad()));
-      if (const auto known = best.find(state); known != best.end() && g >= known->second) {
-        continue;
+      const auto known = best.find(state);
+      if (known != best.end() && g >= known->second) continue;
+      double escaped_m = -1.0;
+      if (!SegmentFree(cur.pose, p)) {
+        // Backing out: only while every step gains clearance, and not for long.
+        const double travelled_m = cur.escaped_m + std::abs(p.forward_m) + std::abs(p.lateral_m);
+        if (!escaping || travelled_m > params_.escape_m ||
+            !(clearance_->At(next) > clearance_->At(cur.pose) + 1e-3)) {
+          continue;
+        }
+        escaped_m = travelled_m;
       }
-      if (!SegmentFree(cur.pose, p)) continue;
+      if (params_.clearance_weight > 0.0) {
+        g = cur.g + p.cost * ClearanceFactor(clearance_->At(next));
+        if (known != best.end() && g >= known->second) continue;
+      }
       best[state] = static_cast<float>(g);
-      nodes.push_back({next, g, id});
+      nodes.push_back({next, g, id, escaped_m});
       open.push(
           {g + params_.heuristic_weight * heuristic(next), static_cast<int>(nodes.size()) - 1});
     }

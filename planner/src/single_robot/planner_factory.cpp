@@ -34,6 +34,7 @@ SingleRobotPlannerParams NavigationPlannerParams(const RobotModel& model) {
   SingleRobotPlannerParams params;
   params.kind = PlannerKind::kLattice;
   if (model.kinematics == Kinematics::kAckermann) params.lattice = CarLatticeParams();
+  if (model.kinematics == Kinematics::kOmnidirectional) params.lattice = PlatformLatticeParams();
   return params;
 }
 

@@ -36,6 +36,7 @@ absl::Status FreeNavigationParams::Validate() const {
   if (absl::Status s = ompl.Validate(); !s.ok()) return s;
   if (absl::Status s = lattice.Validate(); !s.ok()) return s;
   if (absl::Status s = car_lattice.Validate(); !s.ok()) return s;
+  if (absl::Status s = omni_lattice.Validate(); !s.ok()) return s;
   if (absl::Status s = unmapped.Validate(); !s.ok()) return s;
   if (!(std::isfinite(goal_check_m) && goal_check_m > 0.0 && std::isfinite(goal_check_rad) &&
         goal_check_rad > 0.0 && max_goal_corrections >= 0)) {
@@ -79,6 +80,11 @@ void SetCellsIn(const Eigen::AlignedBox2d& box_in_base, const Pose2& base_in_map
     }
   }
 }
+
+/// How far beyond a lifted trolley's outline its cells are freed: the map marks every cell its
+/// legs (standing at the outline's corners) touch, up to half a cell diagonal outside it, and
+/// the robot that lifted it stands up to a few centimetres and degrees off its centre.
+double LoadMargin(const OccupancyGrid& grid) { return 2.0 * grid.resolution_m(); }
 
 void FreeCellsIn(const Eigen::AlignedBox2d& box_in_base, const Pose2& base_in_map,
                  OccupancyGrid* grid) {
@@ -173,13 +179,13 @@ absl::Status FreeNavigationController::BuildPlanner(const Pose2& from_in_map) {
   if (carrying_) {
     if (!carried_from_in_map_) carried_from_in_map_ = from_in_map;
     Eigen::AlignedBox2d load = model_.FootprintBounds();
-    load.min().array() -= grid.resolution_m();
-    load.max().array() += grid.resolution_m();
+    load.min().array() -= LoadMargin(grid);
+    load.max().array() += LoadMargin(grid);
     FreeCellsIn(load, *carried_from_in_map_, &grid);
   }
   for (const LoadOutline& lifted : moved_.lifted_from) {
     const Eigen::Vector2d half_m =
-        0.5 * lifted.size_m + Eigen::Vector2d::Constant(grid.resolution_m());
+        0.5 * lifted.size_m + Eigen::Vector2d::Constant(LoadMargin(grid));
     FreeCellsIn(Eigen::AlignedBox2d(-half_m, half_m), lifted.pose_in_map, &grid);
   }
   for (const LoadOutline& set_down : moved_.set_down_at) {
@@ -206,8 +212,17 @@ absl::Status FreeNavigationController::BuildPlanner(const Pose2& from_in_map) {
   planner_.reset();
   costmap_.emplace(*std::move(costmap));
   planner::SingleRobotPlannerParams planner_params = planner::NavigationPlannerParams(model_);
-  planner_params.lattice =
-      model_.kinematics == Kinematics::kAckermann ? params_.car_lattice : params_.lattice;
+  switch (model_.kinematics) {
+    case Kinematics::kAckermann:
+      planner_params.lattice = params_.car_lattice;
+      break;
+    case Kinematics::kOmnidirectional:
+      planner_params.lattice = params_.omni_lattice;
+      break;
+    case Kinematics::kDifferential:
+      planner_params.lattice = params_.lattice;
+      break;
+  }
   planner_params.ompl = params_.ompl;
   absl::StatusOr<std::unique_ptr<planner::SingleRobotPlanner>> planner =
       planner::MakeSingleRobotPlanner(&*costmap_, model_, planner_params);

@@ -133,15 +133,17 @@ Twist2 HolonomicTracker::Step(const Pose2& pose, double dt_s) {
     const double yaw_error_here = AngleDifference(path_[closest_].yaw_rad(), pose.yaw_rad());
     speed *= std::clamp(1.0 - std::abs(yaw_error_here) / params_.heading_stop_rad, 0.0, 1.0);
     const double carrot_m = to_carrot.norm();
+    const bool at_goal = stop + 1 == path_.size() && goal_distance <= params_.goal_tolerance_m;
     if (carrot_m > 1e-6) {
-      const bool at_goal = stop + 1 == path_.size() && goal_distance <= params_.goal_tolerance_m;
       if (!at_goal)
         speed = std::max(speed, std::min(kCreepSpeedMps, carrot_m / dt_s));
       else
         speed = 0.0;
       velocity_in_map = speed * to_carrot / carrot_m;
     }
-    yaw_target = path_[closest_].yaw_rad();
+    // Standing at the goal's place, turn onto the goal's yaw: the closest path pose may be one
+    // a little before the end, at another yaw, and holding that would never end.
+    yaw_target = at_goal ? goal.yaw_rad() : path_[closest_].yaw_rad();
     yaw_feed_forward_radps = turn_per_m * speed;
   }
 

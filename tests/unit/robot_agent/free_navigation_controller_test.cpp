@@ -137,6 +137,27 @@ class KinematicOmni {
   Pose2 pose_;
 };
 
+// The holonomic tracker at the goal's place with the closest path pose a little before the end,
+// at another yaw (a spline's last piece): it turns onto the goal's yaw and ends, instead of
+// holding the closest pose's yaw for ever.
+TEST(HolonomicTrackerTest, AtTheGoalsPlaceItTurnsOntoTheGoalsYawAndEnds) {
+  const RobotModel omni = MecanumPlatformModel();
+  HolonomicTracker tracker(HolonomicTrackerParams{}, omni.limits);
+  std::vector<Pose2> path;
+  for (int i = 0; i <= 20; ++i) path.emplace_back(0.05 * i, 0.0, 0.0);
+  const Pose2 goal(1.02, 0.0, 0.8);
+  path.push_back(goal);
+  tracker.SetPath(path);
+  KinematicOmni robot(Pose2(0.0, 0.0, 0.0));
+  int step = 0;
+  for (; step < 20000 && !tracker.done(); ++step) robot.Step(tracker.Step(robot.pose(), kDt), kDt);
+  ASSERT_TRUE(tracker.done()) << robot.pose().DebugString();
+  const HolonomicTrackerParams tolerances;
+  EXPECT_TRUE(robot.pose().IsNear(goal, tolerances.goal_tolerance_m + 0.01,
+                                  tolerances.goal_tolerance_rad + 0.01))
+      << robot.pose().DebugString();
+}
+
 // The mecanum platform through the door: the lattice path is spline-smoothed and tracked
 // holonomically; the footprint never touches the wall, the limits hold, the goal pose is
 // reached within the tracker's tolerances.

@@ -143,6 +143,42 @@ TEST(CarLatticeTest, ArcsKeepASteeringMarginAndBadParamsAreRefused) {
   EXPECT_EQ(bad.Validate().code(), absl::StatusCode::kInvalidArgument);
 }
 
+TEST(CarLatticeTest, ACarThatHasTouchedABoxBacksOutAndGoesOnButAPoseInsideOneIsRefused) {
+  const RobotModel car = AckermannDeliveryModel();
+  Costmap costmap = CostmapOf(RowWithOneGap(1.2, 6.0), car);
+  const BodyClearance clearance(&costmap, car.footprint_m);
+  // Nose against the row, 2 cm off a box's face (x = 9.7): inside the padding, not through.
+  const Pose2 touching(9.7 - 0.75 - 0.02, 3.0, 0.0);
+  ASSERT_FALSE(costmap.PoseFree(touching.x_m(), touching.y_m(), touching.yaw_rad()));
+  PathRequest request;
+  request.start = touching;
+  request.goal = Pose2(16.0, 9.0, 0.0);
+  request.goal_tolerance_rad = 0.1;
+  request.time_limit_s = 30.0;
+  LatticePlanner planner(&costmap, car, CarLatticeParams());
+  const absl::StatusOr<PathResult> path = planner.Plan(request);
+  ASSERT_TRUE(path.ok()) << path.status();
+  EXPECT_TRUE(path->exact);
+  // It reverses first, each pose clearer than the last until free, within escape_m.
+  ASSERT_GE(path->poses.size(), 3u);
+  EXPECT_LT(path->poses[1].x_m(), touching.x_m());
+  double travelled_m = 0.0;
+  for (size_t i = 1; i < path->poses.size(); ++i) {
+    const Pose2& p = path->poses[i];
+    if (costmap.PoseFree(p.x_m(), p.y_m(), p.yaw_rad())) break;
+    EXPECT_GT(clearance.At(p), clearance.At(path->poses[i - 1]));
+    travelled_m += (p.translation() - path->poses[i - 1].translation()).norm();
+  }
+  EXPECT_LE(travelled_m, CarLatticeParams().escape_m + 0.5);
+  // Without escaping, the same start is refused; and a pose 0.3 m into the row always is.
+  LatticeParams no_escape = CarLatticeParams();
+  no_escape.escape_m = 0.0;
+  LatticePlanner refusing(&costmap, car, no_escape);
+  EXPECT_EQ(refusing.Plan(request).status().code(), absl::StatusCode::kInvalidArgument);
+  request.start = Pose2(9.7 - 0.75 + 0.3, 3.0, 0.0);
+  EXPECT_EQ(planner.Plan(request).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
 TEST(NavigationPlannerParamsTest, CarsGetTheCarLatticeOthersTheDefault) {
   EXPECT_EQ(NavigationPlannerParams(AckermannDeliveryModel()).kind, PlannerKind::kLattice);
   EXPECT_GT(NavigationPlannerParams(AckermannDeliveryModel()).lattice.clearance_weight, 0.0);

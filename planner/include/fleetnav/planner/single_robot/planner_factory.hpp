@@ -32,7 +32,8 @@ struct SingleRobotPlannerParams {
 /// The planner a robot of `model` navigates with (the agent) and is predicted with
 /// (fleetnavd): the lattice, for Ackermann models with CarLatticeParams (clearance costs, so
 /// that a car passes a gap in its middle along its axis, and Reeds-Shepp shots to the exact
-/// goal yaw), for every other model with the default LatticeParams.
+/// goal yaw), for omnidirectional ones with PlatformLatticeParams (clearance costs), for
+/// differential ones (the Lely) with the default LatticeParams.
 SingleRobotPlannerParams NavigationPlannerParams(const RobotModel& model);
 
 /// The planner of `params.kind` for a robot model. InvalidArgument for bad params or model, or

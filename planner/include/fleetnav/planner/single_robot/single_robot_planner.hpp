@@ -73,11 +73,21 @@ struct LatticeParams {
   /// full lock leaves the tracker no steering to correct with, and the car drifts outside the
   /// curve.
   double turning_radius_factor = 1.0;
+  /// A start in collision that is only touching (BodyClearance above -0.25 m, which a body
+  /// touching head-on measures, or within the padding): the search first backs out of it, every
+  /// primitive gaining body clearance, for at most this far (then as usual), instead of refusing
+  /// the start — a robot that has touched a box backs off the way it can and goes on. 0: refused. ≥
+  /// 0.
+  double escape_m = 0.0;
   double analytic_range_m = 8.0;          ///< > 0
   double analytic_min_clearance_m = 0.3;  ///< ≥ 0
 
   absl::Status Validate() const;
 };
+
+/// The lattice for omnidirectional platforms in stores: clearance-weighted costs, so that a
+/// path rounds the end of a shelf row and passes trolleys with room to spare where there is room.
+LatticeParams PlatformLatticeParams();
 
 /// The lattice for car-like robots in tight places (box fields, gates): clearance-weighted
 /// costs, analytic Reeds-Shepp expansion to the exact goal pose, 32 heading bins, and arcs
@@ -123,6 +133,7 @@ class LatticePlanner : public SingleRobotPlanner {
   double turning_radius_m_ = 0.0;
   std::vector<Primitive> primitives_;
   std::shared_ptr<const BodyClearance> clearance_;  ///< with clearance costs or shots
+  double base_room_m_ = 0.0;  ///< the largest disc round base_link inside the footprint
 };
 
 /// The lattice planner for a robot model (every kinematics kind); InvalidArgument for bad

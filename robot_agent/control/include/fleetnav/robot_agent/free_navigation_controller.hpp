@@ -31,11 +31,12 @@ struct FreeNavigationParams {
   /// (car_lattice), tracked with cusps.
   AckermannPurePursuitParams ackermann;
   planner::OmplPlannerParams ompl;
-  planner::LatticeParams lattice;  ///< differential and omnidirectional robots
+  planner::LatticeParams lattice;  ///< differential robots (the Lely)
+  planner::LatticeParams omni_lattice = planner::PlatformLatticeParams();
   planner::LatticeParams car_lattice = planner::CarLatticeParams();
   /// Clearance kept around the footprint when planning.
   double padding_m = 0.1;
-  double plan_time_limit_s = 2.0;
+  double plan_time_limit_s = 5.0;
   /// Replan from where the robot is when it is further than this from its path.
   double replan_cross_track_m = 0.5;
   /// When the tracker has ended further than this from the goal pose (a car that reached the
