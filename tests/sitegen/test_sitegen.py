@@ -33,6 +33,28 @@ def run(*args):
     return subprocess.run([sys.executable, SCRIPT] + list(args), capture_output=True, text=True)
 
 
+def same_bytes(test, kind, seed, *options):
+    """Two runs of `sitegen KIND --seed SEED OPTIONS` write byte-identical files."""
+    with tempfile.TemporaryDirectory() as tmp:
+        for d in ("a", "b"):
+            r = run(kind, "--seed", str(seed), "--out", os.path.join(tmp, d), *options)
+            test.assertEqual(r.returncode, 0, r.stderr)
+            test.assertEqual(r.stderr.count("sitegen: wrote"), 3, r.stderr)
+        for name in ("world.yaml", "route.yaml", "scenario.yaml"):
+            with open(os.path.join(tmp, "a", name), "rb") as fa, \
+                    open(os.path.join(tmp, "b", name), "rb") as fb:
+                test.assertEqual(fa.read(), fb.read(), name)
+
+
+def expect_usage_errors(test, cases):
+    """Each (args, needle): sitegen exits 2 with the needle in its message."""
+    for args, needle in cases:
+        with test.subTest(args=args):
+            r = run(*args)
+            test.assertEqual(r.returncode, 2, r.stderr)
+            test.assertIn(needle, r.stderr)
+
+
 class SitegenTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -40,15 +62,7 @@ class SitegenTest(unittest.TestCase):
                      (False, True)}
 
     def test_same_seed_gives_the_same_bytes(self):
-        with tempfile.TemporaryDirectory() as tmp:
-            for d in ("a", "b"):
-                r = run("barn", "--seed", "11", "--out", os.path.join(tmp, d), "--error-cases")
-                self.assertEqual(r.returncode, 0, r.stderr)
-                self.assertEqual(r.stderr.count("sitegen: wrote"), 3, r.stderr)
-            for name in ("world.yaml", "route.yaml", "scenario.yaml"):
-                with open(os.path.join(tmp, "a", name), "rb") as fa, \
-                        open(os.path.join(tmp, "b", name), "rb") as fb:
-                    self.assertEqual(fa.read(), fb.read(), name)
+        same_bytes(self, "barn", 11, "--error-cases")
 
     def test_seeds_differ(self):
         self.assertNotEqual(self.sites[(1, False)][0], self.sites[(2, False)][0])
@@ -125,17 +139,12 @@ class SitegenTest(unittest.TestCase):
         self.assertTrue(any("no charging pole" in p for p in problems), problems)
 
     def test_bad_usage_exits_2_with_a_message(self):
-        for args, needle in ((["barn", "--out", "/tmp/x"], "--seed"),
-                             (["barn", "--seed", "1", "--out", "/tmp/x", "--robots", "2"],
-                              "only 1 robot"),
-                             (["barn", "--seed", "-3", "--out", "/tmp/x"], "--seed"),
-                             (["barns", "--count", "0", "--first-seed", "1", "--out", "/tmp/x"],
-                              "--count"),
-                             (["farm", "--seed", "1"], "invalid choice")):
-            with self.subTest(args=args):
-                r = run(*args)
-                self.assertEqual(r.returncode, 2, r.stderr)
-                self.assertIn(needle, r.stderr)
+        expect_usage_errors(self, (
+            (["barn", "--out", "/tmp/x"], "--seed"),
+            (["barn", "--seed", "1", "--out", "/tmp/x", "--robots", "2"], "only 1 robot"),
+            (["barn", "--seed", "-3", "--out", "/tmp/x"], "--seed"),
+            (["barns", "--count", "0", "--first-seed", "1", "--out", "/tmp/x"], "--count"),
+            (["farm", "--seed", "1"], "invalid choice")))
 
     def test_barns_writes_a_folder_per_seed_and_a_summary(self):
         with tempfile.TemporaryDirectory() as tmp:

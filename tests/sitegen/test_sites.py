@@ -4,7 +4,6 @@ box fields). Run by hand, no build needed:
 
   /usr/bin/python3 -m unittest discover -s tests/sitegen -v
 """
-import copy
 import math
 import os
 import re
@@ -15,23 +14,11 @@ import unittest
 
 import yaml
 
-from test_sitegen import SCRIPT, sg
+from test_sitegen import SCRIPT, expect_usage_errors, same_bytes, sg
 
 
 def run(*args):
     return subprocess.run([sys.executable, SCRIPT] + list(args), capture_output=True, text=True)
-
-
-def same_bytes(test, kind, seed):
-    with tempfile.TemporaryDirectory() as tmp:
-        for d in ("a", "b"):
-            r = run(kind, "--seed", str(seed), "--out", os.path.join(tmp, d))
-            test.assertEqual(r.returncode, 0, r.stderr)
-            test.assertEqual(r.stderr.count("sitegen: wrote"), 3, r.stderr)
-        for name in ("world.yaml", "route.yaml", "scenario.yaml"):
-            with open(os.path.join(tmp, "a", name), "rb") as fa, \
-                    open(os.path.join(tmp, "b", name), "rb") as fb:
-                test.assertEqual(fa.read(), fb.read(), name)
 
 
 def check_scenario(test, world, route, scenario, summary, robot, kind):
@@ -52,20 +39,31 @@ def kinds_of(route):
     return {next(iter(a)) for a in route["actions"]}
 
 
-class StoreTest(unittest.TestCase):
+class GeneratedSites:
+    """What stores and yards share: the sites of a few seeds, parsed, and determinism. A
+    subclass sets KIND, SEEDS (1 and 2 among them), BYTES_SEED and generate()."""
+
     @classmethod
     def setUpClass(cls):
-        cls.sites = {seed: sg.generate_store(seed) for seed in (1, 2, 3, 11)}
+        cls.sites = {seed: cls.generate(seed) for seed in cls.SEEDS}
 
     def parsed(self, seed):
         w, r, s, summary = self.sites[seed]
         return yaml.safe_load(w), yaml.safe_load(r), yaml.safe_load(s), summary
 
     def test_same_seed_gives_the_same_bytes(self):
-        same_bytes(self, "store", 4)
+        same_bytes(self, self.KIND, self.BYTES_SEED)
 
     def test_seeds_differ(self):
         self.assertNotEqual(self.sites[1][0], self.sites[2][0])
+
+
+class StoreTest(GeneratedSites, unittest.TestCase):
+    KIND, SEEDS, BYTES_SEED = "store", (1, 2, 3, 11), 4
+
+    @staticmethod
+    def generate(seed):
+        return sg.generate_store(seed)
 
     def test_generated_stores_pass_their_checks_and_use_every_action(self):
         for seed in self.sites:
@@ -136,20 +134,12 @@ class StoreTest(unittest.TestCase):
         self.assertTrue(any("not at home" in p for p in problems), problems)
 
 
-class YardTest(unittest.TestCase):
-    @classmethod
-    def setUpClass(cls):
-        cls.sites = {seed: sg.generate_yard(seed) for seed in (1, 2, 6)}
+class YardTest(GeneratedSites, unittest.TestCase):
+    KIND, SEEDS, BYTES_SEED = "yard", (1, 2, 6), 3
 
-    def parsed(self, seed):
-        w, r, s, summary = self.sites[seed]
-        return yaml.safe_load(w), yaml.safe_load(r), yaml.safe_load(s), summary
-
-    def test_same_seed_gives_the_same_bytes(self):
-        same_bytes(self, "yard", 3)
-
-    def test_seeds_differ(self):
-        self.assertNotEqual(self.sites[1][0], self.sites[2][0])
+    @staticmethod
+    def generate(seed):
+        return sg.generate_yard(seed)
 
     def test_generated_yards_pass_their_checks(self):
         for seed in self.sites:
@@ -228,18 +218,12 @@ class YardTest(unittest.TestCase):
 
 class SiteUsageTest(unittest.TestCase):
     def test_bad_usage_exits_2_with_a_message(self):
-        for args, needle in ((["store", "--out", "/tmp/x"], "--seed"),
-                             (["yard", "--seed", "-1", "--out", "/tmp/x"], "--seed"),
-                             (["stores", "--count", "0", "--first-seed", "1", "--out", "/tmp/x"],
-                              "--count"),
-                             (["yards", "--count", "1", "--first-seed", "-2", "--out", "/tmp/x"],
-                              "--first-seed"),
-                             (["yard", "--seed", "1", "--out", "/tmp/x", "--robots", "2"],
-                              "unrecognized")):
-            with self.subTest(args=args):
-                r = run(*args)
-                self.assertEqual(r.returncode, 2, r.stderr)
-                self.assertIn(needle, r.stderr)
+        expect_usage_errors(self, (
+            (["store", "--out", "/tmp/x"], "--seed"),
+            (["yard", "--seed", "-1", "--out", "/tmp/x"], "--seed"),
+            (["stores", "--count", "0", "--first-seed", "1", "--out", "/tmp/x"], "--count"),
+            (["yards", "--count", "1", "--first-seed", "-2", "--out", "/tmp/x"], "--first-seed"),
+            (["yard", "--seed", "1", "--out", "/tmp/x", "--robots", "2"], "unrecognized")))
 
     def test_plural_commands_write_a_folder_per_seed_and_a_summary(self):
         with tempfile.TemporaryDirectory() as tmp:

@@ -33,26 +33,26 @@ std::vector<Pose2> ShortestCurvePoses(const Pose2& from, const Pose2& to, double
     se2->setXY(pose.x_m(), pose.y_m());
     se2->setYaw(pose.yaw_rad());
   };
-  if (reverse) {
-    ob::ReedsSheppStateSpace space(turning_radius_m);
+  // Both spaces: the states, the curve (computed once by `curve_of`), its poses.
+  const auto poses_in = [&](auto& space, const auto& curve_of) {
     ob::State* a = space.allocState();
     ob::State* b = space.allocState();
     ob::State* at = space.allocState();
     set(a, from);
     set(b, to);
-    std::vector<Pose2> poses = sample(space, space.reedsShepp(a, b), a, b, at);
+    std::vector<Pose2> poses = sample(space, curve_of(space, a, b), a, b, at);
     for (ob::State* s : {a, b, at}) space.freeState(s);
     return poses;
+  };
+  if (reverse) {
+    ob::ReedsSheppStateSpace space(turning_radius_m);
+    return poses_in(space, [](const ob::ReedsSheppStateSpace& s, const ob::State* a,
+                              const ob::State* b) { return s.reedsShepp(a, b); });
   }
   ob::DubinsStateSpace space(turning_radius_m);
-  ob::State* a = space.allocState();
-  ob::State* b = space.allocState();
-  ob::State* at = space.allocState();
-  set(a, from);
-  set(b, to);
-  std::vector<Pose2> poses = sample(space, space.dubins(a, b), a, b, at);
-  for (ob::State* s : {a, b, at}) space.freeState(s);
-  return poses;
+  return poses_in(space, [](const ob::DubinsStateSpace& s, const ob::State* a, const ob::State* b) {
+    return s.dubins(a, b);
+  });
 }
 
 }  // namespace fleetnav::planner::internal
