@@ -86,12 +86,14 @@ struct LatticeParams {
 };
 
 /// The lattice for omnidirectional platforms in stores: clearance-weighted costs, so that a
-/// path rounds the end of a shelf row and passes trolleys with room to spare where there is room.
+/// path rounds the end of a shelf row and passes trolleys with room to spare where there is room;
+/// backing out of a touch, and the same expansion budget as the cars'.
 LatticeParams PlatformLatticeParams();
 
 /// The lattice for car-like robots in tight places (box fields, gates): clearance-weighted
 /// costs, analytic Reeds-Shepp expansion to the exact goal pose, 32 heading bins, and arcs
-/// 1.3 times the minimum turning radius.
+/// 1.3 times the minimum turning radius, backing out of a touch (escape_m 1 m), and an
+/// expansion budget of 3 M that ends a fruitless search before any wall-time limit does.
 LatticeParams CarLatticeParams();
 
 /// A hybrid-A* lattice planner of our own (Dolgov, Thrun, Montemerlo and Diebel, "Path

@@ -36,7 +36,10 @@ struct FreeNavigationParams {
   planner::LatticeParams car_lattice = planner::CarLatticeParams();
   /// Clearance kept around the footprint when planning.
   double padding_m = 0.1;
-  double plan_time_limit_s = 5.0;
+  /// A safety net only: the lattices' expansion budgets end a search first, so that the same
+  /// run plans the same on an idle and on a busy machine (with 2 s, and then 5 s, a busy
+  /// machine turned long ways round a store's shelves into "cannot be reached").
+  double plan_time_limit_s = 60.0;
   /// Replan from where the robot is when it is further than this from its path.
   double replan_cross_track_m = 0.5;
   /// When the tracker has ended further than this from the goal pose (a car that reached the
