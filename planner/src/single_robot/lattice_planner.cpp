@@ -364,6 +364,7 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
       closest = id;
     }
     const bool escaping = cur.escaped_m >= 0.0;
+    const double cur_clearance_m = escaping ? clearance_->At(cur.pose) : 0.0;
     if (dist <= request.goal_tolerance_m && !escaping) {
       const double dyaw = AngleDiff(request.goal.yaw_rad(), cur.pose.yaw_rad());
       if (std::abs(dyaw) <= request.goal_tolerance_rad) {
@@ -406,7 +407,7 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
         // Backing out: only while every step gains clearance, and not for long.
         const double travelled_m = cur.escaped_m + std::abs(p.forward_m) + std::abs(p.lateral_m);
         if (!escaping || travelled_m > params_.escape_m ||
-            !(clearance_->At(next) > clearance_->At(cur.pose) + 1e-3)) {
+            !(clearance_->At(next) > cur_clearance_m + 1e-3)) {
           continue;
         }
         escaped_m = travelled_m;

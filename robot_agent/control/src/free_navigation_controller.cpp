@@ -33,10 +33,6 @@ absl::Status FreeNavigationParams::Validate() const {
   if (absl::Status s = holonomic.Validate(); !s.ok()) return s;
   if (absl::Status s = smoothing.Validate(); !s.ok()) return s;
   if (absl::Status s = ackermann.Validate(); !s.ok()) return s;
-  if (absl::Status s = ompl.Validate(); !s.ok()) return s;
-  if (absl::Status s = lattice.Validate(); !s.ok()) return s;
-  if (absl::Status s = car_lattice.Validate(); !s.ok()) return s;
-  if (absl::Status s = omni_lattice.Validate(); !s.ok()) return s;
   if (absl::Status s = unmapped.Validate(); !s.ok()) return s;
   if (!(std::isfinite(goal_check_m) && goal_check_m > 0.0 && std::isfinite(goal_check_rad) &&
         goal_check_rad > 0.0 && max_goal_corrections >= 0)) {
@@ -211,21 +207,8 @@ absl::Status FreeNavigationController::BuildPlanner(const Pose2& from_in_map) {
   if (!costmap.ok()) return costmap.status();
   planner_.reset();
   costmap_.emplace(*std::move(costmap));
-  planner::SingleRobotPlannerParams planner_params = planner::NavigationPlannerParams(model_);
-  switch (model_.kinematics) {
-    case Kinematics::kAckermann:
-      planner_params.lattice = params_.car_lattice;
-      break;
-    case Kinematics::kOmnidirectional:
-      planner_params.lattice = params_.omni_lattice;
-      break;
-    case Kinematics::kDifferential:
-      planner_params.lattice = params_.lattice;
-      break;
-  }
-  planner_params.ompl = params_.ompl;
   absl::StatusOr<std::unique_ptr<planner::SingleRobotPlanner>> planner =
-      planner::MakeSingleRobotPlanner(&*costmap_, model_, planner_params);
+      planner::MakeSingleRobotPlanner(&*costmap_, model_, planner::NavigationPlannerParams(model_));
   if (!planner.ok()) return planner.status();
   planner_ = *std::move(planner);
   return absl::OkStatus();

@@ -27,13 +27,9 @@ struct FreeNavigationParams {
   /// Omnidirectional platforms: the path is spline-smoothed, then tracked holonomically.
   HolonomicTrackerParams holonomic;
   planner::SmoothingParams smoothing;
-  /// Ackermann robots: hybrid A* with clearance costs and Reeds-Shepp shots to the exact goal
-  /// (car_lattice), tracked with cusps.
+  /// Ackermann robots: tracked with cusps. Every kind plans with
+  /// planner::NavigationPlannerParams(model), the planner fleetnavd predicts it with.
   AckermannPurePursuitParams ackermann;
-  planner::OmplPlannerParams ompl;
-  planner::LatticeParams lattice;  ///< differential robots (the Lely)
-  planner::LatticeParams omni_lattice = planner::PlatformLatticeParams();
-  planner::LatticeParams car_lattice = planner::CarLatticeParams();
   /// Clearance kept around the footprint when planning.
   double padding_m = 0.1;
   /// A safety net only: the lattices' expansion budgets end a search first, so that the same
@@ -89,8 +85,9 @@ struct MovedLoads {
 };
 
 /// Free navigation (Lely thesis §6.6.5): plan on the map from the estimated pose through the
-/// route's waypoints to the goal — the lattice planner for differential drive (no reversing
-/// for the Lely) and omni platforms, Reeds-Shepp curves for Ackermann robots — and track the
+/// route's waypoints to the goal — the lattice planner of planner::NavigationPlannerParams (no
+/// reversing for the Lely; clearance costs for omni platforms and cars, Reeds-Shepp shots onto
+/// the goal for cars) — and track the
 /// path with the tracker of the robot's drive (which also sees the latest laser scan's returns
 /// that the map does not explain, carried along by odometry between scans, and may steer round
 /// them): regulated pure pursuit for differential drive;
