@@ -183,6 +183,13 @@ bool Costmap::FootprintFree(int x, int y, double yaw_rad) {
   return cached == 1;
 }
 
+bool Costmap::AnyYawFree(int x, int y) {
+  for (int b = 0; b < bins_; ++b) {
+    if (FootprintFree(x, y, 2.0 * M_PI * b / bins_)) return true;
+  }
+  return false;
+}
+
 bool Costmap::PoseFree(double x_m, double y_m, double yaw_rad) {
   return FootprintFree(static_cast<int>(std::floor(x_m / resolution_m_)),
                        static_cast<int>(std::floor(y_m / resolution_m_)), yaw_rad);

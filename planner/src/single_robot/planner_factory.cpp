@@ -33,6 +33,7 @@ absl::StatusOr<PlannerKind> PlannerKindByName(std::string_view name) {
 SingleRobotPlannerParams NavigationPlannerParams(const RobotModel& model) {
   SingleRobotPlannerParams params;
   params.kind = PlannerKind::kLattice;
+  if (model.kinematics == Kinematics::kDifferential) params.lattice = DifferentialLatticeParams();
   if (model.kinematics == Kinematics::kAckermann) params.lattice = CarLatticeParams();
   if (model.kinematics == Kinematics::kOmnidirectional) params.lattice = PlatformLatticeParams();
   return params;

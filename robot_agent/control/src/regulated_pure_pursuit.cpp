@@ -13,11 +13,28 @@ namespace {
 constexpr size_t kSearchWindow = 200;
 /// Two path poses this close are one place: the planner turns in place there.
 constexpr double kSamePlaceM = 0.01;
-/// The robot turns a planned turn in place when it is this close to the turn's place.
-constexpr double kInPlaceRadiusM = 0.2;
+/// The robot turns a planned turn in place when it is this close to the turn's place: the
+/// planner checked the sweep there, and a 2.3 m robot turning 0.1 m beside it (at 0.2 m, the
+/// old radius) swung its corner into a fence the plan cleared by 0.09 m.
+constexpr double kInPlaceRadiusM = 0.05;
+/// ... or when it has come abreast of the place this close beside it.
+constexpr double kAbreastRadiusM = 0.2;
 /// A planned turn step counts as turned within this angle.
 constexpr double kTurnStepToleranceRad = 0.05;
 constexpr double kMinTurnRateRadps = 0.05;
+
+/// The yaw error from `yaw_rad` to `target_rad`, turned the way the plan turns (`planned_rad`,
+/// signed) when the shortest way is the other one and more than a quarter turn: the planner
+/// checked the body's sweep that way round. A robot arriving a little beside the planned
+/// heading faces a half turn whose shortest way is a coin toss, and the other way swung the
+/// Lely's nose into a fence.
+double PlannedWayError(double target_rad, double yaw_rad, double planned_rad) {
+  double error = AngleDifference(target_rad, yaw_rad);
+  if (planned_rad != 0.0 && error * planned_rad < 0.0 && std::abs(error) > kPi / 2.0) {
+    error += std::copysign(2.0 * kPi, planned_rad);
+  }
+  return error;
+}
 
 }  // namespace
 
@@ -45,6 +62,39 @@ void RegulatedPurePursuit::SetPath(std::vector<Pose2> path) {
   to_goal_m_ = DistancesToGoal(path_);
   closest_ = 0;
   done_ = path_.empty();
+  // The turn in place the path ends with, if any.
+  final_turn_rad_ = 0.0;
+  for (size_t i = path_.size(); i >= 2; --i) {
+    if ((path_[i - 1].translation() - path_[i - 2].translation()).norm() >= kSamePlaceM) break;
+    final_turn_rad_ += AngleDifference(path_[i - 1].yaw_rad(), path_[i - 2].yaw_rad());
+  }
+}
+
+bool RegulatedPurePursuit::AtTurnPlace(const Pose2& pose, size_t turn) const {
+  const Eigen::Vector2d to_place = path_[turn].translation() - pose.translation();
+  if (to_place.norm() < kInPlaceRadiusM) return true;
+  // Come abreast of it a little beside the path: chasing the place from there would turn the
+  // robot round on the spot (any way) instead of the way the plan turns.
+  if (turn == 0 || to_place.norm() >= kAbreastRadiusM) return false;
+  const Eigen::Vector2d arriving = path_[turn].translation() - path_[turn - 1].translation();
+  return to_place.dot(arriving) <= 0.0;
+}
+
+size_t RegulatedPurePursuit::NextSharpTurn(size_t from) const {
+  for (size_t i = from; i + 1 < path_.size(); ++i) {
+    if ((path_[i + 1].translation() - path_[i].translation()).norm() >= kSamePlaceM) continue;
+    // A turn in place starts at i: add up its steps.
+    double turn_rad = 0.0;
+    size_t j = i;
+    while (j + 1 < path_.size() &&
+           (path_[j + 1].translation() - path_[i].translation()).norm() < kSamePlaceM) {
+      turn_rad += AngleDifference(path_[j + 1].yaw_rad(), path_[j].yaw_rad());
+      ++j;
+    }
+    if (std::abs(turn_rad) > params_.rotate_to_heading_rad) return i;
+    i = j - 1;  // the loop's ++i moves on to j
+  }
+  return path_.size() - 1;
 }
 
 Twist2 RegulatedPurePursuit::Step(const Pose2& pose, double dt_s) {
@@ -66,8 +116,10 @@ Twist2 RegulatedPurePursuit::Step(const Pose2& pose, double dt_s) {
   // footprint's sweep that way round, not the other.
   while (closest_ + 1 < path_.size() &&
          (path_[closest_ + 1].translation() - path_[closest_].translation()).norm() < kSamePlaceM &&
-         (pose.translation() - path_[closest_].translation()).norm() < kInPlaceRadiusM) {
-    const double error = AngleDifference(path_[closest_ + 1].yaw_rad(), pose.yaw_rad());
+         AtTurnPlace(pose, closest_)) {
+    const double error =
+        PlannedWayError(path_[closest_ + 1].yaw_rad(), pose.yaw_rad(),
+                        AngleDifference(path_[closest_ + 1].yaw_rad(), path_[closest_].yaw_rad()));
     if (std::abs(error) <= kTurnStepToleranceRad) {
       ++closest_;
       continue;
@@ -80,7 +132,7 @@ Twist2 RegulatedPurePursuit::Step(const Pose2& pose, double dt_s) {
   // At the goal: turn in place onto its yaw.
   if (goal_distance <= params_.goal_tolerance_m && closest_ + 1 >= path_.size()) {
     last_speed_mps_ = 0.0;
-    const double error = AngleDifference(goal.yaw_rad(), pose.yaw_rad());
+    const double error = PlannedWayError(goal.yaw_rad(), pose.yaw_rad(), final_turn_rad_);
     if (std::abs(error) <= params_.goal_tolerance_rad) {
       done_ = true;
       return Twist2{};
@@ -91,16 +143,21 @@ Twist2 RegulatedPurePursuit::Step(const Pose2& pose, double dt_s) {
     return Twist2{0.0, 0.0, std::abs(rate) < min_rate ? std::copysign(min_rate, error) : rate};
   }
 
-  // The lookahead point: the first path pose at least the lookahead distance away.
+  // The lookahead point: the first path pose at least the lookahead distance away, but not past
+  // a sharp turn in place ahead: the robot drives to the turn's place and turns there, where the
+  // planner checked the sweep. Looking past it, it would turn early, where the corner of a
+  // 2.3 m body can swing into a fence the plan kept clear of.
   const double lookahead = std::clamp(last_speed_mps_ * params_.lookahead_time_s,
                                       params_.min_lookahead_m, params_.max_lookahead_m);
-  Eigen::Vector2d target = goal.translation();
-  for (size_t i = closest_; i < path_.size(); ++i) {
+  const size_t stop = NextSharpTurn(closest_);
+  Eigen::Vector2d target = path_[stop].translation();
+  for (size_t i = closest_; i <= stop; ++i) {
     if ((path_[i].translation() - pose.translation()).norm() >= lookahead) {
       target = path_[i].translation();
       break;
     }
   }
+  const double to_stop_m = std::max(0.0, remaining_m_ - to_goal_m_[stop]);
   const Eigen::Vector2d local = pose.Inverse().TransformPoint(target);
   const double bearing = std::atan2(local.y(), local.x());
   if (std::abs(bearing) > params_.rotate_to_heading_rad) {
@@ -113,8 +170,8 @@ Twist2 RegulatedPurePursuit::Step(const Pose2& pose, double dt_s) {
   double speed = std::min(params_.desired_speed_mps, limits_.max_speed_mps);
   const double radius = std::abs(curvature) > 1e-9 ? 1.0 / std::abs(curvature) : 1e9;
   if (radius < params_.regulated_min_radius_m) speed *= radius / params_.regulated_min_radius_m;
-  if (remaining_m_ < params_.approach_distance_m) {
-    speed *= remaining_m_ / params_.approach_distance_m;
+  if (to_stop_m < params_.approach_distance_m) {
+    speed *= to_stop_m / params_.approach_distance_m;
   }
   speed = std::max(speed, params_.min_regulated_speed_mps);
   speed = std::min(speed, last_speed_mps_ + limits_.max_accel_mps2 * dt_s);

@@ -244,7 +244,12 @@ absl::StatusOr<std::unique_ptr<MotionController>> MakeController(const RouteActi
         entry = Eigen::Vector2d(1.0, 0.0);
       }
     }
-    return std::make_unique<MoveController>(*move, entry, context.model, params.move);
+    // Right after an undock the platform stands under the trolley it set down.
+    std::optional<TrolleySpec> leaving;
+    if (previous != nullptr && std::holds_alternative<UndockAction>(previous->params)) {
+      leaving = params.trolley_docking.spec;
+    }
+    return std::make_unique<MoveController>(*move, entry, context.model, params.move, leaving);
   }
   if (const auto* straight = std::get_if<StraightAction>(&action.params)) {
     return std::make_unique<StraightController>(straight->distance_m, straight->speed_mps,

@@ -55,6 +55,10 @@ absl::Status SamclLocalizerParams::Validate() const {
   if (!(std::isfinite(ultrasonic_range_max_m) && ultrasonic_range_max_m > 0.0)) {
     return absl::InvalidArgumentError("ultrasonic_range_max_m: must be finite and > 0");
   }
+  if (!(std::isfinite(ultrasonic_cone_rad) && ultrasonic_cone_rad >= 0.0 &&
+        ultrasonic_cone_rad < kPi)) {
+    return absl::InvalidArgumentError("ultrasonic_cone_rad: must be in [0, pi)");
+  }
   if (laser_max_beams < 0) return absl::InvalidArgumentError("laser_max_beams: must be >= 0");
   if (!(std::isfinite(unmapped_obstacle_margin_m) && unmapped_obstacle_margin_m >= 0.0)) {
     return absl::InvalidArgumentError("unmapped_obstacle_margin_m: must be finite and >= 0");
@@ -199,8 +203,8 @@ absl::StatusOr<RangeObservation> SamclLocalizer::Observe(const SensorFrame& fram
     }
     return all;
   }
-  absl::StatusOr<RangeObservation> fake =
-      FakeLaserFromUltrasonics(frame.ultrasonic, model_, params_.ultrasonic_range_max_m);
+  absl::StatusOr<RangeObservation> fake = FakeLaserFromUltrasonics(
+      frame.ultrasonic, model_, params_.ultrasonic_range_max_m, params_.ultrasonic_cone_rad);
   if (!fake.ok() || params_.ultrasonic_no_echo_is_evidence) return fake;
   // An ultrasonic is silent for many reasons besides free space (a surface met at more than
   // 40 deg, a soft target, a dropout): as in the thesis (eq. 5.2, 5.4) a silent sensor says

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/distance_transform.hpp"
 
 namespace fleetnav::localization {
@@ -21,6 +22,19 @@ absl::Status CheckRange(double value, double lo, double hi, const char* field) {
 constexpr double kFar = 1e12;
 
 }  // namespace
+
+std::vector<double> BeamRayAngles(const RangeBeam& beam) {
+  constexpr double kMaxSpacingRad = kPi / 180.0;
+  if (!(beam.cone_rad > 0.0)) return {beam.angle_in_base_rad};
+  const int gaps = std::max(2, static_cast<int>(std::ceil(beam.cone_rad / kMaxSpacingRad)));
+  std::vector<double> angles;
+  angles.reserve(gaps + 1);
+  for (int k = 0; k <= gaps; ++k) {
+    angles.push_back(beam.angle_in_base_rad +
+                     beam.cone_rad * (static_cast<double>(k) / gaps - 0.5));
+  }
+  return angles;
+}
 
 RangeObservation ObservationFromLaser(const LaserScanSample& scan, const Pose2& mount_in_base,
                                       int max_beams) {
@@ -46,9 +60,12 @@ RangeObservation ObservationFromLaser(const LaserScanSample& scan, const Pose2& 
 
 absl::StatusOr<RangeObservation> FakeLaserFromUltrasonics(const std::vector<RangeReading>& readings,
                                                           const RobotModel& model,
-                                                          double range_max_m) {
+                                                          double range_max_m, double cone_rad) {
   if (!(std::isfinite(range_max_m) && range_max_m > 0.0)) {
     return absl::InvalidArgumentError("range_max_m must be finite and > 0");
+  }
+  if (!(std::isfinite(cone_rad) && cone_rad >= 0.0 && cone_rad < kPi)) {
+    return absl::InvalidArgumentError("cone_rad must be in [0, pi)");
   }
   RangeObservation observation;
   for (const RangeReading& reading : readings) {
@@ -64,6 +81,7 @@ absl::StatusOr<RangeObservation> FakeLaserFromUltrasonics(const std::vector<Rang
     beam.no_echo =
         !reading.echo || !std::isfinite(reading.range_m) || reading.range_m >= range_max_m;
     beam.range_m = beam.no_echo ? range_max_m : reading.range_m;
+    beam.cone_rad = cone_rad;
     observation.beams.push_back(beam);
   }
   return observation;
@@ -101,13 +119,21 @@ absl::StatusOr<LikelihoodField> LikelihoodField::Create(const OccupancyGrid& gri
   const size_t cells = static_cast<size_t>(grid.width()) * grid.height();
   field.outside_ = cells;
 
-  // Exact squared distance (in cells) to the nearest occupied cell: columns, then rows.
+  // Exact squared distance (in cells) to the nearest obstacle surface — an occupied cell with a
+  // side on a cell that is not (or on the map's edge) — columns, then rows. An echo comes off a
+  // surface: an end point inside a solid box or a thick wall is as far from where the echo
+  // could have come as one in front of it (measured to any occupied cell, a particle too near a
+  // box would fit every range, and the estimate could drift into the box unchecked).
   const int w = grid.width();
   const int h = grid.height();
+  const auto occupied = [&](int x, int y) {
+    return grid.InBounds(CellIndex{x, y}) && grid.State(CellIndex{x, y}) == CellState::kOccupied;
+  };
   std::vector<double> squared(cells, kFar);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
-      if (grid.State(CellIndex{x, y}) == CellState::kOccupied) {
+      if (occupied(x, y) &&
+          !(occupied(x - 1, y) && occupied(x + 1, y) && occupied(x, y - 1) && occupied(x, y + 1))) {
         squared[static_cast<size_t>(y) * w + x] = 0.0;
       }
     }
@@ -169,18 +195,25 @@ size_t LikelihoodField::MemoryBytes() const {
 
 int LikelihoodField::Accumulate(const RangeObservation& observation, const float* x, const float* y,
                                 const float* yaw, size_t n, float* log_weight) const {
-  // End points (echo beams) and free-path sample points (no-echo beams) in base_link.
+  // End points (echo beams: one per ray of a cone, the best of them counts) and free-path
+  // sample points (no-echo beams) in base_link.
   std::vector<float> hit_x, hit_y;
+  std::vector<int> hit_begin;
   std::vector<float> free_x, free_y;
   std::vector<int> free_begin;
   for (const RangeBeam& beam : observation.beams) {
-    const double c = std::cos(beam.angle_in_base_rad);
-    const double s = std::sin(beam.angle_in_base_rad);
     if (!beam.no_echo) {
-      hit_x.push_back(static_cast<float>(beam.origin_in_base.x() + c * beam.range_m));
-      hit_y.push_back(static_cast<float>(beam.origin_in_base.y() + s * beam.range_m));
+      hit_begin.push_back(static_cast<int>(hit_x.size()));
+      for (double angle : BeamRayAngles(beam)) {
+        hit_x.push_back(
+            static_cast<float>(beam.origin_in_base.x() + std::cos(angle) * beam.range_m));
+        hit_y.push_back(
+            static_cast<float>(beam.origin_in_base.y() + std::sin(angle) * beam.range_m));
+      }
       continue;
     }
+    const double c = std::cos(beam.angle_in_base_rad);
+    const double s = std::sin(beam.angle_in_base_rad);
     free_begin.push_back(static_cast<int>(free_x.size()));
     for (double r = params_.free_step_m; r <= beam.range_max_m + 1e-9; r += params_.free_step_m) {
       free_x.push_back(static_cast<float>(beam.origin_in_base.x() + c * r));
@@ -188,7 +221,8 @@ int LikelihoodField::Accumulate(const RangeObservation& observation, const float
     }
   }
   free_begin.push_back(static_cast<int>(free_x.size()));
-  const size_t hits = hit_x.size();
+  hit_begin.push_back(static_cast<int>(hit_x.size()));
+  const size_t hits = hit_begin.size() - 1;
   const size_t free_beams = free_begin.size() - 1;
   const float exponent = static_cast<float>(params_.beam_exponent);
   const float* hx = hit_x.data();
@@ -200,7 +234,11 @@ int LikelihoodField::Accumulate(const RangeObservation& observation, const float
     const float py = y[i];
     float sum = 0.0f;
     for (size_t b = 0; b < hits; ++b) {
-      sum += LogHit(px + c * hx[b] - s * hy[b], py + s * hx[b] + c * hy[b]);
+      float best = -std::numeric_limits<float>::infinity();
+      for (int k = hit_begin[b]; k < hit_begin[b + 1]; ++k) {
+        best = std::max(best, LogHit(px + c * hx[k] - s * hy[k], py + s * hx[k] + c * hy[k]));
+      }
+      sum += best;
     }
     for (size_t b = 0; b < free_beams; ++b) {
       float worst = 0.0f;
@@ -289,8 +327,11 @@ int BeamModel::Accumulate(const RangeObservation& observation, const float* x, c
     double sum = 0.0;
     for (const RangeBeam& beam : observation.beams) {
       const Eigen::Vector2d origin = pose.TransformPoint(beam.origin_in_base);
-      const double expected =
-          CastRay(grid_, origin, pose.yaw_rad() + beam.angle_in_base_rad, beam.range_max_m);
+      double expected = beam.range_max_m;  // the nearest surface in the cone echoes
+      for (double angle : BeamRayAngles(beam)) {
+        expected =
+            std::min(expected, CastRay(grid_, origin, pose.yaw_rad() + angle, beam.range_max_m));
+      }
       sum += LogLikelihood(beam.range_m, expected, beam.range_max_m, beam.no_echo);
     }
     log_weight[i] += static_cast<float>(params_.beam_exponent * sum);

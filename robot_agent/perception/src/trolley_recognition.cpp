@@ -36,6 +36,30 @@ std::vector<Eigen::Vector2d> LegCandidates(const LaserScanSample& scan, const Po
   return legs;
 }
 
+namespace {
+
+/// How far from a robot standing under a trolley its legs can be: the half-diagonal, and 15 cm
+/// for a trolley standing off the robot's centre.
+double LegReachM(const TrolleySpec& spec) {
+  return 0.5 * std::hypot(spec.leg_spacing_x_m, spec.leg_spacing_y_m) + 0.15;
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector2d> LegsAround(const LaserScanSample& scan, const Pose2& laser_in_base,
+                                        const TrolleySpec& spec) {
+  const LaserScanSample clean = RemoveShadows(scan, spec.shadow);
+  std::vector<Eigen::Vector2d> legs;
+  for (const std::vector<Eigen::Vector2d>& cluster :
+       ClusterPoints(ScanPoints(clean, laser_in_base), spec.cluster_gap_m)) {
+    if ((cluster.back() - cluster.front()).norm() > spec.max_leg_extent_m) continue;
+    const std::optional<Circle> circle =
+        FitCircleOfRadius(cluster, spec.leg_radius_m, laser_in_base.translation());
+    if (circle && circle->center_m.norm() <= LegReachM(spec)) legs.push_back(circle->center_m);
+  }
+  return legs;
+}
+
 std::vector<TrolleyDetection> RecognizeTrolleys(const std::vector<Eigen::Vector2d>& legs,
                                                 const TrolleySpec& spec) {
   const auto matches = [&](double d, double want) {
@@ -86,6 +110,42 @@ std::vector<TrolleyDetection> RecognizeTrolleys(const std::vector<Eigen::Vector2
     return l.pose_in_base.translation().norm() < r.pose_in_base.translation().norm();
   });
   return found;
+}
+
+std::optional<LegGate> FindLegGate(const std::vector<Eigen::Vector2d>& legs,
+                                   const Eigen::Vector2d& move_direction, const TrolleySpec& spec,
+                                   double max_offset_m, double max_angle_rad) {
+  const double reach_m = LegReachM(spec);
+  std::optional<LegGate> best;
+  double best_offset_m = max_offset_m;
+  for (size_t i = 0; i < legs.size(); ++i) {
+    for (size_t j = i + 1; j < legs.size(); ++j) {
+      const Eigen::Vector2d& a = legs[i];
+      const Eigen::Vector2d& b = legs[j];
+      if (a.norm() > reach_m || b.norm() > reach_m) continue;
+      const double spacing_m = (b - a).norm();
+      if (std::abs(spacing_m - spec.leg_spacing_x_m) > spec.spacing_tolerance_m &&
+          std::abs(spacing_m - spec.leg_spacing_y_m) > spec.spacing_tolerance_m) {
+        continue;
+      }
+      const Eigen::Vector2d middle = 0.5 * (a + b);
+      Eigen::Vector2d normal(-(b - a).y(), (b - a).x());
+      normal.normalize();
+      if (normal.dot(middle) < 0.0) normal = -normal;
+      if (middle.dot(move_direction) <= 0.0 ||
+          std::acos(std::clamp(normal.dot(move_direction), -1.0, 1.0)) > max_angle_rad) {
+        continue;
+      }
+      // How far the middle lies off the move's line through the robot's centre.
+      const double offset_m =
+          std::abs(move_direction.x() * middle.y() - move_direction.y() * middle.x());
+      if (offset_m < best_offset_m) {
+        best_offset_m = offset_m;
+        best = LegGate{middle, normal};
+      }
+    }
+  }
+  return best;
 }
 
 DockFrames DockFramesFor(const Pose2& trolley, const TrolleySpec& spec, const RobotModel& model,

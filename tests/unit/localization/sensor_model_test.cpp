@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "fleetnav/core/angles.hpp"
 #include "fleetnav/localization/amcl.hpp"
@@ -22,6 +23,58 @@ TEST(LikelihoodFieldTest, DistanceIsExactAndOutsideIsFloor) {
   EXPECT_NEAR(field.DistanceM(0.0f, 5.87f), 0.0f, 1e-6f);
   EXPECT_LT(field.LogHit(100.0f, 0.0f), field.LogHit(0.0f, 5.87f));
   EXPECT_FLOAT_EQ(field.LogHit(0.0f, 5.87f), field.max_log_hit());
+}
+
+// The agent's field: end points within 5 cm (DefaultAgentAmclParams).
+LikelihoodFieldParams AgentFieldParams() {
+  LikelihoodFieldParams p;
+  p.sigma_hit_m = 0.05;
+  return p;
+}
+
+// A 6 x 4 m floor at 5 cm with a solid box over x in [3, 4] m (a feed kitchen, a shelf).
+OccupancyGrid FloorWithSolidBox() {
+  OccupancyGrid grid = *OccupancyGrid::Filled(120, 80, 0.05, Pose2(), 0);
+  for (int y = 0; y < 80; ++y) {
+    for (int x = 60; x < 80; ++x) grid.SetValue(CellIndex{x, y}, OccupancyGrid::kOccupiedValue);
+  }
+  return grid;
+}
+
+TEST(LikelihoodFieldTest, AnEndPointInsideASolidBoxIsAsFarFromAnEchoAsOneInFrontOfIt) {
+  const LikelihoodField field = *LikelihoodField::Create(FloorWithSolidBox(), AgentFieldParams());
+  // The faces are surfaces; the middle of the box is half a metre from either.
+  EXPECT_NEAR(field.DistanceM(3.01f, 2.0f), 0.0f, 1e-6f);
+  EXPECT_NEAR(field.DistanceM(3.99f, 2.0f), 0.0f, 1e-6f);
+  EXPECT_NEAR(field.DistanceM(3.5f, 2.0f), 0.475f, 0.03f);
+  // Three cells inside the face score as badly as three cells in front of it.
+  EXPECT_FLOAT_EQ(field.LogHit(3.175f, 2.0f), field.LogHit(2.875f, 2.0f));
+  EXPECT_LT(field.LogHit(3.175f, 2.0f), field.max_log_hit() - 3.0f);
+}
+
+TEST(LikelihoodFieldTest, AConeBeamFitsAnEchoFromOffItsAxis) {
+  // An ultrasonic 2.5 m from the box's face, its axis 25 degrees off the face's normal: the
+  // nearest surface in its 10 degree cone is 20 degrees off, 2.5 / cos 20 = 2.66 m away.
+  const LikelihoodField field = *LikelihoodField::Create(FloorWithSolidBox(), AgentFieldParams());
+  const double reading_m = 2.5 / std::cos(DegToRad(20.0));
+  RangeBeam beam{{0.0, 0.0}, DegToRad(25.0), reading_m, 4.0, false};
+  RangeObservation ray;
+  ray.beams.push_back(beam);
+  beam.cone_rad = DegToRad(10.0);
+  RangeObservation cone;
+  cone.beams.push_back(beam);
+  float x = 0.5f, y = 1.0f, yaw = 0.0f;
+  float ll_ray = 0.0f, ll_cone = 0.0f;
+  field.Accumulate(ray, &x, &y, &yaw, 1, &ll_ray);
+  field.Accumulate(cone, &x, &y, &yaw, 1, &ll_cone);
+  EXPECT_NEAR(ll_cone, field.max_log_hit(), 0.1f);  // the truth fits the cone's reading
+  EXPECT_LT(ll_ray, ll_cone - 1.0f);                // on the axis alone it reads 9 cm short
+  const std::vector<double> angles = BeamRayAngles(beam);
+  ASSERT_EQ(angles.size(), 11u);
+  EXPECT_NEAR(angles.front(), DegToRad(20.0), 1e-12);
+  EXPECT_NEAR(angles.back(), DegToRad(30.0), 1e-12);
+  beam.cone_rad = 0.0;
+  EXPECT_EQ(BeamRayAngles(beam), std::vector<double>{DegToRad(25.0)});
 }
 
 TEST(LikelihoodFieldTest, RejectsBadParamsAndRotatedMaps) {
@@ -80,6 +133,10 @@ TEST(FakeLaserTest, KeepsNoEchoBeams) {
   EXPECT_FALSE(obs.beams[0].no_echo);
   EXPECT_TRUE(obs.beams[1].no_echo);
   EXPECT_NEAR(obs.beams[0].angle_in_base_rad, kPi / 2.0, 1e-12);
+  const RangeObservation coned = *FakeLaserFromUltrasonics(readings, model, 2.5, DegToRad(10.0));
+  EXPECT_NEAR(coned.beams[0].cone_rad, DegToRad(10.0), 1e-12);
+  EXPECT_EQ(FakeLaserFromUltrasonics(readings, model, 2.5, -0.1).status().code(),
+            absl::StatusCode::kInvalidArgument);
   readings.push_back({"nope", 1.0, true});
   EXPECT_EQ(FakeLaserFromUltrasonics(readings, model, 2.5).status().code(),
             absl::StatusCode::kInvalidArgument);

@@ -7,7 +7,9 @@
 #include <limits>
 #include <random>
 
+#include "fleetnav/core/route.hpp"
 #include "fleetnav/robot_agent/laser_filters.hpp"
+#include "fleetnav/robot_agent/move_controller.hpp"
 #include "fleetnav/robot_agent/scan_features.hpp"
 #include "fleetnav/robot_agent/trolley_docking_controller.hpp"
 #include "fleetnav/robot_agent/trolley_recognition.hpp"
@@ -149,6 +151,84 @@ TEST(TrolleyRecognitionTest, FindsTheTrolleyAndItsDockFramesInANoisyScan) {
   EXPECT_NEAR(frames.approach.x_m(), 2.0, 1e-9);
   EXPECT_NEAR(frames.approach.y_m(), 1.0 - (0.48 + 0.02 + 0.394 + 0.25), 1e-9);
   EXPECT_NEAR(frames.approach.yaw_rad(), M_PI_2, 1e-9);
+}
+
+TEST(TrolleyRecognitionTest, APlatformUnderATrolleyLeavesThroughTheMiddleOfTheLegsAhead) {
+  // Just set down, the trolley stands up to 6 cm and 5° off the platform's centre; the laser
+  // (0.35 m ahead of the centre, 270°) sees the two legs ahead a third of a metre away.
+  const TrolleySpec spec;
+  const Pose2 laser_in_base(0.35, 0.0, 0.0);
+  int found = 0;
+  for (uint64_t seed = 1; seed <= 20; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const Pose2 trolley(0.06 * u(rng), 0.06 * u(rng), 0.087 * u(rng));
+    std::vector<Eigen::Vector2d> in_laser;
+    for (const Eigen::Vector2d& leg : Legs(trolley, spec)) {
+      in_laser.push_back(laser_in_base.Inverse().TransformPoint(leg));
+    }
+    // The median of three scans, as the move takes them standing.
+    TemporalMedianFilter median(3);
+    LaserScanSample scan;
+    for (uint64_t k = 0; k < 3; ++k) {
+      scan = median.Apply(Scan(in_laser, spec.leg_radius_m, kInf, 0.01, 100 * seed + k));
+    }
+    const std::optional<LegGate> gate =
+        FindLegGate(LegsAround(scan, laser_in_base, spec), Eigen::Vector2d(1.0, 0.0), spec, 0.2,
+                    20.0 * M_PI / 180.0);
+
+    if (!gate) continue;
+    ++found;
+    const Eigen::Vector2d middle = trolley.TransformPoint({0.5 * spec.leg_spacing_x_m, 0.0});
+    EXPECT_NEAR((gate->middle_m - middle).norm(), 0.0, 0.02) << seed;
+    EXPECT_NEAR(std::atan2(gate->direction.y(), gate->direction.x()), trolley.yaw_rad(), 0.035)
+        << seed;
+    // Backwards there is no gate in view (the legs behind are outside the laser's 270°).
+    EXPECT_FALSE(FindLegGate(LegsAround(scan, laser_in_base, spec), Eigen::Vector2d(-1.0, 0.0),
+                             spec, 0.2, 20.0 * M_PI / 180.0));
+  }
+  EXPECT_EQ(found, 20);
+  // Two legs of the wrong spacing are no gate; nor is a gate far off the move's line.
+  EXPECT_FALSE(FindLegGate({{0.5, -0.2}, {0.5, 0.2}}, {1.0, 0.0}, spec, 0.2, 0.35));
+  EXPECT_FALSE(FindLegGate({{0.5, 0.0}, {0.5, 0.66}}, {1.0, 0.0}, spec, 0.2, 0.35));
+}
+
+TEST(TrolleyLeavingTest, AMoveFromUnderATrolleyPassesBetweenItsLegsOnTheirMiddleLine) {
+  // The trolley set down 5 cm left of the platform's centre and 4° turned: moving straight out
+  // by its own heading the platform would pass 0.07 m off the legs' middle (0.09 m a side).
+  const TrolleySpec spec;
+  const Pose2 laser_in_base(0.35, 0.0, 0.0);
+  const Pose2 trolley(0.0, 0.05, 0.07);
+  std::vector<Eigen::Vector2d> in_laser;
+  for (const Eigen::Vector2d& leg : Legs(trolley, spec)) {
+    in_laser.push_back(laser_in_base.Inverse().TransformPoint(leg));
+  }
+  MoveController controller(MoveAction{1.3, 0.0, 0.15}, std::nullopt, MecanumPlatformModel(),
+                            MoveParams{}, spec);
+  constexpr double kDtS = 0.02;
+  Pose2 pose;
+  std::optional<Pose2> at_legs;  // the platform's pose in the trolley's frame at the legs' line
+  for (int tick = 0; tick < 5000; ++tick) {
+    ControlInput input;
+    input.pose_in_map = pose;
+    input.pose_in_odom = pose;
+    input.dt_s = kDtS;
+    input.perception.laser_in_base = laser_in_base;
+    if (tick % 5 == 0) input.perception.laser = Scan(in_laser, spec.leg_radius_m, kInf, 0.01, tick);
+    const ControlOutput out = controller.Step(input);
+    ASSERT_TRUE(out.failure.ok()) << out.failure;
+    if (out.done) break;
+    const Twist2& v = out.command;
+    const double c = std::cos(pose.yaw_rad()), s = std::sin(pose.yaw_rad());
+    pose = Pose2(pose.x_m() + (c * v.vx_mps - s * v.vy_mps) * kDtS,
+                 pose.y_m() + (s * v.vx_mps + c * v.vy_mps) * kDtS,
+                 pose.yaw_rad() + v.yaw_rate_radps * kDtS);
+    const Pose2 in_trolley = trolley.Inverse() * pose;
+    if (!at_legs && in_trolley.x_m() >= 0.5 * spec.leg_spacing_x_m) at_legs = in_trolley;
+  }
+  ASSERT_TRUE(at_legs.has_value());
+  EXPECT_NEAR(at_legs->y_m(), 0.0, 0.01);
+  EXPECT_NEAR(at_legs->yaw_rad(), 0.0, 0.02);
 }
 
 // A spurious leg 0.96 m in front of the trolley's near legs makes a three-leg look-alike with

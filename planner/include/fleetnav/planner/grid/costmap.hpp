@@ -49,6 +49,9 @@ class Costmap {
   double DistanceToObstacle_m(int x, int y) const;
   /// True when the footprint at cell (x, y) with yaw (grid frame) touches no obstacle.
   bool FootprintFree(int x, int y, double yaw_rad);
+  /// True when the footprint at cell (x, y) is free at some orientation bin: the cells a robot
+  /// can be in at all, which a heuristic over cells may pass without overstating the way.
+  bool AnyYawFree(int x, int y);
   /// The same for a continuous pose in the grid frame (metres from the grid's lower-left
   /// corner); the position is rounded to its cell.
   bool PoseFree(double x_m, double y_m, double yaw_rad);

@@ -33,7 +33,7 @@ struct SingleRobotPlannerParams {
 /// (fleetnavd): the lattice, for Ackermann models with CarLatticeParams (clearance costs, so
 /// that a car passes a gap in its middle along its axis, and Reeds-Shepp shots to the exact
 /// goal yaw), for omnidirectional ones with PlatformLatticeParams (clearance costs), for
-/// differential ones (the Lely) with the default LatticeParams.
+/// differential ones (the Lely) with DifferentialLatticeParams (clearance costs, no escape).
 SingleRobotPlannerParams NavigationPlannerParams(const RobotModel& model);
 
 /// The planner of `params.kind` for a robot model. InvalidArgument for bad params or model, or

@@ -90,6 +90,12 @@ struct LatticeParams {
 /// backing out of a touch, and the same expansion budget as the cars'.
 LatticeParams PlatformLatticeParams();
 
+/// The lattice for robots that turn in place and must not reverse (the Lely feeder in barns):
+/// clearance-weighted costs, so that a 2.3 m body turns in place where it has room — the goal's
+/// tolerance or a lane's width away from a fence — not at the edge of what the padding allows;
+/// no escape (backing out of a touch needs reversing); the same expansion budget.
+LatticeParams DifferentialLatticeParams();
+
 /// The lattice for car-like robots in tight places (box fields, gates): clearance-weighted
 /// costs, analytic Reeds-Shepp expansion to the exact goal pose, 32 heading bins, and arcs
 /// 1.3 times the minimum turning radius, backing out of a touch (escape_m 1 m), and an

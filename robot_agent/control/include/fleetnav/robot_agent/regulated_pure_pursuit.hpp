@@ -34,8 +34,10 @@ struct RegulatedPurePursuitParams {
 /// Path Tracking", Autonomous Robots 2023) for robots that turn in place and never reverse:
 /// adaptive lookahead, the speed regulated down on tight curvature and on the approach to the
 /// goal, rotation in place when the path turns away from the heading, and a final rotation to
-/// the goal's yaw. Respects the model's speed, yaw-rate and acceleration limits. Not
-/// thread-safe.
+/// the goal's yaw. A planned turn in place sharper than rotate_to_heading_rad is a stop: the
+/// lookahead ends there and the robot slows to it and turns where the plan turns. Turns in
+/// place (the final one onto the goal's yaw too) go the way the plan turns them. Respects the
+/// model's speed, yaw-rate and acceleration limits. Not thread-safe.
 class RegulatedPurePursuit : public PathTracker {
  public:
   RegulatedPurePursuit(RegulatedPurePursuitParams params, MotionLimits limits);
@@ -47,11 +49,18 @@ class RegulatedPurePursuit : public PathTracker {
   double cross_track_m() const override { return cross_track_m_; }
 
  private:
+  /// The first pose at or after `from` where the path turns in place by more than
+  /// rotate_to_heading_rad (the goal when there is none).
+  size_t NextSharpTurn(size_t from) const;
+  /// Whether the robot is where the turn in place starting at path pose `turn` is turned.
+  bool AtTurnPlace(const Pose2& pose, size_t turn) const;
+
   RegulatedPurePursuitParams params_;
   MotionLimits limits_;
   std::vector<Pose2> path_;
   std::vector<double> to_goal_m_;  ///< along-path distance from each pose to the goal
   size_t closest_ = 0;
+  double final_turn_rad_ = 0.0;  ///< the turn in place the path ends with (signed; 0: none)
   double last_speed_mps_ = 0.0;
   double remaining_m_ = 0.0;
   double cross_track_m_ = 0.0;

@@ -34,6 +34,13 @@ struct SamclLocalizerParams {
   OdometryFrontEndParams odometry;
   /// Range reported by an ultrasonic without echo (the fake laser's range_max).
   double ultrasonic_range_max_m = 2.5;
+  /// Opening angle of the ultrasonics' cone in the sensor model (RangeBeam::cone_rad); 0 (the
+  /// default, the thesis's fake laser): each ultrasonic is one ray. With the PIL P42's 10°
+  /// (thesis §4.3.1) an echo from 5° off the axis fits where it came from (on the axis alone a
+  /// wall met 25° off its normal 2.5 m out reads 8 cm short), but a fan of rays fits wrong
+  /// poses too: an estimate started 45° off then stayed plausible on the map and was never
+  /// declared lost (ClosedLoop.LostLocalizationStopsTheRobot), so it is off by default.
+  double ultrasonic_cone_rad = 0.0;
   /// false (default): an ultrasonic without echo is left out of the update (thesis eq. 5.2).
   bool ultrasonic_no_echo_is_evidence = false;
   /// Laser beams used per update (evenly sub-sampled; 0: all).

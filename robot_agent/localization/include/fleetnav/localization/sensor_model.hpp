@@ -22,7 +22,14 @@ struct RangeBeam {
   double range_m = 0.0;
   double range_max_m = 0.0;
   bool no_echo = false;
+  /// Opening angle of a cone-shaped beam (an ultrasonic), whose echo is the nearest surface
+  /// anywhere in the cone, not only on its axis; 0: a ray (a laser).
+  double cone_rad = 0.0;
 };
+
+/// The directions (in base_link) across a beam's cone at which its echo may have come from,
+/// at most a degree apart, the axis included; a ray has its axis alone.
+std::vector<double> BeamRayAngles(const RangeBeam& beam);
 
 /// The range readings of one update, from one or several sensors.
 struct RangeObservation {
@@ -37,12 +44,15 @@ RangeObservation ObservationFromLaser(const LaserScanSample& scan, const Pose2& 
 /// The "fake laser" of the Lely thesis §5.2 (eq. 5.2–5.4): each side ultrasonic becomes one
 /// beam. The thesis puts base_scan at the midpoint O of the two sensors and adds d/2 to each
 /// range; here each beam starts at its own mount, which is the same geometry without the
-/// approximation. Unlike eq. 5.2/5.4 (which write 0, i.e. drop the beam) a reading without
-/// echo is kept as a no-echo beam: evidence that the beam's path is free. Sensors are matched
-/// to mounts by name; readings with no mount are InvalidArgument.
+/// approximation, and each beam keeps the sensor's opening angle `cone_rad` (the thesis
+/// simulates its PIL P42 with 10°, §4.3.1): an echo 2.5 m out may come from 5° off the axis,
+/// where a wall met at an angle is 8 cm nearer than on it. Unlike eq. 5.2/5.4 (which write 0, i.e.
+/// drop the beam) a reading without echo is kept as a no-echo beam: evidence that the beam's path
+/// is free. Sensors are matched to mounts by name; readings with no mount are InvalidArgument.
 absl::StatusOr<RangeObservation> FakeLaserFromUltrasonics(const std::vector<RangeReading>& readings,
                                                           const RobotModel& model,
-                                                          double range_max_m);
+                                                          double range_max_m,
+                                                          double cone_rad = 0.0);
 
 /// Likelihood-field parameters (Probabilistic Robotics §6.4, Table 6.3). The field stores, per
 /// cell, log(z_hit·exp(−d²/2σ²) + z_rand/z_rand_range) for the distance d to the nearest

@@ -48,6 +48,30 @@ std::vector<Eigen::Vector2d> LegCandidates(const LaserScanSample& scan, const Po
 std::vector<TrolleyDetection> RecognizeTrolleys(const std::vector<Eigen::Vector2d>& legs,
                                                 const TrolleySpec& spec);
 
+/// The way out from under a trolley just set down (base_link): through the middle of the two
+/// legs ahead, along the normal of the line between them.
+struct LegGate {
+  Eigen::Vector2d middle_m;
+  Eigen::Vector2d direction;  ///< unit, away from the robot's centre
+};
+
+/// Leg candidates round a robot standing under a trolley (base_link): the clusters within the
+/// trolley's half-diagonal and 15 cm of the robot's centre no wider than `max_leg_extent_m`, fitted
+/// with a circle of the leg radius. Without LegCandidates' wall test: nothing but the trolley's
+/// legs stands that near, and at a third of a metre the noise bends a leg's arc into several
+/// segments, so the test dropped one leg of the pair in two.
+std::vector<Eigen::Vector2d> LegsAround(const LaserScanSample& scan, const Pose2& laser_in_base,
+                                        const TrolleySpec& spec);
+
+/// The pair of leg candidates a robot standing under a trolley leaves between when it moves in
+/// `move_direction` (base_link, unit): two legs a side's spacing apart (either side of the
+/// trolley, within the spec's tolerance), ahead of the robot's centre and within the trolley's
+/// half-diagonal and 15 cm of it, whose middle lies within `max_offset_m` of the move's line and
+/// whose normal is within `max_angle_rad` of the move. The best-centred pair; nullopt when none.
+std::optional<LegGate> FindLegGate(const std::vector<Eigen::Vector2d>& legs,
+                                   const Eigen::Vector2d& move_direction, const TrolleySpec& spec,
+                                   double max_offset_m, double max_angle_rad);
+
 /// Dock frames of a trolley for a robot (KUKA ch. 15): `approach` stands `standoff_m` in front
 /// of the trolley's near end, facing along its x axis; `final` is under its centre, same yaw.
 struct DockFrames {
