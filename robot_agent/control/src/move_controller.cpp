@@ -48,7 +48,7 @@ MoveController::MoveController(const MoveAction& move,
       entry_direction_(entry_direction),
       params_(params),
       tracker_(TrackerFor(move, params.tracker), model.limits),
-      leaving_trolley_(std::move(leaving_trolley)),
+      leaving_trolley_(leaving_trolley),
       median_(params.gate_scans) {}
 
 std::optional<LegGate> MoveController::Gate(const Pose2& laser_in_base) const {

@@ -17,26 +17,25 @@ absl::Status TrolleySpec::Validate() const {
   return shadow.Validate();
 }
 
-std::vector<Eigen::Vector2d> LegCandidates(const LaserScanSample& scan, const Pose2& laser_in_base,
-                                           const TrolleySpec& spec) {
+namespace {
+
+/// Leg-sized clusters of a scan fitted with a circle of the leg radius, in base_link; with
+/// `walls_out`, clusters the iterative end-point fit finds straight (a short piece of wall: a
+/// leg's arc is one segment no longer than it) are left out.
+std::vector<Eigen::Vector2d> LegCircles(const LaserScanSample& scan, const Pose2& laser_in_base,
+                                        const TrolleySpec& spec, bool walls_out) {
   const LaserScanSample clean = RemoveShadows(scan, spec.shadow);
   std::vector<Eigen::Vector2d> legs;
   for (const std::vector<Eigen::Vector2d>& cluster :
        ClusterPoints(ScanPoints(clean, laser_in_base), spec.cluster_gap_m)) {
-    const double extent = (cluster.back() - cluster.front()).norm();
-    if (extent > spec.max_leg_extent_m) continue;
-    // A short straight piece of wall is not a leg: a leg's arc is one segment no longer than it.
-    const std::vector<LineSegment> segments =
-        IterativeEndPointFit(cluster, 0.01, 5.0 * M_PI / 180.0);
-    if (segments.size() > 2) continue;
+    if ((cluster.back() - cluster.front()).norm() > spec.max_leg_extent_m) continue;
+    if (walls_out && IterativeEndPointFit(cluster, 0.01, 5.0 * M_PI / 180.0).size() > 2) continue;
     const std::optional<Circle> circle =
         FitCircleOfRadius(cluster, spec.leg_radius_m, laser_in_base.translation());
     if (circle) legs.push_back(circle->center_m);
   }
   return legs;
 }
-
-namespace {
 
 /// How far from a robot standing under a trolley its legs can be: the half-diagonal, and 15 cm
 /// for a trolley standing off the robot's centre.
@@ -46,17 +45,15 @@ double LegReachM(const TrolleySpec& spec) {
 
 }  // namespace
 
+std::vector<Eigen::Vector2d> LegCandidates(const LaserScanSample& scan, const Pose2& laser_in_base,
+                                           const TrolleySpec& spec) {
+  return LegCircles(scan, laser_in_base, spec, /*walls_out=*/true);
+}
+
 std::vector<Eigen::Vector2d> LegsAround(const LaserScanSample& scan, const Pose2& laser_in_base,
                                         const TrolleySpec& spec) {
-  const LaserScanSample clean = RemoveShadows(scan, spec.shadow);
-  std::vector<Eigen::Vector2d> legs;
-  for (const std::vector<Eigen::Vector2d>& cluster :
-       ClusterPoints(ScanPoints(clean, laser_in_base), spec.cluster_gap_m)) {
-    if ((cluster.back() - cluster.front()).norm() > spec.max_leg_extent_m) continue;
-    const std::optional<Circle> circle =
-        FitCircleOfRadius(cluster, spec.leg_radius_m, laser_in_base.translation());
-    if (circle && circle->center_m.norm() <= LegReachM(spec)) legs.push_back(circle->center_m);
-  }
+  std::vector<Eigen::Vector2d> legs = LegCircles(scan, laser_in_base, spec, /*walls_out=*/false);
+  std::erase_if(legs, [&](const Eigen::Vector2d& leg) { return leg.norm() > LegReachM(spec); });
   return legs;
 }
 

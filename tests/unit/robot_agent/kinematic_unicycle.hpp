@@ -36,4 +36,13 @@ class KinematicUnicycle {
   double yaw_rad_;
 };
 
+/// An ideal omnidirectional body for controller tests: `pose` moved by a body twist held for
+/// `dt_s` (Euler step at the start's yaw).
+inline Pose2 MovedOmni(const Pose2& pose, const Twist2& v, double dt_s) {
+  const double c = std::cos(pose.yaw_rad()), s = std::sin(pose.yaw_rad());
+  return Pose2(pose.x_m() + (c * v.vx_mps - s * v.vy_mps) * dt_s,
+               pose.y_m() + (s * v.vx_mps + c * v.vy_mps) * dt_s,
+               pose.yaw_rad() + v.yaw_rate_radps * dt_s);
+}
+
 }  // namespace fleetnav::agent::testing

@@ -9,6 +9,7 @@
 
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/robot_agent/mode_factory.hpp"
+#include "kinematic_unicycle.hpp"
 
 namespace fleetnav::agent {
 namespace {
@@ -25,11 +26,7 @@ Pose2 RunIdeal(MoveController& controller, Pose2 pose, int* ticks, double* max_y
     const ControlOutput out = controller.Step(input);
     EXPECT_TRUE(out.failure.ok()) << out.failure;
     if (out.done) break;
-    const Twist2& v = out.command;
-    const double c = std::cos(pose.yaw_rad()), s = std::sin(pose.yaw_rad());
-    pose = Pose2(pose.x_m() + (c * v.vx_mps - s * v.vy_mps) * kDtS,
-                 pose.y_m() + (s * v.vx_mps + c * v.vy_mps) * kDtS,
-                 pose.yaw_rad() + v.yaw_rate_radps * kDtS);
+    pose = testing::MovedOmni(pose, out.command, kDtS);
     if (max_y_m != nullptr) *max_y_m = std::max(*max_y_m, pose.y_m());
   }
   return pose;

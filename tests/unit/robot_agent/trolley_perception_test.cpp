@@ -13,6 +13,7 @@
 #include "fleetnav/robot_agent/scan_features.hpp"
 #include "fleetnav/robot_agent/trolley_docking_controller.hpp"
 #include "fleetnav/robot_agent/trolley_recognition.hpp"
+#include "kinematic_unicycle.hpp"
 
 namespace fleetnav::agent {
 namespace {
@@ -218,11 +219,7 @@ TEST(TrolleyLeavingTest, AMoveFromUnderATrolleyPassesBetweenItsLegsOnTheirMiddle
     const ControlOutput out = controller.Step(input);
     ASSERT_TRUE(out.failure.ok()) << out.failure;
     if (out.done) break;
-    const Twist2& v = out.command;
-    const double c = std::cos(pose.yaw_rad()), s = std::sin(pose.yaw_rad());
-    pose = Pose2(pose.x_m() + (c * v.vx_mps - s * v.vy_mps) * kDtS,
-                 pose.y_m() + (s * v.vx_mps + c * v.vy_mps) * kDtS,
-                 pose.yaw_rad() + v.yaw_rate_radps * kDtS);
+    pose = testing::MovedOmni(pose, out.command, kDtS);
     const Pose2 in_trolley = trolley.Inverse() * pose;
     if (!at_legs && in_trolley.x_m() >= 0.5 * spec.leg_spacing_x_m) at_legs = in_trolley;
   }
