@@ -92,15 +92,6 @@ absl::Status LatticeParams::Validate() const {
   return absl::OkStatus();
 }
 
-LatticeParams PlatformLatticeParams() {
-  LatticeParams p;
-  p.clearance_weight = 4.0;
-  p.preferred_clearance_m = 0.45;
-  p.escape_m = 1.0;
-  p.max_expansions = kNavigationExpansions;
-  return p;
-}
-
 LatticeParams DifferentialLatticeParams() {
   LatticeParams p;
   p.clearance_weight = 4.0;
@@ -109,15 +100,17 @@ LatticeParams DifferentialLatticeParams() {
   return p;
 }
 
+LatticeParams PlatformLatticeParams() {
+  LatticeParams p = DifferentialLatticeParams();
+  p.escape_m = 1.0;
+  return p;
+}
+
 LatticeParams CarLatticeParams() {
-  LatticeParams p;
+  LatticeParams p = PlatformLatticeParams();
   p.heading_bins = 32;
-  p.clearance_weight = 4.0;
-  p.preferred_clearance_m = 0.45;
   p.analytic_every = 8;
   p.turning_radius_factor = 1.3;
-  p.escape_m = 1.0;
-  p.max_expansions = kNavigationExpansions;
   return p;
 }
 

@@ -62,11 +62,21 @@ void RegulatedPurePursuit::SetPath(std::vector<Pose2> path) {
   to_goal_m_ = DistancesToGoal(path_);
   closest_ = 0;
   done_ = path_.empty();
-  // The turn in place the path ends with, if any.
+  // The turns in place: where the sharp ones start, and the one the path ends with (if any).
+  sharp_turns_.clear();
   final_turn_rad_ = 0.0;
-  for (size_t i = path_.size(); i >= 2; --i) {
-    if ((path_[i - 1].translation() - path_[i - 2].translation()).norm() >= kSamePlaceM) break;
-    final_turn_rad_ += AngleDifference(path_[i - 1].yaw_rad(), path_[i - 2].yaw_rad());
+  for (size_t i = 0; i + 1 < path_.size(); ++i) {
+    if ((path_[i + 1].translation() - path_[i].translation()).norm() >= kSamePlaceM) continue;
+    double turn_rad = 0.0;
+    size_t j = i;
+    while (j + 1 < path_.size() &&
+           (path_[j + 1].translation() - path_[i].translation()).norm() < kSamePlaceM) {
+      turn_rad += AngleDifference(path_[j + 1].yaw_rad(), path_[j].yaw_rad());
+      ++j;
+    }
+    if (std::abs(turn_rad) > params_.rotate_to_heading_rad) sharp_turns_.push_back(i);
+    if (j + 1 == path_.size()) final_turn_rad_ = turn_rad;
+    i = j - 1;  // the loop's ++i moves on to j
   }
 }
 
@@ -81,20 +91,8 @@ bool RegulatedPurePursuit::AtTurnPlace(const Pose2& pose, size_t turn) const {
 }
 
 size_t RegulatedPurePursuit::NextSharpTurn(size_t from) const {
-  for (size_t i = from; i + 1 < path_.size(); ++i) {
-    if ((path_[i + 1].translation() - path_[i].translation()).norm() >= kSamePlaceM) continue;
-    // A turn in place starts at i: add up its steps.
-    double turn_rad = 0.0;
-    size_t j = i;
-    while (j + 1 < path_.size() &&
-           (path_[j + 1].translation() - path_[i].translation()).norm() < kSamePlaceM) {
-      turn_rad += AngleDifference(path_[j + 1].yaw_rad(), path_[j].yaw_rad());
-      ++j;
-    }
-    if (std::abs(turn_rad) > params_.rotate_to_heading_rad) return i;
-    i = j - 1;  // the loop's ++i moves on to j
-  }
-  return path_.size() - 1;
+  const auto next = std::lower_bound(sharp_turns_.begin(), sharp_turns_.end(), from);
+  return next == sharp_turns_.end() ? path_.size() - 1 : *next;
 }
 
 Twist2 RegulatedPurePursuit::Step(const Pose2& pose, double dt_s) {

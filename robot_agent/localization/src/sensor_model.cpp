@@ -322,13 +322,17 @@ double BeamModel::LogLikelihood(double measured_m, double expected_m, double ran
 
 int BeamModel::Accumulate(const RangeObservation& observation, const float* x, const float* y,
                           const float* yaw, size_t n, float* log_weight) const {
+  std::vector<std::vector<double>> ray_angles;  // per beam, once for every particle
+  ray_angles.reserve(observation.beams.size());
+  for (const RangeBeam& beam : observation.beams) ray_angles.push_back(BeamRayAngles(beam));
   for (size_t i = 0; i < n; ++i) {
     const Pose2 pose(x[i], y[i], yaw[i]);
     double sum = 0.0;
-    for (const RangeBeam& beam : observation.beams) {
+    for (size_t b = 0; b < observation.beams.size(); ++b) {
+      const RangeBeam& beam = observation.beams[b];
       const Eigen::Vector2d origin = pose.TransformPoint(beam.origin_in_base);
       double expected = beam.range_max_m;  // the nearest surface in the cone echoes
-      for (double angle : BeamRayAngles(beam)) {
+      for (double angle : ray_angles[b]) {
         expected =
             std::min(expected, CastRay(grid_, origin, pose.yaw_rad() + angle, beam.range_max_m));
       }

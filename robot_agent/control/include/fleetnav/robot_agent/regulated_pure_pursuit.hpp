@@ -50,7 +50,7 @@ class RegulatedPurePursuit : public PathTracker {
 
  private:
   /// The first pose at or after `from` where the path turns in place by more than
-  /// rotate_to_heading_rad (the goal when there is none).
+  /// rotate_to_heading_rad (the goal when there is none), from the list SetPath made.
   size_t NextSharpTurn(size_t from) const;
   /// Whether the robot is where the turn in place starting at path pose `turn` is turned.
   bool AtTurnPlace(const Pose2& pose, size_t turn) const;
@@ -60,7 +60,8 @@ class RegulatedPurePursuit : public PathTracker {
   std::vector<Pose2> path_;
   std::vector<double> to_goal_m_;  ///< along-path distance from each pose to the goal
   size_t closest_ = 0;
-  double final_turn_rad_ = 0.0;  ///< the turn in place the path ends with (signed; 0: none)
+  std::vector<size_t> sharp_turns_;  ///< where turns sharper than rotate_to_heading_rad start
+  double final_turn_rad_ = 0.0;      ///< the turn in place the path ends with (signed; 0: none)
   double last_speed_mps_ = 0.0;
   double remaining_m_ = 0.0;
   double cross_track_m_ = 0.0;
