@@ -241,7 +241,7 @@ TEST(ReplicaTest, EveryReplicaServesTheSiteAndTheLeaderKilledIsReplaced) {
   again->context.TryCancel();
 }
 
-// The two-robot barn on three replicas, the leader killed while lely1 drives and lely2 waits
+// The two-robot barn on three replicas, the leader killed while lely2 drives and lely1 waits
 // for it: judged by the simulator's ground truth, both rounds end without contact and the
 // robots never came closer than the coordination allows, so no robot was cleared into the
 // other's way across the takeover; each job is one job.

@@ -234,9 +234,12 @@ absl::Status SamclLocalizer::Update(const SensorFrame& frame) {
     const Pose2 estimate = samcl_.amcl().PoseInMap(odom);
     std::erase_if(observation->beams, [&](const RangeBeam& beam) {
       if (beam.no_echo) return false;
-      const double expected_m =
-          CastRay(*map_, estimate.TransformPoint(beam.origin_in_base),
-                  estimate.yaw_rad() + beam.angle_in_base_rad, beam.range_max_m);
+      // Cast past the sensor's reach by the margin: an echo where the map holds nothing within
+      // reach and the margin beyond it (a robot parked 2.3 m off the track across open floor)
+      // is something unmapped, not a reading the map fails to explain.
+      const double expected_m = CastRay(*map_, estimate.TransformPoint(beam.origin_in_base),
+                                        estimate.yaw_rad() + beam.angle_in_base_rad,
+                                        beam.range_max_m + params_.unmapped_obstacle_margin_m);
       return beam.range_m < expected_m - params_.unmapped_obstacle_margin_m;
     });
   }

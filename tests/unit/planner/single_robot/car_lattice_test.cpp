@@ -1,11 +1,14 @@
-// The lattice planner for cars in tight places (CarLatticeParams): the body's clearance, a gap
-// passed in its middle along its axis, and the exact goal yaw by the analytic expansion.
+// The lattice presets of free navigation: for cars in tight places (CarLatticeParams) the
+// body's clearance, a gap passed in its middle along its axis, and the exact goal yaw by the
+// analytic expansion; for platforms a heuristic that knows where the body fits; for the Lely
+// (DifferentialLatticeParams) coastal costs that keep a way across open floor near a wall.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/planner/grid/body_clearance.hpp"
 #include "fleetnav/planner/single_robot/planner_factory.hpp"
@@ -208,12 +211,108 @@ TEST(PlatformLatticeTest, AGapTheInscribedCircleFitsAndTheBodyDoesNotDoesNotDraw
   EXPECT_LT(path.expanded, 100'000);
 }
 
+TEST(PlatformLatticeTest, ACarriedTrolleyPassesANarrowAisleAlongItFromAnyStartYaw) {
+  // A 1.03 m aisle across the hall (a shelf aisle beside another trolley): a platform carrying
+  // a 1.0 x 0.7 m trolley, 0.9 m wide padded, fits it along its axis and not 6° off it. It
+  // starts at 73.5°, which whole heading bins of 22.5° never bring to 0° or 180°.
+  OccupancyGrid grid =
+      OccupancyGrid::Filled(400, 240, kResolutionM, Pose2(), OccupancyGrid::kFreeValue).value();
+  for (int y = 0; y < grid.height(); ++y) {
+    for (int x = 0; x < grid.width(); ++x) {
+      const Eigen::Vector2d c = grid.CellToWorld({x, y});
+      if (c.x() > 7.0 && c.x() < 13.0 && std::abs(c.y() - 6.0) > 0.515) {
+        grid.SetValue({x, y}, OccupancyGrid::kOccupiedValue);
+      }
+    }
+  }
+  const RobotModel carrying = MecanumPlatformModel().CarryingLoad(Eigen::Vector2d(1.0, 0.7));
+  Costmap costmap = CostmapOf(grid, carrying);
+  LatticePlanner planner(&costmap, carrying, PlatformLatticeParams());
+  PathRequest request;
+  request.start = Pose2(4.0, 6.0, DegToRad(73.5));
+  request.goal = Pose2(16.0, 6.0, DegToRad(73.5));
+  request.time_limit_s = 60.0;
+  const PathResult path = planner.Plan(request).value();
+  EXPECT_TRUE(path.exact);
+  EXPECT_LT(path.length_m, 13.0);
+  EXPECT_LT(path.expanded, 500'000);
+  for (const Pose2& p : path.poses) {
+    if (p.x_m() > 7.0 && p.x_m() < 13.0) {
+      EXPECT_NEAR(std::abs(std::remainder(p.yaw_rad(), M_PI)), 0.0, 1e-6) << p.DebugString();
+    }
+  }
+}
+
+/// The share of a path's length along which base_link is farther than `reach_m` from every
+/// obstacle (measured every 5 cm).
+double ShareBeyondReach(const PathResult& path, const Costmap& costmap, double reach_m) {
+  double beyond_m = 0.0, total_m = 0.0;
+  for (size_t i = 1; i < path.poses.size(); ++i) {
+    const Eigen::Vector2d a = path.poses[i - 1].translation(), b = path.poses[i].translation();
+    const double length_m = (b - a).norm();
+    const int steps = std::max(1, static_cast<int>(std::ceil(length_m / kResolutionM)));
+    for (int k = 0; k < steps; ++k) {
+      const Eigen::Vector2d p = a + (b - a) * ((k + 0.5) / steps);
+      const int cx = static_cast<int>(p.x() / kResolutionM),
+                cy = static_cast<int>(p.y() / kResolutionM);
+      if (costmap.DistanceToObstacle_m(cx, cy) > reach_m) beyond_m += length_m / steps;
+    }
+    total_m += length_m;
+  }
+  return total_m > 0.0 ? beyond_m / total_m : 0.0;
+}
+
+TEST(DifferentialLatticeTest, AWayAcrossAnOpenBarnKeepsAWallWithinTheUltrasonicsReach) {
+  // A 30 x 16 m barn with nothing in it but its walls; the Lely crosses it 4.5 m from the south
+  // wall, beyond its side ultrasonics' 2.5 m, where its localization would only dead-reckon.
+  OccupancyGrid grid =
+      OccupancyGrid::Filled(600, 320, kResolutionM, Pose2(), OccupancyGrid::kFreeValue).value();
+  for (int y = 0; y < grid.height(); ++y) {
+    for (int x = 0; x < grid.width(); ++x) {
+      if (x < 2 || y < 2 || x >= grid.width() - 2 || y >= grid.height() - 2) {
+        grid.SetValue({x, y}, OccupancyGrid::kOccupiedValue);
+      }
+    }
+  }
+  const RobotModel lely = LelyVectorModel();
+  Costmap costmap = CostmapOf(grid, lely);
+  PathRequest request;
+  request.start = Pose2(3.0, 4.5, 0.0);
+  request.goal = Pose2(27.0, 4.5, 0.0);
+  request.time_limit_s = 30.0;
+  const double reach_m = DifferentialLatticeParams().coast_reach_m;
+  EXPECT_NEAR(reach_m, 2.5, 1e-9);
+
+  LatticePlanner coastal(&costmap, lely, DifferentialLatticeParams());
+  const PathResult near_wall = coastal.Plan(request).value();
+  EXPECT_TRUE(near_wall.exact);
+  // Down to the wall's reach and along it: most of the way within reach, for a little more way.
+  EXPECT_LT(ShareBeyondReach(near_wall, costmap, reach_m), 0.35);
+  EXPECT_LT(near_wall.length_m, 24.0 * 1.15);
+  // It ends on the goal's place within 5 cm, not the request's 15 cm: the tracker ends there.
+  EXPECT_NEAR(request.goal_tolerance_m, 0.15, 1e-9);
+  EXPECT_LE((near_wall.poses.back().translation() - request.goal.translation()).norm(), 0.05);
+
+  // Without coastal costs the same search goes straight over the open floor.
+  LatticeParams no_coast = DifferentialLatticeParams();
+  no_coast.coastal_weight = 0.0;
+  LatticePlanner straight(&costmap, lely, no_coast);
+  EXPECT_GT(ShareBeyondReach(straight.Plan(request).value(), costmap, reach_m), 0.9);
+
+  no_coast.coastal_weight = -1.0;
+  EXPECT_EQ(no_coast.Validate().code(), absl::StatusCode::kInvalidArgument);
+}
+
 TEST(NavigationPlannerParamsTest, EveryKindGetsItsLattice) {
   EXPECT_EQ(NavigationPlannerParams(AckermannDeliveryModel()).kind, PlannerKind::kLattice);
   EXPECT_GT(NavigationPlannerParams(AckermannDeliveryModel()).lattice.clearance_weight, 0.0);
   EXPECT_GT(NavigationPlannerParams(LelyVectorModel()).lattice.clearance_weight, 0.0);
   EXPECT_EQ(NavigationPlannerParams(LelyVectorModel()).lattice.escape_m, 0.0);  // never reverses
   EXPECT_EQ(NavigationPlannerParams(MecanumPlatformModel()).lattice.analytic_every, 0);
+  // Coastal costs for the Lely's short-range ultrasonics alone: the others see with a laser.
+  EXPECT_GT(NavigationPlannerParams(LelyVectorModel()).lattice.coastal_weight, 0.0);
+  EXPECT_EQ(NavigationPlannerParams(MecanumPlatformModel()).lattice.coastal_weight, 0.0);
+  EXPECT_EQ(NavigationPlannerParams(AckermannDeliveryModel()).lattice.coastal_weight, 0.0);
 }
 
 }  // namespace

@@ -63,6 +63,20 @@ struct LatticeParams {
   /// its axis. 0 (the default): length alone. ≥ 0.
   double clearance_weight = 0.0;
   double preferred_clearance_m = 0.5;  ///< > 0
+  /// Coastal navigation (Roy, Burgard, Fox and Thrun, "Coastal Navigation — Mobile Robot
+  /// Navigation with Uncertainty in Dynamic Environments", ICRA 1999): where base_link is
+  /// farther than coast_reach_m from every obstacle, out of the reach of short-range sensors
+  /// and localized by dead reckoning alone, each metre of a primitive costs up to
+  /// coastal_weight more (rising over the first metre past the reach), so a long way over open
+  /// floor keeps a wall or a fence within the sensors' reach where that costs little extra
+  /// length. 0 (the default): off. ≥ 0.
+  double coastal_weight = 0.0;
+  double coast_reach_m = 2.5;  ///< > 0
+  /// A robot that turns in place can end on its goal's place closely: the search looks for an
+  /// end within this of the goal's place, for up to 1 m of cost more than the first end within
+  /// the request's goal_tolerance_m, which it takes when it finds none (on a coarse map there
+  /// may be none). 0 (the default): the request's tolerance alone. ≥ 0.
+  double goal_place_tolerance_m = 0.0;
   /// Ackermann models: every analytic_every-th expansion within analytic_range_m of the goal,
   /// try the shortest Reeds-Shepp curve (Dubins without reversing) to the goal itself and end
   /// the search with it when it is free and keeps analytic_min_clearance_m (or as much as the
@@ -87,13 +101,17 @@ struct LatticeParams {
 
 /// The lattice for omnidirectional platforms in stores: clearance-weighted costs, so that a
 /// path rounds the end of a shelf row and passes trolleys with room to spare where there is room;
-/// backing out of a touch, and the same expansion budget as the cars'.
+/// no coastal costs (a laser sees the store); backing out of a touch, and the same expansion
+/// budget as the cars'.
 LatticeParams PlatformLatticeParams();
 
 /// The lattice for robots that turn in place and must not reverse (the Lely feeder in barns):
 /// clearance-weighted costs, so that a 2.3 m body turns in place where it has room — the goal's
 /// tolerance or a lane's width away from a fence — not at the edge of what the padding allows;
-/// no escape (backing out of a touch needs reversing); the same expansion budget.
+/// coastal costs beyond its side ultrasonics' 2.5 m, so that a way across the barn follows a
+/// fence or a wall the localization can see rather than dead-reckoning over open floor; plain
+/// A* (heuristic weight 1); the goal's place within 5 cm (the tracker ends within as much); no
+/// escape (backing out of a touch needs reversing); the same expansion budget.
 LatticeParams DifferentialLatticeParams();
 
 /// The lattice for car-like robots in tight places (box fields, gates): clearance-weighted
@@ -109,11 +127,12 @@ LatticeParams CarLatticeParams();
 /// in place, never reversing when the model's max_reverse_speed_mps is 0 (the Lely robot);
 /// omnidirectional moves in 8 directions at any yaw and turns in place; Ackermann drives arcs of
 /// the minimum turning radius wheelbase / tan(max_steering) and straights, forward and (if the
-/// model allows) backward. Every primitive is checked against the costmap's footprint test
-/// every half cell. With LatticeParams::clearance_weight its cost grows as the body nears
-/// obstacles, and with analytic_every an Ackermann search ends on the shortest Reeds-Shepp
-/// curve to the exact goal (Dolgov et al.'s analytic expansion). Holds a pointer to the
-/// costmap, which must outlive it. Not thread-safe.
+/// model allows) backward. Turns in place end on heading bins' centres, the first one from any
+/// start yaw, so every search can line up with the map's axes. Every primitive is checked against
+/// the costmap's footprint test every half cell. With LatticeParams::clearance_weight its cost
+/// grows as the body nears obstacles, and with analytic_every an Ackermann search ends on the
+/// shortest Reeds-Shepp curve to the exact goal (Dolgov et al.'s analytic expansion). Holds a
+/// pointer to the costmap, which must outlive it. Not thread-safe.
 class LatticePlanner : public SingleRobotPlanner {
  public:
   LatticePlanner(Costmap* costmap, const RobotModel& model, const LatticeParams& params);
@@ -131,6 +150,14 @@ class LatticePlanner : public SingleRobotPlanner {
   static Pose2 Apply(const Pose2& from, const Primitive& p, double fraction);
   /// The cost multiplier of a body clearance (LatticeParams::clearance_weight).
   double ClearanceFactor(double clearance_m) const;
+  /// A turn in place from `yaw_rad` turns onto the next heading bin's centre that way (a whole
+  /// bin from a centre), so that a search from any start yaw reaches the yaws of the map's axes:
+  /// a platform carrying a trolley fits a shelf aisle beside another trolley at 0° and not 6°
+  /// off it, where a start yaw plus whole bins had left it. Moves are returned as they are.
+  Primitive OntoHeadingBins(double yaw_rad, const Primitive& p) const;
+  /// The extra cost per metre with base_link this far from the nearest obstacle
+  /// (LatticeParams::coastal_weight).
+  double CoastExtra(double obstacle_distance_m) const;
   /// The analytic expansion from `from` to `goal` (poses after `from`, the goal last), or
   /// empty when the curve collides or passes closer to obstacles than allowed.
   std::vector<Pose2> AnalyticShot(const Pose2& from, const Pose2& goal);

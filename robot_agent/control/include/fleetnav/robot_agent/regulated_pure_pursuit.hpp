@@ -24,8 +24,9 @@ struct RegulatedPurePursuitParams {
   /// Rotate in place (v = 0) while the lookahead point is more than this off the heading.
   double rotate_to_heading_rad = 0.6;
   double heading_gain_radps_per_rad = 1.0;
-  /// The goal is reached within these tolerances.
-  double goal_tolerance_m = 0.1;
+  /// The goal is reached within these tolerances (the Lely's lattice ends its paths within
+  /// 5 cm of the goal's place, DifferentialLatticeParams).
+  double goal_tolerance_m = 0.05;
   double goal_tolerance_rad = 0.03;
   absl::Status Validate() const;
 };
