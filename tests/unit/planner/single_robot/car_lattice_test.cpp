@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 #include "fleetnav/core/angles.hpp"
@@ -19,20 +20,29 @@ namespace {
 
 constexpr double kResolutionM = 0.05;
 
-/// A 20 x 12 m yard with a north-south row of 0.6 m boxes at x = 10 m whose one gap, centred at
-/// y = `gap_centre_m`, is `gap_m` wide; the rest of the row is closed.
-OccupancyGrid RowWithOneGap(double gap_m, double gap_centre_m) {
+/// A grid of `width` x `height` cells of 5 cm whose cells are occupied where `occupied` holds
+/// for their centre (metres from the grid's corner).
+OccupancyGrid GridWhere(int width, int height,
+                        const std::function<bool(const Eigen::Vector2d&)>& occupied) {
   OccupancyGrid grid =
-      OccupancyGrid::Filled(400, 240, kResolutionM, Pose2(), OccupancyGrid::kFreeValue).value();
+      OccupancyGrid::Filled(width, height, kResolutionM, Pose2(), OccupancyGrid::kFreeValue)
+          .value();
   for (int y = 0; y < grid.height(); ++y) {
     for (int x = 0; x < grid.width(); ++x) {
-      const Eigen::Vector2d c = grid.CellToWorld({x, y});
-      const bool in_row = std::abs(c.x() - 10.0) <= 0.3;
-      const bool in_gap = std::abs(c.y() - gap_centre_m) < 0.5 * gap_m;
-      if (in_row && !in_gap) grid.SetValue({x, y}, OccupancyGrid::kOccupiedValue);
+      if (occupied(grid.CellToWorld({x, y}))) grid.SetValue({x, y}, OccupancyGrid::kOccupiedValue);
     }
   }
   return grid;
+}
+
+/// A 20 x 12 m yard with a north-south row of 0.6 m boxes at x = 10 m whose one gap, centred at
+/// y = `gap_centre_m`, is `gap_m` wide; the rest of the row is closed.
+OccupancyGrid RowWithOneGap(double gap_m, double gap_centre_m) {
+  return GridWhere(400, 240, [&](const Eigen::Vector2d& c) {
+    const bool in_row = std::abs(c.x() - 10.0) <= 0.3;
+    const bool in_gap = std::abs(c.y() - gap_centre_m) < 0.5 * gap_m;
+    return in_row && !in_gap;
+  });
 }
 
 Costmap CostmapOf(const OccupancyGrid& grid, const RobotModel& model) {
@@ -186,16 +196,9 @@ TEST(PlatformLatticeTest, AGapTheInscribedCircleFitsAndTheBodyDoesNotDoesNotDraw
   // A store: a shelf row across the hall at x = 10 m with a 0.6 m gap at y = 3 m (the space
   // between a trolley's legs): the platform's padded inscribed circle passes it, its 0.68 m
   // padded width does not at any yaw. The way round the row's north end is twice as long.
-  OccupancyGrid grid =
-      OccupancyGrid::Filled(400, 240, kResolutionM, Pose2(), OccupancyGrid::kFreeValue).value();
-  for (int y = 0; y < grid.height(); ++y) {
-    for (int x = 0; x < grid.width(); ++x) {
-      const Eigen::Vector2d c = grid.CellToWorld({x, y});
-      if (std::abs(c.x() - 10.0) <= 0.3 && c.y() < 10.0 && std::abs(c.y() - 3.0) >= 0.3) {
-        grid.SetValue({x, y}, OccupancyGrid::kOccupiedValue);
-      }
-    }
-  }
+  const OccupancyGrid grid = GridWhere(400, 240, [](const Eigen::Vector2d& c) {
+    return std::abs(c.x() - 10.0) <= 0.3 && c.y() < 10.0 && std::abs(c.y() - 3.0) >= 0.3;
+  });
   const RobotModel platform = MecanumPlatformModel();
   Costmap costmap = CostmapOf(grid, platform);
   LatticePlanner planner(&costmap, platform, PlatformLatticeParams());
@@ -215,16 +218,9 @@ TEST(PlatformLatticeTest, ACarriedTrolleyPassesANarrowAisleAlongItFromAnyStartYa
   // A 1.03 m aisle across the hall (a shelf aisle beside another trolley): a platform carrying
   // a 1.0 x 0.7 m trolley, 0.9 m wide padded, fits it along its axis and not 6° off it. It
   // starts at 73.5°, which whole heading bins of 22.5° never bring to 0° or 180°.
-  OccupancyGrid grid =
-      OccupancyGrid::Filled(400, 240, kResolutionM, Pose2(), OccupancyGrid::kFreeValue).value();
-  for (int y = 0; y < grid.height(); ++y) {
-    for (int x = 0; x < grid.width(); ++x) {
-      const Eigen::Vector2d c = grid.CellToWorld({x, y});
-      if (c.x() > 7.0 && c.x() < 13.0 && std::abs(c.y() - 6.0) > 0.515) {
-        grid.SetValue({x, y}, OccupancyGrid::kOccupiedValue);
-      }
-    }
-  }
+  const OccupancyGrid grid = GridWhere(400, 240, [](const Eigen::Vector2d& c) {
+    return c.x() > 7.0 && c.x() < 13.0 && std::abs(c.y() - 6.0) > 0.515;
+  });
   const RobotModel carrying = MecanumPlatformModel().CarryingLoad(Eigen::Vector2d(1.0, 0.7));
   Costmap costmap = CostmapOf(grid, carrying);
   LatticePlanner planner(&costmap, carrying, PlatformLatticeParams());
@@ -265,15 +261,9 @@ double ShareBeyondReach(const PathResult& path, const Costmap& costmap, double r
 TEST(DifferentialLatticeTest, AWayAcrossAnOpenBarnKeepsAWallWithinTheUltrasonicsReach) {
   // A 30 x 16 m barn with nothing in it but its walls; the Lely crosses it 4.5 m from the south
   // wall, beyond its side ultrasonics' 2.5 m, where its localization would only dead-reckon.
-  OccupancyGrid grid =
-      OccupancyGrid::Filled(600, 320, kResolutionM, Pose2(), OccupancyGrid::kFreeValue).value();
-  for (int y = 0; y < grid.height(); ++y) {
-    for (int x = 0; x < grid.width(); ++x) {
-      if (x < 2 || y < 2 || x >= grid.width() - 2 || y >= grid.height() - 2) {
-        grid.SetValue({x, y}, OccupancyGrid::kOccupiedValue);
-      }
-    }
-  }
+  const OccupancyGrid grid = GridWhere(600, 320, [](const Eigen::Vector2d& c) {
+    return c.x() < 0.1 || c.y() < 0.1 || c.x() > 29.9 || c.y() > 15.9;  // walls 2 cells thick
+  });
   const RobotModel lely = LelyVectorModel();
   Costmap costmap = CostmapOf(grid, lely);
   PathRequest request;
