@@ -108,10 +108,22 @@ absl::Status LatticeParams::Validate() const {
   return absl::OkStatus();
 }
 
-LatticeParams DifferentialLatticeParams() {
+namespace {
+
+/// What every navigation preset shares: clearance costs (w 4, c* 0.45 m) and the expansion
+/// budget that ends a fruitless search before any wall-time limit does.
+LatticeParams NavigationLatticeParams() {
   LatticeParams p;
   p.clearance_weight = 4.0;
   p.preferred_clearance_m = 0.45;
+  p.max_expansions = kNavigationExpansions;
+  return p;
+}
+
+}  // namespace
+
+LatticeParams DifferentialLatticeParams() {
+  LatticeParams p = NavigationLatticeParams();
   p.coastal_weight = 1.0;
   p.coast_reach_m = kLelyUltrasonicReachM;
   // Plain A*: with the coastal costs in its heuristic the search stays small (under 10,000
@@ -119,15 +131,11 @@ LatticeParams DifferentialLatticeParams() {
   // floor for a 17 m way along a fence.
   p.heuristic_weight = 1.0;
   p.goal_place_tolerance_m = 0.05;
-  p.max_expansions = kNavigationExpansions;
   return p;
 }
 
 LatticeParams PlatformLatticeParams() {
-  LatticeParams p = DifferentialLatticeParams();
-  p.coastal_weight = 0.0;
-  p.heuristic_weight = 1.5;
-  p.goal_place_tolerance_m = 0.0;
+  LatticeParams p = NavigationLatticeParams();
   p.escape_m = 1.0;
   return p;
 }
