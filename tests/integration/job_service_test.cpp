@@ -354,6 +354,7 @@ v1::PlanPathsResponse PlanTwoOnTheBarn(v1::FleetService::Stub& fleet,
   grpc::ClientContext context;
   v1::PlanPathsRequest request;
   request.set_map_id("barn");
+  request.set_time_limit_s(20.0);  // a safety net: the kinematic planner's budget is work
   *request.add_agents() = first;
   *request.add_agents() = second;
   v1::PlanPathsResponse response;

@@ -299,18 +299,21 @@ Overlap FirstOverlap(const std::vector<RobotSpace>& spaces,
 // Conflict-based search (Sharon et al., AIJ 2015) over the robots' own state spaces: a node
 // forbids robots single (cell, half step) pairs; an overlap of robots a and b on cell c at half
 // step h splits into "a not on c at h" and "b not on c at h". Best-first on the sum of arrival
-// steps, fewer overlaps first on ties. Returns the paths, or empty when the deadline passes or
-// the node cap is reached.
-std::vector<std::vector<int>> ConflictBasedSearch(const std::vector<RobotSpace>& spaces,
-                                                  const std::vector<int>& starts, int max_steps,
-                                                  std::chrono::steady_clock::time_point deadline,
-                                                  std::stop_token stop) {
+// steps, fewer overlaps first on ties. The budget is work (`max_nodes` high-level nodes), so the
+// outcome does not depend on the machine's load; the deadline is only a safety net.
+struct CbsOutcome {
+  std::vector<std::vector<int>> paths;  ///< empty unless solved
+  bool interrupted = false;             ///< the deadline passed or a stop was requested
+};
+CbsOutcome ConflictBasedSearch(const std::vector<RobotSpace>& spaces,
+                               const std::vector<int>& starts, int max_steps, size_t max_nodes,
+                               std::chrono::steady_clock::time_point deadline,
+                               std::stop_token stop) {
   struct Node {
     std::vector<std::vector<int>> paths;
     std::vector<std::vector<std::pair<int, int>>> constraints;
     int64_t cost = 0;
   };
-  constexpr size_t kMaxNodes = 20000;
   const int n = static_cast<int>(spaces.size());
   // The low level avoids the other robots' current paths where that costs nothing.
   auto plan_robot = [&](int i, const std::vector<std::pair<int, int>>& constraints,
@@ -333,12 +336,14 @@ std::vector<std::vector<int>> ConflictBasedSearch(const std::vector<RobotSpace>&
   using Entry = std::pair<int64_t, int>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> open;
   open.push({nodes[0].cost, 0});
-  while (!open.empty() && nodes.size() < kMaxNodes) {
-    if (stop.stop_requested() || std::chrono::steady_clock::now() > deadline) return {};
+  while (!open.empty() && nodes.size() < max_nodes) {
+    if (stop.stop_requested() || std::chrono::steady_clock::now() > deadline) {
+      return {{}, true};
+    }
     const int id = open.top().second;
     open.pop();
     const Overlap o = FirstOverlap(spaces, nodes[id].paths);
-    if (o.a < 0) return nodes[id].paths;
+    if (o.a < 0) return {std::move(nodes[id].paths), false};
     for (int robot : {o.a, o.b}) {
       Node child = nodes[id];
       child.constraints[robot].push_back({o.cell, o.half_step});
@@ -467,8 +472,10 @@ absl::Status ValidateKinematicPlan(const KinematicMapfProblem& problem,
 absl::StatusOr<KinematicMapfPlan> PlanKinematicMapf(const KinematicMapfProblem& problem,
                                                     const KinematicMapfParams& params,
                                                     std::stop_token stop) {
-  if (!(params.time_limit_s > 0.0) || params.max_steps <= 0) {
-    return absl::InvalidArgumentError("params: time_limit_s and max_steps must be > 0");
+  if (!(params.time_limit_s > 0.0) || params.max_steps <= 0 || params.cbs_max_nodes < 0 ||
+      params.max_priority_orders <= 0) {
+    return absl::InvalidArgumentError(
+        "params: time_limit_s, max_steps and max_priority_orders must be > 0, cbs_max_nodes >= 0");
   }
   if (absl::Status s = problem.Validate(); !s.ok()) return s;
   using Clock = std::chrono::steady_clock;
@@ -489,14 +496,22 @@ absl::StatusOr<KinematicMapfPlan> PlanKinematicMapf(const KinematicMapfProblem& 
           absl::StrCat("robots[", i, "].goal: unreachable for its motion model"));
     }
   }
-  // Few robots: conflict-based search with half the budget first; it solves the tight
-  // puzzles (a swap through a bay) that prioritized planning cannot.
-  if (n <= kCbsMaxRobots) {
-    const auto deadline = t0 + std::chrono::duration_cast<Clock::duration>(
-                                   std::chrono::duration<double>(params.time_limit_s / 2));
-    const std::vector<std::vector<int>> paths =
-        ConflictBasedSearch(spaces, starts, params.max_steps, deadline, stop);
-    if (!paths.empty()) {
+  const auto deadline = t0 + std::chrono::duration_cast<Clock::duration>(
+                                 std::chrono::duration<double>(params.time_limit_s));
+  auto out_of_time = [&](int attempts) -> absl::Status {
+    if (stop.stop_requested()) return absl::CancelledError("kinematic mapf: stopped");
+    return absl::DeadlineExceededError(absl::StrCat("kinematic mapf: no plan within ",
+                                                    params.time_limit_s, " s (", attempts,
+                                                    " priority orders tried)"));
+  };
+  // Few robots: conflict-based search first; it solves the tight puzzles (a swap through a bay)
+  // that prioritized planning cannot.
+  if (n <= kCbsMaxRobots && params.cbs_max_nodes > 0) {
+    CbsOutcome cbs = ConflictBasedSearch(spaces, starts, params.max_steps,
+                                         static_cast<size_t>(params.cbs_max_nodes), deadline, stop);
+    if (cbs.interrupted) return out_of_time(0);
+    if (!cbs.paths.empty()) {
+      const std::vector<std::vector<int>>& paths = cbs.paths;
       KinematicMapfPlan plan;
       plan.states.resize(n);
       for (int i = 0; i < n; ++i) {
@@ -514,12 +529,12 @@ absl::StatusOr<KinematicMapfPlan> PlanKinematicMapf(const KinematicMapfProblem& 
   HalfStepReservations res;
   std::vector<int> here, there;
   for (int attempt = 0;; ++attempt) {
-    if (stop.stop_requested()) return absl::CancelledError("kinematic mapf: stopped");
-    if (std::chrono::duration<double>(Clock::now() - t0).count() > params.time_limit_s) {
-      return absl::DeadlineExceededError(absl::StrCat("kinematic mapf: no plan within ",
-                                                      params.time_limit_s, " s (", attempt,
-                                                      " priority orders tried)"));
+    if (attempt == params.max_priority_orders) {
+      return absl::ResourceExhaustedError(
+          absl::StrCat("kinematic mapf: no plan in ", params.cbs_max_nodes,
+                       " conflict-based search nodes and ", attempt, " priority orders"));
     }
+    if (stop.stop_requested() || Clock::now() > deadline) return out_of_time(attempt);
     const bool revised = attempt % 2 == 0;  // robots not yet planned block their start cells
     if (attempt > 1) std::shuffle(order.begin(), order.end(), rng);
     res.Clear();

@@ -28,6 +28,23 @@ TEST(KinematicMapfTest, TwoForwardOnlyRobotsSwapThroughTheBay) {
   EXPECT_TRUE(used_bay);
 }
 
+TEST(KinematicMapfTest, TheBudgetIsWorkSoAnExhaustedSearchSaysSoInsteadOfAnotherPlan) {
+  // Prioritized planning alone cannot swap through the bay: with no conflict-based search
+  // nodes and two priority orders the search ends ResourceExhausted, whatever the machine's
+  // load; with the default budget the same problem is solved.
+  const MovingAiMap map = testing::BayAlley();
+  const KinematicMapfProblem problem = testing::BaySwap(map);
+  KinematicMapfParams params;
+  params.cbs_max_nodes = 0;
+  params.max_priority_orders = 2;
+  const absl::Status exhausted = PlanKinematicMapf(problem, params).status();
+  EXPECT_EQ(exhausted.code(), absl::StatusCode::kResourceExhausted) << exhausted;
+  EXPECT_NE(exhausted.message().find("2 priority orders"), std::string::npos) << exhausted;
+  params.max_priority_orders = 0;
+  EXPECT_EQ(PlanKinematicMapf(problem, params).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_TRUE(PlanKinematicMapf(problem, {}).ok());
+}
+
 TEST(KinematicMapfTest, OneWayLanesSendTheRobotTheLongWayRound) {
   // A ring; lanes run counter-clockwise (+x along the top row, +y down the right column, −x
   // along the bottom, −y up the left). The goal lies one cell against the lanes.

@@ -79,11 +79,15 @@ bool CoveredCells(const MovingAiMap& map, const GridMotionModel& motion, const G
 absl::Status ValidateKinematicPlan(const KinematicMapfProblem& problem,
                                    const KinematicMapfPlan& plan);
 
-/// Parameters of PlanKinematicMapf.
+/// Parameters of PlanKinematicMapf. The search's budget is work (nodes, orders), so a plan does
+/// not depend on how busy the machine is; `time_limit_s` is a safety net that ends the search
+/// with DeadlineExceeded, never with a different plan.
 struct KinematicMapfParams {
-  double time_limit_s = 1.0;  ///< > 0
-  uint64_t seed = 0;          ///< priority orders after the first
-  int max_steps = 2000;       ///< longest plan searched, > 0
+  double time_limit_s = 10.0;     ///< > 0; a safety net, not the budget
+  uint64_t seed = 0;              ///< priority orders after the first
+  int max_steps = 2000;           ///< longest plan searched, > 0
+  int cbs_max_nodes = 2000;       ///< conflict-based search nodes before prioritized planning
+  int max_priority_orders = 200;  ///< prioritized planning attempts, > 0
 };
 
 /// Plans every robot of a heterogeneous problem. Each robot is searched by space-time A* over
@@ -91,12 +95,13 @@ struct KinematicMapfParams {
 /// search over its states from its goal); reservations are kept per cell and half step (states
 /// at even, moves at odd half steps), so footprints of any shape are checked cell by cell. Up to
 /// 12 robots: conflict-based search (Sharon et al., AIJ 2015; a conflict on cell c at half step
-/// h branches into "robot a not on c at h" and "robot b not on c at h") with half the budget,
-/// optimal for the sum of arrival steps when it finishes. Otherwise, or when it does not finish:
-/// prioritized planning (Erdmann and Lozano-Pérez 1987), revised and plain forms alternated as
-/// in MapfPlanner::Replan, restarted with random orders until one succeeds or the budget ends.
-/// Every returned plan passes ValidateKinematicPlan. Errors: InvalidArgument (bad problem or
-/// unreachable goal), DeadlineExceeded, Cancelled.
+/// h branches into "robot a not on c at h" and "robot b not on c at h"),
+/// up to `cbs_max_nodes` nodes, optimal for the sum of arrival steps when it finishes. Otherwise,
+/// or when it does not finish: prioritized planning (Erdmann and Lozano-Pérez 1987), revised and
+/// plain forms alternated as in MapfPlanner::Replan, restarted with random orders until one
+/// succeeds or `max_priority_orders` have failed. Every returned plan passes
+/// ValidateKinematicPlan. Errors: InvalidArgument (bad problem or unreachable goal),
+/// ResourceExhausted (the work budget ran out), DeadlineExceeded (the safety net), Cancelled.
 absl::StatusOr<KinematicMapfPlan> PlanKinematicMapf(const KinematicMapfProblem& problem,
                                                     const KinematicMapfParams& params,
                                                     std::stop_token stop = {});
