@@ -7,6 +7,10 @@ function(fleetnav_module)
   target_link_libraries(${ARG_NAME} PUBLIC ${ARG_DEPS} PRIVATE fleetnav_warnings)
 endfunction()
 
+# Tests write their scratch files here (TMPDIR), not in the machine's /tmp; the test_tmp
+# fixture (tests/CMakeLists.txt) empties it at the start of each ctest run.
+set(FLEETNAV_TEST_TMPDIR ${CMAKE_BINARY_DIR}/test-tmp)
+
 # fleetnav_test(NAME <name> SOURCES ... DEPS ... [LABELS ...]): one GoogleTest binary.
 function(fleetnav_test)
   cmake_parse_arguments(ARG "" "NAME" "SOURCES;DEPS;LABELS" ${ARGN})
@@ -16,7 +20,8 @@ function(fleetnav_test)
   # Test names start with their program ("server_app_test.FleetRegistryTest.X"), so that
   # `ctest -R` can pick the tests of one program or module.
   gtest_discover_tests(${ARG_NAME} DISCOVERY_TIMEOUT 60 TEST_PREFIX "${ARG_NAME}."
-    PROPERTIES LABELS "${ARG_LABELS}")
+    PROPERTIES LABELS "${ARG_LABELS}" ENVIRONMENT "TMPDIR=${FLEETNAV_TEST_TMPDIR}"
+    FIXTURES_REQUIRED test_tmp)
 endfunction()
 
 # fleetnav_benchmark(NAME <name> SOURCES ... DEPS ...): one Google Benchmark program.
