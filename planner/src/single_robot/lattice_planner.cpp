@@ -76,6 +76,9 @@ absl::Status LatticeParams::Validate() const {
   if (!(reverse_cost_factor >= 1.0)) {
     return absl::InvalidArgumentError("reverse_cost_factor: must be >= 1");
   }
+  if (!(direction_switch_cost_m >= 0.0) || !std::isfinite(direction_switch_cost_m)) {
+    return absl::InvalidArgumentError("direction_switch_cost_m: must be finite and >= 0");
+  }
   if (!(heuristic_weight >= 1.0))
     return absl::InvalidArgumentError("heuristic_weight: must be >= 1");
   if (max_expansions <= 0) return absl::InvalidArgumentError("max_expansions: must be > 0");
@@ -145,6 +148,7 @@ LatticeParams CarLatticeParams() {
   p.heading_bins = 32;
   p.analytic_every = 8;
   p.turning_radius_factor = 1.3;
+  p.direction_switch_cost_m = 3.0;
   return p;
 }
 
@@ -382,6 +386,7 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
     double g;
     int parent;
     double escaped_m = -1.0;  ///< ≥ 0: still backing out of collision, this far so far
+    int direction = 0;        ///< of the motion that reached it: 1 forward, −1 reverse, 0 none
   };
   std::vector<Node> nodes;
   // Best cost per (cell, heading bin), only for the states the search met.
@@ -473,7 +478,10 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
       int nx, ny;
       if (!cell_of(next.x_m(), next.y_m(), &nx, &ny)) continue;
       // The length alone first: most successors are known no better without the clearance.
-      double g = cur.g + p.cost;
+      const int direction = p.forward_m > 0.0 ? 1 : (p.forward_m < 0.0 ? -1 : cur.direction);
+      const double cusp_m =
+          cur.direction != 0 && direction != cur.direction ? params_.direction_switch_cost_m : 0.0;
+      double g = cur.g + p.cost + cusp_m;
       const uint64_t state = state_of(nx, ny, bin_of(next.yaw_rad()));
       const auto known = best.find(state);
       if (known != best.end() && g >= known->second) continue;
@@ -491,11 +499,11 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
         const double factor =
             (params_.clearance_weight > 0.0 ? ClearanceFactor(clearance_->At(next)) : 1.0) +
             CoastExtra(costmap_->DistanceToObstacle_m(nx, ny));
-        g = cur.g + p.cost * factor;
+        g = cur.g + p.cost * factor + cusp_m;
         if (known != best.end() && g >= known->second) continue;
       }
       best[state] = static_cast<float>(g);
-      nodes.push_back({next, g, id, escaped_m});
+      nodes.push_back({next, g, id, escaped_m, direction});
       open.push(
           {g + params_.heuristic_weight * heuristic(next), static_cast<int>(nodes.size()) - 1});
     }

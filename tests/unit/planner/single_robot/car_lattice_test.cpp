@@ -137,6 +137,40 @@ TEST(CarLatticeTest, ReachesAGoalYawBetweenHeadingBinsExactly) {
   EXPECT_FALSE(binned.poses.back().IsNear(goal, 1e-3, 1e-3));
 }
 
+/// Switches between driving forward and reversing along a path (each consecutive pair of poses
+/// moves along or against the first one's heading).
+int Cusps(const PathResult& path) {
+  int cusps = 0;
+  int direction = 0;
+  for (size_t i = 1; i < path.poses.size(); ++i) {
+    const Pose2& a = path.poses[i - 1];
+    const Pose2& b = path.poses[i];
+    const double along =
+        (b.x_m() - a.x_m()) * std::cos(a.yaw_rad()) + (b.y_m() - a.y_m()) * std::sin(a.yaw_rad());
+    if (std::abs(along) < 1e-6) continue;
+    const int d = along > 0.0 ? 1 : -1;
+    if (direction != 0 && d != direction) ++cusps;
+    direction = d;
+  }
+  return cusps;
+}
+
+TEST(CarLatticeTest, ACuspCostsSoTheCarTurnsRoundForwardWhereThereIsRoom) {
+  // The goal lies 2 m behind the car, facing back, on an open yard west of the row: a loop
+  // forward costs a little more path than backing into a turn, and a cusp costs 3 m.
+  const RobotModel car = AckermannDeliveryModel();
+  const Costmap costmap = CostmapOf(RowWithOneGap(1.2, 6.0), car);
+  const Pose2 start(5.0, 6.0, 0.0);
+  const Pose2 goal(3.0, 6.0, M_PI);
+  LatticeParams params = CarLatticeParams();
+  params.analytic_every = 0;  // the lattice's own choice, without the Reeds-Shepp shot
+  EXPECT_EQ(Cusps(Plan(params, costmap, start, goal)), 0);
+  params.direction_switch_cost_m = 0.0;
+  EXPECT_GE(Cusps(Plan(params, costmap, start, goal)), 1);
+  params.direction_switch_cost_m = -1.0;
+  EXPECT_EQ(params.Validate().code(), absl::StatusCode::kInvalidArgument);
+}
+
 TEST(CarLatticeTest, ArcsKeepASteeringMarginAndBadParamsAreRefused) {
   const RobotModel car = AckermannDeliveryModel();
   Costmap costmap = CostmapOf(RowWithOneGap(1.2, 6.0), car);

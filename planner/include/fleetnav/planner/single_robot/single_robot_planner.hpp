@@ -54,9 +54,12 @@ struct LatticeParams {
   double step_m = 0.0;               ///< primitive length; 0: 1.5 cells (arcs: one bin of turn)
   double turn_cost_m_per_rad = 0.3;  ///< cost of turning in place
   double reverse_cost_factor = 2.0;  ///< cost multiplier of reversing (Ackermann), ≥ 1
-  double heuristic_weight = 1.5;     ///< weighted A*, ≥ 1 (bounded suboptimal)
-  bool allow_approximate = true;     ///< return the closest reachable pose when no path exists
-  int max_expansions = 4'000'000;    ///< > 0
+  /// Cost of a cusp, a switch between driving forward and reversing, in metres of path
+  /// (Dolgov et al. 2010 penalize direction switches). ≥ 0.
+  double direction_switch_cost_m = 0.0;
+  double heuristic_weight = 1.5;   ///< weighted A*, ≥ 1 (bounded suboptimal)
+  bool allow_approximate = true;   ///< return the closest reachable pose when no path exists
+  int max_expansions = 4'000'000;  ///< > 0
   /// Cost of nearing obstacles: each metre of a primitive costs 1 + clearance_weight ×
   /// ((preferred_clearance_m − c) / preferred_clearance_m)² where the body's clearance c is
   /// below preferred_clearance_m, so a path keeps to the middle of a gap and passes it along
@@ -116,7 +119,8 @@ LatticeParams DifferentialLatticeParams();
 
 /// The lattice for car-like robots in tight places (box fields, gates): clearance-weighted
 /// costs, analytic Reeds-Shepp expansion to the exact goal pose, 32 heading bins, and arcs
-/// 1.3 times the minimum turning radius, backing out of a touch (escape_m 1 m), and an
+/// 1.3 times the minimum turning radius, a cusp costing 3 m of path (a car that reversed just
+/// before a gap entered it off its axis), backing out of a touch (escape_m 1 m), and an
 /// expansion budget of 3 M that ends a fruitless search before any wall-time limit does.
 LatticeParams CarLatticeParams();
 
