@@ -97,24 +97,39 @@ const StripeMarker* Samcl::RivalStripe(const StripeMarker& marker, const SensorM
   // Where this sensor's previous edge was, seen through the current estimate: if this edge is
   // the marker, that point moves with the same correction.
   std::optional<Eigen::Vector2d> previous_edge;
+  std::optional<Eigen::Vector2d> previous_edge_uncorrected;
   if (auto it = last_edge_odom_.find(sensor_name); it != last_edge_odom_.end()) {
     const Pose2& odom_then = it->second;
     const double travelled_m =
         std::hypot(odom_at_edge.x_m() - odom_then.x_m(), odom_at_edge.y_m() - odom_then.y_m());
     if (travelled_m <= params_.edge_memory_m) {
-      previous_edge = amcl_.PoseInMap(odom_then).TransformPoint(s_in_base) + to_marker;
+      previous_edge_uncorrected = amcl_.PoseInMap(odom_then).TransformPoint(s_in_base);
+      previous_edge = *previous_edge_uncorrected + to_marker;
     }
   }
   constexpr double kFeltAgainM = 0.1;
+  const auto on_piece = [&](const StripeMarker& m, const Eigen::Vector2d& point) {
+    return (NearestOnStrip(m, point) - point).norm() < kFeltAgainM;
+  };
+  // The previous edge as it stands is another piece of the marker set: then it says nothing
+  // about this edge (stripe 2 crossed 0.74 m before stripe 4's end, which lay 0.73 m before
+  // the marker: shifted by the marker's correction, stripe 2's edge fell on stripe 4).
+  const auto explained_elsewhere = [&](const StripeMarker& piece) {
+    for (const StripeMarker& n : markers_.markers) {
+      if (&n != &piece && n.kind != MarkerKind::kCalibration &&
+          on_piece(n, *previous_edge_uncorrected)) {
+        return true;
+      }
+    }
+    return false;
+  };
   for (const StripeMarker& m : markers_.markers) {
     if (m.kind == MarkerKind::kCalibration) continue;
     const Eigen::Vector2d to_piece = EntryPoint(m, sensor, heading) - sensor;
     if (to_piece.norm() >= params_.association_radius_m) continue;
     if (mahalanobis2(to_piece) >= marker_m2 + params_.decisive_mahalanobis2) continue;
-    if (previous_edge &&
-        (NearestOnStrip(m, *previous_edge) - *previous_edge).norm() < kFeltAgainM) {
-      continue;
-    }
+    // This edge is the marker and the previous one was this piece, felt again.
+    if (previous_edge && on_piece(m, *previous_edge) && !explained_elsewhere(m)) continue;
     return &m;
   }
   return nullptr;

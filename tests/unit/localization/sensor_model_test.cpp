@@ -290,6 +290,33 @@ TEST(SamclTest, AStripeEndCrossedJustBeforeAMarkerIsNotTakenForIt) {
   }
 }
 
+// Generated barn 1152 with the error cases: driving to marker 2 the left sensor crossed the
+// return stripes' row and, 0.74 m later, the end of stripe 4, which lay 0.73 m before the
+// marker. Shifted by the marker's correction, the row's edge fell on stripe 4, as if stripe 4
+// had been felt already; stripe 4 was dismissed as the marker's rival and its end taken for the
+// marker (a calibration 0.73 m ahead of the truth). The row's edge is explained as it stands,
+// so it says nothing about this one.
+TEST(SamclTest, AnEarlierEdgeOnAnotherStripeDoesNotMakeAStripeEndAMarker) {
+  const Eigen::Vector2d sensor = LeftInductiveInBase();
+  // Stripe B ends 2 cm beyond the sensor's line, 0.73 m before the marker; stripe A crosses
+  // the lane 0.74 m before B.
+  MarkerSet markers = MarkersWithStripe({-0.73, 4.7 + sensor.y() - 0.02 + 1.0}, kPi / 2.0, 2.0);
+  StripeMarker a = markers.markers.back();
+  a.id = 8;
+  a.stripe_id = 2;
+  a.position_m = {-1.47, 4.7};
+  a.length_m = 4.0;
+  markers.markers.push_back(a);
+  const double truth_at_a_m = -1.47 - sensor.x();
+  // A tight cloud, as in the barn: A, behind, is no rival of the marker ahead.
+  Samcl samcl = SamclAt(markers, truth_at_a_m, {0.03, 0.02, 0.005});
+  EXPECT_NE(samcl.OnInductiveEdge({"inductive_left", 0})->outcome, CalibrationOutcome::kApplied);
+  samcl.RecordOdometry(Pose2(0.74, 0, 0), 1'000'000'000);
+  const CalibrationResult at_b = *samcl.OnInductiveEdge({"inductive_left", 1'000'000'000});
+  EXPECT_EQ(at_b.outcome, CalibrationOutcome::kStripe);
+  EXPECT_NEAR(samcl.amcl().PoseInMap(Pose2(0.74, 0, 0)).x_m(), truth_at_a_m + 0.74, 0.03);
+}
+
 TEST(SamclTest, AStripeBesideTheMarkerThatWasNeverFeltDoesNotBlockIt) {
   const Eigen::Vector2d sensor = LeftInductiveInBase();
   // 0.3 m along the lane before the marker, but ending 0.25 m aside of the sensor's line.
