@@ -530,9 +530,11 @@ absl::StatusOr<KinematicMapfPlan> PlanKinematicMapf(const KinematicMapfProblem& 
   std::vector<int> here, there;
   for (int attempt = 0;; ++attempt) {
     if (attempt == params.max_priority_orders) {
-      return absl::ResourceExhaustedError(
-          absl::StrCat("kinematic mapf: no plan in ", params.cbs_max_nodes,
-                       " conflict-based search nodes and ", attempt, " priority orders"));
+      const bool ran_cbs = n <= kCbsMaxRobots && params.cbs_max_nodes > 0;
+      return absl::ResourceExhaustedError(absl::StrCat(
+          "kinematic mapf: no plan in ",
+          ran_cbs ? absl::StrCat(params.cbs_max_nodes, " conflict-based search nodes and ") : "",
+          attempt, " priority orders"));
     }
     if (stop.stop_requested() || Clock::now() > deadline) return out_of_time(attempt);
     const bool revised = attempt % 2 == 0;  // robots not yet planned block their start cells

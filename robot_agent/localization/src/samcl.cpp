@@ -96,32 +96,33 @@ const StripeMarker* Samcl::RivalStripe(const StripeMarker& marker, const SensorM
   const double marker_m2 = mahalanobis2(to_marker);
   // Where this sensor's previous edge was, seen through the current estimate: if this edge is
   // the marker, that point moves with the same correction.
+  constexpr double kFeltAgainM = 0.1;
+  const auto on_piece = [&](const StripeMarker& m, const Eigen::Vector2d& point) {
+    return (NearestOnStrip(m, point) - point).norm() < kFeltAgainM;
+  };
   std::optional<Eigen::Vector2d> previous_edge;
-  std::optional<Eigen::Vector2d> previous_edge_uncorrected;
+  // The pieces the previous edge lies on as it stands: a piece other than the rival there
+  // explains it, and then it says nothing about this edge (stripe 2 crossed 0.74 m before
+  // stripe 4's end, which lay 0.73 m before the marker: shifted by the marker's correction,
+  // stripe 2's edge fell on stripe 4).
+  std::vector<const StripeMarker*> previous_pieces;
   if (auto it = last_edge_odom_.find(sensor_name); it != last_edge_odom_.end()) {
     const Pose2& odom_then = it->second;
     const double travelled_m =
         std::hypot(odom_at_edge.x_m() - odom_then.x_m(), odom_at_edge.y_m() - odom_then.y_m());
     if (travelled_m <= params_.edge_memory_m) {
-      previous_edge_uncorrected = amcl_.PoseInMap(odom_then).TransformPoint(s_in_base);
-      previous_edge = *previous_edge_uncorrected + to_marker;
-    }
-  }
-  constexpr double kFeltAgainM = 0.1;
-  const auto on_piece = [&](const StripeMarker& m, const Eigen::Vector2d& point) {
-    return (NearestOnStrip(m, point) - point).norm() < kFeltAgainM;
-  };
-  // The previous edge as it stands is another piece of the marker set: then it says nothing
-  // about this edge (stripe 2 crossed 0.74 m before stripe 4's end, which lay 0.73 m before
-  // the marker: shifted by the marker's correction, stripe 2's edge fell on stripe 4).
-  const auto explained_elsewhere = [&](const StripeMarker& piece) {
-    for (const StripeMarker& n : markers_.markers) {
-      if (&n != &piece && n.kind != MarkerKind::kCalibration &&
-          on_piece(n, *previous_edge_uncorrected)) {
-        return true;
+      const Eigen::Vector2d uncorrected = amcl_.PoseInMap(odom_then).TransformPoint(s_in_base);
+      previous_edge = uncorrected + to_marker;
+      for (const StripeMarker& n : markers_.markers) {
+        if (n.kind != MarkerKind::kCalibration && on_piece(n, uncorrected)) {
+          previous_pieces.push_back(&n);
+        }
       }
     }
-    return false;
+  }
+  const auto explained_elsewhere = [&](const StripeMarker& piece) {
+    return std::any_of(previous_pieces.begin(), previous_pieces.end(),
+                       [&](const StripeMarker* n) { return n != &piece; });
   };
   for (const StripeMarker& m : markers_.markers) {
     if (m.kind == MarkerKind::kCalibration) continue;
