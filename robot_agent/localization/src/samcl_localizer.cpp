@@ -52,6 +52,9 @@ absl::Status SamclLocalizerParams::Validate() const {
   if (absl::Status s = amcl.Validate(); !s.ok()) return s;
   if (absl::Status s = samcl.Validate(); !s.ok()) return s;
   if (absl::Status s = odometry.Validate(); !s.ok()) return s;
+  if (absl::Status s = ultrasonic_beam.Validate(); !s.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("ultrasonic_beam: ", s.message()));
+  }
   if (!(std::isfinite(ultrasonic_range_max_m) && ultrasonic_range_max_m > 0.0)) {
     return absl::InvalidArgumentError("ultrasonic_range_max_m: must be finite and > 0");
   }
@@ -77,7 +80,15 @@ absl::StatusOr<SamclLocalizer> SamclLocalizer::Create(const RobotModel& model,
   if (!start_in_map.IsFinite()) return absl::InvalidArgumentError("start_in_map: not finite");
   absl::StatusOr<OdometryFrontEnd> odometry = OdometryFrontEnd::Create(model, params.odometry);
   if (!odometry.ok()) return odometry.status();
-  absl::StatusOr<Amcl> amcl = Amcl::Create(params.amcl, map);
+  AmclParams amcl_params = params.amcl;
+  const bool has_laser =
+      std::any_of(model.sensors.begin(), model.sensors.end(),
+                  [](const SensorMount& m) { return m.type == SensorType::kLaser; });
+  if (!has_laser && params.ultrasonic_sensor_model == SensorModelType::kBeam) {
+    amcl_params.sensor_model = SensorModelType::kBeam;
+    amcl_params.beam = params.ultrasonic_beam;
+  }
+  absl::StatusOr<Amcl> amcl = Amcl::Create(amcl_params, map);
   if (!amcl.ok()) return amcl.status();
   std::vector<Line2> stripes;
   std::vector<StripeMarker> calibration_markers;
@@ -237,9 +248,14 @@ absl::Status SamclLocalizer::Update(const SensorFrame& frame) {
       // Cast past the sensor's reach by the margin: an echo where the map holds nothing within
       // reach and the margin beyond it (a robot parked 2.3 m off the track across open floor)
       // is something unmapped, not a reading the map fails to explain.
-      const double expected_m = CastRay(*map_, estimate.TransformPoint(beam.origin_in_base),
-                                        estimate.yaw_rad() + beam.angle_in_base_rad,
-                                        beam.range_max_m + params_.unmapped_obstacle_margin_m);
+      // The cone's nearest surface, as the sensor reports it.
+      const Eigen::Vector2d origin = estimate.TransformPoint(beam.origin_in_base);
+      const double reach_m = beam.range_max_m + params_.unmapped_obstacle_margin_m;
+      double expected_m = reach_m;
+      for (double angle : BeamRayAngles(beam)) {
+        expected_m =
+            std::min(expected_m, CastRay(*map_, origin, estimate.yaw_rad() + angle, reach_m));
+      }
       return beam.range_m < expected_m - params_.unmapped_obstacle_margin_m;
     });
   }

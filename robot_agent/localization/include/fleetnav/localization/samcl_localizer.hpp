@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/occupancy_grid.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
 #include "fleetnav/localization/amcl.hpp"
@@ -34,13 +35,28 @@ struct SamclLocalizerParams {
   OdometryFrontEndParams odometry;
   /// Range reported by an ultrasonic without echo (the fake laser's range_max).
   double ultrasonic_range_max_m = 2.5;
-  /// Opening angle of the ultrasonics' cone in the sensor model (RangeBeam::cone_rad); 0 (the
-  /// default, the thesis's fake laser): each ultrasonic is one ray. With the PIL P42's 10°
-  /// (thesis §4.3.1) an echo from 5° off the axis fits where it came from (on the axis alone a
-  /// wall met 25° off its normal 2.5 m out reads 8 cm short), but a fan of rays fits wrong
-  /// poses too: an estimate started 45° off then stayed plausible on the map and was never
-  /// declared lost (ClosedLoop.LostLocalizationStopsTheRobot), so it is off by default.
-  double ultrasonic_cone_rad = 0.0;
+  /// How the ultrasonics are weighed on a robot without a laser. kBeam (default): the beam
+  /// model — each particle's expected range is the nearest surface of the map anywhere in the
+  /// sensor's cone (ray casting), which is what an ultrasonic reports. kLikelihoodField: the
+  /// reading's end point on the cone's axis (the thesis's fake laser), which reads an oblique
+  /// echo short — by 6.5 % 40° off a fence's normal — so during a turn in place 2 m from a
+  /// fence the estimate was pulled 0.1 m towards it and free legs ended up to 0.15 m off their
+  /// goals (generated barn 1025). Robots with a laser always use the likelihood field.
+  SensorModelType ultrasonic_sensor_model = SensorModelType::kBeam;
+  /// The beam model's mixture for the ultrasonics: BeamModelParams' defaults, σ_hit 0.1 m. At
+  /// 5 cm (the likelihood field's) the first echoes past the edge of a fence gap the map does
+  /// not show — the cone's far edge finding the fence's end 0.2–0.45 m beyond the mapped fence —
+  /// were fitted whole by particles that far from it: the estimate moved 0.3 m off in 2 s, the
+  /// fence's echoes after the gap then lay more than unmapped_obstacle_margin_m short of the
+  /// estimate's and were left out as unmapped, and the robot touched the fence (generated
+  /// error-case barn 1156, seed 2).
+  BeamModelParams ultrasonic_beam;
+  /// Opening angle of the ultrasonics' cone (RangeBeam::cone_rad): the PIL P42's 10° (thesis
+  /// §4.3.1), as the simulator models it. Meant for the beam model, where the cone's nearest
+  /// surface is the expected range. With the likelihood field a cone is scored by the best of its
+  /// rays, which fits wrong poses too (an estimate started 45° off stayed plausible and was
+  /// never declared lost), so use 0 there.
+  double ultrasonic_cone_rad = DegToRad(10.0);
   /// false (default): an ultrasonic without echo is left out of the update (thesis eq. 5.2).
   bool ultrasonic_no_echo_is_evidence = false;
   /// Laser beams used per update (evenly sub-sampled; 0: all).
@@ -66,7 +82,8 @@ struct SamclLocalizerParams {
 
 /// SAMCL in the agent's loop (Lely thesis §5.4, Fig. 6.5): every tick the odometry EKF (wheel
 /// encoders + gyro) is the motion model; the range sensors — the fake laser of the two
-/// ultrasonics (§5.3) or a 2D laser — correct AMCL against the map's likelihood field; a rising
+/// ultrasonics (§5.3), weighed by the beam model over each sensor's cone, or a 2D laser against
+/// the map's likelihood field — correct AMCL; a rising
 /// edge of an inductive sensor over a calibration marker applies Algorithm 4. The estimate is
 /// the best cluster's pose with its weighted covariance; `lost` is AMCL's health verdict.
 /// Not thread-safe.
