@@ -276,6 +276,31 @@ TEST(FleetScenario, AStoreFleetOfFourRunsFortyGoalJobsWithoutContact) {
               waited_s / (4.0 * report.value("sim_time_s", 1.0)), 1e-6);
 }
 
+// Robots make way: omni1 ends its job in the middle of a 2.4 m aisle; omni2, sent later past
+// it, would wait for ever. fleetnavd sends omni1 aside, off omni2's way, and omni2 passes.
+TEST(FleetScenario, AnIdleRobotInAnAisleMakesWayForAnotherToPass) {
+  int code = -1;
+  const nlohmann::json report =
+      RunShipped("store_make_way.yaml", TempPath("store-make-way"), &code);
+  EXPECT_EQ(code, 0) << report.dump();
+  EXPECT_EQ(report.value("contacts", -1), 0);
+  EXPECT_GE(report.value("min_separation_m", 0.0), 0.3);
+  ASSERT_EQ(report["jobs"].size(), 2u);
+  for (const auto& job : report["jobs"]) EXPECT_EQ(job["state"], "succeeded") << job.dump();
+  // The truth: omni2 at its goal in the aisle, omni1 no longer in the aisle (between the
+  // shelf rows at y = 0 and 3.2, x within ±4 m).
+  const nlohmann::json& omni2 = RobotIn(report, "omni2")["final_pose"];
+  EXPECT_TRUE(Pose2(omni2.value("x_m", 1e9), omni2.value("y_m", 1e9), omni2.value("yaw_rad", 0.0))
+                  .IsNear(Pose2(2.5, 1.6, 0.0), 0.15, 0.1))
+      << omni2.dump();
+  const nlohmann::json& omni1 = RobotIn(report, "omni1")["final_pose"];
+  const double x = omni1.value("x_m", 0.0);
+  const double y = omni1.value("y_m", 1.6);
+  EXPECT_FALSE(std::abs(x) < 4.0 && y > 0.4 && y < 2.8) << omni1.dump();
+  // It moved after its job: more than the 7.7 m way into the aisle.
+  EXPECT_GT(RobotIn(report, "omni1").value("distance_m", 0.0), 9.0);
+}
+
 void ExpectBothRoundsEndWithoutContact(const nlohmann::json& report, int exit_code) {
   EXPECT_EQ(exit_code, 0) << report.dump();
   EXPECT_EQ(report.value("contacts", -1), 0);

@@ -30,6 +30,7 @@ bool SameDemand(const Demand& a, const Demand& b) {
 void JobMatcher::ForgetRobot(const std::string& robot_id) {
   robot_map_.erase(robot_id);
   charging_job_.erase(robot_id);
+  make_way_job_.erase(robot_id);
 }
 
 JobMatcher::RouteFacts JobMatcher::RouteFacts::Of(std::vector<NeededCapability> needs,
@@ -145,6 +146,24 @@ void JobMatcher::SendLowRobotsToCharge() {
     request.idempotency_key = absl::StrCat("charge/", id, "/", ledger_->NowUnixMs());
     absl::StatusOr<storage::CreatedJob> created = lifecycle_->Submit(request);
     if (created.ok()) charging_job_[id] = created->job.job_id;
+  }
+}
+
+void JobMatcher::SendToMakeWay(const std::vector<MakeWayRequest>& requests) {
+  for (const MakeWayRequest& request : requests) {
+    if (auto pending = make_way_job_.find(request.robot_id); pending != make_way_job_.end()) {
+      absl::StatusOr<Job> job = ledger_->Get(pending->second);
+      if (job.ok() && !IsTerminal(job->state)) continue;
+      make_way_job_.erase(pending);
+    }
+    SubmitJobRequest submit;
+    submit.goal_map_id = request.map_id;
+    submit.goal = request.place;
+    submit.robot_id = request.robot_id;
+    submit.priority = std::numeric_limits<int>::max();
+    submit.idempotency_key = absl::StrCat("make-way/", request.robot_id, "/", ledger_->NowUnixMs());
+    absl::StatusOr<storage::CreatedJob> created = lifecycle_->Submit(submit);
+    if (created.ok()) make_way_job_[request.robot_id] = created->job.job_id;
   }
 }
 

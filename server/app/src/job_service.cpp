@@ -145,6 +145,12 @@ int JobService::DispatchOnce() {
   matcher_.SendLowRobotsToCharge();
   const int assigned = matcher_.AssignQueued();
   traffic_.Update();
+  // Idle robots in a waiting robot's way go aside; their jobs are given on the next pass.
+  const std::vector<MakeWayRequest> make_way = traffic_.TakeMakeWayRequests();
+  if (!make_way.empty()) {
+    matcher_.SendToMakeWay(make_way);
+    work_.Notify();
+  }
   return assigned;
 }
 

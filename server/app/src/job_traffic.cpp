@@ -51,6 +51,11 @@ void JobTraffic::End(const std::string& job_id) {
   if (traffic_ != nullptr) traffic_->End(job_id);
 }
 
+std::vector<MakeWayRequest> JobTraffic::TakeMakeWayRequests() {
+  if (traffic_ == nullptr) return {};
+  return traffic_->TakeMakeWayRequests();
+}
+
 void JobTraffic::Update() {
   if (traffic_ == nullptr) return;
   for (const TrafficWaitChange& change : traffic_->Update()) {

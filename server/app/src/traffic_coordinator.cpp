@@ -2,8 +2,10 @@
 
 #include <cmath>
 #include <set>
+#include <utility>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/planner/coordination/make_way.hpp"
 #include "fleetnav/planner/single_robot/planner_factory.hpp"
 
 namespace fleetnav::server {
@@ -18,6 +20,9 @@ absl::Status TrafficCoordinatorParams::Validate() const {
   if (!std::isfinite(recheck_period_s) || recheck_period_s < 0.0) {
     return absl::InvalidArgumentError(
         absl::StrCat("recheck_period_s: must be >= 0, got ", recheck_period_s));
+  }
+  if (absl::Status s = make_way.Validate(); !s.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("make_way.", s.message()));
   }
   if (horizon_actions < 2) {
     return absl::InvalidArgumentError(
@@ -47,6 +52,8 @@ void TrafficCoordinator::Begin(const std::string& robot_id, const JobAssignment&
   tracked.start_action = std::max(resume_action, 0);
   tracked.resume_from_telemetry = resume_action == kResumeWhereReported;
   jobs_[assignment.job.job_id] = std::move(tracked);
+  make_way_asked_.erase(robot_id);
+  cannot_make_way_.erase(robot_id);
   changed_ = true;
 }
 
@@ -101,37 +108,44 @@ void TrafficCoordinator::Resend(const std::string& robot_id) {
   }
 }
 
-planner::SingleRobotPlanner* TrafficCoordinator::PlannerFor(const Tracked& tracked,
-                                                            Pose2* map_origin) {
-  const auto key = std::make_tuple(tracked.assignment.job.map_id, tracked.assignment.map_version,
-                                   tracked.model.kind_name);
+TrafficCoordinator::PlannerCache& TrafficCoordinator::CacheFor(const std::string& map_id,
+                                                               uint32_t map_version,
+                                                               const RobotModel& model) {
+  const auto key = std::make_tuple(map_id, map_version, model.kind_name);
   auto it = planners_.find(key);
   if (it == planners_.end()) {
     PlannerCache cache;
     absl::StatusOr<std::shared_ptr<const storage::StoredMap>> shared =
-        site_data_->Map(tracked.assignment.job.map_id, tracked.assignment.map_version);
+        site_data_->Map(map_id, map_version);
     if (shared.ok()) {
       const storage::StoredMap* map = shared->get();
       // The agent's free navigation plans with 0.1 m of padding (FreeNavigationParams).
       planner::CostmapParams costmap_params;
       costmap_params.padding_m = 0.1;
       absl::StatusOr<planner::Costmap> costmap =
-          planner::Costmap::Build(map->grid, tracked.model.footprint_m, costmap_params);
+          planner::Costmap::Build(map->grid, model.footprint_m, costmap_params);
       if (costmap.ok()) {
         cache.costmap = std::make_unique<planner::Costmap>(*std::move(costmap));
         // The planner the robot's agent navigates with, so the prediction is its path.
         const planner::SingleRobotPlannerParams planner_params =
-            planner::NavigationPlannerParams(tracked.model);
+            planner::NavigationPlannerParams(model);
         absl::StatusOr<std::unique_ptr<planner::SingleRobotPlanner>> planner =
-            planner::MakeSingleRobotPlanner(cache.costmap.get(), tracked.model, planner_params);
+            planner::MakeSingleRobotPlanner(cache.costmap.get(), model, planner_params);
         if (planner.ok()) cache.planner = *std::move(planner);
       }
       cache.map_origin = map->grid.origin();
     }
     it = planners_.emplace(key, std::move(cache)).first;
   }
-  *map_origin = it->second.map_origin;
-  return it->second.planner.get();
+  return it->second;
+}
+
+planner::SingleRobotPlanner* TrafficCoordinator::PlannerFor(const Tracked& tracked,
+                                                            Pose2* map_origin) {
+  PlannerCache& cache =
+      CacheFor(tracked.assignment.job.map_id, tracked.assignment.map_version, tracked.model);
+  *map_origin = cache.map_origin;
+  return cache.planner.get();
 }
 
 void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
@@ -317,10 +331,17 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
       for (const Tracked* t : tracked_jobs) routes.push_back(&*t->schedule);
       const std::vector<planner::TrafficClearanceDecision> decisions =
           deciders_[map_id].Decide(routes, parked);
+      AskIdleRobotsToMakeWay(map_id, tracked_jobs, decisions, parked, by_id);
       for (size_t i = 0; i < decisions.size(); ++i) {
         Tracked& t = *tracked_jobs[i];
         t.schedule->cleared_up_to = decisions[i].cleared_up_to;
-        const std::string reason = Describe(decisions[i]);
+        std::string reason = Describe(decisions[i]);
+        if (!decisions[i].waits.empty()) {
+          if (auto stuck = cannot_make_way_.find(decisions[i].waits.front().blocker_robot_id);
+              stuck != cannot_make_way_.end()) {
+            absl::StrAppend(&reason, "; it cannot make way: ", stuck->second);
+          }
+        }
         const bool reason_changed = reason != t.reason;
         if (reason_changed) {
           t.reason = reason;
@@ -347,6 +368,65 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
     registry_->SetTrafficWait(change.robot_id, change.reason);
   }
   return changes;
+}
+
+void TrafficCoordinator::AskIdleRobotsToMakeWay(
+    const std::string& map_id, const std::vector<Tracked*>& tracked_jobs,
+    const std::vector<planner::TrafficClearanceDecision>& decisions,
+    const std::vector<planner::ParkedRobot>& parked,
+    const std::map<std::string, const RobotRecord*>& records) {
+  std::set<std::string> idle_ids;
+  for (const planner::ParkedRobot& p : parked) idle_ids.insert(p.robot_id);
+  for (size_t i = 0; i < decisions.size(); ++i) {
+    for (const planner::TrafficWait& wait : decisions[i].waits) {
+      // blocker_action < 0: it stands there. Only a robot without a job can be sent aside; a
+      // held job's robot stands until its job runs.
+      if (wait.blocker_action >= 0 || !idle_ids.contains(wait.blocker_robot_id) ||
+          make_way_asked_.contains(wait.blocker_robot_id)) {
+        continue;
+      }
+      auto record = records.find(wait.blocker_robot_id);
+      if (record == records.end() || !record->second->last_telemetry) continue;
+      const RobotRecord& robot = *record->second;
+      const Telemetry& telemetry = *robot.last_telemetry;
+      // What the others still need: every unfinished action and its end, and where the other
+      // idle robots stand.
+      planner::MakeWayRequestGeometry geometry;
+      geometry.from_in_map = telemetry.pose_in_map;
+      geometry.footprint_m = robot.identity.model.FootprintCarrying(telemetry.carried_load_m);
+      geometry.margin_m = params_.margin_m;
+      geometry.cell_m = params_.cell_m;
+      for (const Tracked* t : tracked_jobs) {
+        const planner::ScheduledRoute& route = *t->schedule;
+        for (size_t k = std::max(route.first_unfinished, 0); k < route.action_cells.size(); ++k) {
+          geometry.keep_off.push_back(&route.action_cells[k]);
+          geometry.keep_off.push_back(&route.action_end_cells[k]);
+        }
+        if (route.first_unfinished == 0) geometry.keep_off.push_back(&route.start_cells);
+      }
+      for (const planner::ParkedRobot& other : parked) {
+        if (other.robot_id != robot.identity.robot_id) geometry.keep_off.push_back(&other.cells);
+      }
+      PlannerCache& cache =
+          CacheFor(map_id, tracked_jobs[i]->assignment.map_version, robot.identity.model);
+      if (cache.costmap == nullptr) continue;
+      absl::StatusOr<Pose2> place =
+          planner::FindMakeWayPlace(*cache.costmap, cache.map_origin, geometry, params_.make_way);
+      make_way_asked_.insert(robot.identity.robot_id);
+      if (!place.ok()) {
+        cannot_make_way_[robot.identity.robot_id] = std::string(place.status().message());
+        continue;
+      }
+      cannot_make_way_.erase(robot.identity.robot_id);
+      make_way_requests_.push_back(
+          {robot.identity.robot_id, map_id, *place, decisions[i].robot_id});
+    }
+  }
+}
+
+std::vector<MakeWayRequest> TrafficCoordinator::TakeMakeWayRequests() {
+  absl::MutexLock lock(&mutex_);
+  return std::exchange(make_way_requests_, {});
 }
 
 }  // namespace fleetnav::server

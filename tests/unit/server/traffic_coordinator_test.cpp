@@ -126,6 +126,56 @@ TEST_F(TrafficCoordinatorTest, AnIdleRobotInTheWayIsNeverDrivenThrough) {
   EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("idle, which stands in its way"));
 }
 
+TEST_F(TrafficCoordinatorTest, AnIdleRobotInTheWayIsAskedOnceToMakeWayToAPlaceOffTheWay) {
+  Connect("a", Pose2(-8, 0, 0));
+  Connect("idle", Pose2(0, 0, M_PI / 2));
+  coordinator_.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
+  coordinator_.Update();
+  const std::vector<MakeWayRequest> requests = coordinator_.TakeMakeWayRequests();
+  ASSERT_EQ(requests.size(), 1u);
+  EXPECT_EQ(requests[0].robot_id, "idle");
+  EXPECT_EQ(requests[0].map_id, "hall");
+  EXPECT_EQ(requests[0].for_robot_id, "a");
+  // The place is off a's way as traffic coordination sweeps it (footprint grown by 0.5 m).
+  const TrafficCoordinatorParams params;
+  std::vector<Pose2> way;
+  for (int i = 0; i <= 120; ++i) way.emplace_back(-8.0 + 0.1 * i, 0.0, 0.0);
+  const std::vector<Eigen::Vector2d>& footprint = LelyVectorModel().footprint_m;
+  const planner::CellSet a_way =
+      planner::CellSet::Sweep(way, footprint, params.margin_m, params.cell_m);
+  EXPECT_FALSE(
+      planner::CellSet::Sweep({requests[0].place}, footprint, params.margin_m, params.cell_m)
+          .Intersects(a_way));
+  // Beside the way, not down the hall: the nearest such place.
+  EXPECT_LT((requests[0].place.translation() - Eigen::Vector2d(0, 0)).norm(), 4.0);
+
+  // Asked once: not again while it has not had a job since.
+  clock_.AdvanceNs(1'000'000'000);
+  coordinator_.Update();
+  EXPECT_TRUE(coordinator_.TakeMakeWayRequests().empty());
+  // Given a job (the make-way job) and back to idle in the way: asked again.
+  coordinator_.Begin("idle", Job("job-idle", {{StraightAction{0.1, 0.5}, {}}}));
+  coordinator_.End("job-idle");
+  coordinator_.Update();
+  EXPECT_EQ(coordinator_.TakeMakeWayRequests().size(), 1u);
+}
+
+TEST_F(TrafficCoordinatorTest, AnIdleRobotWithNowhereToGoIsNamedInTheWaitingRobotsReason) {
+  TrafficCoordinatorParams params;
+  params.make_way.max_distance_m = 0.3;
+  TrafficCoordinator coordinator(&site_data_, &registry_, &mailbox_, &clock_, params);
+  Connect("a", Pose2(-8, 0, 0));
+  Connect("idle", Pose2(0, 0, M_PI / 2));
+  coordinator.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
+  coordinator.Update();
+  EXPECT_TRUE(coordinator.TakeMakeWayRequests().empty());
+  ASSERT_FALSE(mailbox_.sent["a"].empty());
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, -1);
+  EXPECT_THAT(mailbox_.sent["a"].back().wait_reason,
+              HasSubstr("idle, which stands in its way; it cannot make way: no place within "
+                        "0.3 m of (0.00, 0.00)"));
+}
+
 // When no job began, ended or moved on, the clearances are decided again only once
 // recheck_period_s has passed: an idle robot that walked out of the way is noticed then.
 TEST_F(TrafficCoordinatorTest, WithoutJobEventsClearancesAreRecheckedOncePerPeriod) {

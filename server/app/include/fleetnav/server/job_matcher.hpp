@@ -37,8 +37,10 @@ struct JobMatcherParams {
 /// then age and go to connected, idle robots whose capabilities include every action type of
 /// the route (go-to-goal jobs need "free_navigation"), the robot with the shortest path over the
 /// map (TravelDistances) to the job's first known point first. A robot whose battery is low is
-/// sent to its charger first and given nothing else until charged. A job that stays queued says
-/// why, once per change of reason. Not thread-safe: JobService serialises its callers.
+/// sent to its charger first and given nothing else until charged. A robot without a job that
+/// stands in another's way is sent to the place traffic coordination found for it (a go-to-goal
+/// job of its own). A job that stays queued says why, once per change of reason. Not thread-safe:
+/// JobService serialises its callers.
 class JobMatcher {
  public:
   JobMatcher(JobLedger* ledger, JobLifecycle* lifecycle, FleetRegistry* registry,
@@ -56,6 +58,9 @@ class JobMatcher {
 
   /// Submits a charging job for each idle robot whose battery is low and that is not charging.
   void SendLowRobotsToCharge();
+  /// Submits a go-to-goal job to its place for each robot asked to make way that has no
+  /// make-way job pending (highest priority, so the next pass gives it before anything else).
+  void SendToMakeWay(const std::vector<MakeWayRequest>& requests);
   /// Assigns what can be assigned now; returns jobs assigned.
   int AssignQueued();
   /// Forgets what is kept about a robot that is removed.
@@ -105,6 +110,7 @@ class JobMatcher {
   std::map<std::pair<std::string, uint32_t>, RouteFacts> route_facts_;
   std::map<std::string, std::string> robot_map_;     ///< the map of each robot's last job
   std::map<std::string, std::string> charging_job_;  ///< by robot id
+  std::map<std::string, std::string> make_way_job_;  ///< by robot id
 };
 
 }  // namespace fleetnav::server

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "absl/status/statusor.h"
 #include "fleetnav/core/job.hpp"
@@ -35,6 +36,9 @@ class JobTraffic {
   void End(const std::string& job_id);
   /// Decides clearances and records each changed wait on its job.
   void Update();
+  /// Idle robots found in a waiting robot's way, each with a place to go to (none without a
+  /// coordinator).
+  std::vector<MakeWayRequest> TakeMakeWayRequests();
 
  private:
   TrafficCoordinator* traffic_;

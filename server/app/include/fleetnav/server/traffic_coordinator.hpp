@@ -3,6 +3,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "absl/status/status.h"
 #include "absl/synchronization/mutex.h"
 #include "fleetnav/core/clock.hpp"
+#include "fleetnav/planner/coordination/make_way.hpp"
 #include "fleetnav/planner/coordination/route_prediction.hpp"
 #include "fleetnav/planner/coordination/traffic_schedule.hpp"
 #include "fleetnav/planner/grid/costmap.hpp"
@@ -34,7 +36,18 @@ struct TrafficCoordinatorParams {
   /// that moved and robots that reported where they are.
   double recheck_period_s = 0.5;
   planner::RoutePredictionParams prediction;
+  /// Where a robot without a job that stands in a waiting robot's way is sent.
+  planner::MakeWayParams make_way;
   absl::Status Validate() const;
+};
+
+/// A robot without a job stands in a waiting robot's way: it is to drive to `place` (map
+/// frame), off every way the jobs on its map still need and off where other idle robots stand.
+struct MakeWayRequest {
+  std::string robot_id;
+  std::string map_id;
+  Pose2 place;
+  std::string for_robot_id;  ///< a robot that waits for it
 };
 
 /// A change of why a robot's job is held, for the job's events.
@@ -50,8 +63,10 @@ struct TrafficWaitChange {
 /// margin_m, becomes a cell set; Update() orders the actions of all jobs that share floor with
 /// planner::DecideClearances and sends each robot a TrafficClearance whenever the last action it
 /// may enter grows. Robots without a job that are online stand where they are and are never
-/// driven through; a robot whose job is paused keeps its region. Thread-safe (one mutex; it
-/// calls the registry and the mailbox, which never block).
+/// driven through; one that stands in a waiting robot's way is asked, once until it has a job
+/// again, to make way (TakeMakeWayRequests: a place found by planner::FindMakeWayPlace; when
+/// there is none, the waiting robot's reason says so). A robot whose job is paused keeps its
+/// region. Thread-safe (one mutex; it calls the registry and the mailbox, which never block).
 class TrafficCoordinator {
  public:
   TrafficCoordinator(SiteCache* site_data, FleetRegistry* registry, RobotMailbox* mailbox,
@@ -76,6 +91,10 @@ class TrafficCoordinator {
   /// returns the robots whose wait reason changed. Returns at once when nothing changed since
   /// the last decision and recheck_period_s has not passed.
   std::vector<TrafficWaitChange> Update();
+  /// The robots without a job that Update found standing in a waiting robot's way since the
+  /// last call, each with the place it is to go to. A robot is asked once until it is given a
+  /// job (JobMatcher submits the make-way job).
+  std::vector<MakeWayRequest> TakeMakeWayRequests();
 
  private:
   struct Tracked {
@@ -103,6 +122,15 @@ class TrafficCoordinator {
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   planner::SingleRobotPlanner* PlannerFor(const Tracked& tracked, Pose2* map_origin)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  PlannerCache& CacheFor(const std::string& map_id, uint32_t map_version, const RobotModel& model)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Finds a place for each idle robot that a decision on `map_id` waits for (not asked yet)
+  /// and queues the request, or notes why there is none.
+  void AskIdleRobotsToMakeWay(const std::string& map_id, const std::vector<Tracked*>& tracked_jobs,
+                              const std::vector<planner::TrafficClearanceDecision>& decisions,
+                              const std::vector<planner::ParkedRobot>& parked,
+                              const std::map<std::string, const RobotRecord*>& records)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Why the decision holds the robot, for people ("" when it does not).
   std::string Describe(const planner::TrafficClearanceDecision& d) const
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
@@ -128,6 +156,11 @@ class TrafficCoordinator {
   /// Remembers which pairs of predicted windows share floor, per map.
   std::map<std::string, planner::ClearanceDecider> deciders_ ABSL_GUARDED_BY(mutex_);
   uint64_t next_cells_id_ ABSL_GUARDED_BY(mutex_) = 1;
+  std::vector<MakeWayRequest> make_way_requests_ ABSL_GUARDED_BY(mutex_);
+  /// Idle robots asked to make way (or found to have no place) since their last job began.
+  std::set<std::string> make_way_asked_ ABSL_GUARDED_BY(mutex_);
+  /// Why an idle robot in the way cannot make way, by robot id.
+  std::map<std::string, std::string> cannot_make_way_ ABSL_GUARDED_BY(mutex_);
   /// A job began, ended or moved on since the last decision.
   bool changed_ ABSL_GUARDED_BY(mutex_) = true;
   double last_decision_s_ ABSL_GUARDED_BY(mutex_) = -1e300;
