@@ -301,6 +301,26 @@ TEST(FleetScenario, AnIdleRobotInAnAisleMakesWayForAnotherToPass) {
   EXPECT_GT(RobotIn(report, "omni1").value("distance_m", 0.0), 9.0);
 }
 
+// Two platforms swapping places: each stands where the other must go. The newer job is
+// withdrawn, its robot makes way, the other drives, then the withdrawn job runs; before, both
+// waited for ever.
+TEST(FleetScenario, TwoPlatformsSwappingPlacesBothArrive) {
+  int code = -1;
+  const nlohmann::json report = RunShipped("store_swap.yaml", TempPath("store-swap"), &code);
+  EXPECT_EQ(code, 0) << report.dump();
+  EXPECT_EQ(report.value("contacts", -1), 0);
+  EXPECT_GE(report.value("min_separation_m", 0.0), 0.3);
+  ASSERT_EQ(report["jobs"].size(), 2u);
+  for (const auto& job : report["jobs"]) EXPECT_EQ(job["state"], "succeeded") << job.dump();
+  for (const auto& [robot_id, goal] : {std::pair{std::string("omni1"), Pose2(-10.5, -5.8, 0.0)},
+                                       std::pair{std::string("omni2"), Pose2(-10.5, 5.8, 0.0)}}) {
+    const nlohmann::json& end = RobotIn(report, robot_id)["final_pose"];
+    EXPECT_TRUE(Pose2(end.value("x_m", 1e9), end.value("y_m", 1e9), end.value("yaw_rad", 0.0))
+                    .IsNear(goal, 0.15, 0.1))
+        << robot_id << " " << end.dump();
+  }
+}
+
 void ExpectBothRoundsEndWithoutContact(const nlohmann::json& report, int exit_code) {
   EXPECT_EQ(exit_code, 0) << report.dump();
   EXPECT_EQ(report.value("contacts", -1), 0);

@@ -34,9 +34,9 @@ absl::StatusOr<Pose2> FindMakeWayPlace(Costmap& costmap, const Pose2& map_origin
   const int start_x = static_cast<int>(std::floor(from_in_grid.x_m() / res_m));
   const int start_y = static_cast<int>(std::floor(from_in_grid.y_m() / res_m));
   if (!costmap.InBounds(start_x, start_y)) {
-    return absl::InvalidArgumentError(absl::StrFormat(
-        "the robot at (%.2f, %.2f) is outside the map", request.from_in_map.x_m(),
-        request.from_in_map.y_m()));
+    return absl::InvalidArgumentError(
+        absl::StrFormat("the robot at (%.2f, %.2f) is outside the map", request.from_in_map.x_m(),
+                        request.from_in_map.y_m()));
   }
   const int stride = std::max(1, static_cast<int>(std::lround(params.candidate_step_m / res_m)));
   const double max_cells = params.max_distance_m / res_m;
@@ -46,8 +46,7 @@ absl::StatusOr<Pose2> FindMakeWayPlace(Costmap& costmap, const Pose2& map_origin
     for (int quarter = 0; quarter < 4; ++quarter) {
       const double yaw_in_grid = NormalizeAngle(from_in_grid.yaw_rad() + quarter * kPi / 2.0);
       if (!costmap.FootprintFree(x, y, yaw_in_grid)) continue;
-      const Pose2 in_map =
-          map_origin * Pose2((x + 0.5) * res_m, (y + 0.5) * res_m, yaw_in_grid);
+      const Pose2 in_map = map_origin * Pose2((x + 0.5) * res_m, (y + 0.5) * res_m, yaw_in_grid);
       const CellSet cells =
           CellSet::Sweep({in_map}, request.footprint_m, request.margin_m, request.cell_m);
       bool clear = true;
@@ -95,9 +94,9 @@ absl::StatusOr<Pose2> FindMakeWayPlace(Costmap& costmap, const Pose2& map_origin
       open.push({nd, n});
     }
   }
-  return absl::NotFoundError(absl::StrFormat(
-      "no place within %.1f m of (%.2f, %.2f) is off the other robots' ways",
-      params.max_distance_m, request.from_in_map.x_m(), request.from_in_map.y_m()));
+  return absl::NotFoundError(
+      absl::StrFormat("no place within %.1f m of (%.2f, %.2f) is off the other robots' ways",
+                      params.max_distance_m, request.from_in_map.x_m(), request.from_in_map.y_m()));
 }
 
 }  // namespace fleetnav::planner

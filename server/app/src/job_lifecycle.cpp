@@ -88,6 +88,25 @@ absl::StatusOr<Job> JobLifecycle::Cancel(const std::string& job_id, const std::s
   return job;
 }
 
+absl::StatusOr<Job> JobLifecycle::Withdraw(const std::string& job_id, const std::string& reason) {
+  ASSIGN_OR_RETURN(Job job, ledger_->Get(job_id));
+  if (job.state != JobState::kAssigned) {
+    return absl::FailedPreconditionError(absl::StrCat("job '", job_id, "' is ",
+                                                      std::string(JobStateName(job.state)),
+                                                      "; only an assigned job is withdrawn"));
+  }
+  const std::string robot = job.assigned_robot_id;
+  job.assigned_robot_id.clear();
+  RETURN_IF_ERROR(
+      ledger_->Transition(job, JobState::kQueued, JobEventType::kQueued, reason, robot));
+  recovery_->Forget(job_id);
+  traffic_->End(job_id);
+  mailbox_->SendCommand(robot, JobCommand{JobCommandType::kCancel, job_id, reason});
+  registry_->SetCurrentJob(robot, "");
+  work_->Notify();
+  return job;
+}
+
 absl::StatusOr<Job> JobLifecycle::Pause(const std::string& job_id, const std::string& reason) {
   ASSIGN_OR_RETURN(Job job, ledger_->Get(job_id));
   if (job.state != JobState::kAssigned && job.state != JobState::kRunning) {

@@ -195,6 +195,7 @@ std::vector<RobotRecord>::iterator JobMatcher::Nearest(std::vector<RobotRecord>&
 
 bool JobMatcher::Assign(Job& job, const std::string& robot_id) {
   job.assigned_robot_id = robot_id;
+  job.reason.clear();  // why it was queued no longer holds (Job.reason: why it failed or ended)
   robot_map_[robot_id] = job.map_id;
   if (!ledger_->Transition(job, JobState::kAssigned, JobEventType::kAssigned, "", robot_id).ok()) {
     return false;

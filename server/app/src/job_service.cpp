@@ -145,8 +145,17 @@ int JobService::DispatchOnce() {
   matcher_.SendLowRobotsToCharge();
   const int assigned = matcher_.AssignQueued();
   traffic_.Update();
-  // Idle robots in a waiting robot's way go aside; their jobs are given on the next pass.
-  const std::vector<MakeWayRequest> make_way = traffic_.TakeMakeWayRequests();
+  // Robots in a waiting robot's way go aside (a held job they have not started is queued
+  // again first); the make-way jobs are given on the next pass, before anything else.
+  std::vector<MakeWayRequest> make_way = traffic_.TakeMakeWayRequests();
+  std::erase_if(make_way, [&](const MakeWayRequest& request) {
+    if (request.withdraw_job_id.empty()) return false;
+    return !lifecycle_
+                .Withdraw(request.withdraw_job_id,
+                          absl::StrCat("withdrawn from ", request.robot_id, " to let ",
+                                       request.for_robot_id, " pass; queued again"))
+                .ok();
+  });
   if (!make_way.empty()) {
     matcher_.SendToMakeWay(make_way);
     work_.Notify();

@@ -375,13 +375,21 @@ void TrafficCoordinator::AskIdleRobotsToMakeWay(
     const std::vector<planner::TrafficClearanceDecision>& decisions,
     const std::vector<planner::ParkedRobot>& parked,
     const std::map<std::string, const RobotRecord*>& records) {
-  std::set<std::string> idle_ids;
-  for (const planner::ParkedRobot& p : parked) idle_ids.insert(p.robot_id);
+  // Robots that can be sent aside, with the job to withdraw first ("" for none): those
+  // without a job, and those whose job is held whole before it started.
+  std::map<std::string, std::string> movable;
+  for (const planner::ParkedRobot& p : parked) movable[p.robot_id] = "";
+  for (size_t i = 0; i < decisions.size(); ++i) {
+    const planner::ScheduledRoute& route = *tracked_jobs[i]->schedule;
+    if (decisions[i].deadlocked && route.first_unfinished == 0 && route.cleared_up_to < 0) {
+      movable[route.robot_id] = route.job_id;
+    }
+  }
   for (size_t i = 0; i < decisions.size(); ++i) {
     for (const planner::TrafficWait& wait : decisions[i].waits) {
-      // blocker_action < 0: it stands there. Only a robot without a job can be sent aside; a
-      // held job's robot stands until its job runs.
-      if (wait.blocker_action >= 0 || !idle_ids.contains(wait.blocker_robot_id) ||
+      // blocker_action < 0: it stands there.
+      auto mover = movable.find(wait.blocker_robot_id);
+      if (wait.blocker_action >= 0 || decisions[i].deadlocked || mover == movable.end() ||
           make_way_asked_.contains(wait.blocker_robot_id)) {
         continue;
       }
@@ -398,6 +406,7 @@ void TrafficCoordinator::AskIdleRobotsToMakeWay(
       geometry.cell_m = params_.cell_m;
       for (const Tracked* t : tracked_jobs) {
         const planner::ScheduledRoute& route = *t->schedule;
+        if (route.robot_id == robot.identity.robot_id) continue;  // its own, withdrawn
         for (size_t k = std::max(route.first_unfinished, 0); k < route.action_cells.size(); ++k) {
           geometry.keep_off.push_back(&route.action_cells[k]);
           geometry.keep_off.push_back(&route.action_end_cells[k]);
@@ -419,7 +428,7 @@ void TrafficCoordinator::AskIdleRobotsToMakeWay(
       }
       cannot_make_way_.erase(robot.identity.robot_id);
       make_way_requests_.push_back(
-          {robot.identity.robot_id, map_id, *place, decisions[i].robot_id});
+          {robot.identity.robot_id, map_id, *place, decisions[i].robot_id, mover->second});
     }
   }
 }

@@ -235,6 +235,74 @@ TEST_F(JobServiceTest, ARobotBackBeforeTheTimeoutResumesItsJob) {
   EXPECT_EQ(StateOf(job_id), JobState::kRunning);  // the timeout no longer runs
 }
 
+// Two robots sent to each other's places: the newer job is withdrawn (queued again), its robot
+// goes aside on a make-way job first, and gets its job back once that has ended.
+TEST_F(JobServiceTest, OfTwoRobotsSwappingPlacesTheNewerJobWaitsWhileItsRobotMakesWay) {
+  TrafficCoordinator traffic(&site_data_, &registry_, &mailbox_, &clock_,
+                             TrafficCoordinatorParams{});
+  JobServiceParams params;
+  JobService jobs(&job_store_, &memory_.robots, &site_data_, &site_, &registry_, &mailbox_, &clock_,
+                  params, &traffic);
+  ASSERT_TRUE(jobs.Recover().ok());
+  std::map<std::string, uint64_t> sessions;
+  for (const auto& [robot_id, pose] : {std::pair{std::string("a"), Pose2(2.5, 5.0, 0.0)},
+                                       std::pair{std::string("b"), Pose2(7.5, 5.0, M_PI)}}) {
+    RobotIdentity identity;
+    identity.robot_id = robot_id;
+    identity.model = LelyVectorModel();
+    identity.capabilities = {"free_navigation"};
+    jobs.OnRobotConnected(identity, "");
+    sessions[robot_id] = registry_.Connect(identity);
+    Telemetry telemetry;
+    telemetry.pose_in_map = pose;
+    ASSERT_TRUE(registry_.RecordTelemetry(robot_id, sessions[robot_id], telemetry).ok());
+  }
+  auto submit_goal = [&](const std::string& robot_id, const Pose2& goal) {
+    SubmitJobRequest request;
+    request.goal_map_id = "hall";
+    request.goal = goal;
+    request.robot_id = robot_id;
+    absl::StatusOr<storage::CreatedJob> created = jobs.Submit(request);
+    EXPECT_TRUE(created.ok()) << created.status();
+    return created.ok() ? created->job.job_id : "";
+  };
+  const std::string job_a = submit_goal("a", Pose2(7.5, 5.0, 0.0));
+  clock_.AdvanceNs(kSecondNs);
+  const std::string job_b = submit_goal("b", Pose2(2.5, 5.0, M_PI));
+  EXPECT_EQ(jobs.DispatchOnce(), 2);
+
+  // b's job is back in the queue, saying why; b was told to drop it.
+  const Job withdrawn = jobs.Get(job_b).value();
+  EXPECT_EQ(withdrawn.state, JobState::kQueued);
+  EXPECT_EQ(withdrawn.assigned_robot_id, "");
+  ASSERT_FALSE(mailbox_.commands["b"].empty());
+  EXPECT_EQ(mailbox_.commands["b"].back().type, JobCommandType::kCancel);
+  EXPECT_EQ(mailbox_.commands["b"].back().job_id, job_b);
+  EXPECT_THAT(mailbox_.commands["b"].back().reason, HasSubstr("withdrawn from b to let a pass"));
+  EXPECT_EQ(jobs.Get(job_a).value().state, JobState::kAssigned);
+
+  // The next pass gives b its make-way job: a goal off a's way, not its own job.
+  jobs.DispatchOnce();
+  ASSERT_EQ(mailbox_.assignments["b"].size(), 2u);
+  const JobAssignment& make_way = mailbox_.assignments["b"].back();
+  EXPECT_NE(make_way.job.job_id, job_b);
+  ASSERT_TRUE(make_way.job.goal.has_value());
+  EXPECT_GT(std::abs(make_way.job.goal->y_m() - 5.0), 1.0) << make_way.job.goal->y_m();
+  EXPECT_EQ(StateOf(job_b), JobState::kQueued);
+
+  // b has made way: its own job is given again.
+  JobEvent done;
+  done.job_id = make_way.job.job_id;
+  done.type = JobEventType::kSucceeded;
+  jobs.OnRobotEvent("b", done);
+  Telemetry aside;
+  aside.pose_in_map = *make_way.job.goal;
+  ASSERT_TRUE(registry_.RecordTelemetry("b", sessions["b"], aside).ok());
+  jobs.DispatchOnce();
+  EXPECT_EQ(StateOf(job_b), JobState::kAssigned);
+  EXPECT_EQ(mailbox_.assignments["b"].back().job.job_id, job_b);
+}
+
 TEST_F(JobServiceTest, TheDispatcherLoopAssignsOnItsThreadAndTimesTheOneJobPass) {
   DispatcherLoop loop(jobs_.get(), /*period_s=*/60.0);
   loop.Start();

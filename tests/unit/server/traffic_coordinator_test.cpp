@@ -126,6 +126,17 @@ TEST_F(TrafficCoordinatorTest, AnIdleRobotInTheWayIsNeverDrivenThrough) {
   EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("idle, which stands in its way"));
 }
 
+/// Whether a Lely standing at `place` would be in the way of one driving along y = 0 from
+/// x = from_x_m for 12 m, as traffic coordination sweeps both (footprint grown by margin_m).
+bool InTheWayOfTwelveMetresEastFrom(double from_x_m, const Pose2& place) {
+  const TrafficCoordinatorParams params;
+  std::vector<Pose2> way;
+  for (int i = 0; i <= 120; ++i) way.emplace_back(from_x_m + 0.1 * i, 0.0, 0.0);
+  const std::vector<Eigen::Vector2d>& footprint = LelyVectorModel().footprint_m;
+  return planner::CellSet::Sweep({place}, footprint, params.margin_m, params.cell_m)
+      .Intersects(planner::CellSet::Sweep(way, footprint, params.margin_m, params.cell_m));
+}
+
 TEST_F(TrafficCoordinatorTest, AnIdleRobotInTheWayIsAskedOnceToMakeWayToAPlaceOffTheWay) {
   Connect("a", Pose2(-8, 0, 0));
   Connect("idle", Pose2(0, 0, M_PI / 2));
@@ -136,16 +147,8 @@ TEST_F(TrafficCoordinatorTest, AnIdleRobotInTheWayIsAskedOnceToMakeWayToAPlaceOf
   EXPECT_EQ(requests[0].robot_id, "idle");
   EXPECT_EQ(requests[0].map_id, "hall");
   EXPECT_EQ(requests[0].for_robot_id, "a");
-  // The place is off a's way as traffic coordination sweeps it (footprint grown by 0.5 m).
-  const TrafficCoordinatorParams params;
-  std::vector<Pose2> way;
-  for (int i = 0; i <= 120; ++i) way.emplace_back(-8.0 + 0.1 * i, 0.0, 0.0);
-  const std::vector<Eigen::Vector2d>& footprint = LelyVectorModel().footprint_m;
-  const planner::CellSet a_way =
-      planner::CellSet::Sweep(way, footprint, params.margin_m, params.cell_m);
-  EXPECT_FALSE(
-      planner::CellSet::Sweep({requests[0].place}, footprint, params.margin_m, params.cell_m)
-          .Intersects(a_way));
+  // The place is off a's way as traffic coordination sweeps it.
+  EXPECT_FALSE(InTheWayOfTwelveMetresEastFrom(-8.0, requests[0].place));
   // Beside the way, not down the hall: the nearest such place.
   EXPECT_LT((requests[0].place.translation() - Eigen::Vector2d(0, 0)).norm(), 4.0);
 
@@ -174,6 +177,33 @@ TEST_F(TrafficCoordinatorTest, AnIdleRobotWithNowhereToGoIsNamedInTheWaitingRobo
   EXPECT_THAT(mailbox_.sent["a"].back().wait_reason,
               HasSubstr("idle, which stands in its way; it cannot make way: no place within "
                         "0.3 m of (0.00, 0.00)"));
+}
+
+TEST_F(TrafficCoordinatorTest, OfTwoRobotsSwappingPlacesTheNewerJobIsWithdrawnAndItsRobotMakesWay) {
+  // a at x = -6 goes to x = 6 where b stands; b goes to x = -6 where a stands. Neither order
+  // works at action granularity: b's job, the newer, is held, and b stands in a's way.
+  Connect("a", Pose2(-6, 0, 0));
+  Connect("b", Pose2(6, 0, M_PI));
+  coordinator_.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
+  clock_.AdvanceNs(1'000'000'000);
+  coordinator_.Begin("b", Job("job-b", {{StraightAction{12.0, 0.5}, {}}}));
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, -1);
+  EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, -1);
+  const std::vector<MakeWayRequest> requests = coordinator_.TakeMakeWayRequests();
+  ASSERT_EQ(requests.size(), 1u);
+  EXPECT_EQ(requests[0].robot_id, "b");
+  EXPECT_EQ(requests[0].for_robot_id, "a");
+  EXPECT_EQ(requests[0].withdraw_job_id, "job-b");
+  // Its place is off a's way and off where a ends.
+  EXPECT_FALSE(InTheWayOfTwelveMetresEastFrom(-6.0, requests[0].place));
+
+  // b's job withdrawn, b aside: a goes.
+  coordinator_.End("job-b");
+  Move("b", requests[0].place);
+  clock_.AdvanceNs(1'000'000'000);
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
 }
 
 // When no job began, ended or moved on, the clearances are decided again only once

@@ -52,6 +52,11 @@ class JobLifecycle {
   absl::StatusOr<storage::CreatedJob> Submit(const SubmitJobRequest& request);
   /// FailedPrecondition for a job that has already ended.
   absl::StatusOr<Job> Cancel(const std::string& job_id, const std::string& reason);
+  /// Takes an assigned job back from its robot before the robot has started it (traffic
+  /// coordination: its robot must make way first): the robot is told to drop it and is free,
+  /// and the job is queued again with a QUEUED event saying why, keeping its age and priority.
+  /// FailedPrecondition unless the job is assigned.
+  absl::StatusOr<Job> Withdraw(const std::string& job_id, const std::string& reason);
   /// FailedPrecondition for a job that is neither assigned nor running.
   absl::StatusOr<Job> Pause(const std::string& job_id, const std::string& reason);
   /// FailedPrecondition for a job that is not paused or whose robot is away.

@@ -48,6 +48,9 @@ struct MakeWayRequest {
   std::string map_id;
   Pose2 place;
   std::string for_robot_id;  ///< a robot that waits for it
+  /// Its job, when it has one that traffic coordination holds and that it has not started:
+  /// the job is to be withdrawn (queued again) before the robot goes.
+  std::string withdraw_job_id;
 };
 
 /// A change of why a robot's job is held, for the job's events.
@@ -65,8 +68,11 @@ struct TrafficWaitChange {
 /// may enter grows. Robots without a job that are online stand where they are and are never
 /// driven through; one that stands in a waiting robot's way is asked, once until it has a job
 /// again, to make way (TakeMakeWayRequests: a place found by planner::FindMakeWayPlace; when
-/// there is none, the waiting robot's reason says so). A robot whose job is paused keeps its
-/// region. Thread-safe (one mutex; it calls the registry and the mailbox, which never block).
+/// there is none, the waiting robot's reason says so). So is a robot whose job is held whole
+/// (the routes cannot be ordered, e.g. two robots swapping places) before it has started it:
+/// its job is to be withdrawn and given again once it has made way. A robot whose job is
+/// paused keeps its region. Thread-safe (one mutex; it calls the registry and the mailbox, which
+/// never block).
 class TrafficCoordinator {
  public:
   TrafficCoordinator(SiteCache* site_data, FleetRegistry* registry, RobotMailbox* mailbox,
