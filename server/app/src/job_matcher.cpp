@@ -167,6 +167,11 @@ void JobMatcher::SendToMakeWay(const std::vector<MakeWayRequest>& requests) {
   }
 }
 
+bool JobMatcher::IsMakeWayJob(const std::string& job_id) const {
+  return std::any_of(make_way_job_.begin(), make_way_job_.end(),
+                     [&](const auto& entry) { return entry.second == job_id; });
+}
+
 std::vector<RobotRecord>::iterator JobMatcher::Nearest(std::vector<RobotRecord>& idle,
                                                        const Job& job, const RouteFacts& facts) {
   auto best = idle.end();

@@ -150,6 +150,7 @@ int JobService::DispatchOnce() {
   std::vector<MakeWayRequest> make_way = traffic_.TakeMakeWayRequests();
   std::erase_if(make_way, [&](const MakeWayRequest& request) {
     if (request.withdraw_job_id.empty()) return false;
+    if (matcher_.IsMakeWayJob(request.withdraw_job_id)) return true;
     return !lifecycle_
                 .Withdraw(request.withdraw_job_id,
                           absl::StrCat("withdrawn from ", request.robot_id, " to let ",

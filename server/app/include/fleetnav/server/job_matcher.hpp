@@ -61,6 +61,9 @@ class JobMatcher {
   /// Submits a go-to-goal job to its place for each robot asked to make way that has no
   /// make-way job pending (highest priority, so the next pass gives it before anything else).
   void SendToMakeWay(const std::vector<MakeWayRequest>& requests);
+  /// Whether `job_id` is a make-way job this matcher submitted (never withdrawn: withdrawing
+  /// what moves a robot out of the way would only queue the same move again).
+  bool IsMakeWayJob(const std::string& job_id) const;
   /// Assigns what can be assigned now; returns jobs assigned.
   int AssignQueued();
   /// Forgets what is kept about a robot that is removed.
