@@ -94,6 +94,10 @@ void TrafficCoordinator::End(const std::string& job_id) {
     robot_id = it->second.robot_id;
     jobs_.erase(it);
     changed_ = true;
+    // The floor a job needed is free again: a robot that found no place to make way to looks
+    // again on the next update.
+    for (const auto& [stuck_robot_id, why] : cannot_make_way_)
+      make_way_asked_.erase(stuck_robot_id);
   }
   registry_->SetTrafficWait(robot_id, "");
 }

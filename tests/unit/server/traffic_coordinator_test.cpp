@@ -206,6 +206,33 @@ TEST_F(TrafficCoordinatorTest, OfTwoRobotsSwappingPlacesTheNewerJobIsWithdrawnAn
   EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
 }
 
+TEST_F(TrafficCoordinatorTest, AnIdleRobotWithNoPlaceLooksAgainOnceAJobHasEnded) {
+  // a drives along y = 0 through the idle robot; b and c stand north and south of it with
+  // jobs along y = +-3, so within 3 m there is no place off every way.
+  TrafficCoordinatorParams params;
+  params.make_way.max_distance_m = 3.0;
+  TrafficCoordinator coordinator(&site_data_, &registry_, &mailbox_, &clock_, params);
+  Connect("a", Pose2(-8, 0, 0));
+  Connect("idle", Pose2(0, 0, M_PI / 2));
+  Connect("b", Pose2(-4, 3, 0));
+  Connect("c", Pose2(-4, -3, 0));
+  coordinator.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
+  coordinator.Begin("b", Job("job-b", {{StraightAction{8.0, 0.5}, {}}}));
+  coordinator.Begin("c", Job("job-c", {{StraightAction{8.0, 0.5}, {}}}));
+  coordinator.Update();
+  EXPECT_TRUE(coordinator.TakeMakeWayRequests().empty());
+  EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("it cannot make way"));
+  // b's job ends (b has driven on, east of the hall's middle): the north side is free.
+  coordinator.End("job-b");
+  Move("b", Pose2(8, 3, 0));
+  coordinator.Update();
+  const std::vector<MakeWayRequest> requests = coordinator.TakeMakeWayRequests();
+  ASSERT_EQ(requests.size(), 1u);
+  EXPECT_EQ(requests[0].robot_id, "idle");
+  EXPECT_GT(requests[0].place.y_m(), 1.0);
+  EXPECT_FALSE(InTheWayOfTwelveMetresEastFrom(-8.0, requests[0].place));
+}
+
 // When no job began, ended or moved on, the clearances are decided again only once
 // recheck_period_s has passed: an idle robot that walked out of the way is noticed then.
 TEST_F(TrafficCoordinatorTest, WithoutJobEventsClearancesAreRecheckedOncePerPeriod) {

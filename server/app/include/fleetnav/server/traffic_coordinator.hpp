@@ -99,7 +99,8 @@ class TrafficCoordinator {
   std::vector<TrafficWaitChange> Update();
   /// The robots without a job that Update found standing in a waiting robot's way since the
   /// last call, each with the place it is to go to. A robot is asked once until it is given a
-  /// job (JobMatcher submits the make-way job).
+  /// job (JobMatcher submits the make-way job); one that had no place looks again once some
+  /// job has ended.
   std::vector<MakeWayRequest> TakeMakeWayRequests();
 
  private:
