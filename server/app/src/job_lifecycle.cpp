@@ -78,14 +78,18 @@ absl::StatusOr<Job> JobLifecycle::Cancel(const std::string& job_id, const std::s
   const std::string why = reason.empty() ? "cancelled by operator" : reason;
   RETURN_IF_ERROR(
       ledger_->Transition(job, JobState::kCancelled, JobEventType::kCancelled, why, robot));
+  TakeFromRobot(job_id, robot, why);
+  return job;
+}
+
+void JobLifecycle::TakeFromRobot(const std::string& job_id, const std::string& robot_id,
+                                 const std::string& why) {
   recovery_->Forget(job_id);
   traffic_->End(job_id);
-  if (!robot.empty()) {
-    mailbox_->SendCommand(robot, JobCommand{JobCommandType::kCancel, job_id, why});
-    registry_->SetCurrentJob(robot, "");
-    work_->Notify();  // the robot is free for the next job
-  }
-  return job;
+  if (robot_id.empty()) return;
+  mailbox_->SendCommand(robot_id, JobCommand{JobCommandType::kCancel, job_id, why});
+  registry_->SetCurrentJob(robot_id, "");
+  work_->Notify();  // the robot is free for the next job
 }
 
 absl::StatusOr<Job> JobLifecycle::Withdraw(const std::string& job_id, const std::string& reason) {
@@ -99,11 +103,7 @@ absl::StatusOr<Job> JobLifecycle::Withdraw(const std::string& job_id, const std:
   job.assigned_robot_id.clear();
   RETURN_IF_ERROR(
       ledger_->Transition(job, JobState::kQueued, JobEventType::kQueued, reason, robot));
-  recovery_->Forget(job_id);
-  traffic_->End(job_id);
-  mailbox_->SendCommand(robot, JobCommand{JobCommandType::kCancel, job_id, reason});
-  registry_->SetCurrentJob(robot, "");
-  work_->Notify();
+  TakeFromRobot(job_id, robot, reason);
   return job;
 }
 

@@ -151,6 +151,12 @@ void JobMatcher::SendLowRobotsToCharge() {
 
 void JobMatcher::SendToMakeWay(const std::vector<MakeWayRequest>& requests) {
   for (const MakeWayRequest& request : requests) {
+    // Traffic coordination counts idle robots as obstacles by coordinates on every map; a
+    // robot whose last job was on another map stands on another site and is not sent here.
+    if (auto map = robot_map_.find(request.robot_id);
+        map != robot_map_.end() && map->second != request.map_id) {
+      continue;
+    }
     if (auto pending = make_way_job_.find(request.robot_id); pending != make_way_job_.end()) {
       absl::StatusOr<Job> job = ledger_->Get(pending->second);
       if (job.ok() && !IsTerminal(job->state)) continue;

@@ -96,8 +96,9 @@ void TrafficCoordinator::End(const std::string& job_id) {
     changed_ = true;
     // The floor a job needed is free again: a robot that found no place to make way to looks
     // again on the next update.
-    for (const auto& [stuck_robot_id, why] : cannot_make_way_)
+    for (const auto& [stuck_robot_id, why] : cannot_make_way_) {
       make_way_asked_.erase(stuck_robot_id);
+    }
   }
   registry_->SetTrafficWait(robot_id, "");
 }

@@ -303,6 +303,55 @@ TEST_F(JobServiceTest, OfTwoRobotsSwappingPlacesTheNewerJobWaitsWhileItsRobotMak
   EXPECT_EQ(mailbox_.assignments["b"].back().job.job_id, job_b);
 }
 
+// Idle robots are obstacles by coordinates on every map (fleetnavd does not know where a robot
+// without a job is); one whose last job was on another map stands on another site and is not
+// sent to a place on this one.
+TEST_F(JobServiceTest, ARobotLastOnAnotherMapIsNotSentToMakeWayHere) {
+  ASSERT_TRUE(MapCatalog(&site_data_, &clock_)
+                  .Put("other", OccupancyGrid::Filled(100, 100, 0.1, Pose2(), 0).value(), "")
+                  .ok());
+  TrafficCoordinator traffic(&site_data_, &registry_, &mailbox_, &clock_,
+                             TrafficCoordinatorParams{});
+  JobService jobs(&job_store_, &memory_.robots, &site_data_, &site_, &registry_, &mailbox_, &clock_,
+                  JobServiceParams{}, &traffic);
+  ASSERT_TRUE(jobs.Recover().ok());
+  std::map<std::string, uint64_t> sessions;
+  for (const auto& [robot_id, pose] : {std::pair{std::string("a"), Pose2(1.5, 5.0, 0.0)},
+                                       std::pair{std::string("c"), Pose2(6.0, 5.0, M_PI / 2)}}) {
+    RobotIdentity identity;
+    identity.robot_id = robot_id;
+    identity.model = LelyVectorModel();
+    identity.capabilities = {"free_navigation"};
+    jobs.OnRobotConnected(identity, "");
+    sessions[robot_id] = registry_.Connect(identity);
+    Telemetry telemetry;
+    telemetry.pose_in_map = pose;
+    ASSERT_TRUE(registry_.RecordTelemetry(robot_id, sessions[robot_id], telemetry).ok());
+  }
+  auto submit_goal = [&](const std::string& robot_id, const std::string& map_id,
+                         const Pose2& goal) {
+    SubmitJobRequest request;
+    request.goal_map_id = map_id;
+    request.goal = goal;
+    request.robot_id = robot_id;
+    absl::StatusOr<storage::CreatedJob> created = jobs.Submit(request);
+    EXPECT_TRUE(created.ok()) << created.status();
+    return created.ok() ? created->job.job_id : "";
+  };
+  // c's last job was on "other"; it ended where c now stands.
+  const std::string job_c = submit_goal("c", "other", Pose2(6.0, 5.0, M_PI / 2));
+  EXPECT_EQ(jobs.DispatchOnce(), 1);
+  JobEvent done;
+  done.job_id = job_c;
+  done.type = JobEventType::kSucceeded;
+  jobs.OnRobotEvent("c", done);
+  // a drives through where c stands, by coordinates, on "hall".
+  submit_goal("a", "hall", Pose2(8.5, 5.0, 0.0));
+  jobs.DispatchOnce();
+  jobs.DispatchOnce();
+  EXPECT_EQ(mailbox_.assignments["c"].size(), 1u);  // only its job on "other"
+}
+
 TEST_F(JobServiceTest, TheDispatcherLoopAssignsOnItsThreadAndTimesTheOneJobPass) {
   DispatcherLoop loop(jobs_.get(), /*period_s=*/60.0);
   loop.Start();

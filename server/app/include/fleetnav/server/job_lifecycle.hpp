@@ -68,6 +68,10 @@ class JobLifecycle {
   /// FailedPrecondition when `robot` is connected and lacks one of `needs`.
   static absl::Status CheckRobotCanRun(const RobotRecord& robot,
                                        const std::vector<NeededCapability>& needs);
+  /// A job the server takes back (cancelled or withdrawn): no longer coordinated or awaited,
+  /// and its robot, if any, told to drop it and free for the next job.
+  void TakeFromRobot(const std::string& job_id, const std::string& robot_id,
+                     const std::string& why);
   /// Stores the job's end reported by its robot and frees the robot.
   void End(Job& job, JobState state, const JobEvent& event, const std::string& robot_id);
 

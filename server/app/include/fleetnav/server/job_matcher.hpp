@@ -59,7 +59,8 @@ class JobMatcher {
   /// Submits a charging job for each idle robot whose battery is low and that is not charging.
   void SendLowRobotsToCharge();
   /// Submits a go-to-goal job to its place for each robot asked to make way that has no
-  /// make-way job pending (highest priority, so the next pass gives it before anything else).
+  /// make-way job pending (highest priority, so the next pass gives it before anything else),
+  /// unless the robot's last job was on another map.
   void SendToMakeWay(const std::vector<MakeWayRequest>& requests);
   /// Whether `job_id` is a make-way job this matcher submitted (never withdrawn: withdrawing
   /// what moves a robot out of the way would only queue the same move again).
