@@ -83,6 +83,32 @@ class JobServiceTest : public ::testing::Test {
     return created.ok() ? created->job.job_id : "";
   }
 
+  /// A robot that drives goal jobs, connected to `jobs` and standing at `pose` (telemetry in
+  /// map); returns its session.
+  uint64_t ConnectGoalRobot(JobService& jobs, const std::string& robot_id, const Pose2& pose) {
+    RobotIdentity identity;
+    identity.robot_id = robot_id;
+    identity.model = LelyVectorModel();
+    identity.capabilities = {"free_navigation"};
+    jobs.OnRobotConnected(identity, "");
+    const uint64_t session = registry_.Connect(identity);
+    Telemetry telemetry;
+    telemetry.pose_in_map = pose;
+    EXPECT_TRUE(registry_.RecordTelemetry(robot_id, session, telemetry).ok());
+    return session;
+  }
+
+  std::string SubmitGoal(JobService& jobs, const std::string& robot_id, const std::string& map_id,
+                         const Pose2& goal) {
+    SubmitJobRequest request;
+    request.goal_map_id = map_id;
+    request.goal = goal;
+    request.robot_id = robot_id;
+    absl::StatusOr<storage::CreatedJob> created = jobs.Submit(request);
+    EXPECT_TRUE(created.ok()) << created.status();
+    return created.ok() ? created->job.job_id : "";
+  }
+
   JobState StateOf(const std::string& job_id) { return jobs_->Get(job_id).value().state; }
 
   /// Submits, assigns to `robot`, has it start, then cuts it off.
@@ -244,31 +270,11 @@ TEST_F(JobServiceTest, OfTwoRobotsSwappingPlacesTheNewerJobWaitsWhileItsRobotMak
   JobService jobs(&job_store_, &memory_.robots, &site_data_, &site_, &registry_, &mailbox_, &clock_,
                   params, &traffic);
   ASSERT_TRUE(jobs.Recover().ok());
-  std::map<std::string, uint64_t> sessions;
-  for (const auto& [robot_id, pose] : {std::pair{std::string("a"), Pose2(2.5, 5.0, 0.0)},
-                                       std::pair{std::string("b"), Pose2(7.5, 5.0, M_PI)}}) {
-    RobotIdentity identity;
-    identity.robot_id = robot_id;
-    identity.model = LelyVectorModel();
-    identity.capabilities = {"free_navigation"};
-    jobs.OnRobotConnected(identity, "");
-    sessions[robot_id] = registry_.Connect(identity);
-    Telemetry telemetry;
-    telemetry.pose_in_map = pose;
-    ASSERT_TRUE(registry_.RecordTelemetry(robot_id, sessions[robot_id], telemetry).ok());
-  }
-  auto submit_goal = [&](const std::string& robot_id, const Pose2& goal) {
-    SubmitJobRequest request;
-    request.goal_map_id = "hall";
-    request.goal = goal;
-    request.robot_id = robot_id;
-    absl::StatusOr<storage::CreatedJob> created = jobs.Submit(request);
-    EXPECT_TRUE(created.ok()) << created.status();
-    return created.ok() ? created->job.job_id : "";
-  };
-  const std::string job_a = submit_goal("a", Pose2(7.5, 5.0, 0.0));
+  ConnectGoalRobot(jobs, "a", Pose2(2.5, 5.0, 0.0));
+  const uint64_t session_b = ConnectGoalRobot(jobs, "b", Pose2(7.5, 5.0, M_PI));
+  const std::string job_a = SubmitGoal(jobs, "a", "hall", Pose2(7.5, 5.0, 0.0));
   clock_.AdvanceNs(kSecondNs);
-  const std::string job_b = submit_goal("b", Pose2(2.5, 5.0, M_PI));
+  const std::string job_b = SubmitGoal(jobs, "b", "hall", Pose2(2.5, 5.0, M_PI));
   EXPECT_EQ(jobs.DispatchOnce(), 2);
 
   // b's job is back in the queue, saying why; b was told to drop it.
@@ -297,7 +303,7 @@ TEST_F(JobServiceTest, OfTwoRobotsSwappingPlacesTheNewerJobWaitsWhileItsRobotMak
   jobs.OnRobotEvent("b", done);
   Telemetry aside;
   aside.pose_in_map = *make_way.job.goal;
-  ASSERT_TRUE(registry_.RecordTelemetry("b", sessions["b"], aside).ok());
+  ASSERT_TRUE(registry_.RecordTelemetry("b", session_b, aside).ok());
   jobs.DispatchOnce();
   EXPECT_EQ(StateOf(job_b), JobState::kAssigned);
   EXPECT_EQ(mailbox_.assignments["b"].back().job.job_id, job_b);
@@ -315,38 +321,17 @@ TEST_F(JobServiceTest, ARobotLastOnAnotherMapIsNotSentToMakeWayHere) {
   JobService jobs(&job_store_, &memory_.robots, &site_data_, &site_, &registry_, &mailbox_, &clock_,
                   JobServiceParams{}, &traffic);
   ASSERT_TRUE(jobs.Recover().ok());
-  std::map<std::string, uint64_t> sessions;
-  for (const auto& [robot_id, pose] : {std::pair{std::string("a"), Pose2(1.5, 5.0, 0.0)},
-                                       std::pair{std::string("c"), Pose2(6.0, 5.0, M_PI / 2)}}) {
-    RobotIdentity identity;
-    identity.robot_id = robot_id;
-    identity.model = LelyVectorModel();
-    identity.capabilities = {"free_navigation"};
-    jobs.OnRobotConnected(identity, "");
-    sessions[robot_id] = registry_.Connect(identity);
-    Telemetry telemetry;
-    telemetry.pose_in_map = pose;
-    ASSERT_TRUE(registry_.RecordTelemetry(robot_id, sessions[robot_id], telemetry).ok());
-  }
-  auto submit_goal = [&](const std::string& robot_id, const std::string& map_id,
-                         const Pose2& goal) {
-    SubmitJobRequest request;
-    request.goal_map_id = map_id;
-    request.goal = goal;
-    request.robot_id = robot_id;
-    absl::StatusOr<storage::CreatedJob> created = jobs.Submit(request);
-    EXPECT_TRUE(created.ok()) << created.status();
-    return created.ok() ? created->job.job_id : "";
-  };
+  ConnectGoalRobot(jobs, "a", Pose2(1.5, 5.0, 0.0));
+  ConnectGoalRobot(jobs, "c", Pose2(6.0, 5.0, M_PI / 2));
   // c's last job was on "other"; it ended where c now stands.
-  const std::string job_c = submit_goal("c", "other", Pose2(6.0, 5.0, M_PI / 2));
+  const std::string job_c = SubmitGoal(jobs, "c", "other", Pose2(6.0, 5.0, M_PI / 2));
   EXPECT_EQ(jobs.DispatchOnce(), 1);
   JobEvent done;
   done.job_id = job_c;
   done.type = JobEventType::kSucceeded;
   jobs.OnRobotEvent("c", done);
   // a drives through where c stands, by coordinates, on "hall".
-  submit_goal("a", "hall", Pose2(8.5, 5.0, 0.0));
+  SubmitGoal(jobs, "a", "hall", Pose2(8.5, 5.0, 0.0));
   jobs.DispatchOnce();
   jobs.DispatchOnce();
   EXPECT_EQ(mailbox_.assignments["c"].size(), 1u);  // only its job on "other"
