@@ -56,7 +56,15 @@ int Newer(const RouteList& routes, int r, int s) {
 
 using Block = SharedBlock;
 
-/// The blocks of two routes: 4-connected components of intersecting unfinished action pairs.
+/// Whether action i of `a` and action j of `b` are in each other's way: one sweeps the other's
+/// region or where the other stands after it.
+bool Meet(const ScheduledRoute& a, int i, const ScheduledRoute& b, int j) {
+  return a.action_cells[i].Intersects(b.action_cells[j]) ||
+         a.action_cells[i].Intersects(b.action_end_cells[j]) ||
+         a.action_end_cells[i].Intersects(b.action_cells[j]);
+}
+
+/// The blocks of two routes: 4-connected components of unfinished action pairs that meet.
 std::vector<Block> Blocks(const ScheduledRoute& a, const ScheduledRoute& b) {
   const int fa = a.first_unfinished;
   const int fb = b.first_unfinished;
@@ -64,20 +72,21 @@ std::vector<Block> Blocks(const ScheduledRoute& a, const ScheduledRoute& b) {
   const int nb = std::max(0, Count(b) - fb);
   std::vector<char> conflict(static_cast<size_t>(na) * nb, 0);
   for (int i = 0; i < na; ++i) {
-    for (int j = 0; j < nb; ++j) {
-      conflict[i * nb + j] = a.action_cells[fa + i].Intersects(b.action_cells[fb + j]) ? 1 : 0;
-    }
+    for (int j = 0; j < nb; ++j) conflict[i * nb + j] = Meet(a, fa + i, b, fb + j) ? 1 : 0;
   }
   std::vector<Block> blocks;
   std::vector<char> seen(conflict.size(), 0);
+  std::vector<int> members;
   for (int start = 0; start < na * nb; ++start) {
     if (!conflict[start] || seen[start]) continue;
-    Block block{na, -1, nb, -1};
+    Block block{na, -1, nb, -1, {}, {}};
     std::vector<int> stack{start};
+    members.clear();
     seen[start] = 1;
     while (!stack.empty()) {
       const int cell = stack.back();
       stack.pop_back();
+      members.push_back(cell);
       const int i = cell / nb;
       const int j = cell % nb;
       block.k1 = std::min(block.k1, i);
@@ -94,9 +103,32 @@ std::vector<Block> Blocks(const ScheduledRoute& a, const ScheduledRoute& b) {
         }
       }
     }
-    blocks.push_back({block.k1 + fa, block.k2 + fa, block.l1 + fb, block.l2 + fb});
+    block.last_k_meeting_l.assign(block.l2 - block.l1 + 1, -1);
+    block.last_l_meeting_k.assign(block.k2 - block.k1 + 1, -1);
+    for (const int cell : members) {
+      const int i = cell / nb;
+      const int j = cell % nb;
+      int& k_for_l = block.last_k_meeting_l[j - block.l1];
+      int& l_for_k = block.last_l_meeting_k[i - block.k1];
+      k_for_l = std::max(k_for_l, i + fa);
+      l_for_k = std::max(l_for_k, j + fb);
+    }
+    blocks.push_back({block.k1 + fa, block.k2 + fa, block.l1 + fb, block.l2 + fb,
+                      std::move(block.last_k_meeting_l), std::move(block.last_l_meeting_k)});
   }
   return blocks;
+}
+
+/// The second robot through a block follows the first: its action `first + n` waits for
+/// the first robot's `last_meeting[n]` (once per action that needs more than the one before).
+void Follow(Graph& g, int follower, int first, const std::vector<int>& last_meeting,
+            int leader) {
+  int needed = -1;
+  for (size_t n = 0; n < last_meeting.size(); ++n) {
+    if (last_meeting[n] <= needed) continue;
+    needed = last_meeting[n];
+    g.deps[{follower, first + static_cast<int>(n)}].push_back({leader, needed, -1});
+  }
 }
 
 /// Whether `cells` meets any of the route's action regions first..last.
@@ -194,9 +226,9 @@ BuildResult Build(const RouteList& routes, const std::vector<bool>& held,
           a_first = a_must || (!b_must && key(r, block.k1) < key(s, block.l1));
         }
         if (a_first) {
-          g.deps[{s, block.l1}].push_back({r, block.k2, -1});
+          Follow(g, s, block.l1, block.last_k_meeting_l, r);
         } else {
-          g.deps[{r, block.k1}].push_back({s, block.l2, -1});
+          Follow(g, r, block.k1, block.last_l_meeting_k, s);
         }
       }
     }

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <random>
 
+#include "absl/strings/str_cat.h"
+
 #include "fleetnav/planner/coordination/route_prediction.hpp"
 
 namespace fleetnav::planner {
@@ -190,76 +192,196 @@ TEST(TrafficScheduleTest, RoutesThatEndOnEachOthersStartAreHeldNotDeadlocked) {
   EXPECT_EQ(d[1].cleared_up_to, -1);
 }
 
+/// A route along `points` cut into legs of about `step_m`, as fleetnavd cuts actions into
+/// segments.
+ScheduledRoute Segmented(const std::string& robot, std::vector<Eigen::Vector2d> points,
+                         double step_m, double t0) {
+  std::vector<Eigen::Vector2d> fine{points.front()};
+  for (size_t i = 1; i < points.size(); ++i) {
+    const int n = std::max(1, static_cast<int>(std::round((points[i] - points[i - 1]).norm() /
+                                                          step_m)));
+    for (int k = 1; k <= n; ++k) {
+      fine.push_back(points[i - 1] + (points[i] - points[i - 1]) * (static_cast<double>(k) / n));
+    }
+  }
+  return Route(robot, fine, t0);
+}
+
+TEST(TrafficScheduleTest, ARobotFollowsAnotherDownAnAisleOneRegionBehindIt) {
+  // Both drive east along y = 0 in 2 m segments; a started first. b may enter a's way as soon
+  // as a has left what b's first segment needs, not when a has left the whole aisle.
+  ScheduledRoute a = Segmented("a", {{0, 0}, {20, 0}}, 2.0, 0.0);
+  ScheduledRoute b = Segmented("b", {{-4, 0}, {16, 0}}, 2.0, 1.0);
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
+  EXPECT_EQ(d[0].cleared_up_to, 9);
+  ASSERT_FALSE(d[1].waits.empty());
+  EXPECT_EQ(d[1].waits[0].blocker_robot_id, "a");
+  // b's second segment (-2 → 0 m) meets a's first (0 → 2 m), far from the end of the aisle
+  // (a's segment 9).
+  EXPECT_EQ(d[1].waits[0].action, 1);
+  EXPECT_EQ(d[1].waits[0].blocker_action, 0);
+  // a moves on: b follows, one region behind.
+  a.first_unfinished = 5;
+  a.cleared_up_to = 9;
+  b.cleared_up_to = d[1].cleared_up_to;
+  d = DecideClearances({a, b}, {});
+  EXPECT_EQ(d[1].cleared_up_to, 5);  // up to 8 m, a's rear is beyond 9.5 m
+  ASSERT_FALSE(d[1].waits.empty());
+  EXPECT_EQ(d[1].waits[0].action, 6);
+  EXPECT_EQ(d[1].waits[0].blocker_action, 5);  // the segment a is driving now
+}
+
+TEST(TrafficScheduleTest, RobotsMeetingHeadOnInAnAisleStillPassItWhole) {
+  // Opposite directions: b may not enter before a has left all of it.
+  ScheduledRoute a = Segmented("a", {{0, 0}, {12, 0}, {12, 8}}, 2.0, 0.0);
+  ScheduledRoute b = Segmented("b", {{14, -6}, {14, 0}, {-4, 0}}, 2.0, 1.0);
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
+  ASSERT_FALSE(d[1].waits.empty());
+  EXPECT_EQ(d[1].waits[0].blocker_robot_id, "a");
+  // a's last segment in the aisle ends at (12, 2) on its way north; b waits for it.
+  EXPECT_GE(d[1].waits[0].blocker_action, 6);
+}
+
+/// Runs `routes` to their ends, one random robot moving on per step (a random delay for all
+/// the others), deciding clearances before each step. Fails when two robots are ever in each
+/// other's way (running action or standing place) or nobody can move; returns how often some
+/// robot waited.
+int RunWithRandomDelays(std::vector<ScheduledRoute> routes, std::mt19937& rng, int seed) {
+  const int n = static_cast<int>(routes.size());
+  int waited = 0;
+  std::vector<bool> running(n, false);
+  auto occupied = [&](int i) -> const CellSet& {
+    const ScheduledRoute& r = routes[i];
+    if (running[i]) return r.action_cells[r.first_unfinished];
+    return r.first_unfinished == 0 ? r.start_cells : r.action_end_cells[r.first_unfinished - 1];
+  };
+  int idle_steps = 0;
+  for (int step = 0; step < 20000; ++step) {
+    std::vector<ScheduledRoute> active;
+    std::vector<ParkedRobot> parked;
+    std::vector<int> index;
+    for (int i = 0; i < n; ++i) {
+      if (routes[i].first_unfinished < static_cast<int>(routes[i].action_cells.size())) {
+        active.push_back(routes[i]);
+        index.push_back(i);
+      } else {
+        parked.push_back({routes[i].robot_id, routes[i].action_end_cells.back()});
+      }
+    }
+    if (active.empty()) break;
+    const std::vector<TrafficClearanceDecision> d = DecideClearances(active, parked);
+    for (size_t j = 0; j < d.size(); ++j) {
+      routes[index[j]].cleared_up_to = d[j].cleared_up_to;
+      if (!d[j].waits.empty()) ++waited;
+    }
+    const int i = index[std::uniform_int_distribution<size_t>(0, index.size() - 1)(rng)];
+    ScheduledRoute& r = routes[i];
+    bool moved = false;
+    if (running[i]) {
+      running[i] = false;
+      ++r.first_unfinished;
+      moved = true;
+    } else if (r.cleared_up_to >= r.first_unfinished) {
+      running[i] = true;
+      moved = true;
+    }
+    idle_steps = moved ? 0 : idle_steps + 1;
+    if (idle_steps >= 400) {
+      std::string state;
+      for (size_t j = 0; j < d.size(); ++j) {
+        absl::StrAppend(&state, "\n  ", d[j].robot_id, ": cleared to ", d[j].cleared_up_to,
+                        d[j].deadlocked ? " (held)" : "");
+        for (const TrafficWait& w : d[j].waits) {
+          absl::StrAppend(&state, "; ", w.action, " waits for ", w.blocker_robot_id, " ",
+                          w.blocker_action);
+        }
+      }
+      ADD_FAILURE() << "seed " << seed << ": nobody can move (deadlock)" << state;
+      return waited;
+    }
+    for (int x = 0; x < n; ++x) {
+      for (int y = x + 1; y < n; ++y) {
+        EXPECT_FALSE(occupied(x).Intersects(occupied(y)))
+            << "seed " << seed << ": " << routes[x].robot_id << " and " << routes[y].robot_id
+            << " meet";
+        if (occupied(x).Intersects(occupied(y))) return waited;
+      }
+    }
+  }
+  for (const ScheduledRoute& r : routes) {
+    EXPECT_EQ(r.first_unfinished, static_cast<int>(r.action_cells.size()))
+        << "seed " << seed << " robot " << r.robot_id;
+  }
+  return waited;
+}
+
+/// Four random routes from the west edge (y = 0, 3, 6, 9) to the east edge in a random order,
+/// through two random points each, in legs of about `step_m` (0: one leg between points).
+std::vector<ScheduledRoute> RandomCrossingRoutes(std::mt19937& rng, double step_m) {
+  std::uniform_real_distribution<double> mid(5.0, 15.0);
+  std::vector<int> exits{0, 1, 2, 3};
+  std::shuffle(exits.begin(), exits.end(), rng);
+  std::vector<ScheduledRoute> routes;
+  for (int i = 0; i < 4; ++i) {
+    const std::string robot(1, static_cast<char>('a' + i));
+    std::vector<Eigen::Vector2d> points{{0.0, 3.0 * i},
+                                        {mid(rng), mid(rng) - 5.0},
+                                        {mid(rng), mid(rng) - 5.0},
+                                        {20.0, 3.0 * exits[i]}};
+    routes.push_back(step_m > 0.0 ? Segmented(robot, points, step_m, 0.5 * i)
+                                  : Route(robot, points, 0.5 * i));
+  }
+  return routes;
+}
+
 // Four robots on random crossing routes, executed with random delays over 50 seeds: no two
 // robots are ever in each other's way (running action or standing place), and all finish.
 TEST(TrafficScheduleTest, RandomDelaysNeverCollideOrDeadlock) {
-  int crossings_waited = 0;
+  int waited = 0;
   for (int seed = 1; seed <= 50; ++seed) {
     std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> mid(5.0, 15.0);
-    std::vector<int> exits{0, 1, 2, 3};
-    std::shuffle(exits.begin(), exits.end(), rng);
+    waited += RunWithRandomDelays(RandomCrossingRoutes(rng, 0.0), rng, seed);
+  }
+  EXPECT_GT(waited, 0);  // the routes did cross
+}
+
+// The same in segments of 1.5 m, where robots follow one another through shared places.
+TEST(TrafficScheduleTest, RandomDelaysOnSegmentedRoutesNeverCollideOrDeadlock) {
+  int waited = 0;
+  for (int seed = 1; seed <= 50; ++seed) {
+    std::mt19937 rng(seed);
+    waited += RunWithRandomDelays(RandomCrossingRoutes(rng, 1.5), rng, seed);
+  }
+  EXPECT_GT(waited, 0);
+}
+
+// Robots driving one corridor both ways in segments, with random delays. The corridor runs from
+// (0, 0) to (20, 0); at each end four streets fan out (8 m long, 40° apart) and robot i comes
+// from its street at one end and leaves by its street at the other, east or west at random:
+// no robot ends where another starts or passes (a well-formed site).
+TEST(TrafficScheduleTest, RandomDelaysInACorridorDrivenBothWaysNeverCollideOrDeadlock) {
+  int waited = 0;
+  const auto street = [](bool east_end, int i) -> Eigen::Vector2d {
+    const double fan = (-60.0 + 40.0 * i) * M_PI / 180.0;
+    const double angle = east_end ? fan : M_PI - fan;
+    return Eigen::Vector2d(east_end ? 20.0 : 0.0, 0.0) +
+           8.0 * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+  };
+  for (int seed = 1; seed <= 50; ++seed) {
+    std::mt19937 rng(seed);
     std::vector<ScheduledRoute> routes;
     for (int i = 0; i < 4; ++i) {
-      routes.push_back(Route(std::string(1, static_cast<char>('a' + i)),
-                             {{0.0, 3.0 * i},
-                              {mid(rng), mid(rng) - 5.0},
-                              {mid(rng), mid(rng) - 5.0},
-                              {20.0, 3.0 * exits[i]}},
-                             0.5 * i));
+      const bool east = rng() % 2 == 0;
+      const Eigen::Vector2d west_end(0.0, 0.0);
+      const Eigen::Vector2d east_end(20.0, 0.0);
+      routes.push_back(Segmented(std::string(1, static_cast<char>('a' + i)),
+                                 {street(!east, i), east ? west_end : east_end,
+                                  east ? east_end : west_end, street(east, i)},
+                                 1.5, 0.5 * i));
     }
-    std::vector<bool> running(4, false);
-    auto occupied = [&](int i) -> const CellSet& {
-      const ScheduledRoute& r = routes[i];
-      if (running[i]) return r.action_cells[r.first_unfinished];
-      return r.first_unfinished == 0 ? r.start_cells : r.action_end_cells[r.first_unfinished - 1];
-    };
-    int idle_steps = 0;
-    for (int step = 0; step < 5000; ++step) {
-      std::vector<ScheduledRoute> active;
-      std::vector<ParkedRobot> parked;
-      std::vector<int> index;
-      for (int i = 0; i < 4; ++i) {
-        if (routes[i].first_unfinished < 3) {
-          active.push_back(routes[i]);
-          index.push_back(i);
-        } else {
-          parked.push_back({routes[i].robot_id, routes[i].action_end_cells.back()});
-        }
-      }
-      if (active.empty()) break;
-      const std::vector<TrafficClearanceDecision> d = DecideClearances(active, parked);
-      for (size_t j = 0; j < d.size(); ++j) {
-        routes[index[j]].cleared_up_to = d[j].cleared_up_to;
-        if (!d[j].waits.empty()) ++crossings_waited;
-      }
-      // One robot moves on (a random delay for everyone else).
-      const int i = index[std::uniform_int_distribution<size_t>(0, index.size() - 1)(rng)];
-      ScheduledRoute& r = routes[i];
-      bool moved = false;
-      if (running[i]) {
-        running[i] = false;
-        ++r.first_unfinished;
-        moved = true;
-      } else if (r.cleared_up_to >= r.first_unfinished) {
-        running[i] = true;
-        moved = true;
-      }
-      idle_steps = moved ? 0 : idle_steps + 1;
-      ASSERT_LT(idle_steps, 400) << "seed " << seed << ": nobody can move (deadlock)";
-      for (int x = 0; x < 4; ++x) {
-        for (int y = x + 1; y < 4; ++y) {
-          ASSERT_FALSE(occupied(x).Intersects(occupied(y)))
-              << "seed " << seed << ": " << routes[x].robot_id << " and " << routes[y].robot_id
-              << " meet";
-        }
-      }
-    }
-    for (int i = 0; i < 4; ++i) {
-      EXPECT_EQ(routes[i].first_unfinished, 3) << "seed " << seed << " robot " << i;
-    }
+    waited += RunWithRandomDelays(std::move(routes), rng, seed);
   }
-  EXPECT_GT(crossings_waited, 0);  // the routes did cross
+  EXPECT_GT(waited, 0);
 }
 
 /// A planner that answers every request with the straight line and remembers the requests.

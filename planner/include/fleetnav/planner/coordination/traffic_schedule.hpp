@@ -52,12 +52,14 @@ struct TrafficClearanceDecision {
 
 /// Traffic coordination over swept regions with an action dependency graph (Hönig, Kiesel,
 /// Tinka, Durham and Ayanian, "Persistent and Robust Execution of MAPF Schedules in
-/// Warehouses", RA-L 2019). For two routes A and B, the pairs of unfinished actions whose swept
-/// cells intersect form blocks (4-connected components in the grid of action pairs): a block
-/// is one place the two robots share, A through actions k1..k2 and B through l1..l2, where a
-/// robot standing between two of them is still in the other's way. One robot passes the whole
-/// block first: B's l1 waits for A's k2 to finish (or A's k1 for B's l2); once k2 is done, A
-/// stands outside every region of B in the block. Who goes first: a robot already cleared into
+/// Warehouses", RA-L 2019). An "action" here is whatever the caller orders: a route's actions,
+/// or segments of them a metre or two long. For two routes A and B, the pairs of unfinished
+/// actions whose regions meet (swept cells or where the robot stands after one) form blocks
+/// (4-connected components in the grid of action pairs): a block is one place the two robots
+/// share, A through actions k1..k2 and B through l1..l2. One robot passes the block first, and
+/// the other follows it through: B's action l waits for the last of A's actions in the block
+/// that meets l or where B stands after l (or the other way round), so B enters the block as
+/// soon as A has left what B's first action needs, and stays one region behind A. Who goes first: a robot already cleared into
 /// the block; else the one that stands in the block before it starts (it cannot make way);
 /// else not the one whose route ends in the block (it would stay there); else the earlier
 /// expected start (robot index breaks ties). Orders that close a cycle hold the newest route
@@ -69,9 +71,13 @@ std::vector<TrafficClearanceDecision> DecideClearances(const std::vector<Schedul
 std::vector<TrafficClearanceDecision> DecideClearances(
     const std::vector<const ScheduledRoute*>& routes, const std::vector<ParkedRobot>& parked);
 
-/// One place two routes share: actions k1..k2 of the first and l1..l2 of the second.
+/// One place two routes share: actions k1..k2 of the first and l1..l2 of the second, and for
+/// each action of one, the last action of the other that it meets (-1: none), so that a robot
+/// that goes second can follow the first through the block action by action.
 struct SharedBlock {
   int k1 = 0, k2 = 0, l1 = 0, l2 = 0;
+  std::vector<int> last_k_meeting_l;  ///< for l1..l2
+  std::vector<int> last_l_meeting_k;  ///< for k1..k2
 };
 
 /// DecideClearances with a memory: the shared blocks of each pair of routes are kept from one
