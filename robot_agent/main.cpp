@@ -195,6 +195,7 @@ int main(int argc, char** argv) {
   // What this agent can execute: a job needs every one of its route's action types here.
   fleetnav::RobotIdentity identity{robot_id, *model, fleetnav::agent::SupportedActionTypes(*model),
                                    "0.2.0"};
+  identity.segment_clearances = true;  // the executor stands before a clearance's gate
   absl::StatusOr<std::shared_ptr<grpc::ChannelCredentials>> server_credentials =
       fleetnav::MakeChannelCredentials(tls);
   if (!server_credentials.ok()) return Fail(server_credentials.status().ToString());

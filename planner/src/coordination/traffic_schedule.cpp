@@ -121,8 +121,7 @@ std::vector<Block> Blocks(const ScheduledRoute& a, const ScheduledRoute& b) {
 
 /// The second robot through a block follows the first: its action `first + n` waits for
 /// the first robot's `last_meeting[n]` (once per action that needs more than the one before).
-void Follow(Graph& g, int follower, int first, const std::vector<int>& last_meeting,
-            int leader) {
+void Follow(Graph& g, int follower, int first, const std::vector<int>& last_meeting, int leader) {
   int needed = -1;
   for (size_t n = 0; n < last_meeting.size(); ++n) {
     if (last_meeting[n] <= needed) continue;
@@ -157,8 +156,14 @@ BuildResult Build(const RouteList& routes, const std::vector<bool>& held,
   for (size_t p = 0; p < parked.size(); ++p) {
     standing.emplace_back(static_cast<int>(p), &parked[p].cells);
   }
+  // So do robots that have finished every action of their routes: they stand at its end
+  // until their jobs end.
+  std::vector<bool> standing_route(routes.size(), false);
   for (size_t r = 0; r < routes.size(); ++r) {
-    if (held[r]) standing.emplace_back(static_cast<int>(parked.size() + r), &Standing(routes[r]));
+    standing_route[r] = held[r] || routes[r].first_unfinished >= Count(routes[r]);
+    if (standing_route[r]) {
+      standing.emplace_back(static_cast<int>(parked.size() + r), &Standing(routes[r]));
+    }
   }
   auto key = [&](int r, int k) {
     const double t = k <= routes[r].cleared_up_to ? -std::numeric_limits<double>::infinity()
@@ -178,16 +183,22 @@ BuildResult Build(const RouteList& routes, const std::vector<bool>& held,
     }
   }
   for (int r = 0; r < n; ++r) {
-    if (held[r]) continue;
+    if (standing_route[r]) continue;
     const ScheduledRoute& a = routes[r];
     for (const auto& [index, cells] : standing) {
       if (!bounds[r].BoundsOverlap(*cells)) continue;
       for (int k = a.first_unfinished; k < Count(a); ++k) {
-        if (a.action_cells[k].Intersects(*cells)) g.deps[{r, k}].push_back({kParked, -1, index});
+        if (!a.action_cells[k].Intersects(*cells)) continue;
+        // The whole action waits (from its first segment not yet cleared).
+        const int held_from =
+            a.whole_from.empty()
+                ? k
+                : std::max({a.whole_from[k], a.first_unfinished, a.cleared_up_to + 1});
+        g.deps[{r, std::min(held_from, k)}].push_back({kParked, -1, index});
       }
     }
     for (int s = r + 1; s < n; ++s) {
-      if (held[s] || !bounds[r].BoundsOverlap(bounds[s])) continue;
+      if (standing_route[s] || !bounds[r].BoundsOverlap(bounds[s])) continue;
       const ScheduledRoute& b = routes[s];
       for (const Block& block : blocks_of(r, s)) {
         const bool a_cleared = block.k1 <= a.cleared_up_to;

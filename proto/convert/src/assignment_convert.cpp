@@ -5,6 +5,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "fleetnav/core/status_macros.hpp"
+#include "fleetnav/proto/geometry_convert.hpp"
 #include "fleetnav/proto/job_convert.hpp"
 #include "fleetnav/proto/route_convert.hpp"
 
@@ -68,9 +69,14 @@ absl::StatusOr<JobCommand> FromProto(const v1::Command& wire) {
   return command;
 }
 
-JobCommand FromProto(const v1::TrafficClearance& clearance) {
-  return JobCommand{JobCommandType::kClearance, clearance.job_id(), clearance.wait_reason(),
-                    clearance.cleared_up_to_action()};
+absl::StatusOr<JobCommand> FromProto(const v1::TrafficClearance& clearance) {
+  JobCommand command{JobCommandType::kClearance, clearance.job_id(), clearance.wait_reason(),
+                     clearance.cleared_up_to_action(), std::nullopt};
+  if (clearance.has_hold()) {
+    ASSIGN_OR_RETURN(const Pose2 gate, FromProto(clearance.hold().gate(), "clearance.hold.gate"));
+    command.hold = SegmentHold{clearance.cleared_up_to_action(), clearance.hold().segment(), gate};
+  }
+  return command;
 }
 
 }  // namespace fleetnav

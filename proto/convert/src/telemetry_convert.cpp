@@ -136,6 +136,7 @@ absl::StatusOr<RobotIdentity> FromProto(const v1::AgentHello& hello) {
   ASSIGN_OR_RETURN(out.model, FromProto(hello.model()));
   out.capabilities.assign(hello.capabilities().begin(), hello.capabilities().end());
   out.software_version = hello.software_version();
+  out.segment_clearances = hello.segment_clearances();
   return out;
 }
 
@@ -145,6 +146,7 @@ v1::AgentHello ToProto(const RobotIdentity& identity) {
   *out.mutable_model() = ToProto(identity.model);
   for (const std::string& capability : identity.capabilities) out.add_capabilities(capability);
   out.set_software_version(identity.software_version);
+  out.set_segment_clearances(identity.segment_clearances);
   return out;
 }
 

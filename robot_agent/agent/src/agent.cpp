@@ -86,6 +86,7 @@ void Agent::ApplyCommand(const JobCommand& command, const ExecutorOutput& output
   if (command.type == JobCommandType::kClearance && executor_) {
     // The action under way stays cleared whatever a new session says.
     executor_->SetClearedUpTo(std::max(command.cleared_up_to_action, executor_->action_index()));
+    executor_->SetHold(command.hold);
   }
   if (command.type == JobCommandType::kCancel) {
     Report(JobEventType::kCancelled, output.action_index, NavigationMode::kIdle, command.reason,
@@ -122,8 +123,9 @@ void Agent::ServeJobs(const ExecutorOutput& output, AgentResult* result) {
       }
       StartRoute(*assignment->route, assignment->resume);
       // A job from the server waits for its traffic clearance.
-      executor_->SetClearedUpTo(
-          clearance_.job_id == current_job_id_ ? clearance_.cleared_up_to_action : -1);
+      const bool cleared = clearance_.job_id == current_job_id_;
+      executor_->SetClearedUpTo(cleared ? clearance_.cleared_up_to_action : -1);
+      executor_->SetHold(cleared ? clearance_.hold : std::nullopt);
       // Commands about this job that came with it (a job sent again while an operator holds
       // it comes with PAUSE).
       for (const JobCommand& command : commands) {

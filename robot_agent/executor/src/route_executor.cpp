@@ -1,6 +1,7 @@
 #include "fleetnav/robot_agent/route_executor.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "absl/strings/str_cat.h"
 #include "fleetnav/core/status_macros.hpp"
@@ -59,6 +60,23 @@ absl::Status RouteExecutor::ResumeAt(const RoutePosition& position, const Pose2&
     waiting_ = true;
   }
   return absl::OkStatus();
+}
+
+void RouteExecutor::HoldBeforeGate(const ControlInput& input, ExecutorOutput* out) const {
+  const Eigen::Vector2d velocity_in_map_mps =
+      Eigen::Rotation2Dd(input.pose_in_map.yaw_rad()) *
+      Eigen::Vector2d(out->command.vx_mps, out->command.vy_mps);
+  const double limit_mps = SpeedLimitBeforeGate(hold_->gate, input.pose_in_map.translation(),
+                                                velocity_in_map_mps, params_.profile.decel_mps2);
+  const double speed_mps = velocity_in_map_mps.norm();
+  if (speed_mps <= limit_mps) return;
+  // Slowed along its own curve (the turn rate with the speed), to a stop before the gate.
+  const double scale = limit_mps / speed_mps;
+  out->command.vx_mps *= scale;
+  out->command.vy_mps *= scale;
+  out->command.yaw_rate_radps *= scale;
+  out->held_at_gate = true;
+  if (limit_mps == 0.0) out->mode = NavigationMode::kIdle;
 }
 
 double RouteExecutor::ActionFraction(double controller_fraction) const {
@@ -160,6 +178,7 @@ ExecutorOutput RouteExecutor::StepActions(const ControlInput& input,
     out.progress_fraction = (index_ + out.action_fraction) / actions;
     if (!done) {
       out.command = control.command;
+      if (hold_ && hold_->action_index == index_) HoldBeforeGate(input, &out);
       return out;
     }
     const std::optional<Eigen::Vector2d> carried_before_m = context_.carried_load_m;

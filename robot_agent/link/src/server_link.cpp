@@ -189,7 +189,10 @@ void ServerLink::ApplyServerMessage(const v1::ServerMessage& message) {
       commands_.push_back(*std::move(command));
     }
   } else if (message.has_clearance()) {
-    commands_.push_back(FromProto(message.clearance()));
+    // A malformed hold is not acted on: the clearance before it stays.
+    if (absl::StatusOr<JobCommand> clearance = FromProto(message.clearance()); clearance.ok()) {
+      commands_.push_back(*std::move(clearance));
+    }
   }
 }
 

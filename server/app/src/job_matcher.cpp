@@ -27,6 +27,13 @@ bool SameDemand(const Demand& a, const Demand& b) {
 
 }  // namespace
 
+void JobMatcher::OnJobSucceeded(const std::string& robot_id, const std::string& job_id) {
+  if (auto made_way = make_way_job_.find(robot_id);
+      made_way != make_way_job_.end() && made_way->second != job_id) {
+    make_way_job_.erase(made_way);
+  }
+}
+
 void JobMatcher::ForgetRobot(const std::string& robot_id) {
   robot_map_.erase(robot_id);
   charging_job_.erase(robot_id);
@@ -160,6 +167,9 @@ void JobMatcher::SendToMakeWay(const std::vector<MakeWayRequest>& requests) {
     if (auto pending = make_way_job_.find(request.robot_id); pending != make_way_job_.end()) {
       absl::StatusOr<Job> job = ledger_->Get(pending->second);
       if (job.ok() && !IsTerminal(job->state)) continue;
+      // A robot that failed to make way (its bumper, a plan it could not make) is not sent
+      // again until another of its jobs has succeeded: asking again would only fail again.
+      if (job.ok() && job->state == JobState::kFailed) continue;
       make_way_job_.erase(pending);
     }
     SubmitJobRequest submit;

@@ -101,6 +101,7 @@ void JobService::OnRobotDisconnected(const std::string& robot_id) {
 void JobService::OnRobotEvent(const std::string& robot_id, const JobEvent& event) {
   absl::MutexLock lock(&mutex_);
   lifecycle_.OnRobotEvent(robot_id, event);
+  if (event.type == JobEventType::kSucceeded) matcher_.OnJobSucceeded(robot_id, event.job_id);
 }
 
 void JobService::OnTelemetry(const std::string& robot_id, const Telemetry& telemetry) {

@@ -1,11 +1,14 @@
 #include "fleetnav/server/traffic_coordinator.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <utility>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/segment_gate.hpp"
 #include "fleetnav/planner/coordination/make_way.hpp"
+#include "fleetnav/planner/coordination/route_segments.hpp"
 #include "fleetnav/planner/single_robot/planner_factory.hpp"
 
 namespace fleetnav::server {
@@ -16,6 +19,17 @@ absl::Status TrafficCoordinatorParams::Validate() const {
   }
   if (!std::isfinite(cell_m) || cell_m <= 0.0) {
     return absl::InvalidArgumentError(absl::StrCat("cell_m: must be > 0, got ", cell_m));
+  }
+  if (!std::isfinite(standing_margin_min_m) || standing_margin_min_m < 0.0 ||
+      standing_margin_min_m > margin_m || !std::isfinite(standing_sigmas) ||
+      standing_sigmas < 0.0) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "standing_margin_min_m must be in [0, margin_m] and standing_sigmas >= 0, got ",
+        standing_margin_min_m, " and ", standing_sigmas));
+  }
+  if (!std::isfinite(segment_m) || segment_m < 0.0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("segment_m: must be >= 0 (0: whole actions), got ", segment_m));
   }
   if (!std::isfinite(recheck_period_s) || recheck_period_s < 0.0) {
     return absl::InvalidArgumentError(
@@ -47,7 +61,10 @@ void TrafficCoordinator::Begin(const std::string& robot_id, const JobAssignment&
   Tracked tracked;
   tracked.robot_id = robot_id;
   tracked.assignment = assignment;
-  if (record.ok()) tracked.model = record->identity.model;
+  if (record.ok()) {
+    tracked.model = record->identity.model;
+    tracked.segment_clearances = record->identity.segment_clearances;
+  }
   tracked.assigned_s = static_cast<double>(clock_->NowNs()) * 1e-9;
   tracked.start_action = std::max(resume_action, 0);
   tracked.resume_from_telemetry = resume_action == kResumeWhereReported;
@@ -71,14 +88,18 @@ void TrafficCoordinator::OnActionFinished(const std::string& robot_id, const std
   tracked.start_action = std::max(tracked.start_action, action_index + 1);
   changed_ = true;
   if (tracked.schedule) {
+    const int next_action = std::min(action_index + 1, tracked.predicted_end);
     tracked.schedule->first_unfinished =
-        std::max(tracked.schedule->first_unfinished, action_index + 1);
+        std::max(tracked.schedule->first_unfinished, tracked.first_step[next_action]);
+    const int first_unfinished_action =
+        tracked.schedule->first_unfinished < static_cast<int>(tracked.steps.size())
+            ? tracked.steps[tracked.schedule->first_unfinished].action
+            : tracked.predicted_end;
     const bool more =
         tracked.predicted_end < static_cast<int>(tracked.assignment.route->actions.size());
-    if (more &&
-        tracked.schedule->first_unfinished + params_.horizon_actions / 2 >= tracked.predicted_end) {
+    if (more && first_unfinished_action + params_.horizon_actions / 2 >= tracked.predicted_end) {
       // The next window is predicted on the next update, from where the robot then is.
-      tracked.start_action = tracked.schedule->first_unfinished;
+      tracked.start_action = first_unfinished_action;
       tracked.schedule.reset();
       tracked.assigned_s = static_cast<double>(clock_->NowNs()) * 1e-9;
     }
@@ -153,8 +174,16 @@ planner::SingleRobotPlanner* TrafficCoordinator::PlannerFor(const Tracked& track
   return cache.planner.get();
 }
 
+double TrafficCoordinator::StandingMarginM(const Telemetry& telemetry) const {
+  const double variance_m2 = std::max(telemetry.covariance[0], telemetry.covariance[4]);
+  if (!std::isfinite(variance_m2) || variance_m2 < 0.0) return params_.margin_m;
+  return std::clamp(params_.standing_sigmas * std::sqrt(variance_m2), params_.standing_margin_min_m,
+                    params_.margin_m);
+}
+
 void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
-                                 const std::optional<Eigen::Vector2d>& carried_load_m) {
+                                 const std::optional<Eigen::Vector2d>& carried_load_m,
+                                 double standing_margin_m) {
   std::shared_ptr<const storage::StoredMarkerSet> markers;
   if (tracked.assignment.marker_set_version > 0) {
     absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> stored =
@@ -191,52 +220,112 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
     return planner::CellSet::Sweep(poses, tracked.model.FootprintCarrying(load_m), params_.margin_m,
                                    params_.cell_m);
   };
+  const auto stand = [&](const Pose2& at, const std::optional<Eigen::Vector2d>& load_m) {
+    return planner::CellSet::Sweep({at}, tracked.model.FootprintCarrying(load_m), standing_margin_m,
+                                   params_.cell_m);
+  };
   std::optional<Eigen::Vector2d> load_m = carried_load_m;
-  schedule.start_cells = sweep({pose}, load_m);
+  schedule.start_cells = stand(pose, load_m);
   schedule.cells_id = next_cells_id_++;
-  schedule.action_cells.resize(skipped);
-  schedule.action_end_cells.assign(skipped, schedule.start_cells);
-  schedule.action_start_s.assign(skipped, tracked.assigned_s);
+  // Actions already run are one empty step each.
+  tracked.steps.clear();
+  tracked.first_step.clear();
+  for (int k = 0; k < skipped; ++k) {
+    tracked.first_step.push_back(k);
+    tracked.steps.push_back({k, 0, 1, std::nullopt});
+    schedule.whole_from.push_back(k);
+    schedule.action_cells.emplace_back();
+    schedule.action_end_cells.push_back(schedule.start_cells);
+    schedule.action_start_s.push_back(tracked.assigned_s);
+  }
+  const bool laser_localized =
+      std::any_of(tracked.model.sensors.begin(), tracked.model.sensors.end(),
+                  [](const SensorMount& sensor) { return sensor.type == SensorType::kLaser; });
+  const double segment_m = tracked.segment_clearances && laser_localized ? params_.segment_m : 0.0;
   double t_s = tracked.assigned_s;
   for (size_t i = 0; i < remaining.actions.size(); ++i) {
-    if (predicted.ok()) {
-      const planner::PredictedAction& action = predicted->at(i);
-      const std::optional<Eigen::Vector2d> load_after_m =
-          CarriedLoadAfter(remaining.actions[i], load_m, marker_set, Eigen::Vector2d::Zero());
-      schedule.action_cells.push_back(sweep(action.poses, load_m));
-      schedule.action_end_cells.push_back(sweep({action.poses.back()}, load_after_m));
-      load_m = load_after_m;
-      schedule.action_start_s.push_back(t_s);
-      t_s += action.duration_s;
-    } else {
+    const int action = skipped + static_cast<int>(i);
+    tracked.first_step.push_back(static_cast<int>(tracked.steps.size()));
+    if (!predicted.ok()) {
       // Unpredictable (a stripe the marker set lacks): reserve where it stands.
-      schedule.action_cells.push_back(schedule.start_cells);
+      schedule.whole_from.push_back(static_cast<int>(tracked.steps.size()));
+      tracked.steps.push_back({action, 0, 1, std::nullopt});
+      schedule.action_cells.push_back(sweep({pose}, carried_load_m));
       schedule.action_end_cells.push_back(schedule.start_cells);
       schedule.action_start_s.push_back(t_s);
+      continue;
     }
+    const std::optional<Eigen::Vector2d> load_after_m =
+        CarriedLoadAfter(remaining.actions[i], load_m, marker_set, Eigen::Vector2d::Zero());
+    const bool free_navigation =
+        std::holds_alternative<FreeNavigationAction>(remaining.actions[i].params);
+    const std::vector<planner::ActionSegment> segments =
+        planner::SplitIntoSegments(predicted->at(i), free_navigation ? segment_m : 0.0);
+    const int action_first_step = static_cast<int>(tracked.steps.size());
+    for (size_t j = 0; j < segments.size(); ++j) {
+      const bool last = j + 1 == segments.size();
+      schedule.whole_from.push_back(action_first_step);
+      tracked.steps.push_back(
+          {action, static_cast<int>(j), static_cast<int>(segments.size()), segments[j].gate});
+      schedule.action_cells.push_back(sweep(segments[j].poses, load_m));
+      // The load changes where the action ends (a trolley dock or an undock).
+      schedule.action_end_cells.push_back(
+          stand(segments[j].poses.back(), last ? load_after_m : load_m));
+      schedule.action_start_s.push_back(t_s);
+      t_s += segments[j].duration_s;
+    }
+    load_m = load_after_m;
   }
+  tracked.first_step.push_back(static_cast<int>(tracked.steps.size()));
   schedule.first_unfinished = skipped;
-  schedule.cleared_up_to = skipped > 0 || tracked.resume_from_telemetry ? skipped : -1;
+  // The action the robot may be in already (a later window, or a job resumed after a restart)
+  // stays cleared whole.
   if (skipped >= static_cast<int>(tracked.assignment.route->actions.size())) {
     schedule.cleared_up_to = skipped - 1;
+  } else if (skipped > 0 || tracked.resume_from_telemetry) {
+    schedule.cleared_up_to = tracked.first_step[skipped + 1] - 1;
+  } else {
+    schedule.cleared_up_to = -1;
   }
   tracked.schedule = std::move(schedule);
 }
 
-std::string TrafficCoordinator::Describe(const planner::TrafficClearanceDecision& d) const {
+namespace {
+
+/// "action 3 (free_navigation)", or "segment 2 of 5 of action 3 (free_navigation)" when the
+/// step is not the action's last.
+template <typename StepT>
+std::string StepName(const StepT& step, const Route& route) {
+  std::string name = absl::StrCat("action ", step.action);
+  if (step.action < static_cast<int>(route.actions.size())) {
+    absl::StrAppend(&name, " (", std::string(ActionTypeName(route.actions[step.action].params)),
+                    ")");
+  }
+  if (step.segment + 1 < step.segments) {
+    name = absl::StrCat("segment ", step.segment + 1, " of ", step.segments, " of ", name);
+  }
+  return name;
+}
+
+}  // namespace
+
+std::string TrafficCoordinator::Describe(const planner::TrafficClearanceDecision& d,
+                                         const std::map<std::string, const Tracked*>& jobs_on_map) {
   if (d.waits.empty()) return "";
   const planner::TrafficWait& wait = d.waits.front();
-  std::string action_name = "its last action";
-  for (const auto& [job_id, other] : jobs_) {
-    if (other.robot_id == wait.blocker_robot_id && wait.blocker_action >= 0 &&
-        wait.blocker_action < static_cast<int>(other.assignment.route->actions.size())) {
-      action_name = absl::StrCat(
-          "action ", wait.blocker_action, " (",
-          std::string(ActionTypeName(other.assignment.route->actions[wait.blocker_action].params)),
-          ")");
-    }
+  auto waiting = jobs_on_map.find(d.robot_id);
+  const int action = waiting != jobs_on_map.end() && wait.action >= 0 &&
+                             wait.action < static_cast<int>(waiting->second->steps.size())
+                         ? waiting->second->steps[wait.action].action
+                         : wait.action;
+  std::string blocker_step = "its last action";
+  auto blocker = jobs_on_map.find(wait.blocker_robot_id);
+  if (blocker != jobs_on_map.end() && wait.blocker_action >= 0 &&
+      wait.blocker_action < static_cast<int>(blocker->second->steps.size())) {
+    blocker_step =
+        StepName(blocker->second->steps[wait.blocker_action], *blocker->second->assignment.route);
   }
-  const std::string next = absl::StrCat("action ", wait.action, " waits for ");
+  const std::string next = absl::StrCat("action ", action, " waits for ");
   if (d.deadlocked) {
     return absl::StrCat(next, wait.blocker_robot_id,
                         ": the routes block each other; it runs when that job ends");
@@ -244,7 +333,44 @@ std::string TrafficCoordinator::Describe(const planner::TrafficClearanceDecision
   if (wait.blocker_action < 0) {
     return absl::StrCat(next, wait.blocker_robot_id, ", which stands in its way");
   }
-  return absl::StrCat(next, wait.blocker_robot_id, " to finish ", action_name);
+  return absl::StrCat(next, wait.blocker_robot_id, " to finish ", blocker_step);
+}
+
+ClearanceNotice TrafficCoordinator::Notice(const Tracked& tracked,
+                                           const planner::TrafficClearanceDecision& d,
+                                           const std::map<std::string, const Tracked*>& jobs_on_map,
+                                           const std::string& reason) {
+  ClearanceNotice notice{tracked.assignment.job.job_id, -1, {}, reason, std::nullopt};
+  const auto action_of = [&](const Tracked& t, int step) {
+    return step >= 0 && step < static_cast<int>(t.steps.size()) ? t.steps[step].action : step;
+  };
+  if (d.cleared_up_to >= 0 && d.cleared_up_to < static_cast<int>(tracked.steps.size())) {
+    const Step& step = tracked.steps[d.cleared_up_to];
+    notice.cleared_up_to_action = step.action;
+    if (step.gate) notice.hold = SegmentHold{step.action, step.segment, *step.gate};
+  }
+  for (planner::TrafficWait wait : d.waits) {
+    wait.action = action_of(tracked, wait.action);
+    auto blocker = jobs_on_map.find(wait.blocker_robot_id);
+    if (blocker != jobs_on_map.end()) {
+      wait.blocker_action = action_of(*blocker->second, wait.blocker_action);
+    }
+    notice.waits.push_back(std::move(wait));
+  }
+  return notice;
+}
+
+bool TrafficCoordinator::PassGates(Tracked& tracked, const Telemetry& telemetry) {
+  if (!tracked.schedule || telemetry.job_id != tracked.assignment.job.job_id) return false;
+  bool moved = false;
+  int& first = tracked.schedule->first_unfinished;
+  while (first < static_cast<int>(tracked.steps.size()) &&
+         tracked.steps[first].action == telemetry.action_index && tracked.steps[first].gate &&
+         ReachedGate(*tracked.steps[first].gate, telemetry.pose_in_map.translation())) {
+    ++first;
+    moved = true;
+  }
+  return moved;
 }
 
 std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
@@ -270,16 +396,20 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
     std::set<std::string> coordinated;
     for (auto& [job_id, tracked] : jobs_) {
       coordinated.insert(tracked.robot_id);
-      if (tracked.schedule) continue;
       auto it = by_id.find(tracked.robot_id);
       if (it == by_id.end() || !it->second->last_telemetry) continue;
       const Telemetry& telemetry = *it->second->last_telemetry;
+      if (tracked.schedule) {
+        // Segments end where the robot reaches their gates.
+        PassGates(tracked, telemetry);
+        continue;
+      }
       if (tracked.resume_from_telemetry) {
         // After a server restart: the robot is in the action it reports.
         if (telemetry.job_id != job_id) continue;
         tracked.start_action = std::max(tracked.start_action, telemetry.action_index);
       }
-      Predict(tracked, telemetry.pose_in_map, telemetry.carried_load_m);
+      Predict(tracked, telemetry.pose_in_map, telemetry.carried_load_m, StandingMarginM(telemetry));
     }
     for (const auto& [job_id, tracked] : jobs_) {
       // A job still waiting for its robot's pose is looked at again on the next update.
@@ -308,13 +438,15 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
       // Swept again only when the robot has moved or its load changed.
       const Pose2& pose = r.last_telemetry->pose_in_map;
       const std::optional<Eigen::Vector2d>& load_m = r.last_telemetry->carried_load_m;
+      const double margin_m = StandingMarginM(*r.last_telemetry);
       auto [cached, inserted] = parked_cells_.try_emplace(r.identity.robot_id);
       if (inserted || !cached->second.pose.IsNear(pose, 0.0, 0.0) ||
-          cached->second.carried_load_m != load_m) {
+          cached->second.carried_load_m != load_m ||
+          std::abs(cached->second.margin_m - margin_m) > 0.5 * params_.cell_m) {
         cached->second = {
-            pose, load_m,
-            planner::CellSet::Sweep({pose}, r.identity.model.FootprintCarrying(load_m),
-                                    params_.margin_m, params_.cell_m)};
+            pose, load_m, margin_m,
+            planner::CellSet::Sweep({pose}, r.identity.model.FootprintCarrying(load_m), margin_m,
+                                    params_.cell_m)};
       }
       parked.push_back({r.identity.robot_id, cached->second.cells});
     }
@@ -333,14 +465,18 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
         continue;
       }
       std::vector<const planner::ScheduledRoute*> routes;
-      for (const Tracked* t : tracked_jobs) routes.push_back(&*t->schedule);
+      std::map<std::string, const Tracked*> on_map;
+      for (const Tracked* t : tracked_jobs) {
+        routes.push_back(&*t->schedule);
+        on_map[t->robot_id] = t;
+      }
       const std::vector<planner::TrafficClearanceDecision> decisions =
           deciders_[map_id].Decide(routes, parked);
       AskIdleRobotsToMakeWay(map_id, tracked_jobs, decisions, parked, by_id);
       for (size_t i = 0; i < decisions.size(); ++i) {
         Tracked& t = *tracked_jobs[i];
         t.schedule->cleared_up_to = decisions[i].cleared_up_to;
-        std::string reason = Describe(decisions[i]);
+        std::string reason = Describe(decisions[i], on_map);
         if (!decisions[i].waits.empty()) {
           if (auto stuck = cannot_make_way_.find(decisions[i].waits.front().blocker_robot_id);
               stuck != cannot_make_way_.end()) {
@@ -354,9 +490,7 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
         }
         if (decisions[i].cleared_up_to != t.sent_cleared || reason_changed) {
           t.sent_cleared = decisions[i].cleared_up_to;
-          sends.push_back(
-              {t.robot_id, ClearanceNotice{t.assignment.job.job_id, decisions[i].cleared_up_to,
-                                           decisions[i].waits, reason}});
+          sends.push_back({t.robot_id, Notice(t, decisions[i], on_map, reason)});
         }
       }
     }
@@ -407,7 +541,7 @@ void TrafficCoordinator::AskIdleRobotsToMakeWay(
       planner::MakeWayRequestGeometry geometry;
       geometry.from_in_map = telemetry.pose_in_map;
       geometry.footprint_m = robot.identity.model.FootprintCarrying(telemetry.carried_load_m);
-      geometry.margin_m = params_.margin_m;
+      geometry.margin_m = StandingMarginM(telemetry);
       geometry.cell_m = params_.cell_m;
       for (const Tracked* t : tracked_jobs) {
         const planner::ScheduledRoute& route = *t->schedule;

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "fleetnav/proto/assignment_convert.hpp"
+#include "fleetnav/proto/geometry_convert.hpp"
 #include "fleetnav/proto/job_convert.hpp"
 #include "fleetnav/proto/route_convert.hpp"
 
@@ -91,6 +92,10 @@ bool AgentMailbox::SendClearance(const std::string& robot_id, const ClearanceNot
     edge->set_to_action(static_cast<uint32_t>(wait.action));
   }
   wire->set_wait_reason(clearance.wait_reason);
+  if (clearance.hold) {
+    wire->mutable_hold()->set_segment(clearance.hold->segment);
+    *wire->mutable_hold()->mutable_gate() = ToProto(clearance.hold->gate);
+  }
   return Send(robot_id, std::move(message));
 }
 

@@ -74,10 +74,29 @@ TEST(AssignmentConvertTest, CommandsAndClearancesBecomeJobCommands) {
   clearance.set_job_id("job-7");
   clearance.set_cleared_up_to_action(3);
   clearance.set_wait_reason("waits for lely2");
-  const JobCommand cleared = FromProto(clearance);
-  EXPECT_EQ(cleared.type, JobCommandType::kClearance);
-  EXPECT_EQ(cleared.cleared_up_to_action, 3);
-  EXPECT_EQ(cleared.reason, "waits for lely2");
+  absl::StatusOr<JobCommand> cleared = FromProto(clearance);
+  ASSERT_TRUE(cleared.ok());
+  EXPECT_EQ(cleared->type, JobCommandType::kClearance);
+  EXPECT_EQ(cleared->cleared_up_to_action, 3);
+  EXPECT_EQ(cleared->reason, "waits for lely2");
+  EXPECT_FALSE(cleared->hold.has_value());  // the whole of action 3
+
+  // Within action 3 only up to a gate.
+  clearance.mutable_hold()->set_segment(2);
+  clearance.mutable_hold()->mutable_gate()->set_x_m(4.5);
+  clearance.mutable_hold()->mutable_gate()->set_yaw_rad(1.0);
+  cleared = FromProto(clearance);
+  ASSERT_TRUE(cleared.ok());
+  ASSERT_TRUE(cleared->hold.has_value());
+  EXPECT_EQ(cleared->hold->action_index, 3);
+  EXPECT_EQ(cleared->hold->segment, 2);
+  EXPECT_DOUBLE_EQ(cleared->hold->gate.x_m(), 4.5);
+  EXPECT_DOUBLE_EQ(cleared->hold->gate.yaw_rad(), 1.0);
+  // A gate that is not finite is refused, naming the field.
+  clearance.mutable_hold()->mutable_gate()->set_y_m(std::nan(""));
+  cleared = FromProto(clearance);
+  EXPECT_EQ(cleared.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(cleared.status().message()), ::testing::HasSubstr("clearance.hold.gate"));
 }
 
 }  // namespace

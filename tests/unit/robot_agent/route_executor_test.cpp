@@ -111,6 +111,49 @@ TEST(RouteExecutorTest, StraightTurnStraightEndsWhereTheRouteSays) {
   EXPECT_EQ(after.command.vx_mps, 0.0);
 }
 
+TEST(RouteExecutorTest, ARobotHeldAtASegmentGateStandsBeforeItUntilClearedFurther) {
+  // A 6 m straight east; traffic coordination clears it up to a gate at x = 3 m.
+  RouteExecutor executor(MakeRoute({Act(StraightAction{6.0, 0.5})}), Lely());
+  executor.SetClearedUpTo(0);
+  executor.SetHold(SegmentHold{0, 0, Pose2(3.0, 0.0, 0.0)});
+  KinematicUnicycle robot;
+  ExecutorOutput out;
+  for (int step = 0; step < 3000; ++step) {  // 60 s: long enough to have driven all 6 m
+    out = executor.Step(OdometryInput(robot.pose(), kDt));
+    robot.Step(out.command, kDt);
+  }
+  EXPECT_EQ(out.state, ExecutionState::kRunning);
+  EXPECT_FALSE(out.waiting);  // not done with the action: not reported finished
+  EXPECT_TRUE(out.held_at_gate);
+  EXPECT_EQ(out.mode, NavigationMode::kIdle);
+  EXPECT_LT(robot.pose().x_m(), 3.0);
+  EXPECT_GT(robot.pose().x_m(), 2.7);
+  EXPECT_TRUE(ReachedGate(Pose2(3.0, 0.0, 0.0), robot.pose().translation()));
+  // Cleared to the end of the action: it drives on and ends where the route says.
+  executor.SetHold(std::nullopt);
+  RunResult rest = RunOnUnicycle(executor, robot.pose());
+  EXPECT_EQ(rest.state, ExecutionState::kSucceeded);
+  EXPECT_NEAR(rest.robot.pose().x_m(), 6.0, 0.05);
+}
+
+TEST(RouteExecutorTest, AGateOfAnotherActionOrBehindTheRobotsWayDoesNotHoldIt) {
+  // The hold names action 1: action 0 drives whole.
+  RouteExecutor later(MakeRoute({Act(StraightAction{2.0, 0.5}), Act(StraightAction{2.0, 0.5})}),
+                      Lely());
+  later.SetClearedUpTo(1);
+  later.SetHold(SegmentHold{1, 0, Pose2(1.0, 0.0, 0.0)});
+  KinematicUnicycle robot;
+  for (int step = 0; step < 1000 && later.action_index() < 1; ++step) {
+    robot.Step(later.Step(OdometryInput(robot.pose(), kDt)).command, kDt);
+  }
+  EXPECT_NEAR(robot.pose().x_m(), 2.0, 0.05);
+  // A gate facing the other way (a path that comes back past it) is not this way's gate.
+  RouteExecutor back(MakeRoute({Act(StraightAction{4.0, 0.5})}), Lely());
+  back.SetClearedUpTo(0);
+  back.SetHold(SegmentHold{0, 0, Pose2(2.0, 0.5, M_PI)});
+  EXPECT_EQ(RunOnUnicycle(back).state, ExecutionState::kSucceeded);
+}
+
 TEST(RouteExecutorTest, RouteFromAnOffsetStartIsRelative) {
   RouteExecutor executor(
       MakeRoute({Act(TurnAction{DegToRad(-270), 0.4}), Act(StraightAction{1.5, 0.4})}), Lely());

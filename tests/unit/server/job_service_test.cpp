@@ -309,6 +309,32 @@ TEST_F(JobServiceTest, OfTwoRobotsSwappingPlacesTheNewerJobWaitsWhileItsRobotMak
   EXPECT_EQ(mailbox_.assignments["b"].back().job.job_id, job_b);
 }
 
+// A robot whose make-way job failed (its bumper closed) is not sent to make way again and again:
+// before, two robots in contact were given a new make-way job on every dispatcher pass.
+TEST_F(JobServiceTest, ARobotThatFailedToMakeWayIsNotSentAgainUntilAJobOfItsSucceeds) {
+  TrafficCoordinator traffic(&site_data_, &registry_, &mailbox_, &clock_,
+                             TrafficCoordinatorParams{});
+  JobService jobs(&job_store_, &memory_.robots, &site_data_, &site_, &registry_, &mailbox_, &clock_,
+                  JobServiceParams{}, &traffic);
+  ASSERT_TRUE(jobs.Recover().ok());
+  ConnectGoalRobot(jobs, "a", Pose2(1.5, 5.0, 0.0));
+  ConnectGoalRobot(jobs, "c", Pose2(6.0, 5.0, M_PI / 2));  // idle, on a's way
+  SubmitGoal(jobs, "a", "hall", Pose2(8.5, 5.0, 0.0));
+  jobs.DispatchOnce();
+  jobs.DispatchOnce();
+  ASSERT_EQ(mailbox_.assignments["c"].size(), 1u);  // its make-way job
+  JobEvent failed;
+  failed.job_id = mailbox_.assignments["c"].back().job.job_id;
+  failed.type = JobEventType::kFailed;
+  failed.reason = "bumper pressed";
+  jobs.OnRobotEvent("c", failed);
+  for (int pass = 0; pass < 5; ++pass) {
+    clock_.AdvanceNs(kSecondNs);
+    jobs.DispatchOnce();
+  }
+  EXPECT_EQ(mailbox_.assignments["c"].size(), 1u);
+}
+
 // Idle robots are obstacles by coordinates on every map (fleetnavd does not know where a robot
 // without a job is); one whose last job was on another map stands on another site and is not
 // sent to a place on this one.

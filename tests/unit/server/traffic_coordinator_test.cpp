@@ -43,10 +43,11 @@ class TrafficCoordinatorTest : public ::testing::Test {
 
   /// Connects a robot standing at `pose` (telemetry in map).
   void Connect(const std::string& robot_id, const Pose2& pose,
-               const RobotModel& model = LelyVectorModel()) {
+               const RobotModel& model = LelyVectorModel(), bool segment_clearances = false) {
     RobotIdentity identity;
     identity.robot_id = robot_id;
     identity.model = model;
+    identity.segment_clearances = segment_clearances;
     sessions_[robot_id] = registry_.Connect(identity);
     Move(robot_id, pose);
   }
@@ -58,6 +59,21 @@ class TrafficCoordinatorTest : public ::testing::Test {
     telemetry.pose_in_map = pose;
     telemetry.carried_load_m = carried_load_m;
     ASSERT_TRUE(registry_.RecordTelemetry(robot_id, sessions_[robot_id], telemetry).ok());
+  }
+
+  /// The robot reports a pose in action `action_index` of `job_id`.
+  void MoveInJob(const std::string& robot_id, const Pose2& pose, const std::string& job_id,
+                 int action_index) {
+    Telemetry telemetry;
+    telemetry.pose_in_map = pose;
+    telemetry.job_id = job_id;
+    telemetry.action_index = action_index;
+    ASSERT_TRUE(registry_.RecordTelemetry(robot_id, sessions_[robot_id], telemetry).ok());
+  }
+
+  /// A free-navigation leg from (x_m, 0) to `distance_m` east of it.
+  static FreeNavigationAction GoEast(double x_m, double distance_m) {
+    return FreeNavigationAction{{}, Pose2(x_m + distance_m, 0.0, 0.0), 0.5, {}};
   }
 
   JobAssignment Job(const std::string& job_id, std::vector<RouteAction> actions) {
@@ -115,6 +131,102 @@ TEST_F(TrafficCoordinatorTest, CrossingRobotsAreClearedOneAfterTheOtherAndToldWh
   EXPECT_EQ(registry_.Get("b")->traffic_wait, "");
 }
 
+TEST_F(TrafficCoordinatorTest, AnAgentThatStandsAtGatesFollowsAnotherOneSegmentBehind) {
+  // Two laser-localized platforms go to goals 20 m east along y = 0, b 4 m behind a. b's agent
+  // stands at segment gates: it is cleared into its free-navigation leg up to a gate behind a,
+  // not held for all of a's leg.
+  Connect("a", Pose2(-9, 0, 0), MecanumPlatformModel(), true);
+  Connect("b", Pose2(-13, 0, 0), MecanumPlatformModel(), true);
+  coordinator_.Begin("a", Job("job-a", {{GoEast(-9, 20.0), {}}}));
+  clock_.AdvanceNs(1'000'000'000);
+  coordinator_.Begin("b", Job("job-b", {{GoEast(-13, 20.0), {}}}));
+  coordinator_.Update();
+  ASSERT_FALSE(mailbox_.sent["a"].empty());
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0)
+      << mailbox_.sent["a"].back().wait_reason;
+  EXPECT_FALSE(mailbox_.sent["a"].back().hold.has_value());  // nothing holds a
+  // a drives 8 m: b is cleared into the action up to a gate that is behind a.
+  for (double x = -9; x <= -2.0; x += 0.5) {
+    MoveInJob("a", Pose2(x, 0, 0), "job-a", 0);
+    clock_.AdvanceNs(500'000'000);
+    coordinator_.Update();
+  }
+  ASSERT_FALSE(mailbox_.sent["b"].empty());
+  const ClearanceNotice& b = mailbox_.sent["b"].back();
+  EXPECT_EQ(b.cleared_up_to_action, 0) << b.wait_reason;
+  ASSERT_TRUE(b.hold.has_value());
+  EXPECT_EQ(b.hold->action_index, 0);
+  EXPECT_GT(b.hold->gate.x_m(), -9.0);
+  EXPECT_LT(b.hold->gate.x_m(), -2.0 - 1.5);       // a's rear, less the footprints and margins
+  EXPECT_NEAR(b.hold->gate.yaw_rad(), 0.0, 1e-6);  // the direction of travel
+  EXPECT_THAT(b.wait_reason, HasSubstr("waits for a to finish segment"));
+  EXPECT_THAT(b.wait_reason, HasSubstr("of action 0 (free_navigation)"));
+  EXPECT_EQ(b.waits.front().blocker_action, 0);  // told in actions
+}
+
+TEST_F(TrafficCoordinatorTest, AnAgentWithoutGatesIsClearedWholeActionsOnly) {
+  // The same, but b's agent does not stand at gates: it waits for a's whole action.
+  Connect("a", Pose2(-9, 0, 0), MecanumPlatformModel(), true);
+  Connect("b", Pose2(-13, 0, 0), MecanumPlatformModel());
+  coordinator_.Begin("a", Job("job-a", {{GoEast(-9, 20.0), {}}}));
+  clock_.AdvanceNs(1'000'000'000);
+  coordinator_.Begin("b", Job("job-b", {{GoEast(-13, 20.0), {}}}));
+  for (double x = -9; x <= -2.0; x += 0.5) {
+    MoveInJob("a", Pose2(x, 0, 0), "job-a", 0);
+    clock_.AdvanceNs(500'000'000);
+    coordinator_.Update();
+  }
+  ASSERT_FALSE(mailbox_.sent["b"].empty());
+  EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, -1);
+  EXPECT_FALSE(mailbox_.sent["b"].back().hold.has_value());
+  // a has passed all its gates; b goes once a has finished the action.
+  coordinator_.OnActionFinished("a", "job-a", 0);
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, 0);
+}
+
+TEST_F(TrafficCoordinatorTest, ALelyIsClearedWholeActionsThoughItsAgentStandsAtGates) {
+  // The Lely localizes with ultrasonics and markers, not a laser: its estimate drifts by up to
+  // half a metre, more than a segment's slack, so it follows whole actions.
+  Connect("a", Pose2(-9, 0, 0), LelyVectorModel(), true);
+  Connect("b", Pose2(-13, 0, 0), LelyVectorModel(), true);
+  coordinator_.Begin("a", Job("job-a", {{GoEast(-9, 20.0), {}}}));
+  clock_.AdvanceNs(1'000'000'000);
+  coordinator_.Begin("b", Job("job-b", {{GoEast(-13, 20.0), {}}}));
+  for (double x = -9; x <= -2.0; x += 0.5) {
+    MoveInJob("a", Pose2(x, 0, 0), "job-a", 0);
+    clock_.AdvanceNs(500'000'000);
+    coordinator_.Update();
+  }
+  ASSERT_FALSE(mailbox_.sent["b"].empty());
+  EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, -1);
+  EXPECT_FALSE(mailbox_.sent["b"].back().hold.has_value());
+}
+
+TEST_F(TrafficCoordinatorTest, WhereARobotStandsGrowsWithItsPositionUncertainty) {
+  // A platform stands 1.45 m beside another's way. Well localized (σ 2 cm), it stands off the
+  // way; with σ 15 cm its standing place grows by 0.45 m and the other waits for it.
+  Connect("a", Pose2(-8, 0, 0), MecanumPlatformModel());
+  Connect("idle", Pose2(0, 1.45, 0), MecanumPlatformModel());
+  const auto stand_with_sigma = [&](double sigma_m) {
+    Telemetry telemetry;
+    telemetry.pose_in_map = Pose2(0, 1.45, 0);
+    telemetry.covariance[0] = telemetry.covariance[4] = sigma_m * sigma_m;
+    ASSERT_TRUE(registry_.RecordTelemetry("idle", sessions_["idle"], telemetry).ok());
+  };
+  stand_with_sigma(0.02);
+  coordinator_.Begin("a", Job("job-a1", {{StraightAction{12.0, 0.3}, {}}}));
+  coordinator_.Update();
+  ASSERT_FALSE(mailbox_.sent["a"].empty());
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+  coordinator_.End("job-a1");
+  stand_with_sigma(0.15);
+  coordinator_.Begin("a", Job("job-a2", {{StraightAction{12.0, 0.3}, {}}}));
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, -1);
+  EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("idle, which stands in its way"));
+}
+
 TEST_F(TrafficCoordinatorTest, AnIdleRobotInTheWayIsNeverDrivenThrough) {
   Connect("a", Pose2(-8, 0, 0));
   Connect("idle", Pose2(0, 0, M_PI / 2));  // no job: it stands on a's way
@@ -133,7 +245,8 @@ bool InTheWayOfTwelveMetresEastFrom(double from_x_m, const Pose2& place) {
   std::vector<Pose2> way;
   for (int i = 0; i <= 120; ++i) way.emplace_back(from_x_m + 0.1 * i, 0.0, 0.0);
   const std::vector<Eigen::Vector2d>& footprint = LelyVectorModel().footprint_m;
-  return planner::CellSet::Sweep({place}, footprint, params.margin_m, params.cell_m)
+  // Where it stands is grown by the standing margin (its position is known to a few cm).
+  return planner::CellSet::Sweep({place}, footprint, params.standing_margin_min_m, params.cell_m)
       .Intersects(planner::CellSet::Sweep(way, footprint, params.margin_m, params.cell_m));
 }
 
@@ -305,7 +418,7 @@ TEST_F(TrafficCoordinatorTest, AParkedRobotCarryingATrolleyBlocksWithTheTrolleys
 }
 
 TEST_F(TrafficCoordinatorTest, AJobCarryingATrolleySweepsItsOutlineUntilTheUndock) {
-  Connect("idle", Pose2(2, 2.6, 0), MecanumPlatformModel());
+  Connect("idle", Pose2(2, 2.3, 0), MecanumPlatformModel());
   Connect("carrier", Pose2(-8, 0, 0), MecanumPlatformModel());
   Move("carrier", Pose2(-8, 0, 0), kWideTrolleyM);
   coordinator_.Begin("carrier", Job("job-carry", {{StraightAction{12.0, 0.3}, {}}}));

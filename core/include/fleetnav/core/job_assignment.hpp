@@ -2,10 +2,12 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "fleetnav/core/job.hpp"
 #include "fleetnav/core/route.hpp"
+#include "fleetnav/core/segment_gate.hpp"
 
 namespace fleetnav {
 
@@ -26,7 +28,8 @@ struct JobAssignment {
 
 /// What the server tells a robot about its job besides the assignment. kClearance: traffic
 /// coordination lets the robot start the job's actions up to `cleared_up_to_action` (-1 after
-/// a reconnect: nothing beyond the action it is in until the server says again).
+/// a reconnect: nothing beyond the action it is in until the server says again), and within
+/// that action only up to `hold`'s gate when it is set (segment clearances).
 enum class JobCommandType { kPause, kResume, kCancel, kClearance };
 
 struct JobCommand {
@@ -34,6 +37,7 @@ struct JobCommand {
   std::string job_id;
   std::string reason;
   int cleared_up_to_action = -1;
+  std::optional<SegmentHold> hold;  ///< kClearance: stand before this gate of that action
 };
 
 }  // namespace fleetnav

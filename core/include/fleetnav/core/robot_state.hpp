@@ -69,6 +69,9 @@ struct RobotIdentity {
   RobotModel model;
   std::vector<std::string> capabilities;
   std::string software_version;
+  /// The agent stands before a clearance's gate within an action, so traffic coordination may
+  /// clear its actions segment by segment (AgentHello.segment_clearances).
+  bool segment_clearances = false;
 };
 
 /// What the fleet server knows about one robot at one moment (its registry entry, also sent

@@ -7,7 +7,6 @@
 #include <random>
 
 #include "absl/strings/str_cat.h"
-
 #include "fleetnav/planner/coordination/route_prediction.hpp"
 
 namespace fleetnav::planner {
@@ -198,8 +197,8 @@ ScheduledRoute Segmented(const std::string& robot, std::vector<Eigen::Vector2d> 
                          double step_m, double t0) {
   std::vector<Eigen::Vector2d> fine{points.front()};
   for (size_t i = 1; i < points.size(); ++i) {
-    const int n = std::max(1, static_cast<int>(std::round((points[i] - points[i - 1]).norm() /
-                                                          step_m)));
+    const int n =
+        std::max(1, static_cast<int>(std::round((points[i] - points[i - 1]).norm() / step_m)));
     for (int k = 1; k <= n; ++k) {
       fine.push_back(points[i - 1] + (points[i] - points[i - 1]) * (static_cast<double>(k) / n));
     }
@@ -229,6 +228,41 @@ TEST(TrafficScheduleTest, ARobotFollowsAnotherDownAnAisleOneRegionBehindIt) {
   ASSERT_FALSE(d[1].waits.empty());
   EXPECT_EQ(d[1].waits[0].action, 6);
   EXPECT_EQ(d[1].waits[0].blocker_action, 5);  // the segment a is driving now
+}
+
+TEST(TrafficScheduleTest, ARobotThatHasArrivedStandsAtItsEndUntilItsJobEnds) {
+  // a was cleared first down the way b follows and ends on it: once a has finished, b is not
+  // cleared through where a now stands.
+  ScheduledRoute a = Segmented("a", {{0, 0}, {10, 0}}, 2.0, 0.0);
+  ScheduledRoute b = Segmented("b", {{-4, 0}, {16, 0}}, 2.0, 1.0);
+  a.first_unfinished = 5;
+  a.cleared_up_to = 4;
+  b.first_unfinished = 2;
+  b.cleared_up_to = 3;
+  const std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
+  ASSERT_FALSE(d[1].waits.empty());
+  EXPECT_EQ(d[1].waits[0].blocker_robot_id, "a");
+  EXPECT_EQ(d[1].waits[0].blocker_action, -1);  // it stands there
+  EXPECT_LT(d[1].cleared_up_to, 6);             // b's segment 6 ends at 10 m, on a
+}
+
+TEST(TrafficScheduleTest, ARobotStandingOnASegmentedActionHoldsTheWholeAction) {
+  // a's one action, in five 2 m segments, ends past an idle robot at (9, 0): a does not drive
+  // up to it (the idle robot may have to make way out past a), it waits at the action's start.
+  ScheduledRoute a = Segmented("a", {{0, 0}, {10, 0}}, 2.0, 0.0);
+  a.whole_from.assign(5, 0);
+  std::vector<TrafficClearanceDecision> d =
+      DecideClearances({a}, {ParkedRobot{"idle", At({9, 0})}});
+  EXPECT_EQ(d[0].cleared_up_to, -1);
+  ASSERT_FALSE(d[0].waits.empty());
+  EXPECT_EQ(d[0].waits[0].action, 0);
+  EXPECT_EQ(d[0].waits[0].blocker_robot_id, "idle");
+  // Already cleared into the action (the robot stood still after): it keeps what it was
+  // cleared for and is not cleared further.
+  a.cleared_up_to = 1;
+  d = DecideClearances({a}, {ParkedRobot{"idle", At({9, 0})}});
+  EXPECT_EQ(d[0].cleared_up_to, 1);
+  EXPECT_EQ(d[0].waits[0].action, 2);
 }
 
 TEST(TrafficScheduleTest, RobotsMeetingHeadOnInAnAisleStillPassItWhole) {

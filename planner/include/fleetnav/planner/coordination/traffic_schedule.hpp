@@ -22,6 +22,11 @@ struct ScheduledRoute {
   /// Names these cells for ClearanceDecider's memory: a new id whenever the cells are
   /// predicted again (0: never remembered).
   uint64_t cells_id = 0;
+  /// When the caller orders segments of its actions: for each, the first segment of the same
+  /// action (empty: each stands alone). A segment that meets a robot standing still (parked,
+  /// held, or done with its route) holds the whole of its action, so the robot does not drive
+  /// up to one that may have to make way out past it.
+  std::vector<int> whole_from;
   int first_unfinished = 0;  ///< actions before it have finished
   int cleared_up_to = -1;    ///< actions up to it were cleared earlier (never taken back)
 };
@@ -59,12 +64,12 @@ struct TrafficClearanceDecision {
 /// share, A through actions k1..k2 and B through l1..l2. One robot passes the block first, and
 /// the other follows it through: B's action l waits for the last of A's actions in the block
 /// that meets l or where B stands after l (or the other way round), so B enters the block as
-/// soon as A has left what B's first action needs, and stays one region behind A. Who goes first: a robot already cleared into
-/// the block; else the one that stands in the block before it starts (it cannot make way);
-/// else not the one whose route ends in the block (it would stay there); else the earlier
-/// expected start (robot index breaks ties). Orders that close a cycle hold the newest route
-/// whole (deadlocked; its robot stands as parked). Actions that cross a parked robot are never
-/// cleared. Clearances only grow. Pure function.
+/// soon as A has left what B's first action needs, and stays one region behind A. Who goes first: a
+/// robot already cleared into the block; else the one that stands in the block before it starts (it
+/// cannot make way); else not the one whose route ends in the block (it would stay there); else the
+/// earlier expected start (robot index breaks ties). Orders that close a cycle hold the newest
+/// route whole (deadlocked; its robot stands as parked). Actions that cross a parked robot are
+/// never cleared. Clearances only grow. Pure function.
 std::vector<TrafficClearanceDecision> DecideClearances(const std::vector<ScheduledRoute>& routes,
                                                        const std::vector<ParkedRobot>& parked);
 /// The same over routes held elsewhere (the server keeps one per job), so that none is copied.

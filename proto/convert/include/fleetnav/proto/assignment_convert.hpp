@@ -16,6 +16,7 @@ v1::Command ToProto(const JobCommand& command);
 /// InvalidArgument for an unspecified or unknown command type.
 absl::StatusOr<JobCommand> FromProto(const v1::Command& command);
 /// A traffic clearance as a kClearance command (its wait reason as the reason).
-JobCommand FromProto(const v1::TrafficClearance& clearance);
+/// InvalidArgument for a hold whose gate is not finite (the clearance is not acted on).
+absl::StatusOr<JobCommand> FromProto(const v1::TrafficClearance& clearance);
 
 }  // namespace fleetnav

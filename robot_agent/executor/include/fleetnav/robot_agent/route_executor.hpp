@@ -8,6 +8,7 @@
 
 #include "absl/status/status.h"
 #include "fleetnav/core/route.hpp"
+#include "fleetnav/core/segment_gate.hpp"
 #include "fleetnav/robot_agent/mode_factory.hpp"
 #include "fleetnav/robot_agent/motion_controller.hpp"
 
@@ -28,6 +29,9 @@ struct ExecutorOutput {
   /// Action action_index is done (or none has started) and the next one is not cleared by
   /// traffic coordination: the robot stands.
   bool waiting = false;
+  /// The robot stands (or brakes to stand) before a segment hold's gate within action
+  /// action_index: not done with it, held by traffic coordination.
+  bool held_at_gate = false;
   /// Where the lift must be, and the trolley on it (nullopt: none): a trolley dock latches one,
   /// an undock sets it down, and it stays on the lift when a route ends or fails.
   bool lift_raised = false;
@@ -59,6 +63,9 @@ class RouteExecutor {
   void Abort(const absl::Status& reason);
   /// Actions up to `index` may start (-1: none).
   void SetClearedUpTo(int index) { cleared_up_to_ = index; }
+  /// Within action hold->action_index, the robot may go only up to the hold's gate: it brakes
+  /// to stand just before it (nullopt: the whole of every cleared action).
+  void SetHold(std::optional<SegmentHold> hold) { hold_ = std::move(hold); }
   ExecutionState state() const { return state_; }
   /// Why the route failed (OK while running or after success).
   const absl::Status& failure() const { return failure_; }
@@ -74,6 +81,8 @@ class RouteExecutor {
   ExecutorOutput StepActions(const ControlInput& input, const std::vector<int>& detected_markers);
   ExecutorOutput Fail(absl::Status status);
   ExecutorOutput Waiting() const;
+  /// Slows `out`'s command so that the robot stands before hold_'s gate.
+  void HoldBeforeGate(const ControlInput& input, ExecutorOutput* out) const;
   /// The progress of action index_ given its controller's, counted from the resumed fraction.
   double ActionFraction(double controller_fraction) const;
 
@@ -89,6 +98,7 @@ class RouteExecutor {
   ExecutionState state_ = ExecutionState::kRunning;
   absl::Status failure_;
   bool lift_raised_ = false;
+  std::optional<SegmentHold> hold_;
 };
 
 }  // namespace fleetnav::agent

@@ -67,6 +67,9 @@ class JobMatcher {
   bool IsMakeWayJob(const std::string& job_id) const;
   /// Assigns what can be assigned now; returns jobs assigned.
   int AssignQueued();
+  /// A job of the robot succeeded: if it was not its make-way job, a make-way job that failed
+  /// before no longer keeps the robot from being sent to make way.
+  void OnJobSucceeded(const std::string& robot_id, const std::string& job_id);
   /// Forgets what is kept about a robot that is removed.
   void ForgetRobot(const std::string& robot_id);
 

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,8 @@ struct ClearanceNotice {
   int cleared_up_to_action = -1;
   std::vector<planner::TrafficWait> waits;
   std::string wait_reason;  ///< empty when nothing holds the robot
+  /// Only part of cleared_up_to_action is cleared: the robot stands before this gate.
+  std::optional<SegmentHold> hold;
 };
 
 /// The way from the use cases to connected robots (implemented by the AgentService edge).

@@ -26,7 +26,23 @@ struct TrafficCoordinatorParams {
   /// Grown around each swept footprint: the estimate's error plus the reactive controllers'
   /// deviation from the nominal path (the Lely's estimate is within 0.5 m at p95).
   double margin_m = 0.5;
+  /// A robot standing still is off its estimate by its localization error alone: where it
+  /// stands (before, between and after its actions, and without a job) is grown by
+  /// standing_sigmas standard deviations of its position (its telemetry's covariance, the
+  /// larger of x and y), at least standing_margin_min_m and at most margin_m. So a
+  /// laser-localized platform parked beside another is not in the other's way, while a
+  /// drifting Lely keeps a wide berth.
+  double standing_margin_min_m = 0.2;
+  double standing_sigmas = 3.0;
   double cell_m = 0.2;
+  /// Free-navigation legs are ordered in segments of about this much travel (0: whole
+  /// actions), for agents that stand before a segment's gate
+  /// (RobotIdentity::segment_clearances) and localize with a laser against the map; so robots
+  /// follow one another through a shared place a segment apart. Route actions that follow the
+  /// site (fence, stripe, straight, dock), robots that localize otherwise (the Lely's estimate
+  /// drifts by up to half a metre between markers: a segment behind another is within its
+  /// drift) and older agents get whole actions.
+  double segment_m = 1.5;
   /// Actions predicted and ordered ahead of a robot's first unfinished one. The next window is
   /// predicted, from where the robot then is, once it is within half a window of the end, so
   /// the work per dispatcher pass does not grow with the length of routes.
@@ -104,6 +120,13 @@ class TrafficCoordinator {
   std::vector<MakeWayRequest> TakeMakeWayRequests();
 
  private:
+  /// One unit traffic coordination orders: a segment of an action.
+  struct Step {
+    int action = 0;
+    int segment = 0;
+    int segments = 1;           ///< of the action
+    std::optional<Pose2> gate;  ///< where it ends, unless it is the action's last
+  };
   struct Tracked {
     std::string robot_id;
     JobAssignment assignment;
@@ -111,9 +134,13 @@ class TrafficCoordinator {
     double assigned_s = 0.0;  ///< when the current window was predicted
     int start_action = 0;     ///< actions before it had run before coordination began
     bool resume_from_telemetry = false;
+    bool segment_clearances = false;  ///< its agent stands before a segment's gate
+    /// The schedule orders steps (its "actions" are these), of actions before predicted_end.
     std::optional<planner::ScheduledRoute> schedule;
-    int predicted_end = 0;  ///< actions before it are in the schedule
-    int sent_cleared = -2;  ///< the clearance last sent; -2: none
+    std::vector<Step> steps;
+    std::vector<int> first_step;  ///< per action up to predicted_end (inclusive): its first step
+    int predicted_end = 0;        ///< actions before it are in the schedule
+    int sent_cleared = -2;        ///< the clearance last sent; -2: none
     std::string reason;
   };
   struct PlannerCache {
@@ -125,8 +152,10 @@ class TrafficCoordinator {
   /// Schedules the window of `tracked`'s actions ahead from `pose`, the robot carrying
   /// `carried_load_m` (nullopt: nothing) as it starts.
   void Predict(Tracked& tracked, const Pose2& pose,
-               const std::optional<Eigen::Vector2d>& carried_load_m)
+               const std::optional<Eigen::Vector2d>& carried_load_m, double standing_margin_m)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// How far to grow where a robot with this telemetry stands (standing_margin_min_m..margin_m).
+  double StandingMarginM(const Telemetry& telemetry) const;
   planner::SingleRobotPlanner* PlannerFor(const Tracked& tracked, Pose2* map_origin)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   PlannerCache& CacheFor(const std::string& map_id, uint32_t map_version, const RobotModel& model)
@@ -138,9 +167,16 @@ class TrafficCoordinator {
                               const std::vector<planner::ParkedRobot>& parked,
                               const std::map<std::string, const RobotRecord*>& records)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
-  /// Why the decision holds the robot, for people ("" when it does not).
-  std::string Describe(const planner::TrafficClearanceDecision& d) const
-      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Why the decision holds the robot, for people ("" when it does not); `jobs_on_map` are
+  /// the tracked jobs the decision's waits may name, by robot id.
+  static std::string Describe(const planner::TrafficClearanceDecision& d,
+                              const std::map<std::string, const Tracked*>& jobs_on_map);
+  /// The decision as the robot's agent is told it: actions (and a gate within the last one).
+  static ClearanceNotice Notice(const Tracked& tracked, const planner::TrafficClearanceDecision& d,
+                                const std::map<std::string, const Tracked*>& jobs_on_map,
+                                const std::string& reason);
+  /// Moves the job past the gates its robot's telemetry shows it has reached; true if it moved.
+  static bool PassGates(Tracked& tracked, const Telemetry& telemetry);
 
   SiteCache* site_data_;
   FleetRegistry* registry_;
@@ -154,6 +190,7 @@ class TrafficCoordinator {
   struct ParkedSweep {
     Pose2 pose;
     std::optional<Eigen::Vector2d> carried_load_m;
+    double margin_m = 0.0;
     planner::CellSet cells;
   };
   std::map<std::string, ParkedSweep> parked_cells_ ABSL_GUARDED_BY(mutex_);  ///< by job id

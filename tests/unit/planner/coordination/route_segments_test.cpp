@@ -1,0 +1,51 @@
+#include "fleetnav/planner/coordination/route_segments.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace fleetnav::planner {
+namespace {
+
+/// A predicted action along `length_m` east then as far north, in 0.1 m poses, 1 s per metre.
+PredictedAction Corner(double length_m) {
+  PredictedAction action;
+  for (double x = 0.0; x <= length_m + 1e-9; x += 0.1) action.poses.emplace_back(x, 0.0, 0.0);
+  for (double y = 0.1; y <= length_m + 1e-9; y += 0.1) {
+    action.poses.emplace_back(length_m, y, M_PI / 2);
+  }
+  action.duration_s = 2.0 * length_m;
+  return action;
+}
+
+TEST(RouteSegmentsTest, AnActionIsCutIntoSegmentsThatChainWithGatesAlongTheWay) {
+  const PredictedAction action = Corner(5.0);  // 10 m
+  const std::vector<ActionSegment> segments = SplitIntoSegments(action, 1.5);
+  ASSERT_EQ(segments.size(), 7u);  // 1.5 m each, the last 1 m (at least half a segment)
+  double duration_s = 0.0;
+  for (size_t j = 0; j < segments.size(); ++j) {
+    duration_s += segments[j].duration_s;
+    if (j > 0) {
+      EXPECT_TRUE(segments[j].poses.front().IsNear(segments[j - 1].poses.back(), 1e-12, 1e-12));
+    }
+    EXPECT_EQ(segments[j].gate.has_value(), j + 1 < segments.size()) << j;
+  }
+  EXPECT_NEAR(duration_s, action.duration_s, 1e-9);
+  EXPECT_TRUE(segments.back().poses.back().IsNear(action.poses.back(), 1e-12, 1e-12));
+  // The first gate is 1.5 m east, facing east; the fifth is on the northward leg, facing north.
+  EXPECT_NEAR(segments[0].gate->x_m(), 1.5, 0.11);
+  EXPECT_NEAR(segments[0].gate->yaw_rad(), 0.0, 1e-6);
+  EXPECT_NEAR(segments[4].gate->x_m(), 5.0, 1e-9);
+  EXPECT_NEAR(segments[4].gate->yaw_rad(), M_PI / 2, 1e-6);
+}
+
+TEST(RouteSegmentsTest, ShortActionsTurnsAndWholeActionOrderingAreOneSegment) {
+  EXPECT_EQ(SplitIntoSegments(Corner(0.6), 1.5).size(), 1u);  // 1.2 m
+  PredictedAction turn;
+  for (int i = 0; i <= 10; ++i) turn.poses.emplace_back(1.0, 1.0, 0.15 * i);
+  EXPECT_EQ(SplitIntoSegments(turn, 1.5).size(), 1u);
+  EXPECT_EQ(SplitIntoSegments(Corner(5.0), 0.0).size(), 1u);
+}
+
+}  // namespace
+}  // namespace fleetnav::planner
