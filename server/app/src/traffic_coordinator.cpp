@@ -241,7 +241,9 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
   const bool laser_localized =
       std::any_of(tracked.model.sensors.begin(), tracked.model.sensors.end(),
                   [](const SensorMount& sensor) { return sensor.type == SensorType::kLaser; });
-  const double segment_m = tracked.segment_clearances && laser_localized ? params_.segment_m : 0.0;
+  const bool tracks_closely = tracked.model.kinematics != Kinematics::kAckermann;
+  const double segment_m =
+      tracked.segment_clearances && laser_localized && tracks_closely ? params_.segment_m : 0.0;
   double t_s = tracked.assigned_s;
   for (size_t i = 0; i < remaining.actions.size(); ++i) {
     const int action = skipped + static_cast<int>(i);

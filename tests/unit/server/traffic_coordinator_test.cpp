@@ -185,11 +185,15 @@ TEST_F(TrafficCoordinatorTest, AnAgentWithoutGatesIsClearedWholeActionsOnly) {
   EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, 0);
 }
 
-TEST_F(TrafficCoordinatorTest, ALelyIsClearedWholeActionsThoughItsAgentStandsAtGates) {
-  // The Lely localizes with ultrasonics and markers, not a laser: its estimate drifts by up to
-  // half a metre, more than a segment's slack, so it follows whole actions.
-  Connect("a", Pose2(-9, 0, 0), LelyVectorModel(), true);
-  Connect("b", Pose2(-13, 0, 0), LelyVectorModel(), true);
+// The Lely localizes with ultrasonics and markers, not a laser: its estimate drifts by up to half
+// a metre, more than a segment's slack. The Ackermann robot's tracking cuts corners of its own
+// hybrid path. Both follow whole actions though their agents stand at gates.
+class WholeActionsTest : public TrafficCoordinatorTest,
+                         public ::testing::WithParamInterface<RobotModel> {};
+
+TEST_P(WholeActionsTest, ARobotThatCannotFollowCloselyIsClearedWholeActions) {
+  Connect("a", Pose2(-9, 0, 0), MecanumPlatformModel(), true);
+  Connect("b", Pose2(-13, 0, 0), GetParam(), true);
   coordinator_.Begin("a", Job("job-a", {{GoEast(-9, 20.0), {}}}));
   clock_.AdvanceNs(1'000'000'000);
   coordinator_.Begin("b", Job("job-b", {{GoEast(-13, 20.0), {}}}));
@@ -202,6 +206,10 @@ TEST_F(TrafficCoordinatorTest, ALelyIsClearedWholeActionsThoughItsAgentStandsAtG
   EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, -1);
   EXPECT_FALSE(mailbox_.sent["b"].back().hold.has_value());
 }
+
+INSTANTIATE_TEST_SUITE_P(LelyAndAckermann, WholeActionsTest,
+                         ::testing::Values(LelyVectorModel(), AckermannDeliveryModel()),
+                         [](const auto& info) { return info.index == 0 ? "Lely" : "Ackermann"; });
 
 TEST_F(TrafficCoordinatorTest, WhereARobotStandsGrowsWithItsPositionUncertainty) {
   // A platform stands 1.45 m beside another's way. Well localized (σ 2 cm), it stands off the

@@ -37,11 +37,12 @@ struct TrafficCoordinatorParams {
   double cell_m = 0.2;
   /// Free-navigation legs are ordered in segments of about this much travel (0: whole
   /// actions), for agents that stand before a segment's gate
-  /// (RobotIdentity::segment_clearances) and localize with a laser against the map; so robots
-  /// follow one another through a shared place a segment apart. Route actions that follow the
-  /// site (fence, stripe, straight, dock), robots that localize otherwise (the Lely's estimate
-  /// drifts by up to half a metre between markers: a segment behind another is within its
-  /// drift) and older agents get whole actions.
+  /// (RobotIdentity::segment_clearances), localize with a laser against the map and steer
+  /// other than by Ackermann; so robots follow one another through a shared place a segment
+  /// apart. Route actions that follow the site (fence, stripe, straight, dock), robots that
+  /// localize otherwise (the Lely's estimate drifts by up to half a metre between markers: a
+  /// segment behind another is within its drift), Ackermann robots (one stood at a gate 6 cm
+  /// from a platform passing in the store fleet) and older agents get whole actions.
   double segment_m = 1.5;
   /// Actions predicted and ordered ahead of a robot's first unfinished one. The next window is
   /// predicted, from where the robot then is, once it is within half a window of the end, so
