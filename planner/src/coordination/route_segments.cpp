@@ -10,9 +10,9 @@ double Step(const Pose2& a, const Pose2& b) { return (b.translation() - a.transl
 /// The direction of travel at poses[i]: from the pose about 0.3 m before it (the pose's own
 /// yaw where it has not moved).
 double TravelYaw(const std::vector<Pose2>& poses, size_t i) {
-  constexpr double kBaseline_m = 0.3;
+  constexpr double kBaselineM = 0.3;
   size_t j = i;
-  while (j > 0 && Step(poses[j], poses[i]) < kBaseline_m) --j;
+  while (j > 0 && Step(poses[j], poses[i]) < kBaselineM) --j;
   const Eigen::Vector2d d = poses[i].translation() - poses[j].translation();
   return d.norm() > 1e-6 ? std::atan2(d.y(), d.x()) : poses[i].yaw_rad();
 }

@@ -83,6 +83,21 @@ class JobServiceTest : public ::testing::Test {
     return created.ok() ? created->job.job_id : "";
   }
 
+  /// A job service with traffic coordination over this fixture's site and fleet, recovered.
+  struct CoordinatedJobs {
+    explicit CoordinatedJobs(JobServiceTest& t)
+        : traffic(&t.site_data_, &t.registry_, &t.mailbox_, &t.clock_, TrafficCoordinatorParams{}),
+          jobs(&t.job_store_, &t.memory_.robots, &t.site_data_, &t.site_, &t.registry_, &t.mailbox_,
+               &t.clock_, JobServiceParams{}, &traffic) {}
+    TrafficCoordinator traffic;
+    JobService jobs;
+  };
+  std::unique_ptr<CoordinatedJobs> WithTraffic() {
+    auto coordinated = std::make_unique<CoordinatedJobs>(*this);
+    EXPECT_TRUE(coordinated->jobs.Recover().ok());
+    return coordinated;
+  }
+
   /// A robot that drives goal jobs, connected to `jobs` and standing at `pose` (telemetry in
   /// map); returns its session.
   uint64_t ConnectGoalRobot(JobService& jobs, const std::string& robot_id, const Pose2& pose) {
@@ -264,12 +279,8 @@ TEST_F(JobServiceTest, ARobotBackBeforeTheTimeoutResumesItsJob) {
 // Two robots sent to each other's places: the newer job is withdrawn (queued again), its robot
 // goes aside on a make-way job first, and gets its job back once that has ended.
 TEST_F(JobServiceTest, OfTwoRobotsSwappingPlacesTheNewerJobWaitsWhileItsRobotMakesWay) {
-  TrafficCoordinator traffic(&site_data_, &registry_, &mailbox_, &clock_,
-                             TrafficCoordinatorParams{});
-  JobServiceParams params;
-  JobService jobs(&job_store_, &memory_.robots, &site_data_, &site_, &registry_, &mailbox_, &clock_,
-                  params, &traffic);
-  ASSERT_TRUE(jobs.Recover().ok());
+  const std::unique_ptr<CoordinatedJobs> coordinated = WithTraffic();
+  JobService& jobs = coordinated->jobs;
   ConnectGoalRobot(jobs, "a", Pose2(2.5, 5.0, 0.0));
   const uint64_t session_b = ConnectGoalRobot(jobs, "b", Pose2(7.5, 5.0, M_PI));
   const std::string job_a = SubmitGoal(jobs, "a", "hall", Pose2(7.5, 5.0, 0.0));
@@ -312,11 +323,8 @@ TEST_F(JobServiceTest, OfTwoRobotsSwappingPlacesTheNewerJobWaitsWhileItsRobotMak
 // A robot whose make-way job failed (its bumper closed) is not sent to make way again and again:
 // before, two robots in contact were given a new make-way job on every dispatcher pass.
 TEST_F(JobServiceTest, ARobotThatFailedToMakeWayIsNotSentAgainUntilAJobOfItsSucceeds) {
-  TrafficCoordinator traffic(&site_data_, &registry_, &mailbox_, &clock_,
-                             TrafficCoordinatorParams{});
-  JobService jobs(&job_store_, &memory_.robots, &site_data_, &site_, &registry_, &mailbox_, &clock_,
-                  JobServiceParams{}, &traffic);
-  ASSERT_TRUE(jobs.Recover().ok());
+  const std::unique_ptr<CoordinatedJobs> coordinated = WithTraffic();
+  JobService& jobs = coordinated->jobs;
   ConnectGoalRobot(jobs, "a", Pose2(1.5, 5.0, 0.0));
   ConnectGoalRobot(jobs, "c", Pose2(6.0, 5.0, M_PI / 2));  // idle, on a's way
   SubmitGoal(jobs, "a", "hall", Pose2(8.5, 5.0, 0.0));
@@ -342,11 +350,8 @@ TEST_F(JobServiceTest, ARobotLastOnAnotherMapIsNotSentToMakeWayHere) {
   ASSERT_TRUE(MapCatalog(&site_data_, &clock_)
                   .Put("other", OccupancyGrid::Filled(100, 100, 0.1, Pose2(), 0).value(), "")
                   .ok());
-  TrafficCoordinator traffic(&site_data_, &registry_, &mailbox_, &clock_,
-                             TrafficCoordinatorParams{});
-  JobService jobs(&job_store_, &memory_.robots, &site_data_, &site_, &registry_, &mailbox_, &clock_,
-                  JobServiceParams{}, &traffic);
-  ASSERT_TRUE(jobs.Recover().ok());
+  const std::unique_ptr<CoordinatedJobs> coordinated = WithTraffic();
+  JobService& jobs = coordinated->jobs;
   ConnectGoalRobot(jobs, "a", Pose2(1.5, 5.0, 0.0));
   ConnectGoalRobot(jobs, "c", Pose2(6.0, 5.0, M_PI / 2));
   // c's last job was on "other"; it ended where c now stands.

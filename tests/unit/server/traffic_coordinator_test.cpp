@@ -76,6 +76,22 @@ class TrafficCoordinatorTest : public ::testing::Test {
     return FreeNavigationAction{{}, Pose2(x_m + distance_m, 0.0, 0.0), 0.5, {}};
   }
 
+  /// A laser-localized platform `a` at (-9, 0) and `b` (`b_model`; standing at gates when
+  /// `b_gates`) 4 m behind it are sent 20 m east; a then drives 7 m, reporting every 0.5 m.
+  void FollowEast(const RobotModel& b_model, bool b_gates) {
+    Connect("a", Pose2(-9, 0, 0), MecanumPlatformModel(), true);
+    Connect("b", Pose2(-13, 0, 0), b_model, b_gates);
+    coordinator_.Begin("a", Job("job-a", {{GoEast(-9, 20.0), {}}}));
+    clock_.AdvanceNs(1'000'000'000);
+    coordinator_.Begin("b", Job("job-b", {{GoEast(-13, 20.0), {}}}));
+    coordinator_.Update();
+    for (double x = -9; x <= -2.0; x += 0.5) {
+      MoveInJob("a", Pose2(x, 0, 0), "job-a", 0);
+      clock_.AdvanceNs(500'000'000);
+      coordinator_.Update();
+    }
+  }
+
   JobAssignment Job(const std::string& job_id, std::vector<RouteAction> actions) {
     JobAssignment a;
     a.job.job_id = job_id;
@@ -135,22 +151,11 @@ TEST_F(TrafficCoordinatorTest, AnAgentThatStandsAtGatesFollowsAnotherOneSegmentB
   // Two laser-localized platforms go to goals 20 m east along y = 0, b 4 m behind a. b's agent
   // stands at segment gates: it is cleared into its free-navigation leg up to a gate behind a,
   // not held for all of a's leg.
-  Connect("a", Pose2(-9, 0, 0), MecanumPlatformModel(), true);
-  Connect("b", Pose2(-13, 0, 0), MecanumPlatformModel(), true);
-  coordinator_.Begin("a", Job("job-a", {{GoEast(-9, 20.0), {}}}));
-  clock_.AdvanceNs(1'000'000'000);
-  coordinator_.Begin("b", Job("job-b", {{GoEast(-13, 20.0), {}}}));
-  coordinator_.Update();
+  FollowEast(MecanumPlatformModel(), true);
   ASSERT_FALSE(mailbox_.sent["a"].empty());
-  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0)
-      << mailbox_.sent["a"].back().wait_reason;
-  EXPECT_FALSE(mailbox_.sent["a"].back().hold.has_value());  // nothing holds a
-  // a drives 8 m: b is cleared into the action up to a gate that is behind a.
-  for (double x = -9; x <= -2.0; x += 0.5) {
-    MoveInJob("a", Pose2(x, 0, 0), "job-a", 0);
-    clock_.AdvanceNs(500'000'000);
-    coordinator_.Update();
-  }
+  EXPECT_EQ(mailbox_.sent["a"].front().cleared_up_to_action, 0);
+  EXPECT_FALSE(mailbox_.sent["a"].front().hold.has_value());  // nothing holds a
+  // a has driven 8 m: b is cleared into the action up to a gate that is behind a.
   ASSERT_FALSE(mailbox_.sent["b"].empty());
   const ClearanceNotice& b = mailbox_.sent["b"].back();
   EXPECT_EQ(b.cleared_up_to_action, 0) << b.wait_reason;
@@ -166,16 +171,7 @@ TEST_F(TrafficCoordinatorTest, AnAgentThatStandsAtGatesFollowsAnotherOneSegmentB
 
 TEST_F(TrafficCoordinatorTest, AnAgentWithoutGatesIsClearedWholeActionsOnly) {
   // The same, but b's agent does not stand at gates: it waits for a's whole action.
-  Connect("a", Pose2(-9, 0, 0), MecanumPlatformModel(), true);
-  Connect("b", Pose2(-13, 0, 0), MecanumPlatformModel());
-  coordinator_.Begin("a", Job("job-a", {{GoEast(-9, 20.0), {}}}));
-  clock_.AdvanceNs(1'000'000'000);
-  coordinator_.Begin("b", Job("job-b", {{GoEast(-13, 20.0), {}}}));
-  for (double x = -9; x <= -2.0; x += 0.5) {
-    MoveInJob("a", Pose2(x, 0, 0), "job-a", 0);
-    clock_.AdvanceNs(500'000'000);
-    coordinator_.Update();
-  }
+  FollowEast(MecanumPlatformModel(), false);
   ASSERT_FALSE(mailbox_.sent["b"].empty());
   EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, -1);
   EXPECT_FALSE(mailbox_.sent["b"].back().hold.has_value());
@@ -192,16 +188,7 @@ class WholeActionsTest : public TrafficCoordinatorTest,
                          public ::testing::WithParamInterface<RobotModel> {};
 
 TEST_P(WholeActionsTest, ARobotThatCannotFollowCloselyIsClearedWholeActions) {
-  Connect("a", Pose2(-9, 0, 0), MecanumPlatformModel(), true);
-  Connect("b", Pose2(-13, 0, 0), GetParam(), true);
-  coordinator_.Begin("a", Job("job-a", {{GoEast(-9, 20.0), {}}}));
-  clock_.AdvanceNs(1'000'000'000);
-  coordinator_.Begin("b", Job("job-b", {{GoEast(-13, 20.0), {}}}));
-  for (double x = -9; x <= -2.0; x += 0.5) {
-    MoveInJob("a", Pose2(x, 0, 0), "job-a", 0);
-    clock_.AdvanceNs(500'000'000);
-    coordinator_.Update();
-  }
+  FollowEast(GetParam(), true);
   ASSERT_FALSE(mailbox_.sent["b"].empty());
   EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, -1);
   EXPECT_FALSE(mailbox_.sent["b"].back().hold.has_value());

@@ -65,7 +65,7 @@ class RouteExecutor {
   void SetClearedUpTo(int index) { cleared_up_to_ = index; }
   /// Within action hold->action_index, the robot may go only up to the hold's gate: it brakes
   /// to stand just before it (nullopt: the whole of every cleared action).
-  void SetHold(std::optional<SegmentHold> hold) { hold_ = std::move(hold); }
+  void SetHold(const std::optional<SegmentHold>& hold) { hold_ = hold; }
   ExecutionState state() const { return state_; }
   /// Why the route failed (OK while running or after success).
   const absl::Status& failure() const { return failure_; }
