@@ -5,14 +5,16 @@
 namespace fleetnav::planner {
 namespace {
 
-double Step(const Pose2& a, const Pose2& b) { return (b.translation() - a.translation()).norm(); }
+double DistanceM(const Pose2& a, const Pose2& b) {
+  return (b.translation() - a.translation()).norm();
+}
 
 /// The direction of travel at poses[i]: from the pose about 0.3 m before it (the pose's own
 /// yaw where it has not moved).
 double TravelYaw(const std::vector<Pose2>& poses, size_t i) {
   constexpr double kBaselineM = 0.3;
   size_t j = i;
-  while (j > 0 && Step(poses[j], poses[i]) < kBaselineM) --j;
+  while (j > 0 && DistanceM(poses[j], poses[i]) < kBaselineM) --j;
   const Eigen::Vector2d d = poses[i].translation() - poses[j].translation();
   return d.norm() > 1e-6 ? std::atan2(d.y(), d.x()) : poses[i].yaw_rad();
 }
@@ -22,7 +24,7 @@ double TravelYaw(const std::vector<Pose2>& poses, size_t i) {
 std::vector<ActionSegment> SplitIntoSegments(const PredictedAction& action, double segment_m) {
   const std::vector<Pose2>& poses = action.poses;
   double length_m = 0.0;
-  for (size_t i = 1; i < poses.size(); ++i) length_m += Step(poses[i - 1], poses[i]);
+  for (size_t i = 1; i < poses.size(); ++i) length_m += DistanceM(poses[i - 1], poses[i]);
   if (segment_m <= 0.0 || length_m < 1.5 * segment_m || poses.size() < 2) {
     return {ActionSegment{poses, action.duration_s, std::nullopt}};
   }
@@ -32,7 +34,7 @@ std::vector<ActionSegment> SplitIntoSegments(const PredictedAction& action, doub
   double piece_m = 0.0;
   double done_m = 0.0;
   for (size_t i = 1; i < poses.size(); ++i) {
-    const double step_m = Step(poses[i - 1], poses[i]);
+    const double step_m = DistanceM(poses[i - 1], poses[i]);
     piece_m += step_m;
     done_m += step_m;
     current.poses.push_back(poses[i]);

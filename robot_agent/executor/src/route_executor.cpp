@@ -75,7 +75,6 @@ void RouteExecutor::HoldBeforeGate(const ControlInput& input, ExecutorOutput* ou
   out->command.vx_mps *= scale;
   out->command.vy_mps *= scale;
   out->command.yaw_rate_radps *= scale;
-  out->held_at_gate = true;
   if (limit_mps == 0.0) out->mode = NavigationMode::kIdle;
 }
 

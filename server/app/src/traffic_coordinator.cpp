@@ -12,6 +12,20 @@
 #include "fleetnav/planner/single_robot/planner_factory.hpp"
 
 namespace fleetnav::server {
+namespace {
+
+/// Whether a robot keeps to its predicted path closely enough to follow another a segment
+/// behind: it localizes with a laser against the map (the Lely's estimate drifts by up to half
+/// a metre between markers) and does not steer by Ackermann (its pure pursuit cut a corner to
+/// 6 cm of a passing platform in the store fleet).
+bool FollowsClosely(const RobotModel& model) {
+  const bool laser_localized =
+      std::any_of(model.sensors.begin(), model.sensors.end(),
+                  [](const SensorMount& sensor) { return sensor.type == SensorType::kLaser; });
+  return laser_localized && model.kinematics != Kinematics::kAckermann;
+}
+
+}  // namespace
 
 absl::Status TrafficCoordinatorParams::Validate() const {
   if (!std::isfinite(margin_m) || margin_m < 0.0) {
@@ -88,9 +102,8 @@ void TrafficCoordinator::OnActionFinished(const std::string& robot_id, const std
   tracked.start_action = std::max(tracked.start_action, action_index + 1);
   changed_ = true;
   if (tracked.schedule) {
-    const int next_action = std::min(action_index + 1, tracked.predicted_end);
     tracked.schedule->first_unfinished =
-        std::max(tracked.schedule->first_unfinished, tracked.first_step[next_action]);
+        std::max(tracked.schedule->first_unfinished, FirstStepOf(tracked, action_index + 1));
     const int first_unfinished_action =
         tracked.schedule->first_unfinished < static_cast<int>(tracked.steps.size())
             ? tracked.steps[tracked.schedule->first_unfinished].action
@@ -229,25 +242,18 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
   schedule.cells_id = next_cells_id_++;
   // Actions already run are one empty step each.
   tracked.steps.clear();
-  tracked.first_step.clear();
   for (int k = 0; k < skipped; ++k) {
-    tracked.first_step.push_back(k);
     tracked.steps.push_back({k, 0, 1, std::nullopt});
     schedule.whole_from.push_back(k);
     schedule.action_cells.emplace_back();
     schedule.action_end_cells.push_back(schedule.start_cells);
     schedule.action_start_s.push_back(tracked.assigned_s);
   }
-  const bool laser_localized =
-      std::any_of(tracked.model.sensors.begin(), tracked.model.sensors.end(),
-                  [](const SensorMount& sensor) { return sensor.type == SensorType::kLaser; });
-  const bool tracks_closely = tracked.model.kinematics != Kinematics::kAckermann;
   const double segment_m =
-      tracked.segment_clearances && laser_localized && tracks_closely ? params_.segment_m : 0.0;
+      tracked.segment_clearances && FollowsClosely(tracked.model) ? params_.segment_m : 0.0;
   double t_s = tracked.assigned_s;
   for (size_t i = 0; i < remaining.actions.size(); ++i) {
     const int action = skipped + static_cast<int>(i);
-    tracked.first_step.push_back(static_cast<int>(tracked.steps.size()));
     if (!predicted.ok()) {
       // Unpredictable (a stripe the marker set lacks): reserve where it stands.
       schedule.whole_from.push_back(static_cast<int>(tracked.steps.size()));
@@ -278,14 +284,13 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
     }
     load_m = load_after_m;
   }
-  tracked.first_step.push_back(static_cast<int>(tracked.steps.size()));
   schedule.first_unfinished = skipped;
   // The action the robot may be in already (a later window, or a job resumed after a restart)
   // stays cleared whole.
   if (skipped >= static_cast<int>(tracked.assignment.route->actions.size())) {
     schedule.cleared_up_to = skipped - 1;
   } else if (skipped > 0 || tracked.resume_from_telemetry) {
-    schedule.cleared_up_to = tracked.first_step[skipped + 1] - 1;
+    schedule.cleared_up_to = FirstStepOf(tracked, skipped + 1) - 1;
   } else {
     schedule.cleared_up_to = -1;
   }
@@ -295,37 +300,45 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
 namespace {
 
 /// "action 3 (free_navigation)", or "segment 2 of 5 of action 3 (free_navigation)" when the
-/// step is not the action's last.
-template <typename StepT>
-std::string StepName(const StepT& step, const Route& route) {
-  std::string name = absl::StrCat("action ", step.action);
-  if (step.action < static_cast<int>(route.actions.size())) {
-    absl::StrAppend(&name, " (", std::string(ActionTypeName(route.actions[step.action].params)),
-                    ")");
+/// segment is not the action's last.
+std::string StepName(int action, int segment, int segments, const Route& route) {
+  std::string name = absl::StrCat("action ", action);
+  if (action < static_cast<int>(route.actions.size())) {
+    absl::StrAppend(&name, " (", std::string(ActionTypeName(route.actions[action].params)), ")");
   }
-  if (step.segment + 1 < step.segments) {
-    name = absl::StrCat("segment ", step.segment + 1, " of ", step.segments, " of ", name);
+  if (segment + 1 < segments) {
+    name = absl::StrCat("segment ", segment + 1, " of ", segments, " of ", name);
   }
   return name;
 }
 
 }  // namespace
 
+int TrafficCoordinator::FirstStepOf(const Tracked& tracked, int action) {
+  const auto it = std::lower_bound(tracked.steps.begin(), tracked.steps.end(), action,
+                                   [](const Step& step, int a) { return step.action < a; });
+  return static_cast<int>(it - tracked.steps.begin());
+}
+
+int TrafficCoordinator::ActionOfStep(const Tracked& tracked, int step) {
+  return step >= 0 && step < static_cast<int>(tracked.steps.size()) ? tracked.steps[step].action
+                                                                    : step;
+}
+
 std::string TrafficCoordinator::Describe(const planner::TrafficClearanceDecision& d,
                                          const std::map<std::string, const Tracked*>& jobs_on_map) {
   if (d.waits.empty()) return "";
   const planner::TrafficWait& wait = d.waits.front();
   auto waiting = jobs_on_map.find(d.robot_id);
-  const int action = waiting != jobs_on_map.end() && wait.action >= 0 &&
-                             wait.action < static_cast<int>(waiting->second->steps.size())
-                         ? waiting->second->steps[wait.action].action
-                         : wait.action;
+  const int action =
+      waiting != jobs_on_map.end() ? ActionOfStep(*waiting->second, wait.action) : wait.action;
   std::string blocker_step = "its last action";
   auto blocker = jobs_on_map.find(wait.blocker_robot_id);
   if (blocker != jobs_on_map.end() && wait.blocker_action >= 0 &&
       wait.blocker_action < static_cast<int>(blocker->second->steps.size())) {
+    const Step& step = blocker->second->steps[wait.blocker_action];
     blocker_step =
-        StepName(blocker->second->steps[wait.blocker_action], *blocker->second->assignment.route);
+        StepName(step.action, step.segment, step.segments, *blocker->second->assignment.route);
   }
   const std::string next = absl::StrCat("action ", action, " waits for ");
   if (d.deadlocked) {
@@ -343,36 +356,30 @@ ClearanceNotice TrafficCoordinator::Notice(const Tracked& tracked,
                                            const std::map<std::string, const Tracked*>& jobs_on_map,
                                            const std::string& reason) {
   ClearanceNotice notice{tracked.assignment.job.job_id, -1, {}, reason, std::nullopt};
-  const auto action_of = [&](const Tracked& t, int step) {
-    return step >= 0 && step < static_cast<int>(t.steps.size()) ? t.steps[step].action : step;
-  };
   if (d.cleared_up_to >= 0 && d.cleared_up_to < static_cast<int>(tracked.steps.size())) {
     const Step& step = tracked.steps[d.cleared_up_to];
     notice.cleared_up_to_action = step.action;
     if (step.gate) notice.hold = SegmentHold{step.action, step.segment, *step.gate};
   }
   for (planner::TrafficWait wait : d.waits) {
-    wait.action = action_of(tracked, wait.action);
+    wait.action = ActionOfStep(tracked, wait.action);
     auto blocker = jobs_on_map.find(wait.blocker_robot_id);
     if (blocker != jobs_on_map.end()) {
-      wait.blocker_action = action_of(*blocker->second, wait.blocker_action);
+      wait.blocker_action = ActionOfStep(*blocker->second, wait.blocker_action);
     }
     notice.waits.push_back(std::move(wait));
   }
   return notice;
 }
 
-bool TrafficCoordinator::PassGates(Tracked& tracked, const Telemetry& telemetry) {
-  if (!tracked.schedule || telemetry.job_id != tracked.assignment.job.job_id) return false;
-  bool moved = false;
+void TrafficCoordinator::PassGates(Tracked& tracked, const Telemetry& telemetry) {
+  if (!tracked.schedule || telemetry.job_id != tracked.assignment.job.job_id) return;
   int& first = tracked.schedule->first_unfinished;
   while (first < static_cast<int>(tracked.steps.size()) &&
          tracked.steps[first].action == telemetry.action_index && tracked.steps[first].gate &&
          ReachedGate(*tracked.steps[first].gate, telemetry.pose_in_map.translation())) {
     ++first;
-    moved = true;
   }
-  return moved;
 }
 
 std::vector<TrafficWaitChange> TrafficCoordinator::Update() {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <memory>
 #include <vector>
 
 #include "fleetnav/core/angles.hpp"
@@ -69,6 +70,14 @@ class TrafficCoordinatorTest : public ::testing::Test {
     telemetry.job_id = job_id;
     telemetry.action_index = action_index;
     ASSERT_TRUE(registry_.RecordTelemetry(robot_id, sessions_[robot_id], telemetry).ok());
+  }
+
+  /// A coordinator over this fixture's site that looks for make-way places within `max_m`.
+  std::unique_ptr<TrafficCoordinator> LookingForPlacesWithin(double max_m) {
+    TrafficCoordinatorParams params;
+    params.make_way.max_distance_m = max_m;
+    return std::make_unique<TrafficCoordinator>(&site_data_, &registry_, &mailbox_, &clock_,
+                                                params);
   }
 
   /// A free-navigation leg from (x_m, 0) to `distance_m` east of it.
@@ -272,9 +281,8 @@ TEST_F(TrafficCoordinatorTest, AnIdleRobotInTheWayIsAskedOnceToMakeWayToAPlaceOf
 }
 
 TEST_F(TrafficCoordinatorTest, AnIdleRobotWithNowhereToGoIsNamedInTheWaitingRobotsReason) {
-  TrafficCoordinatorParams params;
-  params.make_way.max_distance_m = 0.3;
-  TrafficCoordinator coordinator(&site_data_, &registry_, &mailbox_, &clock_, params);
+  const std::unique_ptr<TrafficCoordinator> owned = LookingForPlacesWithin(0.3);
+  TrafficCoordinator& coordinator = *owned;
   Connect("a", Pose2(-8, 0, 0));
   Connect("idle", Pose2(0, 0, M_PI / 2));
   coordinator.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
@@ -317,9 +325,8 @@ TEST_F(TrafficCoordinatorTest, OfTwoRobotsSwappingPlacesTheNewerJobIsWithdrawnAn
 TEST_F(TrafficCoordinatorTest, AnIdleRobotWithNoPlaceLooksAgainOnceAJobHasEnded) {
   // a drives along y = 0 through the idle robot; b and c stand north and south of it with
   // jobs along y = +-3, so within 3 m there is no place off every way.
-  TrafficCoordinatorParams params;
-  params.make_way.max_distance_m = 3.0;
-  TrafficCoordinator coordinator(&site_data_, &registry_, &mailbox_, &clock_, params);
+  const std::unique_ptr<TrafficCoordinator> owned = LookingForPlacesWithin(3.0);
+  TrafficCoordinator& coordinator = *owned;
   Connect("a", Pose2(-8, 0, 0));
   Connect("idle", Pose2(0, 0, M_PI / 2));
   Connect("b", Pose2(-4, 3, 0));

@@ -29,9 +29,6 @@ struct ExecutorOutput {
   /// Action action_index is done (or none has started) and the next one is not cleared by
   /// traffic coordination: the robot stands.
   bool waiting = false;
-  /// The robot stands (or brakes to stand) before a segment hold's gate within action
-  /// action_index: not done with it, held by traffic coordination.
-  bool held_at_gate = false;
   /// Where the lift must be, and the trolley on it (nullopt: none): a trolley dock latches one,
   /// an undock sets it down, and it stays on the lift when a route ends or fails.
   bool lift_raised = false;

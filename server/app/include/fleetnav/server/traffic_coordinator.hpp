@@ -138,10 +138,9 @@ class TrafficCoordinator {
     bool segment_clearances = false;  ///< its agent stands before a segment's gate
     /// The schedule orders steps (its "actions" are these), of actions before predicted_end.
     std::optional<planner::ScheduledRoute> schedule;
-    std::vector<Step> steps;
-    std::vector<int> first_step;  ///< per action up to predicted_end (inclusive): its first step
-    int predicted_end = 0;        ///< actions before it are in the schedule
-    int sent_cleared = -2;        ///< the clearance last sent; -2: none
+    std::vector<Step> steps;  ///< in the order of their actions
+    int predicted_end = 0;    ///< actions before it are in the schedule
+    int sent_cleared = -2;    ///< the clearance last sent; -2: none
     std::string reason;
   };
   struct PlannerCache {
@@ -176,8 +175,12 @@ class TrafficCoordinator {
   static ClearanceNotice Notice(const Tracked& tracked, const planner::TrafficClearanceDecision& d,
                                 const std::map<std::string, const Tracked*>& jobs_on_map,
                                 const std::string& reason);
-  /// Moves the job past the gates its robot's telemetry shows it has reached; true if it moved.
-  static bool PassGates(Tracked& tracked, const Telemetry& telemetry);
+  /// Moves the job past the gates its robot's telemetry shows it has reached.
+  static void PassGates(Tracked& tracked, const Telemetry& telemetry);
+  /// The first step of `action` (steps.size() past the last predicted action).
+  static int FirstStepOf(const Tracked& tracked, int action);
+  /// The action of `step` (a step index outside the schedule is returned as it is: -1 none).
+  static int ActionOfStep(const Tracked& tracked, int step);
 
   SiteCache* site_data_;
   FleetRegistry* registry_;
