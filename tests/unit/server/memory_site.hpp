@@ -2,9 +2,9 @@
 
 #include "fleetnav/core/clock.hpp"
 #include "fleetnav/core/occupancy_grid.hpp"
-#include "fleetnav/server/map_catalog.hpp"
-#include "fleetnav/server/site_cache.hpp"
-#include "fleetnav/server/site_catalog.hpp"
+#include "fleetnav/server/site/map_catalog.hpp"
+#include "fleetnav/server/site/site_cache.hpp"
+#include "fleetnav/server/site/site_catalog.hpp"
 #include "fleetnav/storage/memory/memory_fleet_repositories.hpp"
 #include "fleetnav/storage/memory/memory_map_repository.hpp"
 

@@ -13,7 +13,7 @@
 #include "absl/status/status.h"
 #include "absl/strings/string_view.h"
 #include "absl/synchronization/mutex.h"
-#include "fleetnav/server/access_policy.hpp"
+#include "fleetnav/server/access/access_policy.hpp"
 
 namespace fleetnav::server {
 

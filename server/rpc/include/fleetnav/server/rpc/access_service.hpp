@@ -3,7 +3,7 @@
 #include <functional>
 #include <string>
 
-#include "fleetnav/server/operator_tokens.hpp"
+#include "fleetnav/server/access/operator_tokens.hpp"
 #include "fleetnav/v1/access_service.grpc.pb.h"
 
 namespace fleetnav::server {

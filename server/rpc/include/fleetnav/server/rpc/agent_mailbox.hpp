@@ -8,7 +8,7 @@
 #include <string>
 
 #include "absl/synchronization/mutex.h"
-#include "fleetnav/server/robot_mailbox.hpp"
+#include "fleetnav/server/robots/robot_mailbox.hpp"
 #include "fleetnav/v1/agent_service.pb.h"
 
 namespace fleetnav::server {

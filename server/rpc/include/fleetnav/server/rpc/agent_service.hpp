@@ -8,12 +8,12 @@
 #include <vector>
 
 #include "absl/synchronization/mutex.h"
-#include "fleetnav/server/fleet_registry.hpp"
-#include "fleetnav/server/input_limits.hpp"
-#include "fleetnav/server/job_service.hpp"
+#include "fleetnav/server/jobs/job_service.hpp"
+#include "fleetnav/server/robots/fleet_registry.hpp"
 #include "fleetnav/server/rpc/access_gate.hpp"
 #include "fleetnav/server/rpc/agent_mailbox.hpp"
 #include "fleetnav/server/rpc/tick_barrier.hpp"
+#include "fleetnav/server/site/input_limits.hpp"
 #include "fleetnav/v1/agent_service.grpc.pb.h"
 
 namespace fleetnav::server {

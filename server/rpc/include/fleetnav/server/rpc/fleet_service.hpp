@@ -1,12 +1,12 @@
 #pragma once
 
-#include "fleetnav/server/fleet_registry.hpp"
-#include "fleetnav/server/job_service.hpp"
-#include "fleetnav/server/map_catalog.hpp"
-#include "fleetnav/server/robot_mailbox.hpp"
+#include "fleetnav/server/jobs/job_service.hpp"
+#include "fleetnav/server/robots/fleet_registry.hpp"
+#include "fleetnav/server/robots/robot_mailbox.hpp"
 #include "fleetnav/server/rpc/watch_hub.hpp"
-#include "fleetnav/server/site_catalog.hpp"
-#include "fleetnav/server/traffic_planner.hpp"
+#include "fleetnav/server/site/map_catalog.hpp"
+#include "fleetnav/server/site/site_catalog.hpp"
+#include "fleetnav/server/traffic/traffic_planner.hpp"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
 
 namespace fleetnav::server {

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
-#include "fleetnav/server/access_policy.hpp"
+#include "fleetnav/server/access/access_policy.hpp"
 
 namespace fleetnav::server {
 

@@ -12,8 +12,8 @@
 #include <thread>
 
 #include "absl/synchronization/mutex.h"
-#include "fleetnav/server/fleet_registry.hpp"
-#include "fleetnav/server/job_service.hpp"
+#include "fleetnav/server/jobs/job_service.hpp"
+#include "fleetnav/server/robots/fleet_registry.hpp"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
 
 namespace fleetnav::server {

@@ -1,0 +1,217 @@
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/synchronization/mutex.h"
+#include "fleetnav/core/clock.hpp"
+#include "fleetnav/planner/coordination/make_way.hpp"
+#include "fleetnav/planner/coordination/route_prediction.hpp"
+#include "fleetnav/planner/coordination/traffic_schedule.hpp"
+#include "fleetnav/planner/grid/costmap.hpp"
+#include "fleetnav/planner/single_robot/single_robot_planner.hpp"
+#include "fleetnav/server/robots/fleet_registry.hpp"
+#include "fleetnav/server/robots/robot_mailbox.hpp"
+#include "fleetnav/server/site/site_cache.hpp"
+
+namespace fleetnav::server {
+
+struct TrafficCoordinatorParams {
+  /// Grown around each swept footprint: the estimate's error plus the reactive controllers'
+  /// deviation from the nominal path (the Lely's estimate is within 0.5 m at p95).
+  double margin_m = 0.5;
+  /// A robot standing still is off its estimate by its localization error alone: where it
+  /// stands (before, between and after its actions, and without a job) is grown by
+  /// standing_sigmas standard deviations of its position (its telemetry's covariance, the
+  /// larger of x and y), at least standing_margin_min_m and at most margin_m. So a
+  /// laser-localized platform parked beside another is not in the other's way, while a
+  /// drifting Lely keeps a wide berth.
+  double standing_margin_min_m = 0.2;
+  double standing_sigmas = 3.0;
+  double cell_m = 0.2;
+  /// Free-navigation legs are ordered in segments of about this much travel (0: whole
+  /// actions), for agents that stand before a segment's gate
+  /// (RobotIdentity::segment_clearances), localize with a laser against the map and steer
+  /// other than by Ackermann; so robots follow one another through a shared place a segment
+  /// apart. Route actions that follow the site (fence, stripe, straight, dock), robots that
+  /// localize otherwise (the Lely's estimate drifts by up to half a metre between markers: a
+  /// segment behind another is within its drift), Ackermann robots (one stood at a gate 6 cm
+  /// from a platform passing in the store fleet) and older agents get whole actions.
+  double segment_m = 1.5;
+  /// Actions predicted and ordered ahead of a robot's first unfinished one. The next window is
+  /// predicted, from where the robot then is, once it is within half a window of the end, so
+  /// the work per dispatcher pass does not grow with the length of routes.
+  int horizon_actions = 32;
+  /// Clearances are decided again at once when a job begins, ends, finishes an action or its
+  /// robot reconnects; otherwise at most this often (clock time), for robots without a job
+  /// that moved and robots that reported where they are.
+  double recheck_period_s = 0.5;
+  planner::RoutePredictionParams prediction;
+  /// Where a robot without a job that stands in a waiting robot's way is sent.
+  planner::MakeWayParams make_way;
+  absl::Status Validate() const;
+};
+
+/// A robot without a job stands in a waiting robot's way: it is to drive to `place` (map
+/// frame), off every way the jobs on its map still need and off where other idle robots stand.
+struct MakeWayRequest {
+  std::string robot_id;
+  std::string map_id;
+  Pose2 place;
+  std::string for_robot_id;  ///< a robot that waits for it
+  /// Its job, when it has one that traffic coordination holds and that it has not started:
+  /// the job is to be withdrawn (queued again) before the robot goes.
+  std::string withdraw_job_id;
+};
+
+/// A change of why a robot's job is held, for the job's events.
+struct TrafficWaitChange {
+  std::string robot_id;
+  std::string job_id;
+  std::string reason;  ///< empty: no longer held
+};
+
+/// Executes traffic coordination for every job a robot runs (issue: fleet in the loop). When a
+/// job starts, the route is predicted from the robot's pose (planner::PredictRoute; free
+/// navigation planned as the agent plans it) and each action's swept footprint, grown by
+/// margin_m, becomes a cell set; Update() orders the actions of all jobs that share floor with
+/// planner::DecideClearances and sends each robot a TrafficClearance whenever the last action it
+/// may enter grows. Robots without a job that are online stand where they are and are never
+/// driven through; one that stands in a waiting robot's way is asked, once until it has a job
+/// again, to make way (TakeMakeWayRequests: a place found by planner::FindMakeWayPlace; when
+/// there is none, the waiting robot's reason says so). So is a robot whose job is held whole
+/// (the routes cannot be ordered, e.g. two robots swapping places) before it has started it:
+/// its job is to be withdrawn and given again once it has made way. A robot whose job is
+/// paused keeps its region. Thread-safe (one mutex; it calls the registry and the mailbox, which
+/// never block).
+class TrafficCoordinator {
+ public:
+  TrafficCoordinator(SiteCache* site_data, FleetRegistry* registry, RobotMailbox* mailbox,
+                     const Clock* clock, TrafficCoordinatorParams params);
+
+  /// Begin's resume_action for a job resumed after a server restart: the robot is in the
+  /// action its telemetry reports. Until its robot has reported, no other robot on the job's
+  /// map is cleared further (it may stand in their way).
+  static constexpr int kResumeWhereReported = -2;
+  /// Starts coordinating a job the robot was given (resume_action -1), or one it is already
+  /// running in action `resume_action` (or kResumeWhereReported).
+  void Begin(const std::string& robot_id, const JobAssignment& assignment, int resume_action = -1);
+  /// Whether the job is coordinated.
+  bool Tracks(const std::string& job_id);
+  /// The robot finished `action_index` of `job_id`.
+  void OnActionFinished(const std::string& robot_id, const std::string& job_id, int action_index);
+  /// The job ended (succeeded, failed, cancelled or taken away): its robot stands where it is.
+  void End(const std::string& job_id);
+  /// The robot opened a new stream: its clearance is sent again on the next Update.
+  void Resend(const std::string& robot_id);
+  /// Predicts routes that wait for a pose, decides clearances, sends those that changed, and
+  /// returns the robots whose wait reason changed. Returns at once when nothing changed since
+  /// the last decision and recheck_period_s has not passed.
+  std::vector<TrafficWaitChange> Update();
+  /// The robots without a job that Update found standing in a waiting robot's way since the
+  /// last call, each with the place it is to go to. A robot is asked once until it is given a
+  /// job (JobMatcher submits the make-way job); one that had no place looks again once some
+  /// job has ended.
+  std::vector<MakeWayRequest> TakeMakeWayRequests();
+
+ private:
+  /// One unit traffic coordination orders: a segment of an action.
+  struct Step {
+    int action = 0;
+    int segment = 0;
+    int segments = 1;           ///< of the action
+    std::optional<Pose2> gate;  ///< where it ends, unless it is the action's last
+  };
+  struct Tracked {
+    std::string robot_id;
+    JobAssignment assignment;
+    RobotModel model;
+    double assigned_s = 0.0;  ///< when the current window was predicted
+    int start_action = 0;     ///< actions before it had run before coordination began
+    bool resume_from_telemetry = false;
+    bool segment_clearances = false;  ///< its agent stands before a segment's gate
+    /// The schedule orders steps (its "actions" are these), of actions before predicted_end.
+    std::optional<planner::ScheduledRoute> schedule;
+    std::vector<Step> steps;  ///< in the order of their actions
+    int predicted_end = 0;    ///< actions before it are in the schedule
+    int sent_cleared = -2;    ///< the clearance last sent; -2: none
+    std::string reason;
+  };
+  struct PlannerCache {
+    std::unique_ptr<planner::Costmap> costmap;
+    std::unique_ptr<planner::SingleRobotPlanner> planner;
+    Pose2 map_origin;
+  };
+
+  /// Schedules the window of `tracked`'s actions ahead from `pose`, the robot carrying
+  /// `carried_load_m` (nullopt: nothing) as it starts.
+  void Predict(Tracked& tracked, const Pose2& pose,
+               const std::optional<Eigen::Vector2d>& carried_load_m, double standing_margin_m)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// How far to grow where a robot with this telemetry stands (standing_margin_min_m..margin_m).
+  double StandingMarginM(const Telemetry& telemetry) const;
+  planner::SingleRobotPlanner* PlannerFor(const Tracked& tracked, Pose2* map_origin)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  PlannerCache& CacheFor(const std::string& map_id, uint32_t map_version, const RobotModel& model)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Finds a place for each idle robot that a decision on `map_id` waits for (not asked yet)
+  /// and queues the request, or notes why there is none.
+  void AskIdleRobotsToMakeWay(const std::string& map_id, const std::vector<Tracked*>& tracked_jobs,
+                              const std::vector<planner::TrafficClearanceDecision>& decisions,
+                              const std::vector<planner::ParkedRobot>& parked,
+                              const std::map<std::string, const RobotRecord*>& records)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Why the decision holds the robot, for people ("" when it does not); `jobs_on_map` are
+  /// the tracked jobs the decision's waits may name, by robot id.
+  static std::string Describe(const planner::TrafficClearanceDecision& d,
+                              const std::map<std::string, const Tracked*>& jobs_on_map);
+  /// The decision as the robot's agent is told it: actions (and a gate within the last one).
+  static ClearanceNotice Notice(const Tracked& tracked, const planner::TrafficClearanceDecision& d,
+                                const std::map<std::string, const Tracked*>& jobs_on_map,
+                                const std::string& reason);
+  /// Moves the job past the gates its robot's telemetry shows it has reached.
+  static void PassGates(Tracked& tracked, const Telemetry& telemetry);
+  /// The first step of `action` (steps.size() past the last predicted action).
+  static int FirstStepOf(const Tracked& tracked, int action);
+  /// The action of `step` (a step index outside the schedule is returned as it is: -1 none).
+  static int ActionOfStep(const Tracked& tracked, int step);
+
+  SiteCache* site_data_;
+  FleetRegistry* registry_;
+  RobotMailbox* mailbox_;
+  const Clock* clock_;
+  TrafficCoordinatorParams params_;
+  absl::Mutex mutex_;
+  std::map<std::string, Tracked> jobs_ ABSL_GUARDED_BY(mutex_);
+  /// Where each robot without a coordinated job stood when last swept, what it carried, and
+  /// the cells.
+  struct ParkedSweep {
+    Pose2 pose;
+    std::optional<Eigen::Vector2d> carried_load_m;
+    double margin_m = 0.0;
+    planner::CellSet cells;
+  };
+  std::map<std::string, ParkedSweep> parked_cells_ ABSL_GUARDED_BY(mutex_);  ///< by job id
+  /// Costmap and planner per (map id, map version, robot kind).
+  std::map<std::tuple<std::string, uint32_t, std::string>, PlannerCache> planners_
+      ABSL_GUARDED_BY(mutex_);
+  /// Remembers which pairs of predicted windows share floor, per map.
+  std::map<std::string, planner::ClearanceDecider> deciders_ ABSL_GUARDED_BY(mutex_);
+  uint64_t next_cells_id_ ABSL_GUARDED_BY(mutex_) = 1;
+  std::vector<MakeWayRequest> make_way_requests_ ABSL_GUARDED_BY(mutex_);
+  /// Idle robots asked to make way (or found to have no place) since their last job began.
+  std::set<std::string> make_way_asked_ ABSL_GUARDED_BY(mutex_);
+  /// Why an idle robot in the way cannot make way, by robot id.
+  std::map<std::string, std::string> cannot_make_way_ ABSL_GUARDED_BY(mutex_);
+  /// A job began, ended or moved on since the last decision.
+  bool changed_ ABSL_GUARDED_BY(mutex_) = true;
+  double last_decision_s_ ABSL_GUARDED_BY(mutex_) = -1e300;
+};
+
+}  // namespace fleetnav::server

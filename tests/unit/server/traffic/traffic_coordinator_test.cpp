@@ -1,0 +1,476 @@
+#include "fleetnav/server/traffic/traffic_coordinator.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "fleetnav/core/angles.hpp"
+#include "fleetnav/storage/memory/memory_fleet_repositories.hpp"
+#include "fleetnav/storage/memory/memory_map_repository.hpp"
+
+namespace fleetnav::server {
+namespace {
+
+using ::testing::HasSubstr;
+
+/// Records what would be sent to the robots.
+class RecordingMailbox : public RobotMailbox {
+ public:
+  bool SendAssignment(const std::string&, const JobAssignment&) override { return true; }
+  bool SendCommand(const std::string&, const JobCommand&) override { return true; }
+  bool SendClearance(const std::string& robot_id, const ClearanceNotice& clearance) override {
+    sent[robot_id].push_back(clearance);
+    return true;
+  }
+  void BroadcastMapUpdate(const std::string&, uint32_t, uint32_t) override {}
+  std::map<std::string, std::vector<ClearanceNotice>> sent;
+};
+
+/// Two Lely robots on an empty 30 × 10 m hall; routes of straights and turns.
+class TrafficCoordinatorTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(maps_
+                    .PutMap("hall",
+                            OccupancyGrid::Filled(600, 200, 0.05, Pose2(-15, -5, 0),
+                                                  OccupancyGrid::kFreeValue)
+                                .value(),
+                            "", 0)
+                    .ok());
+  }
+
+  /// Connects a robot standing at `pose` (telemetry in map).
+  void Connect(const std::string& robot_id, const Pose2& pose,
+               const RobotModel& model = LelyVectorModel(), bool segment_clearances = false) {
+    RobotIdentity identity;
+    identity.robot_id = robot_id;
+    identity.model = model;
+    identity.segment_clearances = segment_clearances;
+    sessions_[robot_id] = registry_.Connect(identity);
+    Move(robot_id, pose);
+  }
+
+  /// The robot reports a new pose (telemetry in map), carrying `carried_load_m` on its lift.
+  void Move(const std::string& robot_id, const Pose2& pose,
+            const std::optional<Eigen::Vector2d>& carried_load_m = std::nullopt) {
+    Telemetry telemetry;
+    telemetry.pose_in_map = pose;
+    telemetry.carried_load_m = carried_load_m;
+    ASSERT_TRUE(registry_.RecordTelemetry(robot_id, sessions_[robot_id], telemetry).ok());
+  }
+
+  /// The robot reports a pose in action `action_index` of `job_id`.
+  void MoveInJob(const std::string& robot_id, const Pose2& pose, const std::string& job_id,
+                 int action_index) {
+    Telemetry telemetry;
+    telemetry.pose_in_map = pose;
+    telemetry.job_id = job_id;
+    telemetry.action_index = action_index;
+    ASSERT_TRUE(registry_.RecordTelemetry(robot_id, sessions_[robot_id], telemetry).ok());
+  }
+
+  /// A coordinator over this fixture's site that looks for make-way places within `max_m`.
+  std::unique_ptr<TrafficCoordinator> LookingForPlacesWithin(double max_m) {
+    TrafficCoordinatorParams params;
+    params.make_way.max_distance_m = max_m;
+    return std::make_unique<TrafficCoordinator>(&site_data_, &registry_, &mailbox_, &clock_,
+                                                params);
+  }
+
+  /// A free-navigation leg from (x_m, 0) to `distance_m` east of it.
+  static FreeNavigationAction GoEast(double x_m, double distance_m) {
+    return FreeNavigationAction{{}, Pose2(x_m + distance_m, 0.0, 0.0), 0.5, {}};
+  }
+
+  /// A laser-localized platform `a` at (-9, 0) and `b` (`b_model`; standing at gates when
+  /// `b_gates`) 4 m behind it are sent 20 m east; a then drives 7 m, reporting every 0.5 m.
+  void FollowEast(const RobotModel& b_model, bool b_gates) {
+    Connect("a", Pose2(-9, 0, 0), MecanumPlatformModel(), true);
+    Connect("b", Pose2(-13, 0, 0), b_model, b_gates);
+    coordinator_.Begin("a", Job("job-a", {{GoEast(-9, 20.0), {}}}));
+    clock_.AdvanceNs(1'000'000'000);
+    coordinator_.Begin("b", Job("job-b", {{GoEast(-13, 20.0), {}}}));
+    coordinator_.Update();
+    for (double x = -9; x <= -2.0; x += 0.5) {
+      MoveInJob("a", Pose2(x, 0, 0), "job-a", 0);
+      clock_.AdvanceNs(500'000'000);
+      coordinator_.Update();
+    }
+  }
+
+  JobAssignment Job(const std::string& job_id, std::vector<RouteAction> actions) {
+    JobAssignment a;
+    a.job.job_id = job_id;
+    a.job.map_id = "hall";
+    auto route = std::make_shared<Route>();
+    route->name = job_id;
+    route->map_id = "hall";
+    route->actions = std::move(actions);
+    a.route = std::move(route);
+    a.map_version = 1;
+    return a;
+  }
+
+  std::map<std::string, uint64_t> sessions_;
+  storage::MemoryMapRepository maps_;
+  storage::MemoryMarkerSetRepository markers_;
+  ManualClock clock_{1'000'000'000};
+  FleetRegistry registry_{&clock_, FleetRegistryParams{}};
+  RecordingMailbox mailbox_;
+  storage::MemoryRouteRepository routes_;
+  SiteCache site_data_{&maps_, &markers_, &routes_};
+  TrafficCoordinator coordinator_{&site_data_, &registry_, &mailbox_, &clock_,
+                                  TrafficCoordinatorParams{}};
+};
+
+TEST_F(TrafficCoordinatorTest, CrossingRobotsAreClearedOneAfterTheOtherAndToldWhy) {
+  // a drives 12 m east along y = 0 through x = 0; b waits north of it and then drives 8 m
+  // south across the same place, expected later.
+  Connect("a", Pose2(-8, 0, 0));
+  Connect("b", Pose2(0, 4.5, -M_PI / 2));
+  coordinator_.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
+  clock_.AdvanceNs(5'000'000'000);
+  coordinator_.Begin("b", Job("job-b", {{StraightAction{8.0, 0.5}, {}}}));
+  const std::vector<TrafficWaitChange> changes = coordinator_.Update();
+  ASSERT_EQ(mailbox_.sent["a"].size(), 1u);
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+  ASSERT_EQ(mailbox_.sent["b"].size(), 1u);
+  EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, -1);
+  EXPECT_THAT(mailbox_.sent["b"].back().wait_reason, HasSubstr("waits for a to finish action 0"));
+  ASSERT_EQ(changes.size(), 1u);
+  EXPECT_EQ(changes[0].job_id, "job-b");
+  EXPECT_EQ(registry_.Get("b")->traffic_wait, changes[0].reason);
+
+  // Nothing changed: nothing is sent again.
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["b"].size(), 1u);
+
+  // a finished its action and its job: b may go, and is no longer held.
+  coordinator_.OnActionFinished("a", "job-a", 0);
+  coordinator_.End("job-a");
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, 0);
+  EXPECT_EQ(registry_.Get("b")->traffic_wait, "");
+}
+
+TEST_F(TrafficCoordinatorTest, AnAgentThatStandsAtGatesFollowsAnotherOneSegmentBehind) {
+  // Two laser-localized platforms go to goals 20 m east along y = 0, b 4 m behind a. b's agent
+  // stands at segment gates: it is cleared into its free-navigation leg up to a gate behind a,
+  // not held for all of a's leg.
+  FollowEast(MecanumPlatformModel(), true);
+  ASSERT_FALSE(mailbox_.sent["a"].empty());
+  EXPECT_EQ(mailbox_.sent["a"].front().cleared_up_to_action, 0);
+  EXPECT_FALSE(mailbox_.sent["a"].front().hold.has_value());  // nothing holds a
+  // a has driven 8 m: b is cleared into the action up to a gate that is behind a.
+  ASSERT_FALSE(mailbox_.sent["b"].empty());
+  const ClearanceNotice& b = mailbox_.sent["b"].back();
+  EXPECT_EQ(b.cleared_up_to_action, 0) << b.wait_reason;
+  ASSERT_TRUE(b.hold.has_value());
+  EXPECT_EQ(b.hold->action_index, 0);
+  EXPECT_GT(b.hold->gate.x_m(), -9.0);
+  EXPECT_LT(b.hold->gate.x_m(), -2.0 - 1.5);       // a's rear, less the footprints and margins
+  EXPECT_NEAR(b.hold->gate.yaw_rad(), 0.0, 1e-6);  // the direction of travel
+  EXPECT_THAT(b.wait_reason, HasSubstr("waits for a to finish segment"));
+  EXPECT_THAT(b.wait_reason, HasSubstr("of action 0 (free_navigation)"));
+  EXPECT_EQ(b.waits.front().blocker_action, 0);  // told in actions
+}
+
+TEST_F(TrafficCoordinatorTest, AnAgentWithoutGatesIsClearedWholeActionsOnly) {
+  // The same, but b's agent does not stand at gates: it waits for a's whole action.
+  FollowEast(MecanumPlatformModel(), false);
+  ASSERT_FALSE(mailbox_.sent["b"].empty());
+  EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, -1);
+  EXPECT_FALSE(mailbox_.sent["b"].back().hold.has_value());
+  // a has passed all its gates; b goes once a has finished the action.
+  coordinator_.OnActionFinished("a", "job-a", 0);
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, 0);
+}
+
+// The Lely localizes with ultrasonics and markers, not a laser: its estimate drifts by up to half
+// a metre, more than a segment's slack. The Ackermann robot's tracking cuts corners of its own
+// hybrid path. Both follow whole actions though their agents stand at gates.
+class WholeActionsTest : public TrafficCoordinatorTest,
+                         public ::testing::WithParamInterface<RobotModel> {};
+
+TEST_P(WholeActionsTest, ARobotThatCannotFollowCloselyIsClearedWholeActions) {
+  FollowEast(GetParam(), true);
+  ASSERT_FALSE(mailbox_.sent["b"].empty());
+  EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, -1);
+  EXPECT_FALSE(mailbox_.sent["b"].back().hold.has_value());
+}
+
+INSTANTIATE_TEST_SUITE_P(LelyAndAckermann, WholeActionsTest,
+                         ::testing::Values(LelyVectorModel(), AckermannDeliveryModel()),
+                         [](const auto& info) { return info.index == 0 ? "Lely" : "Ackermann"; });
+
+TEST_F(TrafficCoordinatorTest, WhereARobotStandsGrowsWithItsPositionUncertainty) {
+  // A platform stands 1.45 m beside another's way. Well localized (σ 2 cm), it stands off the
+  // way; with σ 15 cm its standing place grows by 0.45 m and the other waits for it.
+  Connect("a", Pose2(-8, 0, 0), MecanumPlatformModel());
+  Connect("idle", Pose2(0, 1.45, 0), MecanumPlatformModel());
+  const auto stand_with_sigma = [&](double sigma_m) {
+    Telemetry telemetry;
+    telemetry.pose_in_map = Pose2(0, 1.45, 0);
+    telemetry.covariance[0] = telemetry.covariance[4] = sigma_m * sigma_m;
+    ASSERT_TRUE(registry_.RecordTelemetry("idle", sessions_["idle"], telemetry).ok());
+  };
+  stand_with_sigma(0.02);
+  coordinator_.Begin("a", Job("job-a1", {{StraightAction{12.0, 0.3}, {}}}));
+  coordinator_.Update();
+  ASSERT_FALSE(mailbox_.sent["a"].empty());
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+  coordinator_.End("job-a1");
+  stand_with_sigma(0.15);
+  coordinator_.Begin("a", Job("job-a2", {{StraightAction{12.0, 0.3}, {}}}));
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, -1);
+  EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("idle, which stands in its way"));
+}
+
+TEST_F(TrafficCoordinatorTest, AnIdleRobotInTheWayIsNeverDrivenThrough) {
+  Connect("a", Pose2(-8, 0, 0));
+  Connect("idle", Pose2(0, 0, M_PI / 2));  // no job: it stands on a's way
+  coordinator_.Begin(
+      "a", Job("job-a", {{StraightAction{4.0, 0.5}, {}}, {StraightAction{8.0, 0.5}, {}}}));
+  coordinator_.Update();
+  ASSERT_FALSE(mailbox_.sent["a"].empty());
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+  EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("idle, which stands in its way"));
+}
+
+/// Whether a Lely standing at `place` would be in the way of one driving along y = 0 from
+/// x = from_x_m for 12 m, as traffic coordination sweeps both (footprint grown by margin_m).
+bool InTheWayOfTwelveMetresEastFrom(double from_x_m, const Pose2& place) {
+  const TrafficCoordinatorParams params;
+  std::vector<Pose2> way;
+  for (int i = 0; i <= 120; ++i) way.emplace_back(from_x_m + 0.1 * i, 0.0, 0.0);
+  const std::vector<Eigen::Vector2d>& footprint = LelyVectorModel().footprint_m;
+  // Where it stands is grown by the standing margin (its position is known to a few cm).
+  return planner::CellSet::Sweep({place}, footprint, params.standing_margin_min_m, params.cell_m)
+      .Intersects(planner::CellSet::Sweep(way, footprint, params.margin_m, params.cell_m));
+}
+
+TEST_F(TrafficCoordinatorTest, AnIdleRobotInTheWayIsAskedOnceToMakeWayToAPlaceOffTheWay) {
+  Connect("a", Pose2(-8, 0, 0));
+  Connect("idle", Pose2(0, 0, M_PI / 2));
+  coordinator_.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
+  coordinator_.Update();
+  const std::vector<MakeWayRequest> requests = coordinator_.TakeMakeWayRequests();
+  ASSERT_EQ(requests.size(), 1u);
+  EXPECT_EQ(requests[0].robot_id, "idle");
+  EXPECT_EQ(requests[0].map_id, "hall");
+  EXPECT_EQ(requests[0].for_robot_id, "a");
+  // The place is off a's way as traffic coordination sweeps it.
+  EXPECT_FALSE(InTheWayOfTwelveMetresEastFrom(-8.0, requests[0].place));
+  // Beside the way, not down the hall: the nearest such place.
+  EXPECT_LT((requests[0].place.translation() - Eigen::Vector2d(0, 0)).norm(), 4.0);
+
+  // Asked once: not again while it has not had a job since.
+  clock_.AdvanceNs(1'000'000'000);
+  coordinator_.Update();
+  EXPECT_TRUE(coordinator_.TakeMakeWayRequests().empty());
+  // Given a job (the make-way job) and back to idle in the way: asked again.
+  coordinator_.Begin("idle", Job("job-idle", {{StraightAction{0.1, 0.5}, {}}}));
+  coordinator_.End("job-idle");
+  coordinator_.Update();
+  EXPECT_EQ(coordinator_.TakeMakeWayRequests().size(), 1u);
+}
+
+TEST_F(TrafficCoordinatorTest, AnIdleRobotWithNowhereToGoIsNamedInTheWaitingRobotsReason) {
+  const std::unique_ptr<TrafficCoordinator> owned = LookingForPlacesWithin(0.3);
+  TrafficCoordinator& coordinator = *owned;
+  Connect("a", Pose2(-8, 0, 0));
+  Connect("idle", Pose2(0, 0, M_PI / 2));
+  coordinator.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
+  coordinator.Update();
+  EXPECT_TRUE(coordinator.TakeMakeWayRequests().empty());
+  ASSERT_FALSE(mailbox_.sent["a"].empty());
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, -1);
+  EXPECT_THAT(mailbox_.sent["a"].back().wait_reason,
+              HasSubstr("idle, which stands in its way; it cannot make way: no place within "
+                        "0.3 m of (0.00, 0.00)"));
+}
+
+TEST_F(TrafficCoordinatorTest, OfTwoRobotsSwappingPlacesTheNewerJobIsWithdrawnAndItsRobotMakesWay) {
+  // a at x = -6 goes to x = 6 where b stands; b goes to x = -6 where a stands. Neither order
+  // works at action granularity: b's job, the newer, is held, and b stands in a's way.
+  Connect("a", Pose2(-6, 0, 0));
+  Connect("b", Pose2(6, 0, M_PI));
+  coordinator_.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
+  clock_.AdvanceNs(1'000'000'000);
+  coordinator_.Begin("b", Job("job-b", {{StraightAction{12.0, 0.5}, {}}}));
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, -1);
+  EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, -1);
+  const std::vector<MakeWayRequest> requests = coordinator_.TakeMakeWayRequests();
+  ASSERT_EQ(requests.size(), 1u);
+  EXPECT_EQ(requests[0].robot_id, "b");
+  EXPECT_EQ(requests[0].for_robot_id, "a");
+  EXPECT_EQ(requests[0].withdraw_job_id, "job-b");
+  // Its place is off a's way and off where a ends.
+  EXPECT_FALSE(InTheWayOfTwelveMetresEastFrom(-6.0, requests[0].place));
+
+  // b's job withdrawn, b aside: a goes.
+  coordinator_.End("job-b");
+  Move("b", requests[0].place);
+  clock_.AdvanceNs(1'000'000'000);
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+}
+
+TEST_F(TrafficCoordinatorTest, AnIdleRobotWithNoPlaceLooksAgainOnceAJobHasEnded) {
+  // a drives along y = 0 through the idle robot; b and c stand north and south of it with
+  // jobs along y = +-3, so within 3 m there is no place off every way.
+  const std::unique_ptr<TrafficCoordinator> owned = LookingForPlacesWithin(3.0);
+  TrafficCoordinator& coordinator = *owned;
+  Connect("a", Pose2(-8, 0, 0));
+  Connect("idle", Pose2(0, 0, M_PI / 2));
+  Connect("b", Pose2(-4, 3, 0));
+  Connect("c", Pose2(-4, -3, 0));
+  coordinator.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
+  coordinator.Begin("b", Job("job-b", {{StraightAction{8.0, 0.5}, {}}}));
+  coordinator.Begin("c", Job("job-c", {{StraightAction{8.0, 0.5}, {}}}));
+  coordinator.Update();
+  EXPECT_TRUE(coordinator.TakeMakeWayRequests().empty());
+  EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("it cannot make way"));
+  // b's job ends (b has driven on, east of the hall's middle): the north side is free.
+  coordinator.End("job-b");
+  Move("b", Pose2(8, 3, 0));
+  coordinator.Update();
+  const std::vector<MakeWayRequest> requests = coordinator.TakeMakeWayRequests();
+  ASSERT_EQ(requests.size(), 1u);
+  EXPECT_EQ(requests[0].robot_id, "idle");
+  EXPECT_GT(requests[0].place.y_m(), 1.0);
+  EXPECT_FALSE(InTheWayOfTwelveMetresEastFrom(-8.0, requests[0].place));
+}
+
+// When no job began, ended or moved on, the clearances are decided again only once
+// recheck_period_s has passed: an idle robot that walked out of the way is noticed then.
+TEST_F(TrafficCoordinatorTest, WithoutJobEventsClearancesAreRecheckedOncePerPeriod) {
+  Connect("a", Pose2(-8, 0, 0));
+  Connect("idle", Pose2(0, 0, M_PI / 2));
+  coordinator_.Begin(
+      "a", Job("job-a", {{StraightAction{4.0, 0.5}, {}}, {StraightAction{8.0, 0.5}, {}}}));
+  coordinator_.Update();
+  ASSERT_EQ(mailbox_.sent["a"].size(), 1u);
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+  Move("idle", Pose2(0, 6, M_PI / 2));
+  coordinator_.Update();  // within the period: not looked at
+  EXPECT_EQ(mailbox_.sent["a"].size(), 1u);
+  clock_.AdvanceNs(static_cast<int64_t>(TrafficCoordinatorParams{}.recheck_period_s * 1e9) + 1);
+  coordinator_.Update();
+  ASSERT_EQ(mailbox_.sent["a"].size(), 2u);
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 1);
+  EXPECT_EQ(mailbox_.sent["a"].back().wait_reason, "");
+}
+
+// A job event (here the end of another robot's job) is decided on at once.
+TEST_F(TrafficCoordinatorTest, AJobEndingIsDecidedOnAtOnce) {
+  Connect("a", Pose2(-8, 0, 0));
+  Connect("b", Pose2(0, 0, M_PI / 2));
+  coordinator_.Begin(
+      "a", Job("job-a", {{StraightAction{4.0, 0.5}, {}}, {StraightAction{8.0, 0.5}, {}}}));
+  coordinator_.Begin("b", Job("job-b", {{TurnAction{DegToRad(90), 0.3}, {}}}));
+  coordinator_.Update();
+  ASSERT_EQ(mailbox_.sent["a"].size(), 1u);
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+  Move("b", Pose2(0, 6, M_PI / 2));
+  coordinator_.OnActionFinished("b", "job-b", 0);
+  coordinator_.End("job-b");
+  coordinator_.Update();  // same clock time
+  ASSERT_EQ(mailbox_.sent["a"].size(), 2u);
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 1);
+}
+
+TEST_F(TrafficCoordinatorTest, AReconnectedRobotIsSentItsClearanceAgain) {
+  Connect("a", Pose2(-8, 0, 0));
+  coordinator_.Begin("a", Job("job-a", {{TurnAction{DegToRad(90), 0.3}, {}}}));
+  coordinator_.Update();
+  ASSERT_EQ(mailbox_.sent["a"].size(), 1u);
+  coordinator_.Resend("a");
+  coordinator_.Update();
+  ASSERT_EQ(mailbox_.sent["a"].size(), 2u);
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+  EXPECT_EQ(mailbox_.sent["a"].back().job_id, "job-a");
+}
+
+// A wide trolley (2.8 m across) on a platform's lift: the platform's own footprint passes 2.6 m
+// from the other robot's way, the trolley it carries does not.
+const Eigen::Vector2d kWideTrolleyM(1.0, 2.8);
+
+TEST_F(TrafficCoordinatorTest, AParkedRobotCarryingATrolleyBlocksWithTheTrolleysOutline) {
+  Connect("a", Pose2(-8, 0, 0));
+  Connect("carrier", Pose2(0, 2.6, 0), MecanumPlatformModel());
+  coordinator_.Begin("a", Job("job-a1", {{StraightAction{12.0, 0.5}, {}}}));
+  coordinator_.Update();
+  ASSERT_FALSE(mailbox_.sent["a"].empty());
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+  coordinator_.End("job-a1");
+
+  // The carrier has picked the trolley up where it stands: the same drive waits for it now.
+  Move("carrier", Pose2(0, 2.6, 0), kWideTrolleyM);
+  coordinator_.Begin("a", Job("job-a2", {{StraightAction{12.0, 0.5}, {}}}));
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, -1);
+  EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("carrier, which stands in its way"));
+}
+
+TEST_F(TrafficCoordinatorTest, AJobCarryingATrolleySweepsItsOutlineUntilTheUndock) {
+  Connect("idle", Pose2(2, 2.3, 0), MecanumPlatformModel());
+  Connect("carrier", Pose2(-8, 0, 0), MecanumPlatformModel());
+  Move("carrier", Pose2(-8, 0, 0), kWideTrolleyM);
+  coordinator_.Begin("carrier", Job("job-carry", {{StraightAction{12.0, 0.3}, {}}}));
+  coordinator_.Update();
+  ASSERT_FALSE(mailbox_.sent["carrier"].empty());
+  EXPECT_EQ(mailbox_.sent["carrier"].back().cleared_up_to_action, -1);
+  EXPECT_THAT(mailbox_.sent["carrier"].back().wait_reason,
+              HasSubstr("idle, which stands in its way"));
+  coordinator_.End("job-carry");
+
+  // Set down first, the same drive passes.
+  coordinator_.Begin("carrier",
+                     Job("job-set-down", {{UndockAction{}, {}}, {StraightAction{12.0, 0.3}, {}}}));
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["carrier"].back().cleared_up_to_action, 1);
+}
+
+}  // namespace
+}  // namespace fleetnav::server
+
+namespace fleetnav::server {
+namespace {
+
+// A long route is ordered a window of horizon_actions at a time: clearance never runs past the
+// predicted window, and the next window is predicted once the robot is half way through this one.
+TEST_F(TrafficCoordinatorTest, ALongRouteIsOrderedOneWindowAtATime) {
+  Connect("a", Pose2(-14, 0, 0));
+  std::vector<RouteAction> actions;
+  for (int i = 0; i < 100; ++i) actions.push_back({TurnAction{0.1, 0.3}, {}});
+  coordinator_.Begin("a", Job("job-a", actions));
+  coordinator_.Update();
+  ASSERT_FALSE(mailbox_.sent["a"].empty());
+  const int horizon = TrafficCoordinatorParams{}.horizon_actions;
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, horizon - 1);
+
+  // Not yet half way: the window stays.
+  coordinator_.OnActionFinished("a", "job-a", horizon / 2 - 2);
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, horizon - 1);
+  // Half way: the next window is predicted from where the robot is, and cleared.
+  coordinator_.OnActionFinished("a", "job-a", horizon / 2 - 1);
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, horizon / 2 + horizon - 1);
+  // The last window ends with the route.
+  for (int finished = horizon / 2; finished < 99; ++finished) {
+    coordinator_.OnActionFinished("a", "job-a", finished);
+    coordinator_.Update();
+  }
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 99);
+}
+
+}  // namespace
+}  // namespace fleetnav::server
