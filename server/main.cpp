@@ -283,7 +283,8 @@ int main(int argc, char** argv) {
     http_params.listen_address = http_listen;
     http_params.cert_path = params.security.cert_path;
     http_params.key_path = params.security.key_path;
-    http = std::make_unique<fleetnav::server::http::HttpGateway>(&server, http_params);
+    http = std::make_unique<fleetnav::server::http::HttpGateway>(
+        &server.app(), [&server] { return server.RenderMetrics(); }, http_params);
     absl::StatusOr<int> http_port = http->Start();
     if (!http_port.ok()) {
       spdlog::error("fleetnavd: {}", http_port.status().ToString());

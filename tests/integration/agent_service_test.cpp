@@ -94,7 +94,7 @@ TEST_F(AgentServiceTest, HelloThenTelemetryIsVisibleThroughFleetService) {
   for (int i = 0; i < 5; ++i) ASSERT_TRUE(stream->Write(TelemetryAt(i * 0.1, i * 100'000'000)));
 
   ASSERT_TRUE(Eventually([&] {
-    auto record = server_->registry().Get("lely1");
+    auto record = server_->app().registry().Get("lely1");
     return record.ok() && record->telemetry_count == 5;
   }));
   grpc::ClientContext get_context;
@@ -108,8 +108,9 @@ TEST_F(AgentServiceTest, HelloThenTelemetryIsVisibleThroughFleetService) {
 
   stream->WritesDone();
   EXPECT_TRUE(stream->Finish().ok());
-  EXPECT_TRUE(Eventually(
-      [&] { return server_->registry().Get("lely1")->connection == ConnectionState::kOffline; }));
+  EXPECT_TRUE(Eventually([&] {
+    return server_->app().registry().Get("lely1")->connection == ConnectionState::kOffline;
+  }));
 }
 
 TEST_F(AgentServiceTest, FirstMessageMustBeHello) {
@@ -120,7 +121,7 @@ TEST_F(AgentServiceTest, FirstMessageMustBeHello) {
   const grpc::Status status = stream->Finish();
   EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_THAT(status.error_message(), HasSubstr("hello"));
-  EXPECT_TRUE(server_->registry().Snapshot().empty());
+  EXPECT_TRUE(server_->app().registry().Snapshot().empty());
 }
 
 TEST_F(AgentServiceTest, BadRobotIdIsRefusedAndNotRegistered) {
@@ -131,7 +132,7 @@ TEST_F(AgentServiceTest, BadRobotIdIsRefusedAndNotRegistered) {
   const grpc::Status status = stream->Finish();
   EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_THAT(status.error_message(), HasSubstr("robot_id"));
-  EXPECT_TRUE(server_->registry().Snapshot().empty());
+  EXPECT_TRUE(server_->app().registry().Snapshot().empty());
 }
 
 TEST_F(AgentServiceTest, NonFiniteTelemetryEndsTheStreamAndIsNotStored) {
@@ -146,7 +147,7 @@ TEST_F(AgentServiceTest, NonFiniteTelemetryEndsTheStreamAndIsNotStored) {
   const grpc::Status status = stream->Finish();
   EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_THAT(status.error_message(), HasSubstr("pose_in_map"));
-  EXPECT_EQ(server_->registry().Get("lely1")->telemetry_count, 0u);
+  EXPECT_EQ(server_->app().registry().Get("lely1")->telemetry_count, 0u);
 }
 
 TEST_F(AgentServiceTest, SecondConnectionWithSameIdReplacesTheFirst) {
@@ -168,9 +169,11 @@ TEST_F(AgentServiceTest, SecondConnectionWithSameIdReplacesTheFirst) {
 
   // The replacement keeps working and the robot stays online.
   ASSERT_TRUE(second->Write(TelemetryAt(2.0, 2)));
-  ASSERT_TRUE(Eventually([&] { return server_->registry().Get("lely1")->telemetry_count == 1; }));
-  EXPECT_EQ(server_->registry().Get("lely1")->connection, ConnectionState::kOnline);
-  EXPECT_NEAR(server_->registry().Get("lely1")->last_telemetry->pose_in_map.x_m(), 2.0, 1e-12);
+  ASSERT_TRUE(
+      Eventually([&] { return server_->app().registry().Get("lely1")->telemetry_count == 1; }));
+  EXPECT_EQ(server_->app().registry().Get("lely1")->connection, ConnectionState::kOnline);
+  EXPECT_NEAR(server_->app().registry().Get("lely1")->last_telemetry->pose_in_map.x_m(), 2.0,
+              1e-12);
   second->WritesDone();
   EXPECT_TRUE(second->Finish().ok());
 }
@@ -195,7 +198,7 @@ TEST_F(AgentServiceTest, ReplacedStreamsEventIsRefused) {
   const grpc::Status first_status = first->Finish();
   EXPECT_EQ(first_status.error_code(), grpc::StatusCode::FAILED_PRECONDITION);
   EXPECT_THAT(first_status.error_message(), HasSubstr("replaced"));
-  EXPECT_EQ(server_->registry().Get("lely1")->connection, ConnectionState::kOnline);
+  EXPECT_EQ(server_->app().registry().Get("lely1")->connection, ConnectionState::kOnline);
   second->WritesDone();
   EXPECT_TRUE(second->Finish().ok());
 }
@@ -294,7 +297,7 @@ TEST_F(AgentServiceTest, TelemetryIsDownSampledIntoThePoseHistory) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   absl::StatusOr<std::vector<storage::PoseSample>> history =
-      server_->pose_history().ListPoses("lely1", 0, 1000);
+      server_->app().pose_history().ListPoses("lely1", 0, 1000);
   ASSERT_TRUE(history.ok()) << history.status();
   EXPECT_GE(history->size(), 1u);
   EXPECT_LE(history->size(), 4u);

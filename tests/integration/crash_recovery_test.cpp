@@ -204,7 +204,7 @@ TEST(PostgresOutageTest, FleetnavdSaysUnavailableWhileTheDatabaseIsGoneAndGoesOn
   grpc::ClientContext route_context;
   v1::PutRouteRequest route;
   absl::StatusOr<OccupancyGrid> grid = OccupancyGrid::Filled(40, 40, 0.1, Pose2(), 0);
-  ASSERT_TRUE(server.maps().Put("barn", *grid, "").ok());
+  ASSERT_TRUE(server.app().maps().Put("barn", *grid, "").ok());
   *route.mutable_route() = ToProto(testing::FleetServerFixture::StraightRoute("alley", 1.0));
   v1::PutRouteResponse route_response;
   ASSERT_TRUE(fleet->PutRoute(&route_context, route, &route_response).ok());
@@ -216,7 +216,7 @@ TEST(PostgresOutageTest, FleetnavdSaysUnavailableWhileTheDatabaseIsGoneAndGoesOn
   ASSERT_TRUE((*postgres)->Restart().ok());
   // The first call after reconnects; the server never needed a restart.
   ASSERT_TRUE(Submit(*fleet, "after").ok());
-  absl::StatusOr<storage::JobPage> jobs = server.jobs().List({});
+  absl::StatusOr<storage::JobPage> jobs = server.app().jobs().List({});
   ASSERT_TRUE(jobs.ok()) << jobs.status();
   std::set<std::string> keys;
   for (const Job& job : jobs->jobs) keys.insert(job.idempotency_key);

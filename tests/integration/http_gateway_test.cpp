@@ -24,7 +24,8 @@ class HttpGatewayTest : public testing::FleetServerFixture {
     FleetServerFixture::SetUp();
     server::http::HttpGatewayParams params;
     params.listen_address = "127.0.0.1:0";
-    gateway_ = std::make_unique<server::http::HttpGateway>(server_.get(), params);
+    gateway_ = std::make_unique<server::http::HttpGateway>(
+        &server_->app(), [this] { return server_->RenderMetrics(); }, params);
     absl::StatusOr<int> port = gateway_->Start();
     ASSERT_TRUE(port.ok()) << port.status();
     http_ = std::make_unique<httplib::Client>("127.0.0.1", *port);

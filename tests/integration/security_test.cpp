@@ -280,7 +280,7 @@ TEST_F(SecurityTest, ARobotCertificateOpensOnlyItsOwnStreamAndTheSiteReads) {
   EXPECT_EQ(Call(robot, "/fleetnav.v1.FleetService/DeleteMap", "").error_code(),
             grpc::StatusCode::UNAUTHENTICATED);
   // Only lely1 ever registered.
-  const std::vector<RobotRecord> robots = server_->registry().Snapshot();
+  const std::vector<RobotRecord> robots = server_->app().registry().Snapshot();
   ASSERT_EQ(robots.size(), 1u);
   EXPECT_EQ(robots[0].identity.robot_id, "lely1");
 }
@@ -300,7 +300,7 @@ TEST_F(SecurityTest, ACertificateOfAForeignCaDoesNotGetInAndTheServerKeepsServin
   const grpc::Status stale = ConnectAs(Channel("lely1", expired), "lely1");
   EXPECT_EQ(stale.error_code(), grpc::StatusCode::UNAVAILABLE) << stale.error_message();
   std::filesystem::remove_all(expired);
-  EXPECT_TRUE(server_->registry().Snapshot().empty());
+  EXPECT_TRUE(server_->app().registry().Snapshot().empty());
   // A plaintext client gets nowhere either.
   auto plaintext = grpc::CreateChannel(address_, grpc::InsecureChannelCredentials());
   EXPECT_EQ(Call(plaintext, "/fleetnav.v1.FleetService/ListMaps", "Bearer " + Token("admin"))
@@ -437,7 +437,8 @@ TEST_F(SecurityTest, TheDashboardServesHttpsAndChecksTokensForReadsAndButtons) {
   params.listen_address = "127.0.0.1:0";
   params.cert_path = Pki("server.crt");
   params.key_path = Pki("server.key");
-  server::http::HttpGateway gateway(server_.get(), params);
+  server::http::HttpGateway gateway(
+      &server_->app(), [this] { return server_->RenderMetrics(); }, params);
   absl::StatusOr<int> port = gateway.Start();
   ASSERT_TRUE(port.ok()) << port.status();
   httplib::SSLClient https("localhost", *port);

@@ -47,11 +47,11 @@ class SimClockTest : public ::testing::Test {
     RobotIdentity identity;
     identity.robot_id = "lely1";
     identity.model = LelyVectorModel();
-    const uint64_t session = server_->registry().Connect(identity);
-    ASSERT_TRUE(server_->registry().RecordTelemetry("lely1", session, Telemetry{}).ok());
+    const uint64_t session = server_->app().registry().Connect(identity);
+    ASSERT_TRUE(server_->app().registry().RecordTelemetry("lely1", session, Telemetry{}).ok());
   }
 
-  ConnectionState State() { return server_->registry().Get("lely1")->connection; }
+  ConnectionState State() { return server_->app().registry().Get("lely1")->connection; }
 
   /// 3 s of simulated time (150 ticks of 20 ms), in a fraction of that on the wall, then a few
   /// polls of fleetnavd's feed.
@@ -84,7 +84,7 @@ TEST_F(SimClockTest, RecordsAreStampedOnTheSimulationsCalendar) {
   StartServer(sim_address_);
   ASSERT_NO_FATAL_FAILURE(StepThreeSimSeconds());
   // Whenever this server started, its calendar is the simulation's: the start plus 3 s.
-  EXPECT_EQ(server_->clock().UnixMs(), kStartUnixMs + 3'000);
+  EXPECT_EQ(server_->app().clock().UnixMs(), kStartUnixMs + 3'000);
 }
 
 TEST_F(SimClockTest, WallClockServerGoesStaleInWallSeconds) {

@@ -75,7 +75,7 @@ TEST(WalkingSkeletonTest, DemoRouteReachesNominalEndAndServerGetsTelemetryAtTenH
   EXPECT_TRUE(truth.contacts.empty());
 
   // The server holds the robot's telemetry at ≥ 10 Hz of sim time, ending near the truth.
-  absl::StatusOr<RobotRecord> record = fleet.registry().Get("lely1");
+  absl::StatusOr<RobotRecord> record = fleet.app().registry().Get("lely1");
   ASSERT_TRUE(record.ok()) << record.status();
   ASSERT_TRUE(record->last_telemetry.has_value());
   const double last_stamp_s = record->last_telemetry->stamp_ns * 1e-9;

@@ -152,7 +152,8 @@ TEST_F(WatchStreamsTest, AnOfflineRobotCanBeForgottenAndWatchersAreTold) {
 
   agent->WritesDone();
   (void)agent->Finish();
-  for (int i = 0; i < 100 && server_->registry().Get("ra")->connection != ConnectionState::kOffline;
+  for (int i = 0;
+       i < 100 && server_->app().registry().Get("ra")->connection != ConnectionState::kOffline;
        ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }

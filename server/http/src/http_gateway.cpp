@@ -56,8 +56,9 @@ absl::Status HttpGatewayParams::Validate() const {
   return absl::OkStatus();
 }
 
-HttpGateway::HttpGateway(FleetServer* server, HttpGatewayParams params)
-    : server_(server), params_(std::move(params)) {}
+HttpGateway::HttpGateway(FleetApp* app, std::function<std::string()> render_metrics,
+                         HttpGatewayParams params)
+    : app_(app), render_metrics_(std::move(render_metrics)), params_(std::move(params)) {}
 
 HttpGateway::~HttpGateway() { Stop(); }
 
@@ -79,13 +80,13 @@ void HttpGateway::Stop() {
 
 std::vector<Job> HttpGateway::UnfinishedJobs() {
   absl::MutexLock lock(&jobs_mutex_);
-  const uint64_t changes = server_->job_changes();
+  const uint64_t changes = app_->job_changes();
   if (changes != jobs_read_at_) {
     storage::JobFilter unfinished;
     unfinished.states = {JobState::kQueued, JobState::kAssigned, JobState::kRunning,
                          JobState::kPaused};
     unfinished.page_size = 500;
-    if (absl::StatusOr<storage::JobPage> page = server_->jobs().List(unfinished); page.ok()) {
+    if (absl::StatusOr<storage::JobPage> page = app_->jobs().List(unfinished); page.ok()) {
       unfinished_jobs_ = std::move(page->jobs);
       jobs_read_at_ = changes;
     }
@@ -94,7 +95,7 @@ std::vector<Job> HttpGateway::UnfinishedJobs() {
 }
 
 std::string HttpGateway::StateJson() {
-  return FleetStateJson(server_->registry().Snapshot(), UnfinishedJobs(), server_->clock().UnixMs())
+  return FleetStateJson(app_->registry().Snapshot(), UnfinishedJobs(), app_->clock().UnixMs())
       .dump();
 }
 
@@ -102,10 +103,10 @@ void HttpGateway::AddHandlers() {
   // Every request but the health check and the page's own assets shows a token on a TLS
   // server: a viewer's to read, an operator's for the buttons.
   const auto allowed = [this](const httplib::Request& req, httplib::Response& res, bool action) {
-    AccessGate* gate = server_->access_gate();
-    if (gate == nullptr) return true;
+    AccessControl* access = app_->access().get();
+    if (access == nullptr) return true;
     const absl::StatusOr<Caller> caller =
-        gate->AuthorizeHttp(action, req.get_header_value("Authorization"));
+        access->AuthorizeHttp(action, req.get_header_value("Authorization"));
     if (caller.ok()) return true;
     SendError(res, caller.status());
     return false;
@@ -116,7 +117,7 @@ void HttpGateway::AddHandlers() {
   });
   http_->Get("/metrics", [this, allowed](const httplib::Request& req, httplib::Response& res) {
     if (!allowed(req, res, false)) return;
-    res.set_content(server_->RenderMetrics(), "text/plain; version=0.0.4");
+    res.set_content(render_metrics_(), "text/plain; version=0.0.4");
   });
   for (const DashboardAsset& asset : DashboardAssets()) {
     const std::string path = asset.path == "/index.html" ? "/" : asset.path;
@@ -146,7 +147,7 @@ void HttpGateway::AddHandlers() {
   });
   http_->Get("/api/maps", [this, allowed](const httplib::Request& req, httplib::Response& res) {
     if (!allowed(req, res, false)) return;
-    absl::StatusOr<std::vector<MapInfo>> maps = server_->maps().List();
+    absl::StatusOr<std::vector<MapInfo>> maps = app_->maps().List();
     if (!maps.ok()) return SendError(res, maps.status());
     nlohmann::json list = nlohmann::json::array();
     for (const MapInfo& info : *maps)
@@ -157,12 +158,12 @@ void HttpGateway::AddHandlers() {
                                                                 httplib::Response& res) {
     if (!allowed(req, res, false)) return;
     const std::string map_id = req.matches[1];
-    absl::StatusOr<std::shared_ptr<const storage::StoredMap>> map = server_->maps().Get(map_id, 0);
+    absl::StatusOr<std::shared_ptr<const storage::StoredMap>> map = app_->maps().Get(map_id, 0);
     if (!map.ok()) return SendError(res, map.status());
     nlohmann::json body = MapJson(map_id, (*map)->info.version, (*map)->grid);
     absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> markers =
-        server_->site().GetMarkerSet(map_id, 0);
-    absl::StatusOr<std::vector<storage::StoredRoute>> stored = server_->site().ListRoutes(map_id);
+        app_->site().GetMarkerSet(map_id, 0);
+    absl::StatusOr<std::vector<storage::StoredRoute>> stored = app_->site().ListRoutes(map_id);
     std::vector<Route> routes;
     if (stored.ok()) {
       for (const storage::StoredRoute& route : *stored) routes.push_back(route.route);
@@ -174,7 +175,7 @@ void HttpGateway::AddHandlers() {
              [this, allowed](const httplib::Request& req, httplib::Response& res) {
                if (!allowed(req, res, false)) return;
                absl::StatusOr<std::vector<JobEvent>> events =
-                   server_->jobs().Events(req.matches[1], 0);
+                   app_->jobs().Events(req.matches[1], 0);
                if (!events.ok()) return SendError(res, events.status());
                SendJson(res, JobEventsJson(*events));
              });
@@ -185,9 +186,9 @@ void HttpGateway::AddHandlers() {
         const std::string job_id = req.matches[1];
         const std::string verb = req.matches[2];
         absl::StatusOr<Job> job =
-            verb == "pause"    ? server_->jobs().Pause(job_id, "paused from the dashboard")
-            : verb == "resume" ? server_->jobs().Resume(job_id)
-                               : server_->jobs().Cancel(job_id, "cancelled from the dashboard");
+            verb == "pause"    ? app_->jobs().Pause(job_id, "paused from the dashboard")
+            : verb == "resume" ? app_->jobs().Resume(job_id)
+                               : app_->jobs().Cancel(job_id, "cancelled from the dashboard");
         if (!job.ok()) return SendError(res, job.status());
         SendJson(res, {{"job_id", job->job_id}, {"state", std::string(JobStateName(job->state))}});
       });

@@ -177,7 +177,8 @@ void ReplicaServer::Lead(int64_t epoch) {
                                      : params_.leader_http_listen_address;
     http_params.cert_path = params_.leader.security.cert_path;
     http_params.key_path = params_.leader.security.key_path;
-    dashboard = std::make_unique<http::HttpGateway>(leader.get(), http_params);
+    dashboard = std::make_unique<http::HttpGateway>(
+        &leader->app(), [server = leader.get()] { return server->RenderMetrics(); }, http_params);
     absl::StatusOr<int> http_port = dashboard->Start();
     if (!http_port.ok()) {
       if (params_.on_leadership_lost) {

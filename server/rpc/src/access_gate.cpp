@@ -40,7 +40,7 @@ grpc::Status AccessGate::Process(const InputMetadata& auth_metadata, grpc::AuthC
       const absl::Status refused = absl::UnauthenticatedError(absl::StrCat(
           method, relay_key_.empty() ? ": a relayed call, but this server takes none"
                                      : ": a relayed call without the replicas' relay key"));
-      Refused(refused);
+      control_->Refused(refused);
       return ToGrpcStatus(refused);
     }
     // Relayed by a replica: the connection is the replica's, the certificate the one it
@@ -48,13 +48,7 @@ grpc::Status AccessGate::Process(const InputMetadata& auth_metadata, grpc::AuthC
     credentials.certificate_identity = std::string(Find(auth_metadata, kRelayedRobotHeader));
     consumed_auth_metadata->emplace(kRelayKeyHeader, std::string(key));
   }
-  absl::StatusOr<Caller> caller = policy()->Authorize(method, credentials);
-  if (!caller.ok()) {
-    Refused(caller.status());
-    return ToGrpcStatus(caller.status());
-  }
-  admitted_.fetch_add(1, std::memory_order_relaxed);
-  return grpc::Status::OK;
+  return ToGrpcStatus(control_->Authorize(method, credentials).status());
 }
 
 absl::Status AccessGate::CheckRobotClaim(const grpc::ServerContextBase& call,
@@ -73,46 +67,8 @@ absl::Status AccessGate::CheckRobotClaim(const grpc::ServerContextBase& call,
   const absl::Status denied = absl::PermissionDeniedError(
       absl::StrCat("hello: this stream's certificate is robot '", identity,
                    "'; it cannot speak for robot '", robot_id, "'"));
-  Refused(denied);
+  control_->Refused(denied);
   return denied;
-}
-
-void AccessGate::ReplacePolicy(std::shared_ptr<const AccessPolicy> policy) {
-  absl::MutexLock lock(&policy_mutex_);
-  policy_ = std::move(policy);
-}
-
-std::shared_ptr<const AccessPolicy> AccessGate::policy() const {
-  absl::ReaderMutexLock lock(&policy_mutex_);
-  return policy_;
-}
-
-void AccessGate::Refused(const absl::Status& status) {
-  if (absl::IsUnauthenticated(status)) {
-    unauthenticated_.fetch_add(1, std::memory_order_relaxed);
-  } else {
-    denied_.fetch_add(1, std::memory_order_relaxed);
-  }
-  if (on_refusal_) on_refusal_(status.ToString());
-}
-
-absl::StatusOr<Caller> AccessGate::AuthorizeHttp(bool action, absl::string_view authorization) {
-  CallerCredentials credentials;
-  credentials.authorization = std::string(authorization);
-  absl::StatusOr<Caller> caller =
-      policy()->Authorize(action ? "/fleetnav.http/Act" : "/fleetnav.http/Read", credentials);
-  if (!caller.ok()) {
-    Refused(caller.status());
-  } else {
-    admitted_.fetch_add(1, std::memory_order_relaxed);
-  }
-  return caller;
-}
-
-AccessCounts AccessGate::counts() const {
-  return {admitted_.load(std::memory_order_relaxed),
-          unauthenticated_.load(std::memory_order_relaxed),
-          denied_.load(std::memory_order_relaxed)};
 }
 
 }  // namespace fleetnav::server

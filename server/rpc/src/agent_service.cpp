@@ -20,8 +20,7 @@ class AgentConnection final {
 
   AgentConnection(AgentServiceImpl* service, grpc::ServerCompletionQueue* cq)
       : service_(service),
-        registry_(service->registry_),
-        jobs_(service->jobs_),
+        sessions_(service->sessions_),
         mailbox_(service->mailbox_),
         cq_(cq),
         stream_(&context_) {
@@ -110,9 +109,7 @@ class AgentConnection final {
     // What the robot sent of its last tick is taken in before it is disconnected.
     if (member_) service_->barrier_->Leave(*member_);
     if (outbox_ != nullptr) mailbox_->Close(robot_id_, outbox_);
-    if (hello_seen_ && registry_->Disconnect(robot_id_, session_)) {
-      jobs_->OnRobotDisconnected(robot_id_);
-    }
+    if (hello_seen_) sessions_->Close(robot_id_, session_);
     AgentServiceImpl* service = service_;
     delete this;
     service->ConnectionGone();
@@ -125,9 +122,7 @@ class AgentConnection final {
     absl::StatusOr<RobotIdentity> identity = FromProto(message.hello());
     if (!identity.ok()) return identity.status();
     // Checked before anything of it is kept: the registry holds a hello for good.
-    if (absl::Status limited = service_->limits_.CheckIdentity(*identity); !limited.ok()) {
-      return limited;
-    }
+    if (absl::Status limited = sessions_->CheckHello(*identity); !limited.ok()) return limited;
     if (service_->gate_ != nullptr) {
       absl::Status claim = service_->gate_->CheckRobotClaim(context_, identity->robot_id);
       if (!claim.ok()) return claim;
@@ -156,9 +151,7 @@ class AgentConnection final {
             outbox->Push(std::move(ack));
           });
     }
-    jobs_->OnRobotConnected(*identity, message.hello().resume_job_id());
-    session_ = registry_->Connect(*identity);
-    jobs_->WakeDispatcher();  // an idle robot: there may be a job for it now
+    session_ = sessions_->Open(*identity, message.hello().resume_job_id());
     {
       // Writing starts only now: whoever reads the welcome finds the robot registered.
       absl::MutexLock lock(&mutex_);
@@ -173,21 +166,14 @@ class AgentConnection final {
       case v1::AgentMessage::kTelemetry: {
         absl::StatusOr<Telemetry> telemetry = FromProto(message.telemetry());
         if (!telemetry.ok()) return telemetry.status();
-        absl::Status recorded = registry_->RecordTelemetry(robot_id_, session_, *telemetry);
-        if (recorded.ok()) {
-          jobs_->OnTelemetry(robot_id_, *telemetry);
-          service_->telemetry_messages_.fetch_add(1, std::memory_order_relaxed);
-        }
+        absl::Status recorded = sessions_->RecordTelemetry(robot_id_, session_, *telemetry);
+        if (recorded.ok()) service_->telemetry_messages_.fetch_add(1, std::memory_order_relaxed);
         return recorded;
       }
       case v1::AgentMessage::kEvent: {
-        // A replaced stream must not end the job its robot now drives on its new stream.
-        if (absl::Status s = registry_->CheckSession(robot_id_, session_); !s.ok()) return s;
         absl::StatusOr<JobEvent> event = JobEventFromAgentEvent(message.event());
-        if (event.ok()) {
-          jobs_->OnRobotEvent(robot_id_, *event);
-          return absl::OkStatus();
-        }
+        if (event.ok()) return sessions_->RecordJobEvent(robot_id_, session_, *event);
+        if (absl::Status s = sessions_->CheckSession(robot_id_, session_); !s.ok()) return s;
         // Events that are not about jobs (bumper, localization lost) are accepted as is.
         return message.event().type() == v1::AgentEvent::TYPE_UNSPECIFIED ? event.status()
                                                                           : absl::OkStatus();
@@ -233,8 +219,7 @@ class AgentConnection final {
   }
 
   AgentServiceImpl* service_;
-  FleetRegistry* registry_;
-  JobService* jobs_;
+  RobotSessions* sessions_;
   AgentMailbox* mailbox_;
   grpc::ServerCompletionQueue* cq_;
   grpc::ServerContext context_;
@@ -256,13 +241,10 @@ class AgentConnection final {
   absl::Status end_status_ ABSL_GUARDED_BY(mutex_);
 };
 
-AgentServiceImpl::AgentServiceImpl(FleetRegistry* registry, JobService* jobs, AgentMailbox* mailbox,
-                                   int threads, InputLimits limits, AccessGate* gate,
-                                   TickBarrier* barrier)
-    : registry_(registry),
-      jobs_(jobs),
+AgentServiceImpl::AgentServiceImpl(RobotSessions* sessions, AgentMailbox* mailbox, int threads,
+                                   AccessGate* gate, TickBarrier* barrier)
+    : sessions_(sessions),
       mailbox_(mailbox),
-      limits_(limits),
       gate_(gate),
       barrier_(barrier),
       thread_count_(std::max(1, threads)) {}

@@ -43,8 +43,6 @@ grpc::Status FleetServiceImpl::PutMap(grpc::ServerContext*, const v1::PutMapRequ
   if (!info.ok()) return ToGrpcStatus(info.status());
   response->set_map_id(info->map_id);
   response->set_version(info->version);
-  robots_->BroadcastMapUpdate(info->map_id, info->version,
-                              site_->LatestMarkerSetVersion(info->map_id));
   return grpc::Status::OK;
 }
 
@@ -112,8 +110,6 @@ grpc::Status FleetServiceImpl::PutMarkerSet(grpc::ServerContext*,
   if (!version.ok()) return ToGrpcStatus(version.status());
   response->set_map_id(markers->map_id);
   response->set_version(*version);
-  absl::StatusOr<uint32_t> map_version = maps_->LatestVersion(markers->map_id);
-  robots_->BroadcastMapUpdate(markers->map_id, map_version.value_or(0), *version);
   return grpc::Status::OK;
 }
 

@@ -72,9 +72,9 @@ TEST_F(LoadWorkerTest, AgentsRegisterAndEveryDueMessageIsDeliveredOrCountedAsSki
   LoadWorker worker(params);
   ASSERT_EQ(worker.Connect(SteadyNowNs() + 30'000'000'000), 6);
   for (const int i : params.indices) {
-    EXPECT_TRUE(server_->registry().Get("load-" + std::to_string(i)).ok()) << i;
+    EXPECT_TRUE(server_->app().registry().Get("load-" + std::to_string(i)).ok()) << i;
   }
-  EXPECT_FALSE(server_->registry().Get("load-0").ok());
+  EXPECT_FALSE(server_->app().registry().Get("load-0").ok());
 
   const int64_t start_ns = SteadyNowNs();
   const int64_t period_ns = 20'000'000;  // 50 Hz for 10 periods
@@ -91,7 +91,8 @@ TEST_F(LoadWorkerTest, AgentsRegisterAndEveryDueMessageIsDeliveredOrCountedAsSki
   auto recorded = [&] {
     uint64_t count = 0;
     for (const int i : params.indices) {
-      absl::StatusOr<RobotRecord> record = server_->registry().Get("load-" + std::to_string(i));
+      absl::StatusOr<RobotRecord> record =
+          server_->app().registry().Get("load-" + std::to_string(i));
       if (record.ok()) count += record->telemetry_count;
     }
     return count;

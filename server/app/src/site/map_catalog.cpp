@@ -23,12 +23,16 @@ absl::StatusOr<MapInfo> MapCatalog::Put(const std::string& map_id, const Occupan
   RETURN_IF_ERROR(ValidateMapId(map_id));
   RETURN_IF_ERROR(limits_.CheckMap(grid));
   RETURN_IF_ERROR(limits_.CheckMapDescription(description));
+  absl::StatusOr<MapInfo> info;
   // The same map and description again is the version that holds them, not a new one.
   if (absl::StatusOr<std::shared_ptr<const storage::StoredMap>> latest = site_data_->Map(map_id, 0);
       latest.ok() && (*latest)->info.description == description && (*latest)->grid == grid) {
-    return (*latest)->info;
+    info = (*latest)->info;
+  } else {
+    info = site_data_->PutMap(map_id, grid, description, clock_->UnixMs());
   }
-  return site_data_->PutMap(map_id, grid, description, clock_->UnixMs());
+  if (info.ok() && on_change_) on_change_(map_id);
+  return info;
 }
 
 absl::StatusOr<std::shared_ptr<const storage::StoredMap>> MapCatalog::Get(const std::string& map_id,

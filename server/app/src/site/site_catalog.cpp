@@ -42,13 +42,17 @@ absl::StatusOr<uint32_t> SiteCatalog::PutMarkerSet(const MarkerSet& markers) {
   RETURN_IF_ERROR(limits_.CheckMarkers(markers));
   RETURN_IF_ERROR(markers.Validate());
   RETURN_IF_ERROR(site_data_->LatestMapVersion(markers.map_id).status());
+  absl::StatusOr<uint32_t> version;
   // The same content again is the version that holds it, not a new one.
   if (absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> latest =
           site_data_->MarkerSetVersion(markers.map_id, 0);
       latest.ok() && MarkerSetToYaml((*latest)->markers) == MarkerSetToYaml(markers)) {
-    return (*latest)->version;
+    version = (*latest)->version;
+  } else {
+    version = site_data_->PutMarkerSet(markers, clock_->UnixMs());
   }
-  return site_data_->PutMarkerSet(markers, clock_->UnixMs());
+  if (version.ok() && on_marker_change_) on_marker_change_(markers.map_id);
+  return version;
 }
 
 absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> SiteCatalog::GetMarkerSet(

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -31,6 +32,12 @@ class MapCatalog {
   absl::StatusOr<std::vector<MapInfo>> List();
   absl::Status Delete(const std::string& map_id);
 
+  /// Told the map id after every successful Put (FleetApp: robots hear of the new version).
+  /// Set before the catalog is shared.
+  void SetChangeListener(std::function<void(const std::string& map_id)> listener) {
+    on_change_ = std::move(listener);
+  }
+
   /// Map ids are 1-64 characters of [a-z0-9_-]; InvalidArgument names `map_id` otherwise.
   static absl::Status ValidateMapId(const std::string& map_id);
 
@@ -38,6 +45,7 @@ class MapCatalog {
   SiteCache* site_data_;
   const Clock* clock_;
   const InputLimits limits_;
+  std::function<void(const std::string& map_id)> on_change_;
 };
 
 }  // namespace fleetnav::server

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -31,6 +32,11 @@ class SiteCatalog {
 
   /// A new version, or the latest one when it holds the same markers.
   absl::StatusOr<uint32_t> PutMarkerSet(const MarkerSet& markers);
+  /// Told the map id after every successful PutMarkerSet (FleetApp: robots hear of the new
+  /// version). Set before the catalog is shared.
+  void SetMarkerChangeListener(std::function<void(const std::string& map_id)> listener) {
+    on_marker_change_ = std::move(listener);
+  }
   /// version 0: the latest. Shared with the cache: never copied.
   absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> GetMarkerSet(
       const std::string& map_id, uint32_t version);
@@ -63,6 +69,7 @@ class SiteCatalog {
   storage::JobRepository* jobs_;
   const Clock* clock_;  ///< stamps the upload time of marker sets and routes
   const InputLimits limits_;
+  std::function<void(const std::string& map_id)> on_marker_change_;
 };
 
 }  // namespace fleetnav::server

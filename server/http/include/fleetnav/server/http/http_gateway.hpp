@@ -1,6 +1,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <string>
 #include <thread>
@@ -8,7 +9,7 @@
 
 #include "absl/status/statusor.h"
 #include "absl/synchronization/mutex.h"
-#include "fleetnav/server/rpc/fleet_server.hpp"
+#include "fleetnav/server/fleet_app.hpp"
 
 namespace httplib {
 class Server;
@@ -32,12 +33,13 @@ struct HttpGatewayParams {
 /// binary), its JSON API with updates pushed as server-sent events, the dashboard's pause,
 /// resume and cancel buttons, `/metrics` for Prometheus and `/healthz`. On a TLS server it
 /// serves HTTPS and every request but `/healthz` and the static assets needs a bearer token:
-/// reads a viewer's, the buttons an operator's (AccessGate). Unknown paths are 404, oversized
-/// requests 413; nothing is read from the file system. Start once; Stop ends the event streams
-/// and joins the listener. Thread-safe (cpp-httplib's worker threads).
+/// reads a viewer's, the buttons an operator's (the app's AccessControl, as for RPCs). Unknown
+/// paths are 404, oversized requests 413; nothing is read from the file system. Start once; Stop
+/// ends the event streams and joins the listener. Thread-safe (cpp-httplib's worker threads).
 class HttpGateway {
  public:
-  HttpGateway(FleetServer* server, HttpGatewayParams params);
+  /// Serves `app` (which outlives the gateway); `render_metrics` gives `/metrics`' text.
+  HttpGateway(FleetApp* app, std::function<std::string()> render_metrics, HttpGatewayParams params);
   ~HttpGateway();
   HttpGateway(const HttpGateway&) = delete;
   HttpGateway& operator=(const HttpGateway&) = delete;
@@ -54,7 +56,8 @@ class HttpGateway {
   /// The unfinished jobs, read from the store only when a job changed since the last read.
   std::vector<Job> UnfinishedJobs();
 
-  FleetServer* server_;
+  FleetApp* app_;
+  std::function<std::string()> render_metrics_;
   HttpGatewayParams params_;
   std::unique_ptr<httplib::Server> http_;
   std::thread listener_;

@@ -8,12 +8,10 @@
 #include <vector>
 
 #include "absl/synchronization/mutex.h"
-#include "fleetnav/server/jobs/job_service.hpp"
-#include "fleetnav/server/robots/fleet_registry.hpp"
+#include "fleetnav/server/robot_sessions.hpp"
 #include "fleetnav/server/rpc/access_gate.hpp"
 #include "fleetnav/server/rpc/agent_mailbox.hpp"
 #include "fleetnav/server/rpc/tick_barrier.hpp"
-#include "fleetnav/server/site/input_limits.hpp"
 #include "fleetnav/v1/agent_service.grpc.pb.h"
 
 namespace fleetnav::server {
@@ -41,9 +39,8 @@ class AgentServiceImpl final {
   /// `gate` (may be null: no TLS) checks each hello's robot id against the stream's client
   /// certificate. `barrier` (may be null: no lockstep) takes in the streams whose hello asks for
   /// lockstep tick by tick.
-  AgentServiceImpl(FleetRegistry* registry, JobService* jobs, AgentMailbox* mailbox, int threads,
-                   InputLimits limits = {}, AccessGate* gate = nullptr,
-                   TickBarrier* barrier = nullptr);
+  AgentServiceImpl(RobotSessions* sessions, AgentMailbox* mailbox, int threads,
+                   AccessGate* gate = nullptr, TickBarrier* barrier = nullptr);
   ~AgentServiceImpl();
   AgentServiceImpl(const AgentServiceImpl&) = delete;
   AgentServiceImpl& operator=(const AgentServiceImpl&) = delete;
@@ -67,10 +64,8 @@ class AgentServiceImpl final {
   void Accept(grpc::ServerCompletionQueue* cq);
   void ConnectionGone();
 
-  FleetRegistry* registry_;
-  JobService* jobs_;
+  RobotSessions* sessions_;  ///< the session rules; this edge only carries them
   AgentMailbox* mailbox_;
-  const InputLimits limits_;    ///< on what a hello may announce
   AccessGate* const gate_;      ///< null without TLS
   TickBarrier* const barrier_;  ///< null: lockstep streams are taken in as they come
   const int thread_count_;

@@ -13,12 +13,7 @@
 #include "absl/status/statusor.h"
 #include "absl/synchronization/notification.h"
 #include "fleetnav/core/clock.hpp"
-#include "fleetnav/server/access/operator_tokens.hpp"
-#include "fleetnav/server/jobs/dispatcher_loop.hpp"
-#include "fleetnav/server/jobs/job_service.hpp"
-#include "fleetnav/server/jobs/notifying_job_repository.hpp"
-#include "fleetnav/server/robots/fleet_registry.hpp"
-#include "fleetnav/server/robots/pose_history_recorder.hpp"
+#include "fleetnav/server/fleet_app.hpp"
 #include "fleetnav/server/rpc/access_gate.hpp"
 #include "fleetnav/server/rpc/access_service.hpp"
 #include "fleetnav/server/rpc/agent_mailbox.hpp"
@@ -30,15 +25,6 @@
 #include "fleetnav/server/rpc/tick_barrier.hpp"
 #include "fleetnav/server/rpc/tls_front_door.hpp"
 #include "fleetnav/server/rpc/watch_hub.hpp"
-#include "fleetnav/server/site/map_catalog.hpp"
-#include "fleetnav/server/site/site_cache.hpp"
-#include "fleetnav/server/site/site_catalog.hpp"
-#include "fleetnav/server/traffic/traffic_coordinator.hpp"
-#include "fleetnav/server/traffic/traffic_planner.hpp"
-#include "fleetnav/storage/postgres/pg_database.hpp"
-#include "fleetnav/storage/sql/sql_database.hpp"
-#include "fleetnav/storage/sql/sql_fleet_repositories.hpp"
-#include "fleetnav/storage/sql/sql_map_repository.hpp"
 
 namespace fleetnav::server {
 
@@ -78,10 +64,11 @@ struct FleetServerParams {
   absl::Status Validate() const;
 };
 
-/// fleetnavd as a library: opens the store, recovers robots and unfinished jobs, builds
-/// FleetService, AgentService and AccessService with health checking and reflection, serves on a
-/// socket and runs the dispatcher on a thread of its own and the pose-history recorder on a
-/// housekeeping one. Used by main() and by integration tests (real gRPC over loopback). Start once;
+/// fleetnavd as a library: the gRPC server over a FleetApp (which opens the store, recovers
+/// robots and unfinished jobs and runs the dispatcher and housekeeping loops). It picks the
+/// clock (the system's or the simulator's), loads TLS and tokens, builds FleetService,
+/// AgentService and AccessService with health checking and reflection over the app, and serves
+/// on a socket. Used by main() and by integration tests (real gRPC over loopback). Start once;
 /// Shutdown() ends open streams within a second.
 class FleetServer {
  public:
@@ -107,59 +94,21 @@ class FleetServer {
   bool secure() const { return access_gate_ != nullptr; }
   /// The store's engine and place ("SQLite file fleet.db", "PostgreSQL database d at h:p"),
   /// never a password; call after Start().
-  std::string store_description() const { return db_ != nullptr ? db_->Describe() : ""; }
-  /// The TLS gate (null without TLS), for the HTTP port's checks.
-  AccessGate* access_gate() { return access_gate_.get(); }
-  /// Grows with every job or job event stored: a reader that saw the same count has seen every
-  /// job as it is.
-  uint64_t job_changes() const { return job_changes_.load(std::memory_order_acquire); }
-  MapCatalog& maps() { return *maps_; }
-  SiteCatalog& site() { return *site_; }
-  const Clock& clock() const { return *clock_; }
-  FleetRegistry& registry() { return registry_; }
-  JobService& jobs() { return *jobs_; }
-  storage::PoseHistoryRepository& pose_history() { return *pose_history_repository_; }
+  std::string store_description() const { return app_ != nullptr ? app_->store_description() : ""; }
+  /// The use cases this server serves, for the sibling edges (the HTTP port); after Start().
+  FleetApp& app() { return *app_; }
 
  private:
-  /// Marks robots stale and records pose history when they are due at `now_ns` (the server's
-  /// clock): from the housekeeping thread, or at each tick in lockstep.
-  void KeepHouse(int64_t now_ns);
-
   FleetServerParams params_;
   SystemClock system_clock_;
   ManualClock sim_clock_;
   const Clock* clock_;  ///< the system clock, or the simulator's with sim_clock_address
   std::unique_ptr<SimClockFeed> sim_clock_feed_;
   std::atomic<bool> stopping_{false};
-  std::atomic<uint64_t> job_changes_{0};
-  FleetRegistry registry_;
-  std::unique_ptr<storage::SqlDatabase> db_;
-  std::unique_ptr<storage::SqlMapRepository> map_repository_;
-  std::unique_ptr<storage::SqlMarkerSetRepository> marker_repository_;
-  std::unique_ptr<storage::SqlRouteRepository> route_repository_;
-  std::unique_ptr<storage::SqlRobotRepository> robot_repository_;
-  std::unique_ptr<storage::SqlJobRepository> stored_jobs_;
-  std::unique_ptr<NotifyingJobRepository> job_repository_;  ///< tells the watch hub
-  std::unique_ptr<storage::SqlPoseHistoryRepository> pose_history_repository_;
-  std::unique_ptr<storage::SqlOperatorTokenRepository> token_repository_;
-  std::unique_ptr<OperatorTokenService> tokens_;
-  std::unique_ptr<PoseHistoryRecorder> pose_recorder_;
-  std::unique_ptr<SiteCache> site_data_;  ///< in front of the three repositories above
-  std::unique_ptr<MapCatalog> maps_;
-  std::unique_ptr<SiteCatalog> site_;
   AgentMailbox mailbox_;
-  std::unique_ptr<TrafficCoordinator> coordinator_;
-  std::unique_ptr<JobService> jobs_;
-  std::unique_ptr<TrafficPlanner> traffic_;
-  std::unique_ptr<DispatcherLoop> dispatcher_;
-  /// Lockstep streams, tick by tick (then it drives the clock, the dispatcher and KeepHouse).
+  std::unique_ptr<FleetApp> app_;
+  /// Lockstep streams, tick by tick (then it drives the clock, the dispatcher and housekeeping).
   std::unique_ptr<TickBarrier> barrier_;
-  /// Stale robots, pose history and returning freed memory, off the dispatcher's thread.
-  std::thread housekeeper_;
-  absl::Notification stop_housekeeping_;
-  absl::Mutex house_mutex_;
-  std::optional<int64_t> next_stale_ns_ ABSL_GUARDED_BY(house_mutex_);
-  std::optional<int64_t> next_history_ns_ ABSL_GUARDED_BY(house_mutex_);
   std::shared_ptr<AccessGate> access_gate_;   ///< null without TLS
   std::unique_ptr<TlsFrontDoor> front_door_;  ///< the TLS port's acceptor; null without TLS
   ServerMetrics metrics_;

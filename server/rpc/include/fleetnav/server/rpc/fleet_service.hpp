@@ -2,7 +2,6 @@
 
 #include "fleetnav/server/jobs/job_service.hpp"
 #include "fleetnav/server/robots/fleet_registry.hpp"
-#include "fleetnav/server/robots/robot_mailbox.hpp"
 #include "fleetnav/server/rpc/watch_hub.hpp"
 #include "fleetnav/server/site/map_catalog.hpp"
 #include "fleetnav/server/site/site_catalog.hpp"
@@ -17,13 +16,8 @@ namespace fleetnav::server {
 class FleetServiceImpl final : public FleetServiceBase {
  public:
   FleetServiceImpl(MapCatalog* maps, SiteCatalog* site, JobService* jobs, TrafficPlanner* traffic,
-                   FleetRegistry* registry, RobotMailbox* robots)
-      : maps_(maps),
-        site_(site),
-        jobs_(jobs),
-        traffic_(traffic),
-        registry_(registry),
-        robots_(robots) {}
+                   FleetRegistry* registry)
+      : maps_(maps), site_(site), jobs_(jobs), traffic_(traffic), registry_(registry) {}
 
   grpc::Status PutMap(grpc::ServerContext* context, const v1::PutMapRequest* request,
                       v1::PutMapResponse* response) override;
@@ -75,7 +69,6 @@ class FleetServiceImpl final : public FleetServiceBase {
   JobService* jobs_;
   TrafficPlanner* traffic_;
   FleetRegistry* registry_;
-  RobotMailbox* robots_;  ///< told about new map and marker-set versions
 };
 
 }  // namespace fleetnav::server
