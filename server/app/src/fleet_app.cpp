@@ -27,7 +27,10 @@ absl::Status FleetAppParams::Validate() const {
 }
 
 FleetApp::FleetApp(FleetAppParams params, const Clock* clock, RobotMailbox* robots)
-    : params_(std::move(params)), clock_(clock), robots_(robots), registry_(clock_, params_.registry) {}
+    : params_(std::move(params)),
+      clock_(clock),
+      robots_(robots),
+      registry_(clock_, params_.registry) {}
 
 FleetApp::~FleetApp() { Stop(); }
 
@@ -36,8 +39,8 @@ absl::Status FleetApp::Open() {
   if (params_.authorize) {
     // The file's tokens until the stored ones are read (before any call is taken).
     ASSIGN_OR_RETURN(AccessPolicy policy, AccessPolicy::Create(params_.file_tokens));
-    access_ = std::make_shared<AccessControl>(std::make_shared<const AccessPolicy>(std::move(policy)),
-                                              params_.on_access_refused);
+    access_ = std::make_shared<AccessControl>(
+        std::make_shared<const AccessPolicy>(std::move(policy)), params_.on_access_refused);
   }
   ASSIGN_OR_RETURN(db_, storage::OpenFleetDatabase(params_.db_path, params_.postgres));
   if (params_.on_store_transaction) db_->SetTransactionObserver(params_.on_store_transaction);

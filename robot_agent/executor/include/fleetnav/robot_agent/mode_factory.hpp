@@ -10,14 +10,14 @@
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
-#include "fleetnav/robot_agent/charger_docking_controller.hpp"
-#include "fleetnav/robot_agent/fence_following_controller.hpp"
-#include "fleetnav/robot_agent/free_navigation_controller.hpp"
-#include "fleetnav/robot_agent/motion_controller.hpp"
-#include "fleetnav/robot_agent/motion_controllers.hpp"
-#include "fleetnav/robot_agent/move_controller.hpp"
-#include "fleetnav/robot_agent/trolley_docking_controller.hpp"
-#include "fleetnav/robot_agent/undock_controller.hpp"
+#include "fleetnav/robot_agent/control/common/motion_controller.hpp"
+#include "fleetnav/robot_agent/control/modes/charger_docking_controller.hpp"
+#include "fleetnav/robot_agent/control/modes/fence_following_controller.hpp"
+#include "fleetnav/robot_agent/control/modes/free_navigation_controller.hpp"
+#include "fleetnav/robot_agent/control/modes/motion_controllers.hpp"
+#include "fleetnav/robot_agent/control/modes/move_controller.hpp"
+#include "fleetnav/robot_agent/control/modes/trolley_docking_controller.hpp"
+#include "fleetnav/robot_agent/control/modes/undock_controller.hpp"
 
 namespace fleetnav::agent {
 

@@ -9,8 +9,8 @@
 #include "absl/status/status.h"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/core/segment_gate.hpp"
+#include "fleetnav/robot_agent/control/common/motion_controller.hpp"
 #include "fleetnav/robot_agent/mode_factory.hpp"
-#include "fleetnav/robot_agent/motion_controller.hpp"
 
 namespace fleetnav::agent {
 
