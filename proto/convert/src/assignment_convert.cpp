@@ -1,5 +1,6 @@
 #include "fleetnav/proto/assignment_convert.hpp"
 
+#include <algorithm>
 #include <memory>
 #include <string>
 
@@ -67,6 +68,25 @@ absl::StatusOr<JobCommand> FromProto(const v1::Command& wire) {
   command.job_id = wire.job_id();
   command.reason = wire.reason();
   return command;
+}
+
+v1::TrafficClearance ToProto(const ClearanceNotice& clearance) {
+  v1::TrafficClearance wire;
+  wire.set_job_id(clearance.job_id);
+  wire.set_cleared_up_to_action(clearance.cleared_up_to_action);
+  for (const TrafficDependency& wait : clearance.waits) {
+    v1::DependencyEdge* edge = wire.add_waits_for();
+    edge->set_from_robot_id(wait.from_robot_id);
+    edge->set_from_action(static_cast<uint32_t>(std::max(wait.from_action, 0)));
+    edge->set_to_robot_id(wait.to_robot_id);
+    edge->set_to_action(static_cast<uint32_t>(std::max(wait.to_action, 0)));
+  }
+  wire.set_wait_reason(clearance.wait_reason);
+  if (clearance.hold) {
+    wire.mutable_hold()->set_segment(clearance.hold->segment);
+    *wire.mutable_hold()->mutable_gate() = ToProto(clearance.hold->gate);
+  }
+  return wire;
 }
 
 absl::StatusOr<JobCommand> FromProto(const v1::TrafficClearance& clearance) {

@@ -1,5 +1,7 @@
 #include "fleetnav/proto/job_convert.hpp"
 
+#include <algorithm>
+
 #include "absl/strings/str_cat.h"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/proto/geometry_convert.hpp"
@@ -199,6 +201,37 @@ v1::AgentEvent ToAgentEvent(const JobEvent& event, int64_t stamp_ns) {
   out.set_mode(ToProto(event.mode));
   out.set_reason(event.reason);
   return out;
+}
+
+absl::StatusOr<SubmitJobRequest> FromProto(const v1::SubmitJobRequest& request) {
+  SubmitJobRequest submit;
+  if (request.has_goal()) {
+    ASSIGN_OR_RETURN(submit.goal, FromProto(request.goal().goal(), "goal.goal"));
+    submit.goal_map_id = request.goal().map_id();
+  } else {
+    submit.route_name = request.route_name();
+  }
+  ASSIGN_OR_RETURN(submit.on_robot_lost, RequeuePolicyFromProto(request.on_robot_lost()));
+  submit.robot_id = request.robot_id();
+  submit.priority = request.priority();
+  submit.idempotency_key = request.idempotency_key();
+  return submit;
+}
+
+absl::StatusOr<JobFilter> FromProto(const v1::ListJobsRequest& request) {
+  JobFilter filter;
+  for (int state : request.states()) {
+    absl::StatusOr<JobState> parsed = JobStateFromProto(state);
+    if (!parsed.ok()) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("states: unspecified or unknown value ", state));
+    }
+    filter.states.push_back(*parsed);
+  }
+  filter.robot_id = request.robot_id();
+  filter.page_size = static_cast<int>(std::min<uint32_t>(request.page_size(), 1u << 30));
+  filter.page_token = request.page_token();
+  return filter;
 }
 
 }  // namespace fleetnav

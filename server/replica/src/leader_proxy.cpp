@@ -7,6 +7,7 @@
 
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "fleetnav/proto/grpc_status.hpp"
 #include "fleetnav/server/rpc/access_gate.hpp"
 #include "fleetnav/server/rpc/replica_relay.hpp"
 
@@ -237,7 +238,7 @@ grpc::ServerGenericBidiReactor* LeaderProxy::CreateReactor(
     }
     if (!refusal.empty()) {
       delete call;
-      return new RefusedCall(grpc::Status(grpc::StatusCode::UNAVAILABLE, refusal));
+      return new RefusedCall(ToGrpcStatus(absl::UnavailableError(refusal)));
     }
     stub = stub_;
     relay_key = relay_key_;

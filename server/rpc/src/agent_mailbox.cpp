@@ -81,21 +81,7 @@ bool AgentMailbox::SendCommand(const std::string& robot_id, const JobCommand& co
 
 bool AgentMailbox::SendClearance(const std::string& robot_id, const ClearanceNotice& clearance) {
   v1::ServerMessage message;
-  v1::TrafficClearance* wire = message.mutable_clearance();
-  wire->set_job_id(clearance.job_id);
-  wire->set_cleared_up_to_action(clearance.cleared_up_to_action);
-  for (const planner::TrafficWait& wait : clearance.waits) {
-    v1::DependencyEdge* edge = wire->add_waits_for();
-    edge->set_from_robot_id(wait.blocker_robot_id);
-    edge->set_from_action(static_cast<uint32_t>(std::max(wait.blocker_action, 0)));
-    edge->set_to_robot_id(wait.robot_id);
-    edge->set_to_action(static_cast<uint32_t>(wait.action));
-  }
-  wire->set_wait_reason(clearance.wait_reason);
-  if (clearance.hold) {
-    wire->mutable_hold()->set_segment(clearance.hold->segment);
-    *wire->mutable_hold()->mutable_gate() = ToProto(clearance.hold->gate);
-  }
+  *message.mutable_clearance() = ToProto(clearance);
   return Send(robot_id, std::move(message));
 }
 

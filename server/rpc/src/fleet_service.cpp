@@ -158,22 +158,9 @@ grpc::Status FleetServiceImpl::ListRoutes(grpc::ServerContext*,
 
 grpc::Status FleetServiceImpl::SubmitJob(grpc::ServerContext*, const v1::SubmitJobRequest* request,
                                          v1::SubmitJobResponse* response) {
-  SubmitJobRequest submit;
-  if (request->has_goal()) {
-    absl::StatusOr<Pose2> goal = FromProto(request->goal().goal(), "goal.goal");
-    if (!goal.ok()) return ToGrpcStatus(goal.status());
-    submit.goal = *goal;
-    submit.goal_map_id = request->goal().map_id();
-  } else {
-    submit.route_name = request->route_name();
-  }
-  absl::StatusOr<RequeuePolicy> policy = RequeuePolicyFromProto(request->on_robot_lost());
-  if (!policy.ok()) return ToGrpcStatus(policy.status());
-  submit.on_robot_lost = *policy;
-  submit.robot_id = request->robot_id();
-  submit.priority = request->priority();
-  submit.idempotency_key = request->idempotency_key();
-  absl::StatusOr<storage::CreatedJob> created = jobs_->Submit(submit);
+  absl::StatusOr<SubmitJobRequest> submit = FromProto(*request);
+  if (!submit.ok()) return ToGrpcStatus(submit.status());
+  absl::StatusOr<storage::CreatedJob> created = jobs_->Submit(*submit);
   if (!created.ok()) return ToGrpcStatus(created.status());
   *response->mutable_job() = fleetnav::ToProto(created->job);
   response->set_deduplicated(created->deduplicated);
@@ -190,19 +177,9 @@ grpc::Status FleetServiceImpl::GetJob(grpc::ServerContext*, const v1::GetJobRequ
 
 grpc::Status FleetServiceImpl::ListJobs(grpc::ServerContext*, const v1::ListJobsRequest* request,
                                         v1::ListJobsResponse* response) {
-  storage::JobFilter filter;
-  for (int state : request->states()) {
-    absl::StatusOr<JobState> parsed = JobStateFromProto(state);
-    if (!parsed.ok()) {
-      return ToGrpcStatus(
-          absl::InvalidArgumentError(absl::StrCat("states: unspecified or unknown value ", state)));
-    }
-    filter.states.push_back(*parsed);
-  }
-  filter.robot_id = request->robot_id();
-  filter.page_size = static_cast<int>(std::min<uint32_t>(request->page_size(), 1u << 30));
-  filter.page_token = request->page_token();
-  absl::StatusOr<storage::JobPage> page = jobs_->List(filter);
+  absl::StatusOr<JobFilter> filter = FromProto(*request);
+  if (!filter.ok()) return ToGrpcStatus(filter.status());
+  absl::StatusOr<storage::JobPage> page = jobs_->List(*filter);
   if (!page.ok()) return ToGrpcStatus(page.status());
   for (const Job& job : page->jobs) *response->add_jobs() = fleetnav::ToProto(job);
   response->set_next_page_token(page->next_page_token);

@@ -70,10 +70,19 @@ TEST(AssignmentConvertTest, CommandsAndClearancesBecomeJobCommands) {
   unknown.set_job_id("job-7");
   EXPECT_EQ(FromProto(unknown).status().code(), absl::StatusCode::kInvalidArgument);
 
-  v1::TrafficClearance clearance;
-  clearance.set_job_id("job-7");
-  clearance.set_cleared_up_to_action(3);
-  clearance.set_wait_reason("waits for lely2");
+  ClearanceNotice notice{"job-7",
+                         3,
+                         {{"lely2", 1, "lely1", 4}, {"omni1", -1, "lely1", 4}},
+                         "waits for lely2",
+                         std::nullopt};
+  v1::TrafficClearance clearance = ToProto(notice);
+  ASSERT_EQ(clearance.waits_for_size(), 2);
+  EXPECT_EQ(clearance.waits_for(0).from_robot_id(), "lely2");
+  EXPECT_EQ(clearance.waits_for(0).from_action(), 1u);
+  EXPECT_EQ(clearance.waits_for(0).to_robot_id(), "lely1");
+  EXPECT_EQ(clearance.waits_for(0).to_action(), 4u);
+  EXPECT_EQ(clearance.waits_for(1).from_action(), 0u);  // before omni1's first action
+  EXPECT_FALSE(clearance.has_hold());
   absl::StatusOr<JobCommand> cleared = FromProto(clearance);
   ASSERT_TRUE(cleared.ok());
   EXPECT_EQ(cleared->type, JobCommandType::kClearance);
@@ -92,6 +101,14 @@ TEST(AssignmentConvertTest, CommandsAndClearancesBecomeJobCommands) {
   EXPECT_EQ(cleared->hold->segment, 2);
   EXPECT_DOUBLE_EQ(cleared->hold->gate.x_m(), 4.5);
   EXPECT_DOUBLE_EQ(cleared->hold->gate.yaw_rad(), 1.0);
+  // A hold sent by the server arrives as it was sent.
+  notice.hold = SegmentHold{3, 2, Pose2(4.5, -1.0, 1.0)};
+  const absl::StatusOr<JobCommand> round = FromProto(ToProto(notice));
+  ASSERT_TRUE(round.ok());
+  ASSERT_TRUE(round->hold.has_value());
+  EXPECT_EQ(round->hold->segment, 2);
+  EXPECT_DOUBLE_EQ(round->hold->gate.y_m(), -1.0);
+  EXPECT_DOUBLE_EQ(round->hold->gate.yaw_rad(), 1.0);
   // A gate that is not finite is refused, naming the field.
   clearance.mutable_hold()->mutable_gate()->set_y_m(std::nan(""));
   cleared = FromProto(clearance);

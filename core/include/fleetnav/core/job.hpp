@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "fleetnav/core/pose2.hpp"
 #include "fleetnav/core/robot_state.hpp"
@@ -93,5 +94,25 @@ inline std::string_view JobStateName(JobState state) {
   }
   return "unknown";
 }
+
+/// What an operator asks for when submitting a job (SubmitJob), before it is checked.
+struct SubmitJobRequest {
+  std::string route_name;   ///< either a route …
+  std::string goal_map_id;  ///< … or a goal on a map
+  std::optional<Pose2> goal;
+  std::string robot_id;  ///< empty: any capable robot
+  int priority = 0;
+  std::string idempotency_key;
+  RequeuePolicy on_robot_lost = RequeuePolicy::kFail;
+};
+
+/// Which jobs a listing asks for (ListJobs), one page at a time.
+struct JobFilter {
+  std::vector<JobState> states;  ///< empty: every state
+  std::string robot_id;          ///< empty: any robot (matches requested or assigned)
+  std::string map_id;            ///< empty: any map
+  int page_size = 100;
+  std::string page_token;  ///< from the previous page; empty: the first page
+};
 
 }  // namespace fleetnav

@@ -4,10 +4,12 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "fleetnav/core/job.hpp"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/core/segment_gate.hpp"
+#include "fleetnav/core/traffic_plan.hpp"
 
 namespace fleetnav {
 
@@ -38,6 +40,18 @@ struct JobCommand {
   std::string reason;
   int cleared_up_to_action = -1;
   std::optional<SegmentHold> hold;  ///< kClearance: stand before this gate of that action
+};
+
+/// What the server tells a robot about its job's traffic: the actions it may enter, what holds
+/// the next (each wait an edge: this robot's `to_action` waits for `from_robot_id` to finish
+/// `from_action`, in the jobs' action numbers; -1: before its first), and why, in words.
+struct ClearanceNotice {
+  std::string job_id;
+  int cleared_up_to_action = -1;
+  std::vector<TrafficDependency> waits;
+  std::string wait_reason;  ///< empty when nothing holds the robot
+  /// Only part of cleared_up_to_action is cleared: the robot stands before this gate.
+  std::optional<SegmentHold> hold;
 };
 
 }  // namespace fleetnav

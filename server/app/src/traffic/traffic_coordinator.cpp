@@ -361,13 +361,14 @@ ClearanceNotice TrafficCoordinator::Notice(const Tracked& tracked,
     notice.cleared_up_to_action = step.action;
     if (step.gate) notice.hold = SegmentHold{step.action, step.segment, *step.gate};
   }
-  for (planner::TrafficWait wait : d.waits) {
-    wait.action = ActionOfStep(tracked, wait.action);
+  for (const planner::TrafficWait& wait : d.waits) {
+    int blocker_action = wait.blocker_action;
     auto blocker = jobs_on_map.find(wait.blocker_robot_id);
     if (blocker != jobs_on_map.end()) {
-      wait.blocker_action = ActionOfStep(*blocker->second, wait.blocker_action);
+      blocker_action = ActionOfStep(*blocker->second, wait.blocker_action);
     }
-    notice.waits.push_back(std::move(wait));
+    notice.waits.push_back(
+        {wait.blocker_robot_id, blocker_action, wait.robot_id, ActionOfStep(tracked, wait.action)});
   }
   return notice;
 }

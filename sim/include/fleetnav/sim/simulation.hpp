@@ -10,6 +10,7 @@
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "fleetnav/core/sensor_frame.hpp"
+#include "fleetnav/core/sim_truth.hpp"
 #include "fleetnav/sim/ackermann_robot.hpp"
 #include "fleetnav/sim/diff_drive_robot.hpp"
 #include "fleetnav/sim/exteroceptive_sensors.hpp"
@@ -52,41 +53,10 @@ struct SimulationParams {
   absl::Status Validate() const;
 };
 
-struct RobotTruth {
-  std::string robot_id;
-  Pose2 pose;
-  Twist2 velocity;
-  double up_z = 1.0;
-  /// Contact episodes since the start (or the last Reset): a run of consecutive ticks in which
-  /// this robot touches the same thing counts once. The floor never counts.
-  int collisions_world = 0;   ///< with walls, fences, boxes, poles
-  int collisions_robots = 0;  ///< with other robots
-  int collisions() const { return collisions_world + collisions_robots; }
-};
-
-struct SimContact {
-  std::string robot_id;
-  std::string other;  ///< another robot's id, or "static"
-  int64_t sim_time_ns = 0;
-};
-
-/// Where a trolley stands, and which robot carries it ("" when none).
-struct TrolleyTruth {
-  std::string trolley_id;
-  Pose2 pose;
-  std::string carrier_robot_id;
-};
-
-struct GroundTruthSnapshot {
-  uint64_t tick = 0;
-  int64_t sim_time_ns = 0;
-  std::vector<RobotTruth> robots;
-  std::vector<TrolleyTruth> trolleys;
-  std::vector<SimContact> contacts;
-  /// Smallest distance between two robots' circumscribed circles so far (a lower bound on the
-  /// footprint distance); +inf with fewer than two robots.
-  double min_separation_m = 0.0;
-};
+using ::fleetnav::GroundTruthSnapshot;
+using ::fleetnav::RobotTruth;
+using ::fleetnav::SimContact;
+using ::fleetnav::TrolleyTruth;
 
 /// Wall-clock cost of the simulation so far (for the benchmark; never used in behaviour).
 struct SimulationTiming {

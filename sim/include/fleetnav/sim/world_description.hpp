@@ -8,6 +8,7 @@
 
 #include "absl/status/statusor.h"
 #include "fleetnav/core/pose2.hpp"
+#include "fleetnav/core/sim_truth.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
 
 namespace fleetnav::sim {
@@ -57,42 +58,10 @@ struct Trolley {
   }
 };
 
-/// What a fault does (SimService.InjectFault, or `faults:` in the world file).
-enum class FaultType : uint8_t {
-  kHideUltrasonicRegion,  ///< ultrasonic echoes from inside the region are lost
-  kRemoveFenceSegment,    ///< the parts of fences inside the region are taken away
-  kRemoveStripeSegment,   ///< the parts of floor stripes inside the region are taken away
-  kWheelSlipRegion,       ///< inside the region ground travel = factor × wheel travel
-  kSensorDropout,         ///< a robot's sensor (or all of them) reports nothing for a while
-  kSlowDown,              ///< a robot's drive does factor × what it is commanded
-};
-
-/// One fault: an axis-aligned region for the region faults, robot and sensor for the others.
-/// duration_s 0 means until the next Reset. Value type.
-struct FaultSpec {
-  FaultType type = FaultType::kHideUltrasonicRegion;
-  std::string label;  ///< e.g. the thesis's "A", "B", "C"
-  Eigen::Vector2d region_min_m = Eigen::Vector2d::Zero();
-  Eigen::Vector2d region_max_m = Eigen::Vector2d::Zero();
-  std::string robot_id;
-  std::string sensor_name;  ///< empty: every sensor of the robot
-  double duration_s = 0.0;
-  double factor = 1.0;
-  /// Whether a point lies in the fault's region.
-  bool InRegion(const Eigen::Vector2d& p) const {
-    return p.x() >= region_min_m.x() && p.y() >= region_min_m.y() && p.x() <= region_max_m.x() &&
-           p.y() <= region_max_m.y();
-  }
-  bool IsRegionFault() const {
-    return type == FaultType::kHideUltrasonicRegion || type == FaultType::kRemoveFenceSegment ||
-           type == FaultType::kRemoveStripeSegment || type == FaultType::kWheelSlipRegion;
-  }
-};
-
-/// "hide_ultrasonic", "remove_fence", "remove_stripe", "wheel_slip", "sensor_dropout",
-/// "slow_down".
-std::string_view FaultTypeName(FaultType type);
-absl::StatusOr<FaultType> FaultTypeByName(std::string_view name);
+using ::fleetnav::FaultSpec;
+using ::fleetnav::FaultType;
+using ::fleetnav::FaultTypeByName;
+using ::fleetnav::FaultTypeName;
 
 /// A robot placed in the world at start.
 struct RobotSpawn {

@@ -11,13 +11,7 @@
 
 namespace fleetnav::storage {
 
-struct JobFilter {
-  std::vector<JobState> states;  ///< empty: every state
-  std::string robot_id;          ///< empty: any robot (matches requested or assigned)
-  std::string map_id;            ///< empty: any map
-  int page_size = 100;
-  std::string page_token;  ///< from the previous page; empty: the first page
-};
+using ::fleetnav::JobFilter;
 
 struct JobPage {
   std::vector<Job> jobs;        ///< oldest first

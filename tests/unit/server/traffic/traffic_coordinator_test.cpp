@@ -175,7 +175,7 @@ TEST_F(TrafficCoordinatorTest, AnAgentThatStandsAtGatesFollowsAnotherOneSegmentB
   EXPECT_NEAR(b.hold->gate.yaw_rad(), 0.0, 1e-6);  // the direction of travel
   EXPECT_THAT(b.wait_reason, HasSubstr("waits for a to finish segment"));
   EXPECT_THAT(b.wait_reason, HasSubstr("of action 0 (free_navigation)"));
-  EXPECT_EQ(b.waits.front().blocker_action, 0);  // told in actions
+  EXPECT_EQ(b.waits.front().from_action, 0);  // told in actions
 }
 
 TEST_F(TrafficCoordinatorTest, AnAgentWithoutGatesIsClearedWholeActionsOnly) {

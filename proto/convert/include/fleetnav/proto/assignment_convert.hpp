@@ -15,6 +15,8 @@ absl::StatusOr<JobAssignment> FromProto(const v1::Assignment& assignment);
 v1::Command ToProto(const JobCommand& command);
 /// InvalidArgument for an unspecified or unknown command type.
 absl::StatusOr<JobCommand> FromProto(const v1::Command& command);
+/// A clearance as the server sends it (a wait before the blocker's first action goes as 0).
+v1::TrafficClearance ToProto(const ClearanceNotice& clearance);
 /// A traffic clearance as a kClearance command (its wait reason as the reason).
 /// InvalidArgument for a hold whose gate is not finite (the clearance is not acted on).
 absl::StatusOr<JobCommand> FromProto(const v1::TrafficClearance& clearance);

@@ -18,15 +18,7 @@
 
 namespace fleetnav::server {
 
-struct SubmitJobRequest {
-  std::string route_name;   ///< either a route …
-  std::string goal_map_id;  ///< … or a goal on a map
-  std::optional<Pose2> goal;
-  std::string robot_id;  ///< empty: any capable robot
-  int priority = 0;
-  std::string idempotency_key;
-  RequeuePolicy on_robot_lost = RequeuePolicy::kFail;
-};
+using ::fleetnav::SubmitJobRequest;
 
 /// A job's life from submission to its end as operators and robots move it: submit (checked
 /// against the site before anything is stored), cancel, pause and resume by an operator, and

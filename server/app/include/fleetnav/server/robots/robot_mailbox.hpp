@@ -7,19 +7,8 @@
 #include <vector>
 
 #include "fleetnav/core/job_assignment.hpp"
-#include "fleetnav/planner/coordination/traffic_schedule.hpp"
 
 namespace fleetnav::server {
-
-/// Which actions of its job a robot may enter (traffic coordination) and what holds the next.
-struct ClearanceNotice {
-  std::string job_id;
-  int cleared_up_to_action = -1;
-  std::vector<planner::TrafficWait> waits;
-  std::string wait_reason;  ///< empty when nothing holds the robot
-  /// Only part of cleared_up_to_action is cleared: the robot stands before this gate.
-  std::optional<SegmentHold> hold;
-};
 
 /// The way from the use cases to connected robots (implemented by the AgentService edge).
 /// Sends never block; they return false when the robot has no open stream.
