@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/status_macros.hpp"
 
 namespace fleetnav::sim {
@@ -374,7 +375,7 @@ void Simulation::UpdateLift(SimRobot& robot, int index) {
     TrolleyBody& trolley = *trolleys_[j];
     const Pose2 trolley_pose = trolley.pose();
     // The trolley is symmetric: either end may face the robot.
-    const double yaw_off = std::abs(std::remainder(trolley_pose.yaw_rad() - at.yaw_rad(), M_PI));
+    const double yaw_off = std::abs(std::remainder(trolley_pose.yaw_rad() - at.yaw_rad(), kPi));
     if (trolley.carrier_robot_index() < 0 &&
         (trolley_pose.translation() - at.translation()).norm() <= kLatchRadiusM &&
         yaw_off <= kLatchYawRad) {

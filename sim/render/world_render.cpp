@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/sim/render_style.hpp"
 
@@ -135,7 +136,7 @@ void DrawObstacles(cairo_t* cr, const WorldDescription& world, double px) {
                     trolley.size_m.y());
     cairo_stroke(cr);
     for (const Eigen::Vector2d& leg : trolley.LegsInTrolley()) {
-      cairo_arc(cr, leg.x(), leg.y(), std::max(trolley.leg_radius_m, 2 * px), 0, 2 * M_PI);
+      cairo_arc(cr, leg.x(), leg.y(), std::max(trolley.leg_radius_m, 2 * px), 0, 2 * kPi);
       cairo_fill(cr);
     }
     cairo_restore(cr);
@@ -143,7 +144,7 @@ void DrawObstacles(cairo_t* cr, const WorldDescription& world, double px) {
   for (const CylinderObstacle& cylinder : world.cylinders) {
     SetColor(cr, ColorOf(cylinder.kind));
     cairo_arc(cr, cylinder.center_m.x(), cylinder.center_m.y(), std::max(cylinder.radius_m, 2 * px),
-              0, 2 * M_PI);
+              0, 2 * kPi);
     cairo_fill(cr);
   }
 }
@@ -273,7 +274,7 @@ void DrawBlackText(cairo_t* cr, const std::string& text, double left_x, double c
 // A dot in `color` with a white rim: where a path starts.
 void DrawStartDot(cairo_t* cr, const Eigen::Vector2d& at_px, const Rgb& color) {
   cairo_new_sub_path(cr);
-  cairo_arc(cr, at_px.x(), at_px.y(), kStartDotRadiusPx, 0, 2 * M_PI);
+  cairo_arc(cr, at_px.x(), at_px.y(), kStartDotRadiusPx, 0, 2 * kPi);
   SetColor(cr, color);
   cairo_fill_preserve(cr);
   cairo_set_source_rgb(cr, 1.0, 1.0, 1.0);

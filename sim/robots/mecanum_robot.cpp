@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/rate_limit.hpp"
 
 namespace fleetnav::sim {
@@ -233,7 +234,7 @@ std::vector<WheelAngle> MecanumRobot::WheelAngles() const {
 }
 
 double MecanumRobot::caster_angle_rad(int i) const {
-  return std::remainder(swivel_turned_rad_[static_cast<size_t>(i)], 2 * M_PI);
+  return std::remainder(swivel_turned_rad_[static_cast<size_t>(i)], 2 * kPi);
 }
 
 }  // namespace fleetnav::sim

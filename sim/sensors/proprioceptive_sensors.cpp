@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "fleetnav/core/angles.hpp"
+
 namespace fleetnav::sim {
 
 ProprioceptiveSensors::ProprioceptiveSensors(ProprioceptiveParams params, uint64_t simulation_seed,
@@ -11,7 +13,7 @@ ProprioceptiveSensors::ProprioceptiveSensors(ProprioceptiveParams params, uint64
       accel_noise_(NoiseSeed(simulation_seed, robot_id, "accelerometer")) {}
 
 int64_t ProprioceptiveSensors::Ticks(double angle_rad) const {
-  const double revolutions = angle_rad / (2.0 * 3.14159265358979323846);
+  const double revolutions = angle_rad / (2.0 * kPi);
   return static_cast<int64_t>(std::floor(revolutions * params_.encoder_ticks_per_rev *
                                          (1.0 + params_.wheel_radius_scale_error)));
 }

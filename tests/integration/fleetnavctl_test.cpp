@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "fleet_fixture.hpp"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/map_io.hpp"
 #include "fleetnav/ctl/commands.hpp"
 
@@ -73,7 +74,7 @@ TEST_F(FleetnavctlTest, ImportsAMapStoresARouteAndSubmitsAJob) {
     ASSERT_TRUE(fleet_->GetJob(&rpc, request, &response).ok());
     EXPECT_EQ(response.job().goal().map_id(), "barn");
     EXPECT_NEAR(response.job().goal().goal().x_m(), 1.0, 1e-9);
-    EXPECT_NEAR(response.job().goal().goal().yaw_rad(), M_PI / 2, 1e-9);
+    EXPECT_NEAR(response.job().goal().goal().yaw_rad(), kPi / 2, 1e-9);
   }
   go.goal_map_id = "nowhere";
   EXPECT_EQ(ctl::SubmitJob(Context(), go).status().code(), absl::StatusCode::kNotFound);

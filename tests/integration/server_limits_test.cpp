@@ -7,6 +7,7 @@
 #include <string>
 
 #include "fleet_fixture.hpp"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/proto/telemetry_convert.hpp"
 #include "fleetnav/v1/agent_service.grpc.pb.h"
 
@@ -120,7 +121,7 @@ TEST_F(ServerLimitsTest, AHelloOverTheCapabilityOrFootprintLimitIsRefusedAndNotK
   RobotIdentity big_footprint{"rb", LelyVectorModel(), {"straight"}, "t"};
   big_footprint.model.footprint_m.clear();
   for (int i = 0; i < 9; ++i) {
-    const double angle = 2.0 * 3.14159265 * i / 9.0;
+    const double angle = 2.0 * kPi * i / 9.0;
     big_footprint.model.footprint_m.emplace_back(std::cos(angle), std::sin(angle));
   }
   ExpectLimit(HelloStatus(channel_, big_footprint), "max_footprint_points");

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "absl/strings/str_split.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/scenario/child_process.hpp"
 #include "fleetnav/v1/sim_service.grpc.pb.h"
 
@@ -389,7 +390,7 @@ TEST_F(ClosedLoop, MecanumDocksUnderATrolleyWithoutTouchingItsLegs) {
   EXPECT_EQ(omni.collisions(), 0);
   EXPECT_NEAR(omni.pose().x_m(), 2.5, 0.01);
   EXPECT_NEAR(omni.pose().y_m(), 1.8, 0.01);
-  EXPECT_NEAR(std::remainder(omni.pose().yaw_rad(), M_PI), 0.0, 0.02);
+  EXPECT_NEAR(std::remainder(omni.pose().yaw_rad(), kPi), 0.0, 0.02);
   // The trolley (physical, it would roll away if touched) stands where it stood, on the lift.
   bool found = false;
   for (const v1::TrolleyGroundTruth& trolley : truth.trolleys()) {

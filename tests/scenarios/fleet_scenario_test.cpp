@@ -18,6 +18,7 @@
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/pose2.hpp"
 #include "fleetnav/scenario/child_process.hpp"
 
@@ -121,7 +122,7 @@ TEST(FleetScenario, AGoalJobEndsAtTheGoal) {
   const nlohmann::json& end = report["robots"][0]["final_pose"];
   EXPECT_NEAR(end["x_m"].get<double>(), -3.0, 0.3) << end.dump();
   EXPECT_NEAR(end["y_m"].get<double>(), 2.0, 0.3) << end.dump();
-  EXPECT_NEAR(end["yaw_rad"].get<double>(), M_PI / 2, 0.15) << end.dump();
+  EXPECT_NEAR(end["yaw_rad"].get<double>(), kPi / 2, 0.15) << end.dump();
   EXPECT_EQ(report["contacts"].get<int>(), 0);
 }
 
@@ -169,14 +170,14 @@ void ExpectGoalReached(const std::string& file, const Pose2& goal, double tolera
 // tracking, laser AMCL with the omni motion model; down an aisle past a trolley.
 TEST(FleetScenario, AMecanumPlatformReachesItsGoalHolonomically) {
   // 20 seeds: within 0.043 m and 0.9° (docs/scenarios.md).
-  ExpectGoalReached("store_goal.yaml", Pose2(3.0, -2.0, M_PI / 2), 0.1, 0.06);
+  ExpectGoalReached("store_goal.yaml", Pose2(3.0, -2.0, kPi / 2), 0.1, 0.06);
 }
 
 // The Ackermann robot's goal job at a yaw no lattice heading reaches: Reeds-Shepp path, pure
 // pursuit with cusps, laser AMCL with the Ackermann motion model.
 TEST(FleetScenario, AnAckermannRobotReachesAGoalAtAnyYaw) {
   // 20 seeds: within 0.072 m and 6.4° (docs/scenarios.md).
-  ExpectGoalReached("yard_goal.yaml", Pose2(7.0, -9.0, -100.0 * M_PI / 180.0), 0.2, 0.15);
+  ExpectGoalReached("yard_goal.yaml", Pose2(7.0, -9.0, -100.0 * kPi / 180.0), 0.2, 0.15);
 }
 
 const nlohmann::json& RobotIn(const nlohmann::json& report, const std::string& robot_id) {
@@ -259,8 +260,8 @@ TEST(FleetScenario, AStoreFleetOfFourRunsFortyGoalJobsWithoutContact) {
   const std::vector<std::pair<std::string, Pose2>> homes = {
       {"omni1", Pose2(-10.5, 5.8, 0.0)},
       {"omni2", Pose2(-10.5, -5.8, 0.0)},
-      {"omni3", Pose2(10.5, 5.8, M_PI)},
-      {"delivery1", Pose2(10.0, -5.8, M_PI / 2)}};
+      {"omni3", Pose2(10.5, 5.8, kPi)},
+      {"delivery1", Pose2(10.0, -5.8, kPi / 2)}};
   for (const auto& [robot_id, home] : homes) {
     const nlohmann::json& robot = RobotIn(report, robot_id);
     EXPECT_EQ(robot.value("jobs", 0), 10) << robot_id;

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "bench_map.hpp"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/core/version.hpp"
 #include "fleetnav/planner/grid/costmap.hpp"
@@ -150,9 +151,11 @@ int main(int argc, char** argv) {
   });
   ob::ScopedState<ob::SE2StateSpace> s(space), g(space);
   s->setXY(start->x_m(), start->y_m());
-  s->setYaw(start->yaw_rad() >= M_PI ? start->yaw_rad() - 2 * M_PI : start->yaw_rad());
+  s->setYaw(start->yaw_rad() >= fleetnav::kPi ? start->yaw_rad() - 2 * fleetnav::kPi
+                                              : start->yaw_rad());
   g->setXY(goal->x_m(), goal->y_m());
-  g->setYaw(goal->yaw_rad() >= M_PI ? goal->yaw_rad() - 2 * M_PI : goal->yaw_rad());
+  g->setYaw(goal->yaw_rad() >= fleetnav::kPi ? goal->yaw_rad() - 2 * fleetnav::kPi
+                                             : goal->yaw_rad());
   fp::PathRequest request;
   request.start = *start;
   request.goal = *goal;

@@ -10,6 +10,8 @@
 #include <stop_token>
 #include <thread>
 
+#include "fleetnav/core/angles.hpp"
+
 namespace fleetnav::planner {
 
 namespace ob = ompl::base;
@@ -25,8 +27,8 @@ void SetPose(const Pose2& pose, ob::State* state) {
   auto* se2 = state->as<ob::SE2StateSpace::StateType>();
   se2->setXY(pose.x_m(), pose.y_m());
   // OMPL's SO(2) bounds are [-pi, pi).
-  const double yaw = std::remainder(pose.yaw_rad(), 2.0 * M_PI);
-  se2->setYaw(yaw >= M_PI ? yaw - 2.0 * M_PI : yaw);
+  const double yaw = std::remainder(pose.yaw_rad(), 2.0 * kPi);
+  se2->setYaw(yaw >= kPi ? yaw - 2.0 * kPi : yaw);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_replace.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/planner/coordination/kinematic_dependency_graph.hpp"
 #include "fleetnav/planner/coordination/traffic_dependencies.hpp"
 #include "fleetnav/planner/grid/coarse_grid.hpp"
@@ -35,7 +36,7 @@ std::vector<std::array<int, 2>> DiscCells(double radius_m, double cell_m) {
 
 // The grid heading (0 = +x, counter-clockwise in quarter turns) nearest to `yaw_rad`.
 int NearestHeading(double yaw_rad) {
-  const long h = std::lround(yaw_rad / (M_PI / 2));
+  const long h = std::lround(yaw_rad / (kPi / 2));
   return static_cast<int>(((h % 4) + 4) % 4);
 }
 
@@ -117,7 +118,7 @@ absl::StatusOr<TrafficPlan> PlanKinematicTraffic(const OccupancyGrid& grid,
     for (size_t t = 0; t < states.size(); ++t) {
       const Eigen::Vector2d at = coarse.CenterOf(states[t].x, states[t].y);
       const double yaw = problem.robots[i].motion.has_heading
-                             ? states[t].heading * (M_PI / 2) + coarse.origin.yaw_rad()
+                             ? states[t].heading * (kPi / 2) + coarse.origin.yaw_rad()
                              : agents[i].start.yaw_rad();
       path.push_back({t * step_s, Pose2(at.x(), at.y(), yaw)});
     }

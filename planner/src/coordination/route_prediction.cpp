@@ -227,7 +227,7 @@ absl::StatusOr<std::vector<PredictedAction>> PredictRoute(const Route& route, co
         Pose2 facing = trolley->pose;
         const Eigen::Vector2d backwards = facing.TransformPoint({-1, 0}) - facing.translation();
         if (backwards.dot(pose.translation() - facing.translation()) < 0.0) {
-          facing = facing * Pose2(0, 0, M_PI);
+          facing = facing * Pose2(0, 0, kPi);
         }
         const Eigen::Vector2d approach =
             facing.TransformPoint({-(0.5 * trolley->size_m.x() + params.trolley_approach_m), 0.0});

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/distance_transform.hpp"
 #include "fleetnav/core/segment_distance.hpp"
 
@@ -120,7 +121,7 @@ absl::StatusOr<Costmap> Costmap::Build(const OccupancyGrid& grid,
   const int reach = static_cast<int>(std::ceil((map.circumscribed_m_ + half_diag) / res)) + 1;
   map.offsets_.resize(map.bins_);
   for (int b = 0; b < map.bins_; ++b) {
-    const double yaw = 2.0 * M_PI * b / map.bins_;
+    const double yaw = 2.0 * kPi * b / map.bins_;
     const double c = std::cos(yaw), s = std::sin(yaw);
     std::vector<Eigen::Vector2d> rotated;
     for (const auto& p : footprint_m)
@@ -149,7 +150,7 @@ double Costmap::DistanceToObstacle_m(int x, int y) const {
 }
 
 int Costmap::Bin(double yaw_rad) const {
-  const double turns = yaw_rad / (2.0 * M_PI);
+  const double turns = yaw_rad / (2.0 * kPi);
   const double frac = turns - std::floor(turns);
   return static_cast<int>(std::lround(frac * bins_)) % bins_;
 }
@@ -185,7 +186,7 @@ bool Costmap::FootprintFree(int x, int y, double yaw_rad) {
 
 bool Costmap::AnyYawFree(int x, int y) {
   for (int b = 0; b < bins_; ++b) {
-    if (FootprintFree(x, y, 2.0 * M_PI * b / bins_)) return true;
+    if (FootprintFree(x, y, 2.0 * kPi * b / bins_)) return true;
   }
   return false;
 }

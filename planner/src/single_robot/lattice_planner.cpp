@@ -6,6 +6,7 @@
 
 #include "absl/container/flat_hash_map.h"
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/planner/grid/body_clearance.hpp"
 #include "fleetnav/planner/single_robot/single_robot_planner.hpp"
 #include "shortest_curve_internal.hpp"
@@ -38,9 +39,9 @@ constexpr double kHeuristicReachFactor = 2.0;
 constexpr double kHeuristicReachMarginM = 3.0;
 
 double AngleDiff(double a, double b) {
-  double d = std::fmod(a - b, 2.0 * M_PI);
-  if (d > M_PI) d -= 2.0 * M_PI;
-  if (d < -M_PI) d += 2.0 * M_PI;
+  double d = std::fmod(a - b, 2.0 * kPi);
+  if (d > kPi) d -= 2.0 * kPi;
+  if (d < -kPi) d += 2.0 * kPi;
   return d;
 }
 
@@ -156,7 +157,7 @@ LatticePlanner::LatticePlanner(Costmap* costmap, const RobotModel& model,
                                const LatticeParams& params)
     : costmap_(costmap), model_(model), params_(params) {
   const double res = costmap_->resolution_m();
-  const double bin = 2.0 * M_PI / params_.heading_bins;
+  const double bin = 2.0 * kPi / params_.heading_bins;
   const double step = params_.step_m > 0 ? params_.step_m : 1.5 * res;
   const bool reverse = model_.limits.max_reverse_speed_mps > 0.0;
   const double turn = params_.turn_cost_m_per_rad * bin;
@@ -217,7 +218,7 @@ double LatticePlanner::ClearanceFactor(double clearance_m) const {
 LatticePlanner::Primitive LatticePlanner::OntoHeadingBins(double yaw_rad,
                                                           const Primitive& p) const {
   if (p.forward_m != 0.0 || p.lateral_m != 0.0 || p.dyaw_rad == 0.0) return p;
-  const double bin = 2.0 * M_PI / params_.heading_bins;
+  const double bin = 2.0 * kPi / params_.heading_bins;
   const double in_bins = yaw_rad / bin;
   // The next bin's centre that way, a whole bin on from a centre (within rounding).
   const double target = p.dyaw_rad > 0.0 ? (std::floor(in_bins + 1e-6) + 1.0) * bin
@@ -377,7 +378,7 @@ absl::StatusOr<PathResult> LatticePlanner::Plan(const PathRequest& request, std:
     return euclid + 1e3;  // the search finished: no way from the goal to here
   };
   auto bin_of = [&](double yaw) {
-    const double turns = yaw / (2.0 * M_PI);
+    const double turns = yaw / (2.0 * kPi);
     return static_cast<int>(std::lround((turns - std::floor(turns)) * bins)) % bins;
   };
 

@@ -9,6 +9,7 @@
 #include <exception>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
 #include "ompl_common_internal.hpp"
 
 namespace fleetnav::planner {
@@ -35,8 +36,8 @@ void SetPose(const Pose2& pose, ob::State* state) {
   Se2State* s = state->as<Se2State>();
   s->setXY(pose.x_m(), pose.y_m());
   // OMPL's SO(2) bounds are [-pi, pi); poses keep yaws in (-pi, pi].
-  double yaw = std::remainder(pose.yaw_rad(), 2.0 * M_PI);
-  if (yaw >= M_PI) yaw -= 2.0 * M_PI;
+  double yaw = std::remainder(pose.yaw_rad(), 2.0 * kPi);
+  if (yaw >= kPi) yaw -= 2.0 * kPi;
   s->setYaw(yaw);
 }
 
@@ -53,14 +54,14 @@ SeededSe2Sampler::SeededSe2Sampler(const ob::StateSpace* space, uint32_t seed)
 void SeededSe2Sampler::Clamp(Se2State* s) const {
   const ob::RealVectorBounds& b = space_->as<ob::SE2StateSpace>()->getBounds();
   s->setXY(std::clamp(s->getX(), b.low[0], b.high[0]), std::clamp(s->getY(), b.low[1], b.high[1]));
-  s->setYaw(std::remainder(s->getYaw(), 2.0 * M_PI));
+  s->setYaw(std::remainder(s->getYaw(), 2.0 * kPi));
 }
 
 void SeededSe2Sampler::sampleUniform(ob::State* state) {
   const ob::RealVectorBounds& b = space_->as<ob::SE2StateSpace>()->getBounds();
   Se2State* s = state->as<Se2State>();
   s->setXY(rng_.uniformReal(b.low[0], b.high[0]), rng_.uniformReal(b.low[1], b.high[1]));
-  s->setYaw(rng_.uniformReal(-M_PI, M_PI));
+  s->setYaw(rng_.uniformReal(-kPi, kPi));
 }
 
 void SeededSe2Sampler::sampleUniformNear(ob::State* state, const ob::State* near, double distance) {
@@ -115,7 +116,7 @@ int FootprintMotionValidator::FirstInvalid(const ob::State* s1, const ob::State*
   const Pose2 a = GetPose(s1), b = GetPose(s2);
   const double sweep_m =
       (b.translation() - a.translation()).norm() +
-      corner_radius_m_ * std::abs(std::remainder(b.yaw_rad() - a.yaw_rad(), 2.0 * M_PI));
+      corner_radius_m_ * std::abs(std::remainder(b.yaw_rad() - a.yaw_rad(), 2.0 * kPi));
   *steps = std::max(1, static_cast<int>(std::ceil(sweep_m / step_m_)));
   for (int k = 1; k <= *steps; ++k) {
     if (k == *steps) {

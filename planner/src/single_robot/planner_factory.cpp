@@ -4,6 +4,7 @@
 #include <string>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/planner/single_robot/ompl_omni_planner.hpp"
 #include "fleetnav/planner/single_robot/ompl_reeds_shepp_planner.hpp"
 
@@ -60,7 +61,7 @@ absl::StatusOr<std::unique_ptr<SingleRobotPlanner>> MakeSingleRobotPlanner(
         absl::StrCat("kind: ompl-reeds-shepp needs an Ackermann model, not ",
                      std::string(KinematicsName(model.kinematics))));
   }
-  if (!(model.limits.max_steering_rad > 0.0 && model.limits.max_steering_rad < M_PI / 2 &&
+  if (!(model.limits.max_steering_rad > 0.0 && model.limits.max_steering_rad < kPi / 2 &&
         model.wheelbase_m > 0.0)) {
     return absl::InvalidArgumentError(
         "model: Ackermann needs wheelbase_m > 0 and max_steering_rad in (0, pi/2)");

@@ -4,12 +4,13 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/planner/trajectory/spline.hpp"
 
 namespace fleetnav::planner {
 namespace {
 
-double AngleDiff(double a, double b) { return std::remainder(a - b, 2.0 * M_PI); }
+double AngleDiff(double a, double b) { return std::remainder(a - b, 2.0 * kPi); }
 
 // A distinct position of the path: the yaw on arrival and after any turn in place there.
 struct Knot {
@@ -224,7 +225,7 @@ absl::Status SmoothingParams::Validate() const {
   if (!(augment_radius_m > 0.0) || !std::isfinite(augment_radius_m)) {
     return absl::InvalidArgumentError("augment_radius_m: must be finite and > 0");
   }
-  if (!(augment_max_turn_rad > 0.0 && augment_max_turn_rad <= M_PI)) {
+  if (!(augment_max_turn_rad > 0.0 && augment_max_turn_rad <= kPi)) {
     return absl::InvalidArgumentError("augment_max_turn_rad: must be in (0, pi]");
   }
   return absl::OkStatus();

@@ -5,13 +5,14 @@
 #include <limits>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
 
 namespace fleetnav::planner {
 namespace {
 
 constexpr double kEps = 1e-9;
 
-double WrapAngle(double a) { return std::remainder(a, 2.0 * M_PI); }
+double WrapAngle(double a) { return std::remainder(a, 2.0 * kPi); }
 
 // One sample of a run between stops, before timing.
 struct Sample {
@@ -77,7 +78,7 @@ void TimeRun(const std::vector<Sample>& run, int sign, const MotionLimits& limit
     } else if (!out->points.empty()) {
       continue;  // the run starts where the trajectory stands
     }
-    const double heading = sign > 0 ? run[i].yaw_rad : WrapAngle(run[i].yaw_rad + M_PI);
+    const double heading = sign > 0 ? run[i].yaw_rad : WrapAngle(run[i].yaw_rad + kPi);
     out->points.push_back({t, run[i].position_m, run[i].yaw_rad, heading, v[i]});
   }
 }

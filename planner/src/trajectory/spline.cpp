@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
 
 namespace fleetnav::planner {
 
@@ -141,7 +142,7 @@ absl::StatusOr<std::vector<TimedPose>> TimeParameterize(const std::vector<Eigen:
     const double turn = std::abs(
         std::remainder(std::atan2(path[i + 1].y() - path[i].y(), path[i + 1].x() - path[i].x()) -
                            std::atan2(path[i].y() - path[i - 1].y(), path[i].x() - path[i - 1].x()),
-                       2 * M_PI));
+                       2 * kPi));
     const double arc = 0.5 * (ds[i] + ds[i + 1]);
     if (turn > 1e-12 && arc > 0) {
       vmax[i] = std::min(vmax[i], limits.max_yaw_rate_radps * arc / turn);

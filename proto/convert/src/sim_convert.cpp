@@ -106,8 +106,8 @@ absl::StatusOr<FaultSpec> FromProto(const v1::InjectFaultRequest& request) {
     }
   }
   if (!known) {
-    return absl::InvalidArgumentError(absl::StrCat("type: unknown or unspecified fault type ",
-                                                   static_cast<int>(request.type())));
+    return absl::InvalidArgumentError(
+        absl::StrCat("type: unknown or unspecified fault type ", static_cast<int>(request.type())));
   }
   ASSIGN_OR_RETURN(fault.region_min_m, FromProto(request.region_min(), "region_min"));
   ASSIGN_OR_RETURN(fault.region_max_m, FromProto(request.region_max(), "region_max"));

@@ -311,7 +311,7 @@ double BeamModel::LogLikelihood(double measured_m, double expected_m, double ran
   } else {
     const double z = measured_m - expected_m;
     prob += p.z_hit * std::exp(-z * z / (2.0 * p.sigma_hit_m * p.sigma_hit_m)) /
-            (p.sigma_hit_m * std::sqrt(2.0 * 3.141592653589793));
+            (p.sigma_hit_m * std::sqrt(2.0 * kPi));
     if (measured_m < expected_m) {
       prob += p.z_short * p.lambda_short * std::exp(-p.lambda_short * measured_m);
     }

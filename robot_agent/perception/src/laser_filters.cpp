@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "fleetnav/core/angles.hpp"
+
 namespace fleetnav::agent {
 
 LaserScanSample TemporalMedianFilter::Apply(const LaserScanSample& scan) {
@@ -21,7 +23,7 @@ LaserScanSample TemporalMedianFilter::Apply(const LaserScanSample& scan) {
 }
 
 absl::Status ShadowFilterParams::Validate() const {
-  if (!(min_angle_rad > 0.0 && min_angle_rad < M_PI_2)) {
+  if (!(min_angle_rad > 0.0 && min_angle_rad < (kPi / 2))) {
     return absl::InvalidArgumentError("shadow.min_angle_rad: must be in (0, pi/2)");
   }
   if (neighbours < 1) return absl::InvalidArgumentError("shadow.neighbours: must be >= 1");
@@ -42,7 +44,7 @@ LaserScanSample RemoveShadows(const LaserScanSample& scan, const ShadowFilterPar
       const double near = std::min(ri, rj), far = std::max(ri, rj);
       const double angle = std::atan2(far * std::sin(dtheta), far * std::cos(dtheta) - near);
       const double seen = std::abs(angle);
-      if (seen < params.min_angle_rad || seen > M_PI - params.min_angle_rad) {
+      if (seen < params.min_angle_rad || seen > kPi - params.min_angle_rad) {
         out.ranges_m[ri > rj ? i : j] = std::numeric_limits<float>::infinity();
       }
     }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/robot_agent/scan_features.hpp"
 
 namespace fleetnav::agent {
@@ -29,7 +30,7 @@ std::vector<Eigen::Vector2d> LegCircles(const LaserScanSample& scan, const Pose2
   for (const std::vector<Eigen::Vector2d>& cluster :
        ClusterPoints(ScanPoints(clean, laser_in_base), spec.cluster_gap_m)) {
     if ((cluster.back() - cluster.front()).norm() > spec.max_leg_extent_m) continue;
-    if (walls_out && IterativeEndPointFit(cluster, 0.01, 5.0 * M_PI / 180.0).size() > 2) continue;
+    if (walls_out && IterativeEndPointFit(cluster, 0.01, 5.0 * kPi / 180.0).size() > 2) continue;
     const std::optional<Circle> circle =
         FitCircleOfRadius(cluster, spec.leg_radius_m, laser_in_base.translation());
     if (circle) legs.push_back(circle->center_m);

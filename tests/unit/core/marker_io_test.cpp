@@ -204,7 +204,7 @@ TEST(MarkerYamlTest, TrolleysRoundTripAndDuplicateIdsAreRefused) {
   ASSERT_TRUE(set.ok()) << set.status();
   ASSERT_EQ(set->trolleys.size(), 2u);
   EXPECT_EQ(set->trolleys[0].id, "t1");
-  EXPECT_NEAR(set->trolleys[0].pose.yaw_rad(), M_PI_2, 1e-12);
+  EXPECT_NEAR(set->trolleys[0].pose.yaw_rad(), (kPi / 2), 1e-12);
   EXPECT_NEAR(set->trolleys[0].leg_radius_m, 0.025, 1e-12);
   EXPECT_NEAR(set->trolleys[1].size_m.x(), 1.0, 1e-12);  // the default size
   ASSERT_NE(set->FindTrolley("t2"), nullptr);
@@ -213,7 +213,7 @@ TEST(MarkerYamlTest, TrolleysRoundTripAndDuplicateIdsAreRefused) {
   ASSERT_TRUE(back.ok()) << back.status();
   ASSERT_EQ(back->trolleys.size(), 2u);
   EXPECT_NEAR(back->trolleys[0].pose.x_m(), 1.5, 1e-9);
-  EXPECT_NEAR(back->trolleys[0].pose.yaw_rad(), M_PI_2, 1e-9);
+  EXPECT_NEAR(back->trolleys[0].pose.yaw_rad(), (kPi / 2), 1e-9);
   const absl::Status duplicate = ParseMarkerSetYaml(
                                      "markers: []\ntrolleys:\n  - {id: t1, pose: [0, 0, 0]}\n"
                                      "  - {id: t1, pose: [3, 0, 0]}\n")

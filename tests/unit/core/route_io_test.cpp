@@ -164,10 +164,10 @@ TEST(RouteYamlTest, WaypointsMayFixTheYawThere) {
   const auto& nav = std::get<FreeNavigationAction>(route->actions[0].params);
   EXPECT_FALSE(nav.WaypointYaw(0).has_value());
   ASSERT_TRUE(nav.WaypointYaw(1).has_value());
-  EXPECT_NEAR(*nav.WaypointYaw(1), M_PI_2, 1e-12);
+  EXPECT_NEAR(*nav.WaypointYaw(1), (kPi / 2), 1e-12);
   absl::StatusOr<Route> back = ParseRouteYaml(RouteToYaml(*route));
   ASSERT_TRUE(back.ok()) << back.status();
-  EXPECT_NEAR(*std::get<FreeNavigationAction>(back->actions[0].params).WaypointYaw(1), M_PI_2,
+  EXPECT_NEAR(*std::get<FreeNavigationAction>(back->actions[0].params).WaypointYaw(1), (kPi / 2),
               1e-9);
   EXPECT_EQ(ParseRouteYaml("name: r\nmap: m\nactions:\n  - free_navigation: {waypoints: "
                            "[[1, 2, 3, 4]], goal: {x: 5, y: 6}}\n")

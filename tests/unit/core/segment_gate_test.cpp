@@ -4,11 +4,13 @@
 
 #include <cmath>
 
+#include "fleetnav/core/angles.hpp"
+
 namespace fleetnav {
 namespace {
 
 TEST(SegmentGateTest, DistanceIsMeasuredAlongTheDirectionOfTravel) {
-  const Pose2 gate(3.0, 1.0, M_PI / 2);  // travel north through (3, 1)
+  const Pose2 gate(3.0, 1.0, kPi / 2);  // travel north through (3, 1)
   EXPECT_NEAR(DistanceBeforeGate(gate, {3.0, -1.0}), 2.0, 1e-12);
   EXPECT_NEAR(DistanceBeforeGate(gate, {5.0, -1.0}), 2.0, 1e-12);  // sideways does not count
   EXPECT_NEAR(DistanceBeforeGate(gate, {3.0, 1.5}), -0.5, 1e-12);

@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <memory>
 
+#include "fleetnav/core/angles.hpp"
+
 namespace fleetnav::ctl {
 namespace {
 
@@ -59,7 +61,7 @@ TEST(MapRenderTest, CellsMarkersAndRoutesLandWhereTheMapPutsThem) {
   StripeMarker calibration;
   calibration.id = 1;
   calibration.position_m = {2.0, 1.0};
-  calibration.yaw_rad = M_PI / 2;  // a stripe along y from (2, 0.75) to (2, 1.25)
+  calibration.yaw_rad = kPi / 2;  // a stripe along y from (2, 0.75) to (2, 1.25)
   markers.markers.push_back(calibration);
   Route route;
   route.name = "aisle";
@@ -101,7 +103,7 @@ TEST(MapRenderTest, CellsMarkersAndRoutesLandWhereTheMapPutsThem) {
 TEST(MapRenderTest, AGridTurnedByItsOriginIsDrawnInItsOwnCells) {
   // The grid's origin at (10, 0) turned by 90°: map point (9.5, 2) is grid point (2, 0.5).
   OccupancyGrid grid =
-      *OccupancyGrid::Filled(50, 20, 0.1, Pose2(10.0, 0.0, M_PI / 2), OccupancyGrid::kFreeValue);
+      *OccupancyGrid::Filled(50, 20, 0.1, Pose2(10.0, 0.0, kPi / 2), OccupancyGrid::kFreeValue);
   Route route;
   route.name = "turned";
   route.map_id = "barn";

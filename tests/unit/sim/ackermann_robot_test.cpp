@@ -9,6 +9,7 @@
 #include <cmath>
 #include <memory>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/sim/ackermann_steering.hpp"
 #include "fleetnav/sim/simulation.hpp"
 #include "sim_test_util.hpp"
@@ -43,14 +44,14 @@ TEST(AckermannRobotTest, DrivesStraightAndTheRearEncodersAgree) {
   // 4 s at 0.5 m/s after a 1 s ramp at 0.5 m/s² (1.75 m), and 0.25 m braking: 2 m.
   EXPECT_NEAR(moved.x(), 2.0, 0.05);
   EXPECT_LT(std::abs(moved.y()), 0.02);
-  EXPECT_NEAR(std::remainder(end.yaw_rad() - settled.yaw_rad(), 2 * M_PI), 0.0, 0.01);
+  EXPECT_NEAR(std::remainder(end.yaw_rad() - settled.yaw_rad(), 2 * kPi), 0.0, 0.01);
   const RobotModel model = AckermannDeliveryModel();
   absl::StatusOr<SensorFrame> frame = sim->Sense("car");
   ASSERT_TRUE(frame.ok());
   ASSERT_EQ(frame->encoders.size(), 2U);
   for (const EncoderReading& e : frame->encoders) {
-    const double rolled_m = static_cast<double>(e.ticks) / model.encoder_ticks_per_rev * 2 * M_PI *
-                            model.wheel_radius_m;
+    const double rolled_m =
+        static_cast<double>(e.ticks) / model.encoder_ticks_per_rev * 2 * kPi * model.wheel_radius_m;
     EXPECT_NEAR(rolled_m, moved.x(), 0.02 * moved.x()) << e.name;
   }
   EXPECT_GT(sim->GroundTruth().robots[0].up_z, 0.999);
@@ -70,7 +71,7 @@ TEST(AckermannRobotTest, TurnsOnTheCircleOfItsSteeringLock) {
   absl::StatusOr<SensorFrame> frame = sim->Sense("car");
   ASSERT_TRUE(frame.ok()) << frame.status();
   ASSERT_TRUE(frame->steering_angle_rad.has_value());
-  EXPECT_NEAR(*frame->steering_angle_rad, model.limits.max_steering_rad, M_PI / 4096.0);
+  EXPECT_NEAR(*frame->steering_angle_rad, model.limits.max_steering_rad, kPi / 4096.0);
   // Round the circle: the rear axle's middle keeps L / tan(δ) from the centre.
   const double radius_m = model.wheelbase_m / std::tan(model.limits.max_steering_rad);
   const Twist2 v = sim->GroundTruth().robots[0].velocity;

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/sim/simulation.hpp"
 #include "sim_test_util.hpp"
 
@@ -112,7 +113,7 @@ TEST(LaserTest, SeesTrolleyLegsWallsAndOtherRobots) {
   world.trolleys.push_back(trolley);
   std::unique_ptr<Simulation> sim = Make(world);
   ASSERT_TRUE(sim->AddRobot("omni", "mecanum-platform", Pose2(0, 0, 0)).ok());
-  ASSERT_TRUE(sim->AddRobot("car", "ackermann-delivery", Pose2(0, -3, M_PI / 2)).ok());
+  ASSERT_TRUE(sim->AddRobot("car", "ackermann-delivery", Pose2(0, -3, kPi / 2)).ok());
   absl::StatusOr<SensorFrame> frame = sim->Sense("omni");  // tick 0 is a laser tick
   ASSERT_TRUE(frame.ok());
   ASSERT_EQ(frame->lasers.size(), 1u);
@@ -134,7 +135,7 @@ TEST(LaserTest, SeesTrolleyLegsWallsAndOtherRobots) {
     best = std::min(best, range_at(a));
   EXPECT_NEAR(best, leg_distance, 0.05);
   // Down and to the right: the Ackermann robot's body (its front at y = -3 + 0.75).
-  EXPECT_LT(range_at(-M_PI / 2 - 0.12), 3.0);
+  EXPECT_LT(range_at(-kPi / 2 - 0.12), 3.0);
   // Not a laser tick: no scan.
   sim->Advance();
   EXPECT_TRUE(sim->Sense("omni")->lasers.empty());

@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/sim/simulation.hpp"
 #include "fleetnav/sim/world_rasterizer.hpp"
 #include "sim_test_util.hpp"
@@ -95,15 +96,15 @@ TEST(WorldFaultsTest, CaseAHidesTheCornerAndCaseCTheArcStripe) {
     std::unique_ptr<Simulation> sim = Make(world);
     const Eigen::Vector2d arc = Eigen::Vector2d(-9, 6.9) + Eigen::Vector2d(-M_SQRT1_2, -M_SQRT1_2);
     const Eigen::Vector2d at = arc + 0.9 * Eigen::Vector2d(-M_SQRT1_2, -M_SQRT1_2);
-    const Pose2 sensor_pose(at.x(), at.y(), M_PI / 4);
-    const Pose2 base = sensor_pose * Pose2(1.57, 0.25, M_PI / 2).Inverse();
+    const Pose2 sensor_pose(at.x(), at.y(), kPi / 4);
+    const Pose2 base = sensor_pose * Pose2(1.57, 0.25, kPi / 2).Inverse();
     EXPECT_TRUE(sim->AddRobot("lely1", "lely-vector", base).ok());
     return Range(*sim->Sense("lely1"), "ultrasonic_left");
   };
   EXPECT_TRUE(corner(barn).echo);
   EXPECT_FALSE(corner(errors).echo);
   // Case C: the arc stripe 7 from (-10.5, 4.2) to (-10, 4.7); its midpoint is gone.
-  const Eigen::Vector2d mid(-10.0 - 0.5 * std::cos(M_PI / 4), 4.2 + 0.5 * std::sin(M_PI / 4));
+  const Eigen::Vector2d mid(-10.0 - 0.5 * std::cos(kPi / 4), 4.2 + 0.5 * std::sin(kPi / 4));
   auto over = [&](const WorldDescription& world, const Eigen::Vector2d& p) {
     std::unique_ptr<Simulation> sim = Make(world);
     // inductive_left at (0.485, 0.05) in base_link.
@@ -194,7 +195,7 @@ TEST(InjectFaultTest, WheelSlipMakesEncodersOverCount) {
     const RobotModel model = *sim->ModelOf("r");
     const SensorFrame frame = *sim->Sense("r");
     const double wheel_travel = static_cast<double>(frame.encoders[0].ticks) /
-                                model.encoder_ticks_per_rev * 2 * M_PI * model.wheel_radius_m;
+                                model.encoder_ticks_per_rev * 2 * kPi * model.wheel_radius_m;
     const double ground = sim->GroundTruth().robots[0].pose.x_m();
     EXPECT_NEAR(ground / wheel_travel, 0.8, 0.01) << kind;
   }

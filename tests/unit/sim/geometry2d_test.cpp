@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "fleetnav/core/angles.hpp"
+
 namespace fleetnav::sim {
 namespace {
 
@@ -19,7 +21,7 @@ TEST(Geometry2dTest, RayHitsBoxFaceWithOutwardNormal) {
 }
 
 TEST(Geometry2dTest, RayHitsRotatedBoxAndCircle) {
-  const Shape2 diamond = BoxShape({3, 0}, {std::sqrt(2.0), std::sqrt(2.0)}, M_PI / 4, 1.0, -1);
+  const Shape2 diamond = BoxShape({3, 0}, {std::sqrt(2.0), std::sqrt(2.0)}, kPi / 4, 1.0, -1);
   const auto hit = CastRay(diamond, {0, 0}, {1, 0}, 10.0);
   ASSERT_TRUE(hit.has_value());
   EXPECT_NEAR(hit->distance_m, 2.0, 1e-9);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <memory>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/sim/simulation.hpp"
 #include "sim_test_util.hpp"
 
@@ -67,8 +68,7 @@ TEST(KinematicRobotTest, OmniDrivesSidewaysAndEncodersMatchTheMotion) {
   const RobotModel model = MecanumPlatformModel();
   MecanumWheelRates revs;
   for (size_t i = 0; i < 4; ++i) {
-    revs[i] =
-        static_cast<double>(frame->encoders[i].ticks) / model.encoder_ticks_per_rev * 2 * M_PI;
+    revs[i] = static_cast<double>(frame->encoders[i].ticks) / model.encoder_ticks_per_rev * 2 * kPi;
   }
   const Twist2 travelled = MecanumForward(model, revs);  // wheel angles -> displacement
   EXPECT_NEAR(travelled.vy_mps, pose.y_m(), 0.002);

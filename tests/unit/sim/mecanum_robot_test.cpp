@@ -8,6 +8,7 @@
 #include <cmath>
 #include <memory>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/sim/simulation.hpp"
 #include "sim_test_util.hpp"
 
@@ -36,7 +37,7 @@ Eigen::Vector2d EncoderTravel(Simulation& sim) {
   MecanumWheelRates angles{};
   for (size_t i = 0; i < 4; ++i) {
     angles[i] =
-        static_cast<double>(frame->encoders[i].ticks) / model.encoder_ticks_per_rev * 2 * M_PI;
+        static_cast<double>(frame->encoders[i].ticks) / model.encoder_ticks_per_rev * 2 * kPi;
   }
   const Twist2 travel = MecanumForward(model, angles);
   return {travel.vx_mps, travel.vy_mps};
@@ -58,7 +59,7 @@ TEST(MecanumRobotTest, DrivesSidewaysAndForwardAndTheEncodersAgree) {
     EXPECT_NEAR(moved.dot(direction), 1.2, 0.06) << direction.transpose();
     EXPECT_LT(std::abs(moved.dot(Eigen::Vector2d(-direction.y(), direction.x()))), 0.03)
         << direction.transpose();
-    EXPECT_NEAR(std::remainder(end.yaw_rad() - settled.yaw_rad(), 2 * M_PI), 0.0, 0.02);
+    EXPECT_NEAR(std::remainder(end.yaw_rad() - settled.yaw_rad(), 2 * kPi), 0.0, 0.02);
     // Without reversals the rollers creep little: the encoders know where the platform went
     // within 2.5 %.
     EXPECT_LT((EncoderTravel(*sim) - moved).norm(), 0.03) << direction.transpose();
@@ -71,12 +72,12 @@ TEST(MecanumRobotTest, CastersTrailTheMotionAndSwingRoundWhenItReverses) {
   ASSERT_TRUE(sim->AddRobot("omni", "mecanum-platform", Pose2(0, 0, 0)).ok());
   const auto& body = dynamic_cast<const MecanumRobot&>(*sim->BodyOf("omni"));
   Drive(*sim, 0.0, 0.2, 2.0);  // to the left: each caster's axis leads its contact
-  for (int i = 0; i < 4; ++i) EXPECT_NEAR(body.caster_angle_rad(i), M_PI_2, 0.1) << i;
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(body.caster_angle_rad(i), (kPi / 2), 0.1) << i;
   Drive(*sim, 0.0, 0.0, 1.0);
   Drive(*sim, 0.0, -0.2, 4.0);
   for (int i = 0; i < 4; ++i) {
-    EXPECT_NEAR(body.caster_angle_rad(i), -M_PI_2, 0.1) << i;
-    EXPECT_NEAR(std::abs(body.caster_swivel_turned_rad(i) - M_PI_2), M_PI, 0.1) << i;
+    EXPECT_NEAR(body.caster_angle_rad(i), -(kPi / 2), 0.1) << i;
+    EXPECT_NEAR(std::abs(body.caster_swivel_turned_rad(i) - (kPi / 2)), kPi, 0.1) << i;
   }
 }
 
@@ -92,7 +93,7 @@ std::pair<double, double> StrayOfSecondMove(uint64_t seed, double before_vy_mps)
   Drive(*sim, 0.0, 0.0, 1.0);
   const Pose2 after = Truth(*sim);
   return {std::abs(after.x_m() - before.x_m()),
-          std::abs(std::remainder(after.yaw_rad() - before.yaw_rad(), 2 * M_PI))};
+          std::abs(std::remainder(after.yaw_rad() - before.yaw_rad(), 2 * kPi))};
 }
 
 TEST(MecanumRobotTest, AReversalPushesThePlatformAsideWhileTheCastersSwingRound) {

@@ -12,6 +12,7 @@
 #include "absl/time/clock.h"
 #include "absl/time/time.h"
 #include "call_internal.hpp"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
 #include "fleetnav/ctl/commands.hpp"
@@ -216,7 +217,7 @@ absl::StatusOr<std::string> SubmitJob(const CommandContext& context, const Submi
     v1::Pose2* goal = request.mutable_goal()->mutable_goal();
     goal->set_x_m(options.goal[0]);
     goal->set_y_m(options.goal[1]);
-    goal->set_yaw_rad(options.goal[2] * M_PI / 180.0);
+    goal->set_yaw_rad(options.goal[2] * kPi / 180.0);
   }
   request.set_robot_id(options.robot_id);
   request.set_priority(options.priority);

@@ -7,6 +7,7 @@
 
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/map_io.hpp"
 
 namespace fleetnav::ctl {
@@ -120,7 +121,7 @@ void DrawRoute(cairo_t* cr, const PixelFrame& frame, const Route& route,
       const Eigen::Vector2d goal = nav->goal.translation();
       visit(goal);
       const Eigen::Vector2d pixel = frame.ToPixel(goal);
-      cairo_arc(cr, pixel.x(), pixel.y(), 4.0, 0, 2 * M_PI);
+      cairo_arc(cr, pixel.x(), pixel.y(), 4.0, 0, 2 * kPi);
       cairo_fill(cr);
       const double tick_m = std::max(0.3, 10.0 / frame.Pixels(1.0));
       frame.MoveTo(cr, goal);

@@ -7,6 +7,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "call_internal.hpp"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/ctl/commands.hpp"
 #include "fleetnav/ctl/table.hpp"
 #include "fleetnav/proto/grpc_status.hpp"
@@ -58,7 +59,7 @@ nlohmann::json RobotJson(const v1::RobotState& robot) {
 
 std::string PoseCell(const v1::RobotState& robot) {
   const v1::Pose2& p = robot.last_telemetry().pose_in_map().pose();
-  return absl::StrFormat("(%7.3f, %7.3f, %6.1f°)", p.x_m(), p.y_m(), p.yaw_rad() * 180.0 / M_PI);
+  return absl::StrFormat("(%7.3f, %7.3f, %6.1f°)", p.x_m(), p.y_m(), p.yaw_rad() * 180.0 / kPi);
 }
 
 }  // namespace

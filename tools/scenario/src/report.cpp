@@ -3,6 +3,7 @@
 #include <ostream>
 
 #include "absl/strings/str_format.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/scenario/scenario_runner.hpp"
 
 namespace fleetnav::scenario {
@@ -22,7 +23,7 @@ void PrintReport(const ScenarioReport& report, std::ostream& out) {
     out << absl::StrFormat("%-8s %5d %11.2f %10.1f %15.3f %9d  (%.2f, %.2f, %.1f°)\n",
                            robot.robot_id, robot.jobs, robot.distance_m, robot.waiting_s,
                            robot.max_loc_error_m, robot.contacts, robot.final_pose.x_m(),
-                           robot.final_pose.y_m(), robot.final_pose.yaw_rad() * 180.0 / M_PI);
+                           robot.final_pose.y_m(), robot.final_pose.yaw_rad() * 180.0 / kPi);
   }
   for (const RobotFigures& robot : report.robots) {
     for (const std::string& wait : robot.waits) {

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/planner/trajectory/spline.hpp"
 
 namespace fleetnav::agent {
@@ -12,7 +13,7 @@ absl::Status MoveParams::Validate() const {
   if (!(augment_radius_m > 0.0) || !std::isfinite(augment_radius_m)) {
     return absl::InvalidArgumentError("move.augment_radius_m: must be finite and > 0");
   }
-  if (!(augment_max_turn_rad > 0.0 && augment_max_turn_rad <= M_PI)) {
+  if (!(augment_max_turn_rad > 0.0 && augment_max_turn_rad <= kPi)) {
     return absl::InvalidArgumentError("move.augment_max_turn_rad: must be in (0, pi]");
   }
   if (!(sample_spacing_m > 0.0) || !std::isfinite(sample_spacing_m)) {
@@ -21,7 +22,7 @@ absl::Status MoveParams::Validate() const {
   if (!(gate_max_offset_m >= 0.0) || !std::isfinite(gate_max_offset_m)) {
     return absl::InvalidArgumentError("move.gate_max_offset_m: must be finite and >= 0");
   }
-  if (!(gate_max_angle_rad >= 0.0 && gate_max_angle_rad <= M_PI / 2)) {
+  if (!(gate_max_angle_rad >= 0.0 && gate_max_angle_rad <= kPi / 2)) {
     return absl::InvalidArgumentError("move.gate_max_angle_rad: must be in [0, pi/2]");
   }
   if (gate_scans < 1) return absl::InvalidArgumentError("move.gate_scans: must be >= 1");

@@ -37,7 +37,7 @@ namespace {
 /// How far apart two trolley axes are, either way round (a trolley is symmetric): [0, π/2].
 double AxisDifference(double a_rad, double b_rad) {
   const double d = std::abs(AngleDifference(a_rad, b_rad));
-  return std::min(d, M_PI - d);
+  return std::min(d, kPi - d);
 }
 
 }  // namespace
@@ -81,9 +81,9 @@ std::optional<Pose2> TrolleyDockingController::Measure(const ControlInput& input
     best_distance_m = distance_m;
   }
   if (best && trolley_in_odom_ &&
-      std::abs(AngleDifference(best->yaw_rad(), trolley_in_odom_->yaw_rad())) > M_PI_2) {
+      std::abs(AngleDifference(best->yaw_rad(), trolley_in_odom_->yaw_rad())) > (kPi / 2)) {
     // Keep to the trolley's x axis as first found; it may be measured either way round.
-    best = Pose2(best->x_m(), best->y_m(), best->yaw_rad() + M_PI);
+    best = Pose2(best->x_m(), best->y_m(), best->yaw_rad() + kPi);
   }
   return best;
 }

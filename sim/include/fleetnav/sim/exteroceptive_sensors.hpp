@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/core/sensor_frame.hpp"
 #include "fleetnav/sim/geometry2d.hpp"
@@ -14,7 +15,7 @@
 
 namespace fleetnav::sim {
 
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+constexpr double kDegToRad = kPi / 180.0;
 
 /// Ultrasonic range sensor (Lely thesis ch. 3): a cone of rays; the nearest echo counts.
 struct UltrasonicParams {

@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/planner/coordination/traffic_dependencies.hpp"
 
 namespace fleetnav::planner {
@@ -23,7 +24,7 @@ TEST(KinematicTrafficTest, OnlyFleetsWithADifferentialRobotAndAtMostTwelveUseIt)
 TEST(KinematicTrafficTest, TwoRobotsSwapEndsOfAHallWithoutSharingACellAtOnce) {
   const std::vector<TrafficAgent> agents = {
       {"lely", "lely-vector", Pose2(3.0, 3.5, 0.0), Pose2(17.0, 3.5, 0.0)},
-      {"omni", "mecanum-platform", Pose2(17.0, 3.5, M_PI), Pose2(3.0, 3.5, M_PI)}};
+      {"omni", "mecanum-platform", Pose2(17.0, 3.5, kPi), Pose2(3.0, 3.5, kPi)}};
   const absl::StatusOr<TrafficPlan> plan = PlanKinematicTraffic(
       Hall(), agents, {LelyVectorModel(), MecanumPlatformModel()}, /*time_limit_s=*/5.0);
   ASSERT_TRUE(plan.ok()) << plan.status();
@@ -54,7 +55,7 @@ TEST(KinematicTrafficTest, TwoRobotsSwapEndsOfAHallWithoutSharingACellAtOnce) {
 TEST(KinematicTrafficTest, GoalsThatOverlapAreRefusedNamingTheAgent) {
   const std::vector<TrafficAgent> agents = {
       {"a", "lely-vector", Pose2(3.0, 3.5, 0.0), Pose2(10.0, 3.5, 0.0)},
-      {"b", "lely-vector", Pose2(17.0, 3.5, M_PI), Pose2(10.2, 3.5, M_PI)}};
+      {"b", "lely-vector", Pose2(17.0, 3.5, kPi), Pose2(10.2, 3.5, kPi)}};
   const absl::StatusOr<TrafficPlan> plan =
       PlanKinematicTraffic(Hall(), agents, {LelyVectorModel(), LelyVectorModel()}, 5.0);
   EXPECT_EQ(plan.status().code(), absl::StatusCode::kInvalidArgument);

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "fleetnav/core/angles.hpp"
+
 namespace fleetnav::planner {
 namespace {
 
@@ -12,7 +14,7 @@ PredictedAction Corner(double length_m) {
   PredictedAction action;
   for (double x = 0.0; x <= length_m + 1e-9; x += 0.1) action.poses.emplace_back(x, 0.0, 0.0);
   for (double y = 0.1; y <= length_m + 1e-9; y += 0.1) {
-    action.poses.emplace_back(length_m, y, M_PI / 2);
+    action.poses.emplace_back(length_m, y, kPi / 2);
   }
   action.duration_s = 2.0 * length_m;
   return action;
@@ -36,7 +38,7 @@ TEST(RouteSegmentsTest, AnActionIsCutIntoSegmentsThatChainWithGatesAlongTheWay) 
   EXPECT_NEAR(segments[0].gate->x_m(), 1.5, 0.11);
   EXPECT_NEAR(segments[0].gate->yaw_rad(), 0.0, 1e-6);
   EXPECT_NEAR(segments[4].gate->x_m(), 5.0, 1e-9);
-  EXPECT_NEAR(segments[4].gate->yaw_rad(), M_PI / 2, 1e-6);
+  EXPECT_NEAR(segments[4].gate->yaw_rad(), kPi / 2, 1e-6);
 }
 
 TEST(RouteSegmentsTest, ShortActionsTurnsAndWholeActionOrderingAreOneSegment) {

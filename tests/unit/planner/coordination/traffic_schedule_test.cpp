@@ -7,6 +7,7 @@
 #include <random>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/planner/coordination/route_prediction.hpp"
 
 namespace fleetnav::planner {
@@ -396,8 +397,8 @@ TEST(TrafficScheduleTest, RandomDelaysOnSegmentedRoutesNeverCollideOrDeadlock) {
 TEST(TrafficScheduleTest, RandomDelaysInACorridorDrivenBothWaysNeverCollideOrDeadlock) {
   int waited = 0;
   const auto street = [](bool east_end, int i) -> Eigen::Vector2d {
-    const double fan = (-60.0 + 40.0 * i) * M_PI / 180.0;
-    const double angle = east_end ? fan : M_PI - fan;
+    const double fan = (-60.0 + 40.0 * i) * kPi / 180.0;
+    const double angle = east_end ? fan : kPi - fan;
     return Eigen::Vector2d(east_end ? 20.0 : 0.0, 0.0) +
            8.0 * Eigen::Vector2d(std::cos(angle), std::sin(angle));
   };
@@ -433,22 +434,21 @@ class StraightLinePlanner : public SingleRobotPlanner {
 
 TEST(RoutePredictionTest, AWaypointWithAYawIsReachedAtItAndOthersFaceTheNextPoint) {
   StraightLinePlanner planner;
-  absl::StatusOr<WaypointPath> path =
-      PlanThroughWaypoints(planner, Pose2(), Pose2(0, 0, 0), {{2, 0}, {2, 2}}, Pose2(4, 2, 0), 1.0,
-                           {std::nullopt, M_PI});
+  absl::StatusOr<WaypointPath> path = PlanThroughWaypoints(
+      planner, Pose2(), Pose2(0, 0, 0), {{2, 0}, {2, 2}}, Pose2(4, 2, 0), 1.0, {std::nullopt, kPi});
   ASSERT_TRUE(path.ok()) << path.status();
   ASSERT_EQ(planner.requests.size(), 3u);
-  EXPECT_NEAR(planner.requests[0].goal.yaw_rad(), M_PI_2, 1e-12);  // faces (2, 2)
+  EXPECT_NEAR(planner.requests[0].goal.yaw_rad(), (kPi / 2), 1e-12);  // faces (2, 2)
   EXPECT_NEAR(planner.requests[0].goal_tolerance_rad, 0.8, 1e-12);
-  EXPECT_NEAR(planner.requests[1].goal.yaw_rad(), M_PI, 1e-12);  // as the route says
+  EXPECT_NEAR(planner.requests[1].goal.yaw_rad(), kPi, 1e-12);  // as the route says
   EXPECT_NEAR(planner.requests[1].goal_tolerance_rad, 0.1, 1e-12);
   // And the route's move action is predicted sideways with the heading held.
   fleetnav::Route route;
   route.actions.push_back({MoveAction{0.0, 1.5, 0.3}, {}});
   absl::StatusOr<std::vector<PredictedAction>> predicted =
-      PredictRoute(route, Pose2(1, 1, M_PI_2), nullptr, nullptr, Pose2());
+      PredictRoute(route, Pose2(1, 1, (kPi / 2)), nullptr, nullptr, Pose2());
   ASSERT_TRUE(predicted.ok()) << predicted.status();
-  EXPECT_TRUE(predicted->at(0).poses.back().IsNear(Pose2(-0.5, 1, M_PI_2), 1e-9, 1e-9));
+  EXPECT_TRUE(predicted->at(0).poses.back().IsNear(Pose2(-0.5, 1, (kPi / 2)), 1e-9, 1e-9));
   EXPECT_NEAR(predicted->at(0).duration_s, 5.0, 1e-9);
 
   // A trolley dock goes before the trolley's nearer end and under it to its centre.
@@ -481,9 +481,9 @@ TEST(RoutePredictionTest, LegsChainFromTheStartAlongStripesAndTurns) {
   markers.markers.push_back(stripe);
   fleetnav::Route route;
   route.actions.push_back({StraightAction{2.0, 0.5}, {}});
-  route.actions.push_back({TurnAction{M_PI / 2, 0.5}, {}});
+  route.actions.push_back({TurnAction{kPi / 2, 0.5}, {}});
   route.actions.push_back({StraightAction{2.0, 0.5}, {}});
-  route.actions.push_back({TurnAction{-M_PI / 2, 0.5}, {}});
+  route.actions.push_back({TurnAction{-kPi / 2, 0.5}, {}});
   route.actions.push_back({StripeNavigationAction{3, 0.0, 0.25}, {EndConditionKind::kStripeEnd}});
   absl::StatusOr<std::vector<PredictedAction>> predicted =
       PredictRoute(route, Pose2(0, 0, 0), &markers, nullptr, Pose2());
@@ -491,8 +491,8 @@ TEST(RoutePredictionTest, LegsChainFromTheStartAlongStripesAndTurns) {
   ASSERT_EQ(predicted->size(), 5u);
   EXPECT_TRUE(predicted->at(0).poses.back().IsNear(Pose2(2, 0, 0), 1e-9, 1e-9));
   EXPECT_NEAR(predicted->at(0).duration_s, 4.0, 1e-9);
-  EXPECT_NEAR(predicted->at(1).duration_s, M_PI, 1e-9);
-  EXPECT_TRUE(predicted->at(2).poses.back().IsNear(Pose2(2, 2, M_PI / 2), 1e-9, 1e-9));
+  EXPECT_NEAR(predicted->at(1).duration_s, kPi, 1e-9);
+  EXPECT_TRUE(predicted->at(2).poses.back().IsNear(Pose2(2, 2, kPi / 2), 1e-9, 1e-9));
   EXPECT_TRUE(predicted->at(4).poses.back().IsNear(Pose2(8, 2, 0), 1e-9, 1e-9));
   EXPECT_NEAR(predicted->at(4).duration_s, 6.0 / 0.25, 1e-6);
   for (const PredictedAction& action : *predicted) {

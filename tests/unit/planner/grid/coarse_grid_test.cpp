@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "fleetnav/core/angles.hpp"
+
 namespace fleetnav::planner {
 namespace {
 
@@ -33,7 +35,7 @@ TEST(CoarseGridTest, CellsAreAWholeNumberOfMapCellsAndPartialCellsAtTheEdgeAreDr
 }
 
 TEST(CoarseGridTest, CellsFollowARotatedOrigin) {
-  const CoarseGrid coarse = Coarsen(OpenGrid(20, 20, 0.1, Pose2(5.0, -1.0, M_PI / 2)), 0.5);
+  const CoarseGrid coarse = Coarsen(OpenGrid(20, 20, 0.1, Pose2(5.0, -1.0, kPi / 2)), 0.5);
   const Eigen::Vector2d centre = coarse.CenterOf(1, 2);
   // Map x runs along world +y, map y along world -x.
   EXPECT_NEAR(centre.x(), 5.0 - 1.25, 1e-9);

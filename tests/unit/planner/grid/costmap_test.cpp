@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/robot_model.hpp"
 
 namespace fleetnav::planner {
@@ -47,10 +48,10 @@ TEST(CostmapTest, ElongatedFootprintDependsOnYaw) {
   grid.SetValue({26, 20}, OccupancyGrid::kOccupiedValue);  // 0.6 m ahead of cell (20, 20)
   absl::StatusOr<Costmap> map = Costmap::Build(grid, Rectangle(0.8, 0.2, 0.15), CostmapParams{});
   ASSERT_TRUE(map.ok()) << map.status();
-  EXPECT_FALSE(map->FootprintFree(20, 20, 0.0));      // nose over the obstacle
-  EXPECT_TRUE(map->FootprintFree(20, 20, M_PI / 2));  // turned away
-  EXPECT_TRUE(map->FootprintFree(20, 20, M_PI));      // short tail side is 0.2 m
-  EXPECT_FALSE(map->FootprintFree(26, 20, 1.0));      // on the obstacle
+  EXPECT_FALSE(map->FootprintFree(20, 20, 0.0));     // nose over the obstacle
+  EXPECT_TRUE(map->FootprintFree(20, 20, kPi / 2));  // turned away
+  EXPECT_TRUE(map->FootprintFree(20, 20, kPi));      // short tail side is 0.2 m
+  EXPECT_FALSE(map->FootprintFree(26, 20, 1.0));     // on the obstacle
   // A circle through the inscribed radius would miss the nose: the test is not circular.
   EXPECT_LT(map->inscribed_radius_m(), 0.6);
   EXPECT_NEAR(map->DistanceToObstacle_m(20, 20), 0.6, 1e-6);
@@ -94,7 +95,7 @@ TEST(CostmapTest, NeverCallsAPoseFreeWhenAnObstacleCellCentreIsUnderTheFootprint
     int collisions = 0;
     for (int trial = 0; trial < 300; ++trial) {
       const int x = inner(rng), y = inner(rng);
-      const double yaw = 2 * M_PI * bin(rng) / 16;
+      const double yaw = 2 * kPi * bin(rng) / 16;
       bool exact_hit = false;
       const double c = std::cos(yaw), s = std::sin(yaw);
       for (int oy = 0; oy < 80 && !exact_hit; ++oy) {

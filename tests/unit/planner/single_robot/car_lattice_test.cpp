@@ -63,7 +63,7 @@ TEST(BodyClearanceTest, NeverOverstatesAndIsCloseBesideTheBody) {
   // 10 cm off the middle: 10 cm less.
   EXPECT_NEAR(clearance.At(Pose2(9.7, 6.1, 0.0)), centred - 0.1, kResolutionM);
   // Across the gap at 30°: its corners come near the boxes.
-  EXPECT_LT(clearance.At(Pose2(9.7, 6.0, M_PI / 6.0)), centred - 0.1);
+  EXPECT_LT(clearance.At(Pose2(9.7, 6.0, kPi / 6.0)), centred - 0.1);
   // Touching: nothing positive.
   EXPECT_LE(clearance.At(Pose2(9.7, 6.35, 0.0)), 0.0);
   // Far from everything.
@@ -84,7 +84,7 @@ GapCrossing Crossing(const PathResult& path, const BodyClearance& clearance) {
     out.least_clearance_m = std::min(out.least_clearance_m, clearance.At(p));
     const double middle_x = p.x_m() + 0.3 * std::cos(p.yaw_rad());
     if (std::abs(middle_x - 10.0) > 0.3) continue;
-    out.yaw_at_row_rad = std::max(out.yaw_at_row_rad, std::abs(std::remainder(p.yaw_rad(), M_PI)));
+    out.yaw_at_row_rad = std::max(out.yaw_at_row_rad, std::abs(std::remainder(p.yaw_rad(), kPi)));
   }
   return out;
 }
@@ -127,7 +127,7 @@ TEST(CarLatticeTest, PassesAGapWithAFifthOfItsWidthASideInTheMiddleAlongItsAxis)
 TEST(CarLatticeTest, ReachesAGoalYawBetweenHeadingBinsExactly) {
   const RobotModel car = AckermannDeliveryModel();
   const Costmap costmap = CostmapOf(RowWithOneGap(1.2, 6.0), car);
-  const Pose2 goal(5.0, 2.5, -100.0 * M_PI / 180.0);  // between 32 bins of 11.25°
+  const Pose2 goal(5.0, 2.5, -100.0 * kPi / 180.0);  // between 32 bins of 11.25°
   const PathResult path = Plan(CarLatticeParams(), costmap, Pose2(2.0, 8.0, 0.0), goal);
   EXPECT_TRUE(path.poses.back().IsNear(goal, 1e-6, 1e-6));
   // Without the analytic expansion it ends within the request's tolerance only.
@@ -161,7 +161,7 @@ TEST(CarLatticeTest, ACuspCostsSoTheCarTurnsRoundForwardWhereThereIsRoom) {
   const RobotModel car = AckermannDeliveryModel();
   const Costmap costmap = CostmapOf(RowWithOneGap(1.2, 6.0), car);
   const Pose2 start(5.0, 6.0, 0.0);
-  const Pose2 goal(3.0, 6.0, M_PI);
+  const Pose2 goal(3.0, 6.0, kPi);
   LatticeParams params = CarLatticeParams();
   params.analytic_every = 0;  // the lattice's own choice, without the Reeds-Shepp shot
   EXPECT_EQ(Cusps(Plan(params, costmap, start, goal)), 0);
@@ -268,7 +268,7 @@ TEST(PlatformLatticeTest, ACarriedTrolleyPassesANarrowAisleAlongItFromAnyStartYa
   EXPECT_LT(path.expanded, 500'000);
   for (const Pose2& p : path.poses) {
     if (p.x_m() > 7.0 && p.x_m() < 13.0) {
-      EXPECT_NEAR(std::abs(std::remainder(p.yaw_rad(), M_PI)), 0.0, 1e-6) << p.DebugString();
+      EXPECT_NEAR(std::abs(std::remainder(p.yaw_rad(), kPi)), 0.0, 1e-6) << p.DebugString();
     }
   }
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stop_token>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/planner/single_robot/ompl_omni_planner.hpp"
 #include "fleetnav/planner/single_robot/ompl_reeds_shepp_planner.hpp"
@@ -24,7 +25,7 @@ PathRequest DoorRequest() {
   PathRequest req;
   // Both beside the wall at y = 14.5 m: the way round goes through the door.
   req.start = Pose2(3.0, 14.5, 0.0);
-  req.goal = Pose2(21.0, 14.5, M_PI / 2);
+  req.goal = Pose2(21.0, 14.5, kPi / 2);
   req.time_limit_s = 5.0;
   return req;
 }

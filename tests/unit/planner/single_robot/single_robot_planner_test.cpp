@@ -9,6 +9,7 @@
 #include <string>
 
 #include "absl/strings/str_cat.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/planner/single_robot/planner_factory.hpp"
 #include "test_maps.hpp"
@@ -16,7 +17,7 @@
 namespace fleetnav::planner {
 namespace {
 
-double AngleDiff(double a, double b) { return std::remainder(a - b, 2.0 * M_PI); }
+double AngleDiff(double a, double b) { return std::remainder(a - b, 2.0 * kPi); }
 
 using testing::DoorGrid;
 
@@ -75,7 +76,7 @@ void ExpectValidPath(const std::string& label, const RobotModel& model, Costmap&
         const double mid = a.yaw_rad() + 0.5 * dyaw;
         const double off = AngleDiff(std::atan2(d.y(), d.x()), mid);
         const bool forward = std::abs(off) < 1e-6;
-        const bool backward = std::abs(std::abs(off) - M_PI) < 1e-6;
+        const bool backward = std::abs(std::abs(off) - kPi) < 1e-6;
         EXPECT_TRUE(forward || (backward && model.limits.max_reverse_speed_mps > 0.0))
             << label << " moves sideways at pose " << i << " (" << off << " rad)";
         break;
@@ -100,10 +101,10 @@ TEST_P(PlannerConformanceTest, CollisionFreeWithinToleranceAndKinematicallyValid
   ASSERT_TRUE(checker.ok());
 
   const std::vector<std::pair<Pose2, Pose2>> requests = {
-      {Pose2(5.0, 8.0, 0.0), Pose2(19.0, 8.0, 0.0)},          // through the door
-      {Pose2(5.0, 5.0, M_PI), Pose2(19.0, 11.0, M_PI / 2)},   // starts facing away
-      {Pose2(19.0, 12.0, -M_PI / 2), Pose2(4.0, 4.0, M_PI)},  // back again
-      {Pose2(3.0, 13.5, 0.0), Pose2(21.0, 13.5, 0.0)},        // round the wall
+      {Pose2(5.0, 8.0, 0.0), Pose2(19.0, 8.0, 0.0)},        // through the door
+      {Pose2(5.0, 5.0, kPi), Pose2(19.0, 11.0, kPi / 2)},   // starts facing away
+      {Pose2(19.0, 12.0, -kPi / 2), Pose2(4.0, 4.0, kPi)},  // back again
+      {Pose2(3.0, 13.5, 0.0), Pose2(21.0, 13.5, 0.0)},      // round the wall
   };
   int exact = 0, runs = 0;
   for (int seed = 1; seed <= GetParam().seeds; ++seed) {

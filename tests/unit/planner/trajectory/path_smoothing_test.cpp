@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/planner/single_robot/ompl_omni_planner.hpp"
 #include "test_maps.hpp"
@@ -13,7 +14,7 @@
 namespace fleetnav::planner {
 namespace {
 
-double AngleDiff(double a, double b) { return std::remainder(a - b, 2.0 * M_PI); }
+double AngleDiff(double a, double b) { return std::remainder(a - b, 2.0 * kPi); }
 
 OccupancyGrid OpenGrid() {
   return OccupancyGrid::Filled(100, 100, 0.1, Pose2(), OccupancyGrid::kFreeValue).value();
@@ -111,7 +112,7 @@ TEST(SmoothPathTest, SidewaysAndBackBendsRoundInsteadOfReversing) {
   EXPECT_NEAR((t->points.back().position_m - Eigen::Vector2d(5, 4)).norm(), 0.0, 1e-9);
   // Without the augmentation the same spline flips its direction by ~180° at one sample.
   SmoothingParams plain;
-  plain.augment_max_turn_rad = M_PI;
+  plain.augment_max_turn_rad = kPi;
   absl::StatusOr<Trajectory> flip = SmoothPath(path, &costmap, model, plain);
   ASSERT_TRUE(flip.ok());
   EXPECT_GT(MaxMovingHeadingJump(*flip), 2.5);
@@ -123,7 +124,7 @@ TEST(SmoothPathTest, PlannedOmniPathsStayCollisionFreeWithinLimits) {
   Costmap checker = Costmap::Build(testing::DoorGrid(), model.footprint_m, CostmapParams{}).value();
   PathRequest req;
   req.start = Pose2(3.0, 14.5, 0.0);
-  req.goal = Pose2(21.0, 14.5, M_PI / 2);
+  req.goal = Pose2(21.0, 14.5, kPi / 2);
   req.time_limit_s = 5.0;
   for (uint32_t seed = 1; seed <= 5; ++seed) {
     OmplPlannerParams params;

@@ -7,12 +7,13 @@
 #include <memory>
 #include <string>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/robot_model.hpp"
 
 namespace fleetnav::planner {
 namespace {
 
-double AngleDiff(double a, double b) { return std::remainder(a - b, 2.0 * M_PI); }
+double AngleDiff(double a, double b) { return std::remainder(a - b, 2.0 * kPi); }
 
 PathResult Path(const std::vector<Pose2>& poses) {
   PathResult r;
@@ -46,7 +47,7 @@ void ExpectWithinLimits(const Trajectory& t, const MotionLimits& limits) {
 TEST(PathTimingTest, LelyStopsToTurnInPlaceAndNeverReverses) {
   const RobotModel lely = RobotModelByKind("lely-vector").value();
   const Trajectory t =
-      TimePath(Path({Pose2(0, 0, 0), Pose2(2, 0, 0), Pose2(2, 0, M_PI / 2), Pose2(2, 1, M_PI / 2)}),
+      TimePath(Path({Pose2(0, 0, 0), Pose2(2, 0, 0), Pose2(2, 0, kPi / 2), Pose2(2, 1, kPi / 2)}),
                lely)
           .value();
   ExpectWithinLimits(t, lely.limits);
@@ -62,19 +63,18 @@ TEST(PathTimingTest, LelyStopsToTurnInPlaceAndNeverReverses) {
   EXPECT_TRUE(stopped_at_corner);
   EXPECT_NEAR(t.points.back().position_m.x(), 2.0, 1e-9);
   EXPECT_NEAR(t.points.back().position_m.y(), 1.0, 1e-9);
-  EXPECT_NEAR(AngleDiff(t.points.back().yaw_rad, M_PI / 2), 0.0, 1e-9);
+  EXPECT_NEAR(AngleDiff(t.points.back().yaw_rad, kPi / 2), 0.0, 1e-9);
   // At least the time of the distance at top speed plus the turn at top yaw rate.
-  const double lower =
-      3.0 / lely.limits.max_speed_mps + (M_PI / 2) / lely.limits.max_yaw_rate_radps;
+  const double lower = 3.0 / lely.limits.max_speed_mps + (kPi / 2) / lely.limits.max_yaw_rate_radps;
   EXPECT_GT(t.points.back().t_s, lower);
 }
 
 TEST(PathTimingTest, AckermannSlowsOnTheArcAndStopsToReverse) {
   const RobotModel car = RobotModelByKind("ackermann-delivery").value();
   const double radius = car.wheelbase_m / std::tan(car.limits.max_steering_rad);
-  const Pose2 end_of_arc(radius, radius, M_PI / 2);
+  const Pose2 end_of_arc(radius, radius, kPi / 2);
   const Trajectory t =
-      TimePath(Path({Pose2(0, 0, 0), end_of_arc, Pose2(radius, radius - 1.0, M_PI / 2)}), car)
+      TimePath(Path({Pose2(0, 0, 0), end_of_arc, Pose2(radius, radius - 1.0, kPi / 2)}), car)
           .value();
   ExpectWithinLimits(t, car.limits);
   bool stopped_to_reverse = false, reversed = false;
@@ -82,7 +82,7 @@ TEST(PathTimingTest, AckermannSlowsOnTheArcAndStopsToReverse) {
     if ((p.position_m - end_of_arc.translation()).norm() < 1e-9) {
       stopped_to_reverse |= p.speed_mps == 0.0;
     }
-    if (p.speed_mps > 0.0 && std::abs(AngleDiff(p.heading_rad, p.yaw_rad + M_PI)) < 1e-9) {
+    if (p.speed_mps > 0.0 && std::abs(AngleDiff(p.heading_rad, p.yaw_rad + kPi)) < 1e-9) {
       reversed = true;
       EXPECT_LE(p.speed_mps, car.limits.max_reverse_speed_mps * (1 + 1e-9));
     }

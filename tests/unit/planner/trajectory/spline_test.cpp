@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "fleetnav/core/angles.hpp"
+
 namespace fleetnav::planner {
 namespace {
 
@@ -59,15 +61,15 @@ TEST(EndpointAugmentationTest, SidewaysAndBackNoLongerReversesOnTheSpot) {
   const std::vector<Eigen::Vector2d> knots = {{0, 0}, {0, 1}, {0, 0}};
   absl::StatusOr<CubicSpline> plain = CubicSpline::Create(knots, {0, 1}, {0, -1});
   ASSERT_TRUE(plain.ok());
-  EXPECT_GT(MaxDirectionJump(plain->Sample(200)), M_PI * 0.9);  // a 180° flip
-  const std::vector<Eigen::Vector2d> augmented = AugmentEndpoints(knots, 0.2, M_PI / 2);
+  EXPECT_GT(MaxDirectionJump(plain->Sample(200)), kPi * 0.9);  // a 180° flip
+  const std::vector<Eigen::Vector2d> augmented = AugmentEndpoints(knots, 0.2, kPi / 2);
   ASSERT_EQ(augmented.size(), 4u);
   EXPECT_EQ(augmented[1], knots[1]);  // the scan end point is still visited
   absl::StatusOr<CubicSpline> smooth = CubicSpline::Create(augmented, {0, 1}, {0, -1});
   ASSERT_TRUE(smooth.ok());
   EXPECT_LT(MaxDirectionJump(smooth->Sample(200)), 0.2);
   // Gentle corners are left alone.
-  EXPECT_EQ(AugmentEndpoints({{0, 0}, {1, 0}, {2, 0.5}}, 0.2, M_PI / 2).size(), 3u);
+  EXPECT_EQ(AugmentEndpoints({{0, 0}, {1, 0}, {2, 0.5}}, 0.2, kPi / 2).size(), 3u);
 }
 
 TEST(TimeParameterizeTest, RespectsSpeedYawRateAndAccelerationAndRestsAtTheEnds) {
@@ -97,7 +99,7 @@ TEST(TimeParameterizeTest, RespectsSpeedYawRateAndAccelerationAndRestsAtTheEnds)
       const double turn = std::abs(std::remainder(
           std::atan2(c.y() - b.position_m.y(), c.x() - b.position_m.x()) -
               std::atan2(b.position_m.y() - a.position_m.y(), b.position_m.x() - a.position_m.x()),
-          2 * M_PI));
+          2 * kPi));
       const double arc = 0.5 * (ds + (c - b.position_m).norm());
       EXPECT_LE(b.speed_mps * turn / arc, limits.max_yaw_rate_radps + 1e-9);
     }

@@ -149,7 +149,7 @@ TEST(RouteExecutorTest, AGateOfAnotherActionOrBehindTheRobotsWayDoesNotHoldIt) {
   // A gate facing the other way (a path that comes back past it) is not this way's gate.
   RouteExecutor back(MakeRoute({Act(StraightAction{4.0, 0.5})}), Lely());
   back.SetClearedUpTo(0);
-  back.SetHold(SegmentHold{0, 0, Pose2(2.0, 0.5, M_PI)});
+  back.SetHold(SegmentHold{0, 0, Pose2(2.0, 0.5, kPi)});
   EXPECT_EQ(RunOnUnicycle(back).state, ExecutionState::kSucceeded);
 }
 

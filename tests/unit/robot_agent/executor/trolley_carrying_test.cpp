@@ -8,6 +8,7 @@
 #include <limits>
 #include <memory>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/robot_agent/control/modes/undock_controller.hpp"
 #include "fleetnav/robot_agent/laser_filters.hpp"
@@ -131,13 +132,14 @@ TEST(TrolleyCarryingTest, TheLaserDropsTheCarriedTrolleysLegs) {
   const Pose2 laser_in_base(0.35, 0.0, 0.0);
   LaserScanSample scan;
   scan.name = "laser";
-  scan.angle_min_rad = -M_PI_2;
-  scan.angle_increment_rad = M_PI / 180.0;
+  scan.angle_min_rad = -(kPi / 2);
+  scan.angle_increment_rad = kPi / 180.0;
   scan.range_max_m = 10.0;
   scan.ranges_m.assign(181, 2.0f);
   const auto beam_at = [&](const Eigen::Vector2d& p_in_base) {
     const Eigen::Vector2d p = laser_in_base.Inverse().TransformPoint(p_in_base);
-    const int i = static_cast<int>(std::lround((std::atan2(p.y(), p.x()) + M_PI_2) * 180.0 / M_PI));
+    const int i =
+        static_cast<int>(std::lround((std::atan2(p.y(), p.x()) + (kPi / 2)) * 180.0 / kPi));
     scan.ranges_m[static_cast<size_t>(i)] = static_cast<float>(p.norm());
     return static_cast<size_t>(i);
   };

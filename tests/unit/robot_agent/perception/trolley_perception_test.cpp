@@ -7,6 +7,7 @@
 #include <limits>
 #include <random>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/robot_agent/control/modes/move_controller.hpp"
 #include "fleetnav/robot_agent/control/modes/trolley_docking_controller.hpp"
@@ -28,8 +29,8 @@ LaserScanSample Scan(const std::vector<Eigen::Vector2d>& legs, double leg_radius
   std::normal_distribution<double> noise(0.0, noise_m > 0 ? noise_m : 1.0);
   LaserScanSample scan;
   scan.name = "laser";
-  scan.angle_min_rad = -135.0 * M_PI / 180.0;
-  scan.angle_increment_rad = 0.5 * M_PI / 180.0;
+  scan.angle_min_rad = -135.0 * kPi / 180.0;
+  scan.angle_increment_rad = 0.5 * kPi / 180.0;
   scan.range_max_m = 20.0;
   for (int i = 0; i < 541; ++i) {
     const double a = scan.angle_min_rad + i * scan.angle_increment_rad;
@@ -75,7 +76,7 @@ TEST(LaserFiltersTest, TemporalMedianKeepsAThinLegAndDropsAnOutlier) {
 
 TEST(LaserFiltersTest, ShadowFilterDropsTheVeilBehindAnEdgeNotTheEdge) {
   LaserScanSample scan;
-  scan.angle_increment_rad = 0.5 * M_PI / 180.0;
+  scan.angle_increment_rad = 0.5 * kPi / 180.0;
   scan.range_max_m = 20.0;
   // A leg at 1 m, then points trailing from it to a wall at 4 m: the 2 and 3 m returns lie
   // almost along their beams (veiling).
@@ -105,7 +106,7 @@ TEST(ScanFeaturesTest, ClustersLinesAndCircles) {
   EXPECT_NEAR((circle->center_m - Eigen::Vector2d(1.5, 0.5)).norm(), 0.0, 0.003);
   // The longest piece of wall is straight: one segment along x = 3.
   const std::vector<LineSegment> lines =
-      IterativeEndPointFit(clusters[wall], 0.01, 5.0 * M_PI / 180.0);
+      IterativeEndPointFit(clusters[wall], 0.01, 5.0 * kPi / 180.0);
   ASSERT_EQ(lines.size(), 1u);
   EXPECT_NEAR(lines[0].from.x(), 3.0, 1e-6);
   EXPECT_NEAR(lines[0].to.x(), 3.0, 1e-6);
@@ -134,7 +135,7 @@ TEST(TrolleyRecognitionTest, FindsTheTrolleyAndItsDockFramesInANoisyScan) {
     ++found;
     const Pose2& seen = trolleys.front().pose_in_base;
     EXPECT_NEAR((seen.translation() - trolley.translation()).norm(), 0.0, 0.025) << seed;
-    EXPECT_NEAR(std::remainder(seen.yaw_rad() - trolley.yaw_rad(), 2 * M_PI), 0.0, 0.05) << seed;
+    EXPECT_NEAR(std::remainder(seen.yaw_rad() - trolley.yaw_rad(), 2 * kPi), 0.0, 0.05) << seed;
     EXPECT_GE(trolleys.front().legs_seen, 3) << seed;  // one leg may hide behind another
   }
   EXPECT_GE(found, 19);
@@ -146,12 +147,12 @@ TEST(TrolleyRecognitionTest, FindsTheTrolleyAndItsDockFramesInANoisyScan) {
   // Dock frames: the approach frame in front of the near end, facing along x; the final frame
   // at the centre.
   const RobotModel model = MecanumPlatformModel();
-  const DockFrames frames = DockFramesFor(Pose2(2, 1, M_PI_2), spec, model, 0.25);
+  const DockFrames frames = DockFramesFor(Pose2(2, 1, (kPi / 2)), spec, model, 0.25);
   EXPECT_NEAR(frames.final.x_m(), 2.0, 1e-9);
   EXPECT_NEAR(frames.final.y_m(), 1.0, 1e-9);
   EXPECT_NEAR(frames.approach.x_m(), 2.0, 1e-9);
   EXPECT_NEAR(frames.approach.y_m(), 1.0 - (0.48 + 0.02 + 0.394 + 0.25), 1e-9);
-  EXPECT_NEAR(frames.approach.yaw_rad(), M_PI_2, 1e-9);
+  EXPECT_NEAR(frames.approach.yaw_rad(), (kPi / 2), 1e-9);
 }
 
 TEST(TrolleyRecognitionTest, APlatformUnderATrolleyLeavesThroughTheMiddleOfTheLegsAhead) {
@@ -176,7 +177,7 @@ TEST(TrolleyRecognitionTest, APlatformUnderATrolleyLeavesThroughTheMiddleOfTheLe
     }
     const std::optional<LegGate> gate =
         FindLegGate(LegsAround(scan, laser_in_base, spec), Eigen::Vector2d(1.0, 0.0), spec, 0.2,
-                    20.0 * M_PI / 180.0);
+                    20.0 * kPi / 180.0);
 
     if (!gate) continue;
     ++found;
@@ -186,7 +187,7 @@ TEST(TrolleyRecognitionTest, APlatformUnderATrolleyLeavesThroughTheMiddleOfTheLe
         << seed;
     // Backwards there is no gate in view (the legs behind are outside the laser's 270°).
     EXPECT_FALSE(FindLegGate(LegsAround(scan, laser_in_base, spec), Eigen::Vector2d(-1.0, 0.0),
-                             spec, 0.2, 20.0 * M_PI / 180.0));
+                             spec, 0.2, 20.0 * kPi / 180.0));
   }
   EXPECT_EQ(found, 20);
   // Two legs of the wrong spacing are no gate; nor is a gate far off the move's line.

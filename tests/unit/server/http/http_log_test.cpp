@@ -6,6 +6,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/server/http/dashboard_json.hpp"
 #include "fleetnav/server/log/log_format.hpp"
 
@@ -16,7 +17,7 @@ using ::testing::HasSubstr;
 
 TEST(DashboardJsonTest, TheEllipseHasTheCovariancesAxes) {
   // Variances 0.04 along a line at 30°, 0.01 across it.
-  const double angle = M_PI / 6, c = std::cos(angle), s = std::sin(angle);
+  const double angle = kPi / 6, c = std::cos(angle), s = std::sin(angle);
   const double major = 0.04, minor = 0.01;
   std::array<double, 9> covariance{};
   covariance[0] = major * c * c + minor * s * s;

@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/clock.hpp"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/server/jobs/dispatcher_loop.hpp"
@@ -282,10 +283,10 @@ TEST_F(JobServiceTest, OfTwoRobotsSwappingPlacesTheNewerJobWaitsWhileItsRobotMak
   const std::unique_ptr<CoordinatedJobs> coordinated = WithTraffic();
   JobService& jobs = coordinated->jobs;
   ConnectGoalRobot(jobs, "a", Pose2(2.5, 5.0, 0.0));
-  const uint64_t session_b = ConnectGoalRobot(jobs, "b", Pose2(7.5, 5.0, M_PI));
+  const uint64_t session_b = ConnectGoalRobot(jobs, "b", Pose2(7.5, 5.0, kPi));
   const std::string job_a = SubmitGoal(jobs, "a", "hall", Pose2(7.5, 5.0, 0.0));
   clock_.AdvanceNs(kSecondNs);
-  const std::string job_b = SubmitGoal(jobs, "b", "hall", Pose2(2.5, 5.0, M_PI));
+  const std::string job_b = SubmitGoal(jobs, "b", "hall", Pose2(2.5, 5.0, kPi));
   EXPECT_EQ(jobs.DispatchOnce(), 2);
 
   // b's job is back in the queue, saying why; b was told to drop it.
@@ -326,7 +327,7 @@ TEST_F(JobServiceTest, ARobotThatFailedToMakeWayIsNotSentAgainUntilAJobOfItsSucc
   const std::unique_ptr<CoordinatedJobs> coordinated = WithTraffic();
   JobService& jobs = coordinated->jobs;
   ConnectGoalRobot(jobs, "a", Pose2(1.5, 5.0, 0.0));
-  ConnectGoalRobot(jobs, "c", Pose2(6.0, 5.0, M_PI / 2));  // idle, on a's way
+  ConnectGoalRobot(jobs, "c", Pose2(6.0, 5.0, kPi / 2));  // idle, on a's way
   SubmitGoal(jobs, "a", "hall", Pose2(8.5, 5.0, 0.0));
   jobs.DispatchOnce();
   jobs.DispatchOnce();
@@ -353,9 +354,9 @@ TEST_F(JobServiceTest, ARobotLastOnAnotherMapIsNotSentToMakeWayHere) {
   const std::unique_ptr<CoordinatedJobs> coordinated = WithTraffic();
   JobService& jobs = coordinated->jobs;
   ConnectGoalRobot(jobs, "a", Pose2(1.5, 5.0, 0.0));
-  ConnectGoalRobot(jobs, "c", Pose2(6.0, 5.0, M_PI / 2));
+  ConnectGoalRobot(jobs, "c", Pose2(6.0, 5.0, kPi / 2));
   // c's last job was on "other"; it ended where c now stands.
-  const std::string job_c = SubmitGoal(jobs, "c", "other", Pose2(6.0, 5.0, M_PI / 2));
+  const std::string job_c = SubmitGoal(jobs, "c", "other", Pose2(6.0, 5.0, kPi / 2));
   EXPECT_EQ(jobs.DispatchOnce(), 1);
   JobEvent done;
   done.job_id = job_c;

@@ -130,7 +130,7 @@ TEST_F(TrafficCoordinatorTest, CrossingRobotsAreClearedOneAfterTheOtherAndToldWh
   // a drives 12 m east along y = 0 through x = 0; b waits north of it and then drives 8 m
   // south across the same place, expected later.
   Connect("a", Pose2(-8, 0, 0));
-  Connect("b", Pose2(0, 4.5, -M_PI / 2));
+  Connect("b", Pose2(0, 4.5, -kPi / 2));
   coordinator_.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
   clock_.AdvanceNs(5'000'000'000);
   coordinator_.Begin("b", Job("job-b", {{StraightAction{8.0, 0.5}, {}}}));
@@ -233,7 +233,7 @@ TEST_F(TrafficCoordinatorTest, WhereARobotStandsGrowsWithItsPositionUncertainty)
 
 TEST_F(TrafficCoordinatorTest, AnIdleRobotInTheWayIsNeverDrivenThrough) {
   Connect("a", Pose2(-8, 0, 0));
-  Connect("idle", Pose2(0, 0, M_PI / 2));  // no job: it stands on a's way
+  Connect("idle", Pose2(0, 0, kPi / 2));  // no job: it stands on a's way
   coordinator_.Begin(
       "a", Job("job-a", {{StraightAction{4.0, 0.5}, {}}, {StraightAction{8.0, 0.5}, {}}}));
   coordinator_.Update();
@@ -256,7 +256,7 @@ bool InTheWayOfTwelveMetresEastFrom(double from_x_m, const Pose2& place) {
 
 TEST_F(TrafficCoordinatorTest, AnIdleRobotInTheWayIsAskedOnceToMakeWayToAPlaceOffTheWay) {
   Connect("a", Pose2(-8, 0, 0));
-  Connect("idle", Pose2(0, 0, M_PI / 2));
+  Connect("idle", Pose2(0, 0, kPi / 2));
   coordinator_.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
   coordinator_.Update();
   const std::vector<MakeWayRequest> requests = coordinator_.TakeMakeWayRequests();
@@ -284,7 +284,7 @@ TEST_F(TrafficCoordinatorTest, AnIdleRobotWithNowhereToGoIsNamedInTheWaitingRobo
   const std::unique_ptr<TrafficCoordinator> owned = LookingForPlacesWithin(0.3);
   TrafficCoordinator& coordinator = *owned;
   Connect("a", Pose2(-8, 0, 0));
-  Connect("idle", Pose2(0, 0, M_PI / 2));
+  Connect("idle", Pose2(0, 0, kPi / 2));
   coordinator.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
   coordinator.Update();
   EXPECT_TRUE(coordinator.TakeMakeWayRequests().empty());
@@ -299,7 +299,7 @@ TEST_F(TrafficCoordinatorTest, OfTwoRobotsSwappingPlacesTheNewerJobIsWithdrawnAn
   // a at x = -6 goes to x = 6 where b stands; b goes to x = -6 where a stands. Neither order
   // works at action granularity: b's job, the newer, is held, and b stands in a's way.
   Connect("a", Pose2(-6, 0, 0));
-  Connect("b", Pose2(6, 0, M_PI));
+  Connect("b", Pose2(6, 0, kPi));
   coordinator_.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
   clock_.AdvanceNs(1'000'000'000);
   coordinator_.Begin("b", Job("job-b", {{StraightAction{12.0, 0.5}, {}}}));
@@ -328,7 +328,7 @@ TEST_F(TrafficCoordinatorTest, AnIdleRobotWithNoPlaceLooksAgainOnceAJobHasEnded)
   const std::unique_ptr<TrafficCoordinator> owned = LookingForPlacesWithin(3.0);
   TrafficCoordinator& coordinator = *owned;
   Connect("a", Pose2(-8, 0, 0));
-  Connect("idle", Pose2(0, 0, M_PI / 2));
+  Connect("idle", Pose2(0, 0, kPi / 2));
   Connect("b", Pose2(-4, 3, 0));
   Connect("c", Pose2(-4, -3, 0));
   coordinator.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
@@ -352,13 +352,13 @@ TEST_F(TrafficCoordinatorTest, AnIdleRobotWithNoPlaceLooksAgainOnceAJobHasEnded)
 // recheck_period_s has passed: an idle robot that walked out of the way is noticed then.
 TEST_F(TrafficCoordinatorTest, WithoutJobEventsClearancesAreRecheckedOncePerPeriod) {
   Connect("a", Pose2(-8, 0, 0));
-  Connect("idle", Pose2(0, 0, M_PI / 2));
+  Connect("idle", Pose2(0, 0, kPi / 2));
   coordinator_.Begin(
       "a", Job("job-a", {{StraightAction{4.0, 0.5}, {}}, {StraightAction{8.0, 0.5}, {}}}));
   coordinator_.Update();
   ASSERT_EQ(mailbox_.sent["a"].size(), 1u);
   EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
-  Move("idle", Pose2(0, 6, M_PI / 2));
+  Move("idle", Pose2(0, 6, kPi / 2));
   coordinator_.Update();  // within the period: not looked at
   EXPECT_EQ(mailbox_.sent["a"].size(), 1u);
   clock_.AdvanceNs(static_cast<int64_t>(TrafficCoordinatorParams{}.recheck_period_s * 1e9) + 1);
@@ -371,14 +371,14 @@ TEST_F(TrafficCoordinatorTest, WithoutJobEventsClearancesAreRecheckedOncePerPeri
 // A job event (here the end of another robot's job) is decided on at once.
 TEST_F(TrafficCoordinatorTest, AJobEndingIsDecidedOnAtOnce) {
   Connect("a", Pose2(-8, 0, 0));
-  Connect("b", Pose2(0, 0, M_PI / 2));
+  Connect("b", Pose2(0, 0, kPi / 2));
   coordinator_.Begin(
       "a", Job("job-a", {{StraightAction{4.0, 0.5}, {}}, {StraightAction{8.0, 0.5}, {}}}));
   coordinator_.Begin("b", Job("job-b", {{TurnAction{DegToRad(90), 0.3}, {}}}));
   coordinator_.Update();
   ASSERT_EQ(mailbox_.sent["a"].size(), 1u);
   EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
-  Move("b", Pose2(0, 6, M_PI / 2));
+  Move("b", Pose2(0, 6, kPi / 2));
   coordinator_.OnActionFinished("b", "job-b", 0);
   coordinator_.End("job-b");
   coordinator_.Update();  // same clock time

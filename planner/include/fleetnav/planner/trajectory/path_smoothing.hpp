@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/planner/grid/costmap.hpp"
 #include "fleetnav/planner/single_robot/single_robot_planner.hpp"
@@ -17,7 +18,7 @@ struct SmoothingParams {
   /// End-point augmentation (AugmentEndpoints): where the path turns back by more than
   /// `augment_max_turn_rad` at a knot, an extra knot `augment_radius_m` beyond it. > 0; (0, pi].
   double augment_radius_m = 0.3;
-  double augment_max_turn_rad = M_PI / 2;
+  double augment_max_turn_rad = kPi / 2;
 
   absl::Status Validate() const;
 };

@@ -38,7 +38,8 @@ v1::Twist2 ToProto(const Twist2& twist);
 v1::GroundTruth ToProto(const GroundTruthSnapshot& truth, int64_t start_unix_ms);
 v1::InjectFaultRequest ToProto(const FaultSpec& fault);
 /// InvalidArgument naming `type` when it is unknown or unspecified, a region corner that is not
-/// finite, and `factor` when a wheel slip has none; an unset factor (0) of the other faults means 1.
+/// finite, and `factor` when a wheel slip has none; an unset factor (0) of the other faults
+/// means 1.
 absl::StatusOr<FaultSpec> FromProto(const v1::InjectFaultRequest& request);
 
 }  // namespace fleetnav

@@ -252,7 +252,7 @@ TEST(FreeNavigationControllerTest, ATrolleySetDownIsAnObstacleUnlessTheRobotIsUn
   action.goal = Pose2(19.0, 8.0, 0.0);
   action.speed_mps = 0.4;
   // A wide trolley across the whole 4 m door.
-  const LoadOutline in_door{Pose2(12.0, 8.0, M_PI_2), Eigen::Vector2d(4.4, 1.0)};
+  const LoadOutline in_door{Pose2(12.0, 8.0, (kPi / 2)), Eigen::Vector2d(4.4, 1.0)};
   FreeNavigationController blocked(action, MecanumPlatformModel(), map, FreeNavigationParams{},
                                    false, MovedLoads{{}, {in_door}});
   const ControlOutput refused = blocked.Step(OdometryInput(Pose2(4.0, 8.0, 0.0), kDt));

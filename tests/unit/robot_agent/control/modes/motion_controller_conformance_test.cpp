@@ -7,6 +7,7 @@
 #include <cmath>
 #include <memory>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/robot_agent/control/modes/motion_controllers.hpp"
 #include "fleetnav/robot_agent/control/modes/move_controller.hpp"
@@ -85,7 +86,7 @@ TYPED_TEST(MotionControllerConformanceTest, EndsItsActionWithinItsLimitsAndThenS
   ASSERT_TRUE(done) << "not done after " << step << " ticks";
   const Pose2 goal = TypeParam::Goal(start);
   EXPECT_LT((pose.translation() - goal.translation()).norm(), 0.02);
-  EXPECT_LT(std::abs(std::remainder(pose.yaw_rad() - goal.yaw_rad(), 2 * M_PI)), 0.02);
+  EXPECT_LT(std::abs(std::remainder(pose.yaw_rad() - goal.yaw_rad(), 2 * kPi)), 0.02);
   EXPECT_NEAR(last_progress, 1.0, 1e-6);
   // Asked again once done, it stands.
   const ControlOutput after = controller->Step(OdometryInput(pose, kDt));

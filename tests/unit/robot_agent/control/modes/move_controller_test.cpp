@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/robot_agent/mode_factory.hpp"
 #include "kinematic_unicycle.hpp"
@@ -42,12 +43,12 @@ TEST(MoveControllerTest, MovesSidewaysWithItsHeadingHeld) {
   const RobotModel model = MecanumPlatformModel();
   MoveController controller(MoveAction{0.0, 1.0, 0.2}, std::nullopt, model, MoveParams{});
   int ticks = 0;
-  const Pose2 start(2.0, 1.0, M_PI_2);  // facing +y: its left is -x
+  const Pose2 start(2.0, 1.0, (kPi / 2));  // facing +y: its left is -x
   const Pose2 end = RunIdeal(controller, start, &ticks);
   EXPECT_LT(ticks, 5000);
   EXPECT_NEAR(end.x_m(), 1.0, 0.002);
   EXPECT_NEAR(end.y_m(), 1.0, 0.002);
-  EXPECT_NEAR(end.yaw_rad(), M_PI_2, 0.01);
+  EXPECT_NEAR(end.yaw_rad(), (kPi / 2), 0.01);
   // The path is the straight line: it never leaves x in [1, 2] nor y = 1.
   for (const Pose2& p : controller.path()) EXPECT_NEAR(p.y_m(), 1.0, 1e-9);
 }

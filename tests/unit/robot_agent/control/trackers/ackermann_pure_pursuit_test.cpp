@@ -129,7 +129,7 @@ TEST(AckermannPurePursuitTest, AnEndPassedALittleAsideIsReached) {
 
   // A path that loops back: its end lies behind the car at the start, 0.2 m aside.
   std::vector<Pose2> loop;
-  for (double a = 0.0; a <= 2 * M_PI - 0.1; a += 0.05) {
+  for (double a = 0.0; a <= 2 * kPi - 0.1; a += 0.05) {
     loop.emplace_back(1.2 * std::sin(a) + 0.0, 1.2 * (1.0 - std::cos(a)) + 0.0, a);
   }
   loop.emplace_back(-0.1, 0.2, 0.0);

@@ -128,10 +128,10 @@ std::vector<Pose2> Line(const Pose2& from, double length_m, double step_m = 0.05
 TYPED_TEST(PathTrackerConformanceTest, ReachesTheGoalOfACurvedPathAndStops) {
   // A quarter circle of 3 m radius, wide enough for the Ackermann robot, then 2 m straight.
   std::vector<Pose2> path;
-  for (double a = 0.0; a <= M_PI / 2 + 1e-9; a += 0.02) {
+  for (double a = 0.0; a <= kPi / 2 + 1e-9; a += 0.02) {
     path.emplace_back(3.0 * std::sin(a), 3.0 - 3.0 * std::cos(a), a);
   }
-  const std::vector<Pose2> on = Line(Pose2(3.0, 3.0, M_PI / 2), 2.0);
+  const std::vector<Pose2> on = Line(Pose2(3.0, 3.0, kPi / 2), 2.0);
   path.insert(path.end(), on.begin() + 1, on.end());
   const auto run = TestFixture::Drive(path, Pose2(0.0, 0.0, 0.0));
   TestFixture::ExpectWithinLimits(run);

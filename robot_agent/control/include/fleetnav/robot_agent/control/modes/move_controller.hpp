@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "absl/status/status.h"
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/robot_agent/control/common/motion_controller.hpp"
@@ -20,7 +21,7 @@ struct MoveParams {
   /// through a knot `augment_radius_m` out, instead of reversing on the spot.
   bool augment_endpoints = true;
   double augment_radius_m = 0.08;
-  double augment_max_turn_rad = M_PI / 2;
+  double augment_max_turn_rad = kPi / 2;
   double sample_spacing_m = 0.02;
   /// Moves end at rest within 2 mm and 0.01 rad of their end point (the thesis's scans need
   /// millimetres); the carrot is a few centimetres ahead, so the tracker follows the augmented
@@ -31,7 +32,7 @@ struct MoveParams {
   /// the legs are found in the temporal median of `gate_scans` scans (the docking's filter),
   /// waited for at most `gate_wait_s`.
   double gate_max_offset_m = 0.2;
-  double gate_max_angle_rad = 20.0 * M_PI / 180.0;
+  double gate_max_angle_rad = 20.0 * kPi / 180.0;
   int gate_scans = 3;
   double gate_wait_s = 1.0;
   static HolonomicTrackerParams PreciseTracker() {
