@@ -17,13 +17,13 @@ struct ProprioceptiveParams {
   /// Relative error of the wheel radius the encoders imply (0.01 = 1 % too large).
   double wheel_radius_scale_error = 0.0;
   /// Gyro white noise (Lely thesis ch. 3: 0.015 °/s/√Hz).
-  double gyro_noise_density_radps_per_sqrt_hz = 0.015 * kPi / 180.0;
+  double gyro_noise_density_radps_per_sqrt_hz = 0.00026179938779914914;  ///< 0.015 °/s/√Hz
   /// Gyro bias random walk (rad/s per √s).
   double gyro_bias_walk_radps_per_sqrt_s = 1e-5;
   /// Accelerometer white noise per sample (m/s²).
   double accel_noise_stddev_mps2 = 0.02;
   /// Resolution of an Ackermann robot's steering-angle encoder (12 bits a turn).
-  double steering_resolution_rad = 2.0 * kPi / 4096.0;
+  double steering_resolution_rad = 0.0015339807878856397;  ///< 12 bits a turn
 };
 
 /// Wheel encoders (cumulative ticks from the integrated wheel angle, thesis eq. 3.4's input)
