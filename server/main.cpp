@@ -125,20 +125,8 @@ int RunReplica(const fleetnav::server::FleetServerParams& params, const ReplicaF
   return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  // Debian's abseil is built with assertions on, so every absl::Mutex acquisition would also
-  // update a process-wide lock-order graph (itself behind one global lock): a few percent of the
-  // server's time under load, on every telemetry message. Tests keep the detection on.
-  absl::SetMutexDeadlockDetectionMode(absl::OnDeadlockCycle::kIgnore);
-  // SIGINT/SIGTERM are blocked in every thread and taken synchronously below.
-  sigset_t stop_signals = fleetnav::BlockStopSignals();
-
-  // Flags override the config file, which overrides the defaults.
-  fleetnav::server::FleetServerConfig defaults;
-  CLI::App app{"fleetnavd: fleet navigation server (FleetService + AgentService)"};
-  app.set_version_flag("--version", std::string(fleetnav::Version()));
+/// Every flag of fleetnavd; a flag left unset keeps the config file's value (or the default).
+struct Flags {
   std::string config_path, listen, db, log_level, port_file, clock = "system", sim_address;
   std::string http_listen, http_port_file, log_format_text = "text";
   double stale_after_s = 0, lost_robot_timeout_s = 0, db_wait_s = -1;
@@ -146,128 +134,165 @@ int main(int argc, char** argv) {
   ReplicaFlags replica_flags;
   fleetnav::server::ServerSecurityFiles tls;
   int max_message_bytes = 0, agent_threads = 0;
-  app.add_option("--config", config_path, "YAML configuration file (see docs/server.md)");
-  app.add_option("--listen", listen,
+};
+
+void AddFlags(CLI::App& app, Flags* f) {
+  app.add_option("--config", f->config_path, "YAML configuration file (see docs/server.md)");
+  app.add_option("--listen", f->listen,
                  "address to serve on (host:port; port 0 = any) [127.0.0.1:50051]");
-  app.add_option("--db", db,
+  app.add_option("--db", f->db,
                  "SQLite database file (created if missing) or a postgresql://USER@HOST:PORT/DB "
                  "URI [fleetnav.db]");
-  app.add_option("--db-wait-s", db_wait_s,
+  app.add_option("--db-wait-s", f->db_wait_s,
                  "with PostgreSQL: how long to keep trying to reach the database at start [10]");
-  app.add_option("--stale-after-s", stale_after_s,
+  app.add_option("--stale-after-s", f->stale_after_s,
                  "seconds without telemetry before a robot is stale [2]");
-  app.add_option("--lost-robot-timeout-s", lost_robot_timeout_s,
+  app.add_option("--lost-robot-timeout-s", f->lost_robot_timeout_s,
                  "seconds a paused job waits for its robot before failing or re-queueing [30]");
-  app.add_option("--max-message-bytes", max_message_bytes, "largest request accepted [67108864]");
-  app.add_option("--agent-threads", agent_threads,
+  app.add_option("--max-message-bytes", f->max_message_bytes,
+                 "largest request accepted [67108864]");
+  app.add_option("--agent-threads", f->agent_threads,
                  "threads serving robot streams, each with its own completion queue [2]");
-  app.add_option("--log-level", log_level, "trace|debug|info|warn|error [info]");
-  app.add_option("--log-format", log_format_text,
+  app.add_option("--log-level", f->log_level, "trace|debug|info|warn|error [info]");
+  app.add_option("--log-format", f->log_format_text,
                  "text, or json: one JSON object per line (ts, level, msg and fields such as "
                  "job_id and robot_id)")
       ->check(CLI::IsMember({"text", "json"}))
       ->capture_default_str();
-  app.add_option("--http-listen", http_listen,
+  app.add_option("--http-listen", f->http_listen,
                  "serve the web dashboard, its API and /metrics on host:port (HTTPS with the TLS "
                  "files; port 0 = any) [off]");
-  app.add_option("--http-port-file", http_port_file,
+  app.add_option("--http-port-file", f->http_port_file,
                  "write the HTTP port to this file once serving");
-  app.add_option("--tls-cert", tls.cert_path, "the server's certificate chain (PEM)");
-  app.add_option("--tls-key", tls.key_path, "the server certificate's private key (PEM)");
-  app.add_option("--tls-client-ca", tls.client_ca_path,
+  app.add_option("--tls-cert", f->tls.cert_path, "the server's certificate chain (PEM)");
+  app.add_option("--tls-key", f->tls.key_path, "the server certificate's private key (PEM)");
+  app.add_option("--tls-client-ca", f->tls.client_ca_path,
                  "the CA that signs robot certificates (PEM); a robot's certificate common name "
                  "is its robot id");
-  app.add_option("--tokens", tls.tokens_path,
+  app.add_option("--tokens", f->tls.tokens_path,
                  "operator tokens with their roles (YAML, see docs/security.md)");
-  app.add_flag("--insecure", insecure,
+  app.add_flag("--insecure", f->insecure,
                "serve plaintext without authentication (demo and tests only): any client can "
                "drive robots");
-  app.add_option("--port-file", port_file, "write the bound port to this file once serving");
-  app.add_option("--clock", clock,
+  app.add_option("--port-file", f->port_file, "write the bound port to this file once serving");
+  app.add_option("--clock", f->clock,
                  "time source of timeouts and pose history: system, or sim (the simulator's "
                  "time, read from --sim) [system]")
       ->check(CLI::IsMember({"system", "sim"}));
-  app.add_option("--sim", sim_address, "the simulator's SimService address, for --clock sim");
-  app.add_flag("--check-db", check_db,
+  app.add_option("--sim", f->sim_address, "the simulator's SimService address, for --clock sim");
+  app.add_flag("--check-db", f->check_db,
                "check the database file (ownership, PRAGMA integrity_check, schema version) "
                "without writing to it, print the findings and exit: 0 sound, 1 problems found, "
                "2 unreadable");
-  app.add_flag("--replica", replica,
+  app.add_flag("--replica", f->replica,
                "one of several fleetnavd sharing a PostgreSQL --db: serve the public port and "
                "relay to the site's leader, elected among the replicas (docs/server.md)");
-  app.add_option("--site", replica_flags.site, "with --replica: the site the replicas serve")
+  app.add_option("--site", f->replica_flags.site, "with --replica: the site the replicas serve")
       ->capture_default_str();
-  app.add_option("--peer-listen", replica_flags.peer_listen,
+  app.add_option("--peer-listen", f->replica_flags.peer_listen,
                  "with --replica: the leader port the other replicas relay to [--listen's "
                  "host, any port]");
-  app.add_option("--peer-advertise", replica_flags.peer_advertise,
+  app.add_option("--peer-advertise", f->replica_flags.peer_advertise,
                  "with --replica: host:port the other replicas reach the leader port at "
                  "[--peer-listen's host and bound port]");
-  app.add_option("--peer-http-listen", replica_flags.peer_http_listen,
+  app.add_option("--peer-http-listen", f->replica_flags.peer_http_listen,
                  "with --replica and --http-listen: where the leader serves its dashboard to the "
                  "other replicas' HTTP ports [--peer-listen's host, any port]");
-  app.add_option("--lease-ttl-s", replica_flags.lease_ttl_s,
+  app.add_option("--lease-ttl-s", f->replica_flags.lease_ttl_s,
                  "with --replica: a leader silent this long is replaced")
       ->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
-  if ((clock == "sim") != !sim_address.empty()) {
-    spdlog::error(
-        "fleetnavd: --clock sim needs --sim ADDR, and --sim is only used with --clock sim");
-    return 2;
-  }
+}
 
+/// The config file's parameters with the flags over them; InvalidArgument (exit code 2) for a
+/// bad file or flags that exclude each other.
+absl::StatusOr<fleetnav::server::FleetServerConfig> Configure(Flags& flags) {
+  if ((flags.clock == "sim") != !flags.sim_address.empty()) {
+    return absl::InvalidArgumentError(
+        "--clock sim needs --sim ADDR, and --sim is only used with --clock sim");
+  }
+  fleetnav::server::FleetServerConfig defaults;
   absl::StatusOr<fleetnav::server::FleetServerConfig> config =
-      config_path.empty() ? absl::StatusOr<fleetnav::server::FleetServerConfig>(defaults)
-                          : fleetnav::server::LoadFleetServerConfig(config_path, defaults);
-  if (!config.ok()) {
-    spdlog::error("fleetnavd: {}", config.status().ToString());
-    return 2;
-  }
+      flags.config_path.empty()
+          ? absl::StatusOr<fleetnav::server::FleetServerConfig>(defaults)
+          : fleetnav::server::LoadFleetServerConfig(flags.config_path, defaults);
+  if (!config.ok()) return config.status();
   fleetnav::server::FleetServerParams& params = config->params;
-  if (!listen.empty()) params.listen_address = listen;
-  if (!db.empty()) params.db_path = db;
-  if (db_wait_s >= 0) params.postgres.connect_wait_s = db_wait_s;
-  if (stale_after_s > 0) params.registry.stale_after_s = stale_after_s;
-  if (lost_robot_timeout_s > 0) params.jobs.lost_robot_timeout_s = lost_robot_timeout_s;
-  if (max_message_bytes > 0) params.max_message_bytes = max_message_bytes;
-  if (agent_threads > 0) params.agent_stream_threads = agent_threads;
-  params.sim_clock_address = sim_address;
-  if (!log_level.empty()) config->log_level = log_level;
-  if (!tls.cert_path.empty()) params.security.cert_path = tls.cert_path;
-  if (!tls.key_path.empty()) params.security.key_path = tls.key_path;
-  if (!tls.client_ca_path.empty()) params.security.client_ca_path = tls.client_ca_path;
-  if (!tls.tokens_path.empty()) params.security.tokens_path = tls.tokens_path;
-  insecure = insecure || config->insecure;
-  if (!check_db && insecure == !params.security.empty()) {
-    spdlog::error(
-        insecure ? "fleetnavd: --insecure and TLS files (--tls-cert, --tls-key, --tls-client-ca, "
-                   "--tokens) exclude each other"
-                 : "fleetnavd: give --tls-cert, --tls-key, --tls-client-ca and --tokens (see "
-                   "docs/security.md), or --insecure to serve plaintext without authentication");
-    return 2;
+  if (!flags.listen.empty()) params.listen_address = flags.listen;
+  if (!flags.db.empty()) params.db_path = flags.db;
+  if (flags.db_wait_s >= 0) params.postgres.connect_wait_s = flags.db_wait_s;
+  if (flags.stale_after_s > 0) params.registry.stale_after_s = flags.stale_after_s;
+  if (flags.lost_robot_timeout_s > 0) {
+    params.jobs.lost_robot_timeout_s = flags.lost_robot_timeout_s;
   }
-  if (check_db) return CheckDatabase(params.db_path);
-  spdlog::set_level(spdlog::level::from_str(config->log_level));
+  if (flags.max_message_bytes > 0) params.max_message_bytes = flags.max_message_bytes;
+  if (flags.agent_threads > 0) params.agent_stream_threads = flags.agent_threads;
+  params.sim_clock_address = flags.sim_address;
+  if (!flags.log_level.empty()) config->log_level = flags.log_level;
+  if (!flags.tls.cert_path.empty()) params.security.cert_path = flags.tls.cert_path;
+  if (!flags.tls.key_path.empty()) params.security.key_path = flags.tls.key_path;
+  if (!flags.tls.client_ca_path.empty()) params.security.client_ca_path = flags.tls.client_ca_path;
+  if (!flags.tls.tokens_path.empty()) params.security.tokens_path = flags.tls.tokens_path;
+  flags.insecure = flags.insecure || config->insecure;
+  if (!flags.check_db && flags.insecure == !params.security.empty()) {
+    return absl::InvalidArgumentError(
+        flags.insecure ? "--insecure and TLS files (--tls-cert, --tls-key, --tls-client-ca, "
+                         "--tokens) exclude each other"
+                       : "give --tls-cert, --tls-key, --tls-client-ca and --tokens (see "
+                         "docs/security.md), or --insecure to serve plaintext without "
+                         "authentication");
+  }
+  return config;
+}
+
+/// The log's level and format, and the server's log lines: each job transition, each refused
+/// call, each token change.
+void SetUpLogging(const std::string& level, const std::string& format_text,
+                  fleetnav::server::FleetServerParams* params) {
+  spdlog::set_level(spdlog::level::from_str(level));
   const fleetnav::server::log::LogFormat log_format =
-      *fleetnav::server::log::ParseLogFormat(log_format_text);
+      *fleetnav::server::log::ParseLogFormat(format_text);
   if (log_format == fleetnav::server::log::LogFormat::kJson) {
     spdlog::set_formatter(std::make_unique<fleetnav::server::log::JsonLogFormatter>());
   }
   // One line per job transition, with the job's and robot's ids as fields.
-  params.on_job_event = [log_format](const fleetnav::Job& job, const fleetnav::JobEvent& event) {
+  params->on_job_event = [log_format](const fleetnav::Job& job, const fleetnav::JobEvent& event) {
     if (std::optional<fleetnav::server::log::LogFields> line =
             fleetnav::server::log::JobTransitionLine(job, event)) {
       spdlog::info("{}", fleetnav::server::log::FormatLogPayload(log_format, *line));
     }
   };
-
-  params.on_access_refused = [](const std::string& why) {
+  params->on_access_refused = [](const std::string& why) {
     spdlog::warn("fleetnavd: refused: {}", why);
   };
-  params.on_token_change = [](const std::string& what) { spdlog::info("fleetnavd: {}", what); };
-  if (replica) {
-    return RunReplica(params, replica_flags, http_listen, port_file, http_port_file, &stop_signals);
+  params->on_token_change = [](const std::string& what) { spdlog::info("fleetnavd: {}", what); };
+}
+
+/// The exit lines: calls admitted and refused, and the dispatcher's figures.
+void LogExitFigures(const fleetnav::server::FleetServer& server) {
+  const fleetnav::server::PassFigures passes = server.assigning_passes();
+  const fleetnav::server::PassFigures one_job = server.one_job_passes();
+  const fleetnav::server::PassFigures one_job_cpu = server.one_job_pass_cpu();
+  if (server.secure()) {
+    const fleetnav::server::AccessCounts access = server.access_counts();
+    spdlog::info(
+        "fleetnavd: calls admitted {}, unauthenticated {}, denied {}; TLS handshakes refused {}",
+        access.admitted, access.unauthenticated, access.denied, access.handshakes_refused);
   }
+  // Read by fleetnav-scenario (docs/scenarios.md): keep the wording.
+  spdlog::info(
+      "fleetnavd: {} assigning dispatch passes, p50 {:.2f} ms, p99 {:.2f} ms, max {:.2f} ms; {} "
+      "one-job passes, p50 {:.2f} ms, p99 {:.2f} ms, max {:.2f} ms; one-job pass CPU p50 {:.2f} "
+      "ms, p99 {:.2f} ms, max {:.2f} ms",
+      passes.count, passes.p50_ms, passes.p99_ms, passes.max_ms, one_job.count, one_job.p50_ms,
+      one_job.p99_ms, one_job.max_ms, one_job_cpu.p50_ms, one_job_cpu.p99_ms, one_job_cpu.max_ms);
+}
+
+/// One fleetnavd (not a replica): serves, with the dashboard when asked, until SIGINT/SIGTERM.
+int Serve(const fleetnav::server::FleetServerParams& params, const Flags& flags,
+          sigset_t* stop_signals) {
+  const std::string& http_listen = flags.http_listen;
+  const std::string& http_port_file = flags.http_port_file;
+  const std::string& port_file = flags.port_file;
   fleetnav::server::FleetServer server(params);
   absl::StatusOr<int> port = server.Start();
   if (!port.ok()) {
@@ -308,26 +333,42 @@ int main(int argc, char** argv) {
   }
 
   int signal_number = 0;
-  sigwait(&stop_signals, &signal_number);
+  sigwait(stop_signals, &signal_number);
   spdlog::info("fleetnavd: signal {}, shutting down", signal_number);
   if (http != nullptr) http->Stop();
   server.Shutdown();
   server.Wait();
-  const fleetnav::server::PassFigures passes = server.assigning_passes();
-  const fleetnav::server::PassFigures one_job = server.one_job_passes();
-  const fleetnav::server::PassFigures one_job_cpu = server.one_job_pass_cpu();
-  if (server.secure()) {
-    const fleetnav::server::AccessCounts access = server.access_counts();
-    spdlog::info(
-        "fleetnavd: calls admitted {}, unauthenticated {}, denied {}; TLS handshakes refused {}",
-        access.admitted, access.unauthenticated, access.denied, access.handshakes_refused);
-  }
-  // Read by fleetnav-scenario (docs/scenarios.md): keep the wording.
-  spdlog::info(
-      "fleetnavd: {} assigning dispatch passes, p50 {:.2f} ms, p99 {:.2f} ms, max {:.2f} ms; {} "
-      "one-job passes, p50 {:.2f} ms, p99 {:.2f} ms, max {:.2f} ms; one-job pass CPU p50 {:.2f} "
-      "ms, p99 {:.2f} ms, max {:.2f} ms",
-      passes.count, passes.p50_ms, passes.p99_ms, passes.max_ms, one_job.count, one_job.p50_ms,
-      one_job.p99_ms, one_job.max_ms, one_job_cpu.p50_ms, one_job_cpu.p99_ms, one_job_cpu.max_ms);
+  LogExitFigures(server);
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Debian's abseil is built with assertions on, so every absl::Mutex acquisition would also
+  // update a process-wide lock-order graph (itself behind one global lock): a few percent of the
+  // server's time under load, on every telemetry message. Tests keep the detection on.
+  absl::SetMutexDeadlockDetectionMode(absl::OnDeadlockCycle::kIgnore);
+  // SIGINT/SIGTERM are blocked in every thread and taken synchronously below.
+  sigset_t stop_signals = fleetnav::BlockStopSignals();
+
+  // Flags override the config file, which overrides the defaults.
+  CLI::App app{"fleetnavd: fleet navigation server (FleetService + AgentService)"};
+  app.set_version_flag("--version", std::string(fleetnav::Version()));
+  Flags flags;
+  AddFlags(app, &flags);
+  CLI11_PARSE(app, argc, argv);
+  absl::StatusOr<fleetnav::server::FleetServerConfig> config = Configure(flags);
+  if (!config.ok()) {
+    spdlog::error("fleetnavd: {}", std::string(config.status().message()));
+    return 2;
+  }
+  fleetnav::server::FleetServerParams& params = config->params;
+  if (flags.check_db) return CheckDatabase(params.db_path);
+  SetUpLogging(config->log_level, flags.log_format_text, &params);
+  if (flags.replica) {
+    return RunReplica(params, flags.replica_flags, flags.http_listen, flags.port_file,
+                      flags.http_port_file, &stop_signals);
+  }
+  return Serve(params, flags, &stop_signals);
 }
