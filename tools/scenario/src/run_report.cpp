@@ -1,5 +1,3 @@
-#include "scenario_run.hpp"
-
 #include <signal.h>
 
 #include <algorithm>
@@ -23,6 +21,7 @@
 #include "fleetnav/proto/channel_credentials.hpp"
 #include "fleetnav/proto/geometry_convert.hpp"
 #include "fleetnav/proto/server_target.hpp"
+#include "scenario_run.hpp"
 
 namespace fleetnav::scenario::internal {
 

@@ -190,5 +190,4 @@ class Run {
   std::vector<Restart> restarts_;
 };
 
-
 }  // namespace fleetnav::scenario::internal

@@ -70,6 +70,8 @@ class RouteExecutor {
   int action_index() const { return index_; }
   /// The trolleys moved on the map, those the route started with and those it moved since.
   const MovedLoads& moved_loads() const { return context_.moved_loads; }
+  /// The trolley on the lift now (its outer size); nullopt when none.
+  const std::optional<Eigen::Vector2d>& carried_load_m() const { return context_.carried_load_m; }
 
  private:
   /// Moves the start to `position` (see the constructor).

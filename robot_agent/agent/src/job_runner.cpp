@@ -1,0 +1,202 @@
+#include "fleetnav/robot_agent/job_runner.hpp"
+
+#include <algorithm>
+
+#include "absl/strings/str_cat.h"
+
+namespace fleetnav::agent {
+
+JobRunner::JobRunner(RouteContext context, JobRunnerPorts ports, ModeParams modes,
+                     SafetyParams safety, std::optional<Route> route)
+    : context_(std::move(context)),
+      ports_(std::move(ports)),
+      modes_(modes),
+      safety_(safety) {
+  if (route) StartRoute(std::move(*route));
+}
+
+void JobRunner::StartRoute(Route route, const RoutePosition& from) {
+  EndRoute();
+  const Pose2 here = localizer().estimate().pose_in_map;
+  executor_.emplace(std::move(route), context_, modes_, here, from);
+  reported_action_ = -1;
+  // Actions before the resume point were reported finished by the agent that ran them.
+  finished_action_ = from.action_index - 1;
+  paused_ = false;
+  end_reported_ = false;
+  safety_.Reset();
+}
+
+void JobRunner::EndRoute() {
+  if (!executor_) return;
+  // What the route has done to the site outlives it.
+  context_.carried_load_m = executor_->carried_load_m();
+  context_.moved_loads = executor_->moved_loads();
+  executor_.reset();
+}
+
+void JobRunner::EndJob() {
+  EndRoute();
+  job_id_.clear();
+  ports_.jobs->SetCurrentJob("");
+  ++jobs_finished_;
+}
+
+void JobRunner::Report(JobEventType type, int action_index, NavigationMode mode,
+                       const std::string& reason) {
+  JobEvent event;
+  event.job_id = job_id_;
+  event.type = type;
+  event.action_index = action_index;
+  event.mode = mode;
+  event.reason = reason;
+  events_.push_back(event);
+  if (ports_.jobs != nullptr && !job_id_.empty()) ports_.jobs->ReportEvent(event);
+}
+
+void JobRunner::ReportProgress(const ExecutorOutput& output) {
+  // An action is reported finished once: when the next starts, or at once when the next waits
+  // for traffic (the robots waiting for this one may go).
+  auto finish = [&](int index) {
+    if (index >= 0 && index != finished_action_) {
+      Report(JobEventType::kActionFinished, index, output.mode, "");
+      finished_action_ = index;
+    }
+  };
+  if (output.waiting) {
+    finish(output.action_index);
+  } else if (output.action_index >= 0 && output.action_index != reported_action_) {
+    finish(reported_action_);
+    Report(JobEventType::kActionStarted, output.action_index, output.mode, "");
+    reported_action_ = output.action_index;
+  }
+  if (!output.mode_reason.empty()) {
+    Report(JobEventType::kModeSwitch, output.action_index, output.mode, output.mode_reason);
+  }
+}
+
+ExecutorOutput JobRunner::Step(const ControlInput& input, const std::vector<int>& detected_markers,
+                               const localization::LocalizerEstimate& estimate,
+                               const Twist2& last_command) {
+  ExecutorOutput output;
+  if (executor_ && executor_->state() == ExecutionState::kRunning) {
+    const SafetyVerdict& verdict = safety_.Check(input.perception, last_command, estimate.velocity,
+                                                 estimate.lost, input.dt_s, estimate.lost_reason);
+    if (verdict.stop != SafetyStop::kNone) {
+      safety_stop_ = verdict.stop;
+      if (verdict.stop == SafetyStop::kBumper) {
+        Report(JobEventType::kBumper, executor_->action_index(), NavigationMode::kFault,
+               verdict.reason);
+      } else if (verdict.stop == SafetyStop::kLocalizationLost) {
+        Report(JobEventType::kLocalizationLost, executor_->action_index(), NavigationMode::kFault,
+               verdict.reason);
+      }
+      executor_->Abort(absl::AbortedError(verdict.reason));
+    }
+    const bool was_running = executor_->state() == ExecutionState::kRunning;
+    if (was_running && !paused_) {
+      output = executor_->Step(input, detected_markers);
+      ReportProgress(output);
+    } else {
+      output = executor_->Step(input, {});  // reports the state, commands nothing
+    }
+  } else if (executor_) {
+    output = executor_->Step(input, {});
+  }
+  if (executor_) lift_raised_ = output.lift_raised;
+  if (executor_ && executor_->state() != ExecutionState::kRunning && !end_reported_) {
+    end_reported_ = true;
+    if (executor_->state() == ExecutionState::kSucceeded) {
+      if (output.action_index >= 0) {
+        Report(JobEventType::kActionFinished, output.action_index, NavigationMode::kIdle, "");
+      }
+      Report(JobEventType::kSucceeded, output.action_index, NavigationMode::kIdle, "");
+    } else {
+      Report(JobEventType::kFailed, executor_->action_index(), NavigationMode::kFault,
+             std::string(executor_->failure().message()));
+    }
+  }
+  if (paused_) {
+    output.mode = NavigationMode::kPaused;
+    output.command = Twist2{};
+  }
+  return output;
+}
+
+void JobRunner::ApplyCommand(const JobCommand& command, const ExecutorOutput& output) {
+  if (command.job_id != job_id_ || job_id_.empty()) return;
+  if (command.type == JobCommandType::kPause) paused_ = true;
+  if (command.type == JobCommandType::kResume) paused_ = false;
+  if (command.type == JobCommandType::kClearance && executor_) {
+    // The action under way stays cleared whatever a new session says.
+    executor_->SetClearedUpTo(std::max(command.cleared_up_to_action, executor_->action_index()));
+    executor_->SetHold(command.hold);
+  }
+  if (command.type == JobCommandType::kCancel) {
+    Report(JobEventType::kCancelled, output.action_index, NavigationMode::kIdle, command.reason);
+    EndJob();
+  }
+}
+
+void JobRunner::Serve(const ExecutorOutput& output) {
+  if (ports_.jobs == nullptr) return;
+  const std::vector<JobCommand> commands = ports_.jobs->TakeCommands();
+  for (const JobCommand& command : commands) {
+    // Kept, for a clearance may come before the agent takes its job's assignment.
+    if (command.type == JobCommandType::kClearance) clearance_ = command;
+    ApplyCommand(command, output);
+  }
+  if (!job_id_.empty() && executor_ && executor_->state() != ExecutionState::kRunning) EndJob();
+  if (!job_id_.empty()) return;
+  std::optional<JobAssignment> assignment = ports_.jobs->TakeAssignment();
+  if (!assignment) return;
+  job_id_ = assignment->job.job_id;
+  ports_.jobs->SetCurrentJob(job_id_);
+  if (absl::Status site = PrepareSite(*assignment); !site.ok()) {
+    // Nothing moves: the job fails at once with the reason.
+    StartRoute(Route{});
+    executor_->Abort(site);
+    return;
+  }
+  StartRoute(*assignment->route, assignment->resume);
+  // A job from the server waits for its traffic clearance.
+  const bool cleared = clearance_.job_id == job_id_;
+  executor_->SetClearedUpTo(cleared ? clearance_.cleared_up_to_action : -1);
+  executor_->SetHold(cleared ? clearance_.hold : std::nullopt);
+  // Commands about this job that came with it (a job sent again while an operator holds it
+  // comes with PAUSE).
+  for (const JobCommand& command : commands) {
+    if (command.type != JobCommandType::kClearance) ApplyCommand(command, output);
+  }
+}
+
+absl::Status JobRunner::PrepareSite(const JobAssignment& assignment) {
+  const std::string& map_id = assignment.job.map_id;
+  if (ports_.sites == nullptr || !ports_.make_localizer || map_id.empty()) {
+    return absl::OkStatus();
+  }
+  const std::string key =
+      absl::StrCat(map_id, "@", assignment.map_version, "/", assignment.marker_set_version);
+  if (key == site_key_) return absl::OkStatus();
+  absl::StatusOr<SiteData> site =
+      ports_.sites->Load(map_id, assignment.map_version, assignment.marker_set_version);
+  if (!site.ok()) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("map ", map_id, " v", assignment.map_version,
+                     " could not be loaded on the robot: ", site.status().message()));
+  }
+  absl::StatusOr<std::unique_ptr<localization::Localizer>> made =
+      ports_.make_localizer(*site, localizer().estimate().pose_in_map);
+  if (!made.ok()) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("cannot localize on map ", map_id, ": ", made.status().message()));
+  }
+  job_localizer_ = *std::move(made);
+  context_.map = site->map;
+  context_.markers = site->markers;
+  context_.moved_loads = {};  // places on the map the agent worked on before
+  site_key_ = key;
+  return absl::OkStatus();
+}
+
+}  // namespace fleetnav::agent
