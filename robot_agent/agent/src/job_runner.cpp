@@ -8,10 +8,7 @@ namespace fleetnav::agent {
 
 JobRunner::JobRunner(RouteContext context, JobRunnerPorts ports, ModeParams modes,
                      SafetyParams safety, std::optional<Route> route)
-    : context_(std::move(context)),
-      ports_(std::move(ports)),
-      modes_(modes),
-      safety_(safety) {
+    : context_(std::move(context)), ports_(std::move(ports)), modes_(modes), safety_(safety) {
   if (route) StartRoute(std::move(*route));
 }
 

@@ -53,8 +53,7 @@ class JobRunnerTest : public ::testing::Test {
   ExecutorOutput Tick(JobRunner& runner) {
     ControlInput input;
     input.dt_s = 0.02;
-    const ExecutorOutput output =
-        runner.Step(input, {}, odometry_.estimate(), Twist2{});
+    const ExecutorOutput output = runner.Step(input, {}, odometry_.estimate(), Twist2{});
     runner.Serve(output);
     return output;
   }

@@ -70,9 +70,7 @@ class JobRunner {
   /// The lift's setpoint, kept across routes.
   bool lift_raised() const { return lift_raised_; }
   /// The route's state (kRunning without a route).
-  ExecutionState state() const {
-    return executor_ ? executor_->state() : ExecutionState::kRunning;
-  }
+  ExecutionState state() const { return executor_ ? executor_->state() : ExecutionState::kRunning; }
   absl::Status failure() const { return executor_ ? executor_->failure() : absl::OkStatus(); }
   /// Every event of the run, in order (also those sent to the server).
   const std::vector<JobEvent>& events() const { return events_; }
