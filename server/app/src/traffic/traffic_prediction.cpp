@@ -1,0 +1,182 @@
+// TrafficCoordinator, part two: where each tracked robot will drive (its actions predicted on
+// the site's map with the planner of its kind) and the room it holds while standing.
+#include "fleetnav/server/traffic/traffic_coordinator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <utility>
+
+#include "absl/strings/str_cat.h"
+#include "fleetnav/core/segment_gate.hpp"
+#include "fleetnav/planner/coordination/make_way.hpp"
+#include "fleetnav/planner/coordination/route_segments.hpp"
+#include "fleetnav/planner/single_robot/planner_factory.hpp"
+
+namespace fleetnav::server {
+namespace {
+
+/// Whether a robot keeps to its predicted path closely enough to follow another a segment
+/// behind: it localizes with a laser against the map (the Lely's estimate drifts by up to half
+/// a metre between markers) and does not steer by Ackermann (its pure pursuit cut a corner to
+/// 6 cm of a passing platform in the store fleet).
+bool FollowsClosely(const RobotModel& model) {
+  const bool laser_localized =
+      std::any_of(model.sensors.begin(), model.sensors.end(),
+                  [](const SensorMount& sensor) { return sensor.type == SensorType::kLaser; });
+  return laser_localized && model.kinematics != Kinematics::kAckermann;
+}
+
+}  // namespace
+
+TrafficCoordinator::PlannerCache& TrafficCoordinator::CacheFor(const std::string& map_id,
+                                                               uint32_t map_version,
+                                                               const RobotModel& model) {
+  const auto key = std::make_tuple(map_id, map_version, model.kind_name);
+  auto it = planners_.find(key);
+  if (it == planners_.end()) {
+    PlannerCache cache;
+    absl::StatusOr<std::shared_ptr<const storage::StoredMap>> shared =
+        site_data_->Map(map_id, map_version);
+    if (shared.ok()) {
+      const storage::StoredMap* map = shared->get();
+      // The agent's free navigation plans with 0.1 m of padding (FreeNavigationParams).
+      planner::CostmapParams costmap_params;
+      costmap_params.padding_m = 0.1;
+      absl::StatusOr<planner::Costmap> costmap =
+          planner::Costmap::Build(map->grid, model.footprint_m, costmap_params);
+      if (costmap.ok()) {
+        cache.costmap = std::make_unique<planner::Costmap>(*std::move(costmap));
+        // The planner the robot's agent navigates with, so the prediction is its path.
+        const planner::SingleRobotPlannerParams planner_params =
+            planner::NavigationPlannerParams(model);
+        absl::StatusOr<std::unique_ptr<planner::SingleRobotPlanner>> planner =
+            planner::MakeSingleRobotPlanner(cache.costmap.get(), model, planner_params);
+        if (planner.ok()) cache.planner = *std::move(planner);
+      }
+      cache.map_origin = map->grid.origin();
+    }
+    it = planners_.emplace(key, std::move(cache)).first;
+  }
+  return it->second;
+}
+
+planner::SingleRobotPlanner* TrafficCoordinator::PlannerFor(const Tracked& tracked,
+                                                            Pose2* map_origin) {
+  PlannerCache& cache =
+      CacheFor(tracked.assignment.job.map_id, tracked.assignment.map_version, tracked.model);
+  *map_origin = cache.map_origin;
+  return cache.planner.get();
+}
+
+double TrafficCoordinator::StandingMarginM(const Telemetry& telemetry) const {
+  const double variance_m2 = std::max(telemetry.covariance[0], telemetry.covariance[4]);
+  if (!std::isfinite(variance_m2) || variance_m2 < 0.0) return params_.margin_m;
+  return std::clamp(params_.standing_sigmas * std::sqrt(variance_m2), params_.standing_margin_min_m,
+                    params_.margin_m);
+}
+
+void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
+                                 const std::optional<Eigen::Vector2d>& carried_load_m,
+                                 double standing_margin_m) {
+  std::shared_ptr<const storage::StoredMarkerSet> markers;
+  if (tracked.assignment.marker_set_version > 0) {
+    absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> stored =
+        site_data_->MarkerSetVersion(tracked.assignment.job.map_id,
+                                     tracked.assignment.marker_set_version);
+    if (stored.ok()) markers = *std::move(stored);
+  }
+  // Only the window of actions ahead is predicted (horizon_actions).
+  const std::vector<RouteAction>& all = tracked.assignment.route->actions;
+  const int skipped = std::min<int>(tracked.start_action, all.size());
+  const int end = std::min<int>(all.size(), skipped + params_.horizon_actions);
+  Route remaining;
+  remaining.name = tracked.assignment.route->name;
+  remaining.map_id = tracked.assignment.route->map_id;
+  remaining.actions.assign(all.begin() + skipped, all.begin() + end);
+  tracked.predicted_end = end;
+  Pose2 map_origin;
+  planner::SingleRobotPlanner* planner = PlannerFor(tracked, &map_origin);
+  const MarkerSet* marker_set = markers ? &markers->markers : nullptr;
+  absl::StatusOr<std::vector<planner::PredictedAction>> predicted =
+      planner::PredictRoute(remaining, pose, marker_set, planner, map_origin, params_.prediction);
+  if (!predicted.ok() && planner != nullptr) {
+    // The agent will say why it cannot plan; the straight lines still reserve its way there.
+    predicted =
+        planner::PredictRoute(remaining, pose, marker_set, nullptr, map_origin, params_.prediction);
+  }
+  planner::ScheduledRoute schedule;
+  schedule.robot_id = tracked.robot_id;
+  schedule.job_id = tracked.assignment.job.job_id;
+  // A robot carrying a trolley sweeps the trolley's outline too (RobotModel::CarryingLoad); the
+  // load changes where a trolley dock or an undock ends.
+  const auto sweep = [&](const std::vector<Pose2>& poses,
+                         const std::optional<Eigen::Vector2d>& load_m) {
+    return planner::CellSet::Sweep(poses, tracked.model.FootprintCarrying(load_m), params_.margin_m,
+                                   params_.cell_m);
+  };
+  const auto stand = [&](const Pose2& at, const std::optional<Eigen::Vector2d>& load_m) {
+    return planner::CellSet::Sweep({at}, tracked.model.FootprintCarrying(load_m), standing_margin_m,
+                                   params_.cell_m);
+  };
+  std::optional<Eigen::Vector2d> load_m = carried_load_m;
+  schedule.start_cells = stand(pose, load_m);
+  schedule.cells_id = next_cells_id_++;
+  // Actions already run are one empty step each.
+  tracked.steps.clear();
+  for (int k = 0; k < skipped; ++k) {
+    tracked.steps.push_back({k, 0, 1, std::nullopt});
+    schedule.whole_from.push_back(k);
+    schedule.action_cells.emplace_back();
+    schedule.action_end_cells.push_back(schedule.start_cells);
+    schedule.action_start_s.push_back(tracked.assigned_s);
+  }
+  const double segment_m =
+      tracked.segment_clearances && FollowsClosely(tracked.model) ? params_.segment_m : 0.0;
+  double t_s = tracked.assigned_s;
+  for (size_t i = 0; i < remaining.actions.size(); ++i) {
+    const int action = skipped + static_cast<int>(i);
+    if (!predicted.ok()) {
+      // Unpredictable (a stripe the marker set lacks): reserve where it stands.
+      schedule.whole_from.push_back(static_cast<int>(tracked.steps.size()));
+      tracked.steps.push_back({action, 0, 1, std::nullopt});
+      schedule.action_cells.push_back(sweep({pose}, carried_load_m));
+      schedule.action_end_cells.push_back(schedule.start_cells);
+      schedule.action_start_s.push_back(t_s);
+      continue;
+    }
+    const std::optional<Eigen::Vector2d> load_after_m =
+        CarriedLoadAfter(remaining.actions[i], load_m, marker_set, Eigen::Vector2d::Zero());
+    const bool free_navigation =
+        std::holds_alternative<FreeNavigationAction>(remaining.actions[i].params);
+    const std::vector<planner::ActionSegment> segments =
+        planner::SplitIntoSegments(predicted->at(i), free_navigation ? segment_m : 0.0);
+    const int action_first_step = static_cast<int>(tracked.steps.size());
+    for (size_t j = 0; j < segments.size(); ++j) {
+      const bool last = j + 1 == segments.size();
+      schedule.whole_from.push_back(action_first_step);
+      tracked.steps.push_back(
+          {action, static_cast<int>(j), static_cast<int>(segments.size()), segments[j].gate});
+      schedule.action_cells.push_back(sweep(segments[j].poses, load_m));
+      // The load changes where the action ends (a trolley dock or an undock).
+      schedule.action_end_cells.push_back(
+          stand(segments[j].poses.back(), last ? load_after_m : load_m));
+      schedule.action_start_s.push_back(t_s);
+      t_s += segments[j].duration_s;
+    }
+    load_m = load_after_m;
+  }
+  schedule.first_unfinished = skipped;
+  // The action the robot may be in already (a later window, or a job resumed after a restart)
+  // stays cleared whole.
+  if (skipped >= static_cast<int>(tracked.assignment.route->actions.size())) {
+    schedule.cleared_up_to = skipped - 1;
+  } else if (skipped > 0 || tracked.resume_from_telemetry) {
+    schedule.cleared_up_to = FirstStepOf(tracked, skipped + 1) - 1;
+  } else {
+    schedule.cleared_up_to = -1;
+  }
+  tracked.schedule = std::move(schedule);
+}
+
+}  // namespace fleetnav::server
