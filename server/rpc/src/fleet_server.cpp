@@ -17,28 +17,15 @@ namespace fleetnav::server {
 
 absl::Status FleetServerParams::Validate() const {
   if (listen_address.empty()) return absl::InvalidArgumentError("listen_address: empty");
-  RETURN_IF_ERROR(limits.Validate());
-  if (db_path.empty()) return absl::InvalidArgumentError("db_path: empty");
-  if (!(postgres.connect_wait_s >= 0.0 && postgres.connect_wait_s <= 3600.0)) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("db_wait_s: must be in [0, 3600], got ", postgres.connect_wait_s));
-  }
   if (max_message_bytes < 1024) {
     return absl::InvalidArgumentError(
         absl::StrCat("max_message_bytes: must be >= 1024, got ", max_message_bytes));
-  }
-  if (!(dispatch_period_s > 0.0 && dispatch_period_s <= 10.0)) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("dispatch_period_s: must be in (0, 10], got ", dispatch_period_s));
   }
   if (agent_stream_threads < 1 || agent_stream_threads > 64) {
     return absl::InvalidArgumentError(
         absl::StrCat("agent_stream_threads: must be in [1, 64], got ", agent_stream_threads));
   }
-  RETURN_IF_ERROR(jobs.Validate());
-  RETURN_IF_ERROR(traffic.Validate());
-  RETURN_IF_ERROR(pose_history.Validate());
-  return registry.Validate();
+  return FleetAppParams::Validate();
 }
 
 FleetServer::FleetServer(FleetServerParams params)
@@ -53,19 +40,9 @@ FleetServer::~FleetServer() { Shutdown(); }
 
 absl::StatusOr<int> FleetServer::Start() {
   RETURN_IF_ERROR(params_.Validate());
-  FleetAppParams app_params;
-  app_params.db_path = params_.db_path;
-  app_params.postgres = params_.postgres;
-  app_params.registry = params_.registry;
-  app_params.jobs = params_.jobs;
-  app_params.traffic = params_.traffic;
-  app_params.pose_history = params_.pose_history;
-  app_params.site_cache = params_.site_cache;
-  app_params.limits = params_.limits;
-  app_params.dispatch_period_s = params_.dispatch_period_s;
-  app_params.on_access_refused = params_.on_access_refused;
-  app_params.on_job_event = params_.on_job_event;
-  app_params.on_token_change = params_.on_token_change;
+  FleetAppParams app_params = params_;  // the app's part of the parameters
+  app_params.authorize = false;         // the security files decide (below)
+  app_params.file_tokens.clear();
   app_params.on_store_transaction = [this](double seconds) {
     metrics_.ObserveStoreTransaction(seconds);
   };

@@ -1,7 +1,5 @@
 // TrafficCoordinator, part three: decisions told to robots: the steps (actions and their
 // segments) converted to actions, the reasons in words, and the gates robots have passed.
-#include "fleetnav/server/traffic/traffic_coordinator.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -12,6 +10,7 @@
 #include "fleetnav/planner/coordination/make_way.hpp"
 #include "fleetnav/planner/coordination/route_segments.hpp"
 #include "fleetnav/planner/single_robot/planner_factory.hpp"
+#include "fleetnav/server/traffic/traffic_coordinator.hpp"
 
 namespace fleetnav::server {
 namespace {

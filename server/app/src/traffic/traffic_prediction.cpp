@@ -1,7 +1,5 @@
 // TrafficCoordinator, part two: where each tracked robot will drive (its actions predicted on
 // the site's map with the planner of its kind) and the room it holds while standing.
-#include "fleetnav/server/traffic/traffic_coordinator.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -12,6 +10,7 @@
 #include "fleetnav/planner/coordination/make_way.hpp"
 #include "fleetnav/planner/coordination/route_segments.hpp"
 #include "fleetnav/planner/single_robot/planner_factory.hpp"
+#include "fleetnav/server/traffic/traffic_coordinator.hpp"
 
 namespace fleetnav::server {
 namespace {

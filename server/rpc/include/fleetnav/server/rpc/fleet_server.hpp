@@ -28,20 +28,12 @@
 
 namespace fleetnav::server {
 
-struct FleetServerParams {
+/// The app's parameters (store, wings, loops, log callbacks; those the server sets itself —
+/// authorization, file tokens, metrics and watch callbacks — are overwritten) and the gRPC
+/// server's own.
+struct FleetServerParams : FleetAppParams {
   std::string listen_address = "127.0.0.1:50051";  ///< port 0 picks a free port
-  /// An SQLite file, created if missing, or a postgresql:// URI (storage::OpenFleetDatabase).
-  std::string db_path = "fleetnav.db";
-  /// How a PostgreSQL store is reached (waits at start and on reconnection).
-  storage::PgOpenOptions postgres;
-  FleetRegistryParams registry;
-  JobServiceParams jobs;
-  TrafficCoordinatorParams traffic;
-  PoseHistoryParams pose_history;
-  SiteCacheParams site_cache;
-  InputLimits limits;
-  double dispatch_period_s = 0.2;    ///< how often queued jobs are matched to idle robots
-  int max_message_bytes = 64 << 20;  ///< largest request accepted (a 8k×8k map fits)
+  int max_message_bytes = 64 << 20;                ///< largest request accepted (a 8k×8k map fits)
   /// Threads (each with its own completion queue) serving the robots' streams.
   int agent_stream_threads = 2;
   /// A SimService address: take time from the simulator (fleetnavd --clock sim); "": the
@@ -54,13 +46,6 @@ struct FleetServerParams {
   /// AccessGate and replica_relay.hpp); they prove themselves with the relay key of this
   /// server's private key.
   bool accept_replica_relays = false;
-  /// Told about every refused call (method, caller and reason), for the log.
-  std::function<void(const std::string&)> on_access_refused;
-  /// Told about every job event stored (state changes and progress), for the log. Quick.
-  std::function<void(const Job&, const JobEvent&)> on_job_event;
-  /// Told about operator tokens created and revoked, and stored ones the token file overrides,
-  /// for the log (never a secret).
-  std::function<void(const std::string&)> on_token_change;
   absl::Status Validate() const;
 };
 
