@@ -106,8 +106,8 @@ bool PrepareRoute(v1::FleetService::Stub* fleet, const SiteOptions& site) {
 }
 
 /// What the operators measured.
-OperatorReport RunOperators(const LoadTarget& server,
-                            const OperatorOptions& options, const std::atomic<bool>& stop) {
+OperatorReport RunOperators(const LoadTarget& server, const OperatorOptions& options,
+                            const std::atomic<bool>& stop) {
   const int submitters = options.submitters;
   const double rate_hz = options.rate_hz;
   std::mutex mutex;

@@ -29,7 +29,6 @@ struct OperatorReport {
   uint64_t watches = 0;
 };
 
-
 /// How the operators behave.
 struct OperatorOptions {
   int submitters = 2;

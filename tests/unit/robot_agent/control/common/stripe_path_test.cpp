@@ -112,7 +112,7 @@ std::optional<double> Offset(const std::vector<Eigen::Vector2d>& polyline, const
   const Eigen::Vector2d left(-std::sin(sensor.yaw_rad()), std::cos(sensor.yaw_rad()));
   std::optional<double> best;
   for (size_t i = 1; i < polyline.size(); ++i) {
-    const Eigen::Vector2d a = polyline[i - 1];
+    const Eigen::Vector2d& a = polyline[i - 1];
     const Eigen::Vector2d d = polyline[i] - a;
     // Intersect the lateral line sensor + t·left with the segment a + u·d.
     const double det = left.x() * (-d.y()) - left.y() * (-d.x());

@@ -21,8 +21,8 @@ constexpr double kDt = 0.02;
 constexpr double kFenceYM = 1.2;
 
 const SensorMount& LeftUltrasonic() {
-  static const RobotModel model = LelyVectorModel();
-  return *model.FindSensor("ultrasonic_left");
+  static const RobotModel kModel = LelyVectorModel();
+  return *kModel.FindSensor("ultrasonic_left");
 }
 
 /// Range from the left ultrasonic to the fence along its beam; nullopt in the gap or when the
