@@ -21,23 +21,10 @@
 #include "fleetnav/proto/channel_credentials.hpp"
 #include "fleetnav/proto/geometry_convert.hpp"
 #include "fleetnav/proto/server_target.hpp"
+#include "fleetnav/proto/sim_convert.hpp"
 #include "scenario_run.hpp"
 
 namespace fleetnav::scenario::internal {
-
-namespace {
-
-v1::FaultType SimFaultType(const std::string& name) {
-  if (name == "hide_ultrasonic") return v1::FAULT_TYPE_HIDE_ULTRASONIC_REGION;
-  if (name == "remove_fence") return v1::FAULT_TYPE_REMOVE_FENCE_SEGMENT;
-  if (name == "remove_stripe") return v1::FAULT_TYPE_REMOVE_STRIPE_SEGMENT;
-  if (name == "wheel_slip") return v1::FAULT_TYPE_WHEEL_SLIP_REGION;
-  if (name == "sensor_dropout") return v1::FAULT_TYPE_SENSOR_DROPOUT;
-  if (name == "slow_down") return v1::FAULT_TYPE_SLOW_DOWN;
-  return v1::FAULT_TYPE_UNSPECIFIED;
-}
-
-}  // namespace
 
 void Run::Inject(const ScenarioFault& fault) {
   switch (fault.type) {
@@ -73,18 +60,21 @@ void Run::Inject(const ScenarioFault& fault) {
       }
       return;
     case ScenarioFaultType::kSimFault: {
-      v1::InjectFaultRequest request;
-      request.set_type(SimFaultType(fault.sim_type));
-      request.set_robot_id(fault.robot_id);
-      request.set_sensor_name(fault.sensor);
-      request.set_duration_s(fault.duration_s);
-      request.set_factor(fault.factor);
+      const absl::StatusOr<FaultType> type = FaultTypeByName(fault.sim_type);
+      FaultSpec spec;
+      if (type.ok()) spec.type = *type;
+      spec.robot_id = fault.robot_id;
+      spec.sensor_name = fault.sensor;
+      spec.duration_s = fault.duration_s;
+      spec.factor = fault.factor;
       if (fault.region) {
-        request.mutable_region_min()->set_x_m(fault.region->first.x_m());
-        request.mutable_region_min()->set_y_m(fault.region->first.y_m());
-        request.mutable_region_max()->set_x_m(fault.region->second.x_m());
-        request.mutable_region_max()->set_y_m(fault.region->second.y_m());
+        spec.region_min_m = fault.region->first.translation();
+        spec.region_max_m = fault.region->second.translation();
       }
+      v1::InjectFaultRequest request = ToProto(spec);
+      // An unknown type (the scenario file's check names it) goes unspecified: the simulator
+      // refuses it.
+      if (!type.ok()) request.set_type(v1::FAULT_TYPE_UNSPECIFIED);
       grpc::ClientContext context;
       WithDeadline(&context);
       v1::InjectFaultResponse response;
