@@ -13,7 +13,7 @@ SANITIZE_TESTS ?= core_test planner_test storage_test localization_test
 # linked with an Abseil built with TSan (scripts/tsan-abseil; Debian's is not instrumented).
 TSAN_TESTS ?= core_test storage_test server_app_test
 
-.PHONY: all bootstrap configure build test demo bench format format-check tidy sanitize tsan fuzz clean
+.PHONY: all bootstrap configure build test demo bench format format-check tidy tidy-changed sanitize tsan fuzz clean
 
 all: build
 
@@ -44,8 +44,13 @@ format:
 format-check:
 	git ls-files '*.cpp' '*.hpp' | xargs clang-format --dry-run -Werror
 
-# clang-tidy (.clang-tidy: naming rules and defect checks) on the files changed in the last day.
-tidy: configure
+# clang-tidy (.clang-tidy: naming rules and defect checks) on the whole tree, cached per
+# preprocessed file (scripts/tidy-all; needs the build's generated headers).
+tidy: build
+	JOBS=$(JOBS) ./scripts/tidy-all $(BUILD_DIR)
+
+# The same on the files changed in the last day only (quick, no cache).
+tidy-changed: configure
 	./scripts/tidy-changed $(BUILD_DIR)
 
 sanitize: bootstrap
