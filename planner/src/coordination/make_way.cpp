@@ -41,14 +41,17 @@ absl::StatusOr<Pose2> FindMakeWayPlace(Costmap& costmap, const Pose2& map_origin
   const int stride = std::max(1, static_cast<int>(std::lround(params.candidate_step_m / res_m)));
   const double max_cells = params.max_distance_m / res_m;
 
-  // A place: the footprint fits at one of four yaws and its grown cells meet nobody's way.
+  // A place: the footprint fits at one of four yaws and its grown cells meet nobody's way. Grown
+  // by a cell more than the margin: the robot stops within its goal tolerance of the place and
+  // is judged at its exact pose, not the cell's centre; without the slack a robot a hair inside
+  // someone's way was sent 2 cm aside, arrived at once and was asked again, five times a second.
+  const double margin_m = request.margin_m + request.cell_m;
   auto place_at = [&](int x, int y) -> std::optional<Pose2> {
     for (int quarter = 0; quarter < 4; ++quarter) {
       const double yaw_in_grid = NormalizeAngle(from_in_grid.yaw_rad() + quarter * kPi / 2.0);
       if (!costmap.FootprintFree(x, y, yaw_in_grid)) continue;
       const Pose2 in_map = map_origin * Pose2((x + 0.5) * res_m, (y + 0.5) * res_m, yaw_in_grid);
-      const CellSet cells =
-          CellSet::Sweep({in_map}, request.footprint_m, request.margin_m, request.cell_m);
+      const CellSet cells = CellSet::Sweep({in_map}, request.footprint_m, margin_m, request.cell_m);
       bool clear = true;
       for (const CellSet* other : request.keep_off) {
         if (other != nullptr && cells.Intersects(*other)) {
@@ -59,6 +62,36 @@ absl::StatusOr<Pose2> FindMakeWayPlace(Costmap& costmap, const Pose2& map_origin
       if (clear) return in_map;
     }
     return std::nullopt;
+  };
+
+  // Cells the robot's centre may not cross: within half its footprint's smaller side and the
+  // pass margin of where another robot stands (tested at the centre and eight points that far
+  // round it).
+  double half_side_m = std::numeric_limits<double>::infinity();
+  {
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector2d hi = -lo;
+    for (const Eigen::Vector2d& v : request.footprint_m) {
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+    half_side_m = request.footprint_m.empty() ? 0.0 : 0.5 * (hi - lo).minCoeff();
+  }
+  const double reach_m = half_side_m + request.pass_margin_m;
+  std::vector<Eigen::Vector2d> probes{Eigen::Vector2d::Zero()};
+  for (int i = 0; i < 8; ++i) {
+    probes.emplace_back(reach_m * std::cos(i * kPi / 4.0), reach_m * std::sin(i * kPi / 4.0));
+  }
+  auto passes_someone = [&](int x, int y) {
+    if (request.impassable.empty()) return false;
+    const Pose2 at = map_origin * Pose2((x + 0.5) * res_m, (y + 0.5) * res_m, 0.0);
+    const Eigen::Vector2d c = at.translation();
+    for (const Eigen::Vector2d& offset : probes) {
+      for (const CellSet* other : request.impassable) {
+        if (other != nullptr && other->ContainsPoint(c + offset, request.cell_m)) return true;
+      }
+    }
+    return false;
   };
 
   // Dijkstra from the robot's cell over cells the footprint fits in at some yaw (the start cell
@@ -89,7 +122,7 @@ absl::StatusOr<Pose2> FindMakeWayPlace(Costmap& costmap, const Pose2& map_origin
       if (!costmap.InBounds(nx, ny) || !costmap.AnyYawFree(nx, ny)) continue;
       const double nd = d + (k < 4 ? 1.0 : std::sqrt(2.0));
       const int n = ny * width + nx;
-      if (nd > max_cells || nd >= distance[n]) continue;
+      if (nd > max_cells || nd >= distance[n] || passes_someone(nx, ny)) continue;
       distance[n] = nd;
       open.push({nd, n});
     }

@@ -47,8 +47,18 @@ const CellSet& Standing(const ScheduledRoute& r) {
   return r.action_end_cells[std::min(r.first_unfinished, Count(r)) - 1];
 }
 
-/// The newer of two routes (later expected start; the higher index on a tie).
-int Newer(const RouteList& routes, int r, int s) {
+/// Whether the robot has begun the route: cleared into it, or past an action of it.
+bool Begun(const ScheduledRoute& route) {
+  return route.first_unfinished > 0 || route.cleared_up_to >= 0;
+}
+
+/// Of two routes that cannot both go on, the one to hold whole: one its robot has not begun
+/// (it stands at its start, so its job can be withdrawn and the robot sent aside) before one
+/// part-way through (a robot that has begun cannot drop its job: holding it left two robots
+/// facing each other for good in the dense hall); of two alike, the newer (later expected
+/// start; the higher index on a tie), so the older always goes on.
+int ToHold(const RouteList& routes, int r, int s) {
+  if (Begun(routes[r]) != Begun(routes[s])) return Begun(routes[r]) ? s : r;
   const double tr = routes[r].action_start_s.empty() ? 0.0 : routes[r].action_start_s.front();
   const double ts = routes[s].action_start_s.empty() ? 0.0 : routes[s].action_start_s.front();
   return ts > tr || (ts == tr && s > r) ? s : r;
@@ -142,6 +152,7 @@ bool Meets(const CellSet& cells, const ScheduledRoute& route, int first, int las
 struct BuildResult {
   Graph graph;
   int infeasible_route = -1;
+  int infeasible_partner = -1;  ///< the route it cannot be ordered with
 };
 
 /// The blocks of routes r and s, computed or remembered.
@@ -215,6 +226,7 @@ BuildResult Build(const RouteList& routes, const std::vector<bool>& held,
           if (waiting_first == waiting.first_unfinished &&
               Meets(Standing(waiting), in, std::max(in_first, in.cleared_up_to + 1), in_last)) {
             out.infeasible_route = a_cleared ? s : r;
+            out.infeasible_partner = a_cleared ? r : s;
             return out;
           }
           a_first = a_cleared;
@@ -231,7 +243,8 @@ BuildResult Build(const RouteList& routes, const std::vector<bool>& held,
           const bool a_must = a_stands || b_ends;
           const bool b_must = b_stands || a_ends;
           if (a_must && b_must && !a_cleared) {
-            out.infeasible_route = Newer(routes, r, s);
+            out.infeasible_route = ToHold(routes, r, s);
+            out.infeasible_partner = out.infeasible_route == r ? s : r;
             return out;
           }
           a_first = a_must || (!b_must && key(r, block.k1) < key(s, block.l1));
@@ -247,8 +260,13 @@ BuildResult Build(const RouteList& routes, const std::vector<bool>& held,
   return out;
 }
 
-/// A route on a cycle of the graph (intra-route edges k → k+1 plus the dependencies), or -1.
-int RouteOnCycle(const RouteList& routes, const std::vector<bool>& held, const Graph& g) {
+/// A cycle of the graph (intra-route edges k → k+1 plus the dependencies): the route on it to
+/// hold (-1: no cycle) and the routes on it.
+struct RouteCycle {
+  int hold = -1;
+  std::vector<int> routes;
+};
+RouteCycle RouteOnCycle(const RouteList& routes, const std::vector<bool>& held, const Graph& g) {
   // Nodes are numbered route by route: node offset[r] + k is action k of route r.
   const int n = static_cast<int>(routes.size());
   std::vector<int> offset(n + 1, 0);
@@ -288,17 +306,13 @@ int RouteOnCycle(const RouteList& routes, const std::vector<bool>& held, const G
         const int to = child < next[node].size() ? next[node][child] : node + 1;
         ++child;
         if (color[to] == 1) {
-          // The cycle runs from `to` up the stack: hold its newest route.
-          int newest = route_of[to];
+          // The cycle runs from `to` up the stack: hold the route ToHold picks of it.
+          RouteCycle cycle{route_of[to], {route_of[to]}};
           for (auto it = stack.rbegin(); it != stack.rend() && it->first != to; ++it) {
-            const int q = route_of[it->first];
-            if (routes[q].action_start_s.front() > routes[newest].action_start_s.front() ||
-                (routes[q].action_start_s.front() == routes[newest].action_start_s.front() &&
-                 q > newest)) {
-              newest = q;
-            }
+            cycle.hold = ToHold(routes, cycle.hold, route_of[it->first]);
+            cycle.routes.push_back(route_of[it->first]);
           }
-          return newest;
+          return cycle;
         }
         if (color[to] == 0) {
           color[to] = 1;
@@ -307,7 +321,7 @@ int RouteOnCycle(const RouteList& routes, const std::vector<bool>& held, const G
       }
     }
   }
-  return -1;
+  return {};
 }
 
 /// DecideClearances over the graph that `blocks_of` yields.
@@ -315,17 +329,21 @@ std::vector<TrafficClearanceDecision> Decide(const RouteList& routes,
                                              const std::vector<ParkedRobot>& parked,
                                              const BlocksOf& blocks_of) {
   std::vector<bool> held(routes.size(), false);
+  // For each held route, the routes it could not be ordered with.
+  std::vector<std::vector<int>> held_for(routes.size());
   Graph g;
   while (true) {
     BuildResult built = Build(routes, held, parked, blocks_of);
     if (built.infeasible_route >= 0) {
       held[built.infeasible_route] = true;
+      held_for[built.infeasible_route].push_back(built.infeasible_partner);
       continue;
     }
     g = std::move(built.graph);
-    const int cycle = RouteOnCycle(routes, held, g);
-    if (cycle < 0) break;
-    held[cycle] = true;
+    const RouteCycle cycle = RouteOnCycle(routes, held, g);
+    if (cycle.hold < 0) break;
+    held[cycle.hold] = true;
+    held_for[cycle.hold] = cycle.routes;
   }
   std::vector<TrafficClearanceDecision> out;
   for (int r = 0; r < static_cast<int>(routes.size()); ++r) {
@@ -336,10 +354,21 @@ std::vector<TrafficClearanceDecision> Decide(const RouteList& routes,
                                       {},
                                       static_cast<bool>(held[r])};
     if (held[r]) {
-      for (int s = 0; s < static_cast<int>(routes.size()); ++s) {
-        if (s != r && !held[s])
-          decision.waits.push_back({route.robot_id, decision.cleared_up_to + 1, routes[s].robot_id,
-                                    Count(routes[s]) - 1});
+      // It waits for the routes it could not be ordered with (for every route when those are
+      // held too): their last actions.
+      std::vector<int> partners;
+      for (int s : held_for[r]) {
+        if (s != r && !held[s] &&
+            std::find(partners.begin(), partners.end(), s) == partners.end()) {
+          partners.push_back(s);
+        }
+      }
+      for (int s = 0; partners.empty() && s < static_cast<int>(routes.size()); ++s) {
+        if (s != r && !held[s]) partners.push_back(s);
+      }
+      for (int s : partners) {
+        decision.waits.push_back(
+            {route.robot_id, decision.cleared_up_to + 1, routes[s].robot_id, Count(routes[s]) - 1});
       }
       out.push_back(std::move(decision));
       continue;

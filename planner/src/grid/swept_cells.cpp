@@ -98,6 +98,13 @@ bool CellSet::BoundsOverlap(const CellSet& other) const {
          other.max_x_ >= min_x_ && max_y_ >= other.min_y_ && other.max_y_ >= min_y_;
 }
 
+bool CellSet::ContainsPoint(const Eigen::Vector2d& point_m, double cell_m) const {
+  const int64_t ix = static_cast<int64_t>(std::floor(point_m.x() / cell_m));
+  const int64_t iy = static_cast<int64_t>(std::floor(point_m.y() / cell_m));
+  if (ix < min_x_ || ix > max_x_ || iy < min_y_ || iy > max_y_) return false;
+  return std::binary_search(keys_.begin(), keys_.end(), Key(ix, iy));
+}
+
 bool CellSet::Intersects(const CellSet& other) const {
   if (keys_.empty() || other.keys_.empty() || !BoundsOverlap(other)) return false;
   auto a = keys_.begin();

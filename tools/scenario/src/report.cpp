@@ -37,13 +37,13 @@ void PrintReport(const ScenarioReport& report, std::ostream& out) {
       report.real_time_factor, 100.0 * report.waiting_share);
   out << absl::StrFormat(
       "waiting %.1f s in all; the work would have ended at %.1f s had no robot been held "
-      "(no-coordination lower bound)\n",
+      "(no-coordination lower bound); the fleet stood still at most %.1f s with work to do\n",
       [&] {
         double total = 0.0;
         for (const RobotFigures& robot : report.robots) total += robot.waiting_s;
         return total;
       }(),
-      report.no_wait_end_s);
+      report.no_wait_end_s, report.longest_standstill_s);
   const double per_sim_s = report.sim_time_s > 0.0 ? 1.0 / report.sim_time_s : 0.0;
   out << absl::StrFormat(
       "CPU: fleetnavd %.1f s (%.4f per sim-s), simulator %.1f s, agents %.1f s (%.4f per robot "
@@ -110,6 +110,7 @@ std::string ReportJson(const ScenarioReport& report) {
                         {"real_time_factor", report.real_time_factor},
                         {"waiting_share", report.waiting_share},
                         {"no_wait_end_s", report.no_wait_end_s},
+                        {"longest_standstill_s", report.longest_standstill_s},
                         {"server_cpu_s", report.server_cpu_s},
                         {"sim_cpu_s", report.sim_cpu_s},
                         {"agents_cpu_s", report.agents_cpu_s},

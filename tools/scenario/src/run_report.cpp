@@ -21,6 +21,7 @@
 #include "fleetnav/proto/channel_credentials.hpp"
 #include "fleetnav/proto/geometry_convert.hpp"
 #include "fleetnav/proto/server_target.hpp"
+#include "fleetnav/scenario/standstill.hpp"
 #include "scenario_run.hpp"
 
 namespace fleetnav::scenario::internal {
@@ -153,6 +154,20 @@ void Run::Finish(ScenarioReport* report) {
       report->no_wait_end_s = std::max(report->no_wait_end_s, last_end_s - f.waiting_s);
     }
   }
+  {
+    std::map<std::string, std::vector<TruthSample>> samples;
+    for (const auto& [id, trajectory] : truth) {
+      for (const Sample& s : trajectory) samples[id].push_back({s.t_s, s.x, s.y});
+    }
+    std::vector<JobWindow> windows;
+    for (size_t i = 0; i < jobs_.size(); ++i) {
+      // A job refused at submission ended there.
+      const double end_s =
+          IsEnd(jobs_[i].state) && jobs_[i].end_sim_s < 0.0 ? s_.jobs[i].at_s : jobs_[i].end_sim_s;
+      windows.push_back({s_.jobs[i].at_s, end_s});
+    }
+    report->longest_standstill_s = LongestStandstillS(samples, windows);
+  }
   report->jobs = jobs_;
   // Expectations.
   for (const JobOutcome& job : jobs_) {
@@ -178,6 +193,11 @@ void Run::Finish(ScenarioReport* report) {
                               earliest->first_contact_with, *earliest->first_contact_s);
     report->failures.push_back(absl::StrCat(report->contacts, " contact episode(s) (at most ",
                                             s_.expect.max_contacts, " expected)", first));
+  }
+  if (s_.expect.max_standstill_s && report->longest_standstill_s > *s_.expect.max_standstill_s) {
+    report->failures.push_back(absl::StrFormat(
+        "the fleet stood still for %.1f s with jobs unfinished (at most %.1f s expected)",
+        report->longest_standstill_s, *s_.expect.max_standstill_s));
   }
   if (s_.expect.min_separation_m && report->min_separation_m < *s_.expect.min_separation_m) {
     report->failures.push_back(absl::StrFormat("min separation %.3f m (at least %.3f m expected)",

@@ -175,8 +175,9 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
   };
   // Expectations first: the deadline bounds every time.
   if (const YAML::Node e = root["expect"]) {
-    RETURN_IF_ERROR(CheckKeys(
-        e, "expect", {"jobs", "contacts", "min_separation_m", "deadline_s", "max_waiting_s"}));
+    RETURN_IF_ERROR(CheckKeys(e, "expect",
+                              {"jobs", "contacts", "min_separation_m", "deadline_s",
+                               "max_waiting_s", "max_standstill_s"}));
     if (const YAML::Node waits = e["max_waiting_s"]) {
       if (!waits.IsMap()) {
         return absl::InvalidArgumentError("expect.max_waiting_s: expected {robot: seconds, ...}");
@@ -197,6 +198,10 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
     if (e["contacts"]) {
       ASSIGN_OR_RETURN(double c, Number(e["contacts"], "expect.contacts", 0));
       s.expect.max_contacts = static_cast<int>(c);
+    }
+    if (e["max_standstill_s"]) {
+      ASSIGN_OR_RETURN(s.expect.max_standstill_s,
+                       Number(e["max_standstill_s"], "expect.max_standstill_s", 0));
     }
     if (e["min_separation_m"]) {
       ASSIGN_OR_RETURN(s.expect.min_separation_m,

@@ -43,6 +43,7 @@ std::map<std::string, FigureSpread> FigureSpreads(const std::vector<ScenarioRepo
        {"wall_time_s", [](const ScenarioReport& r) { return r.wall_time_s; }},
        {"min_separation_m", [](const ScenarioReport& r) { return r.min_separation_m; }},
        {"waiting_share", [](const ScenarioReport& r) { return r.waiting_share; }},
+       {"longest_standstill_s", [](const ScenarioReport& r) { return r.longest_standstill_s; }},
        {"max_loc_error_m", MaxLocalizationError},
        {"contacts", [](const ScenarioReport& r) { return static_cast<double>(r.contacts); }}};
   std::map<std::string, FigureSpread> spreads;

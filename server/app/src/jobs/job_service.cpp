@@ -151,11 +151,22 @@ int JobService::DispatchOnce() {
   std::vector<MakeWayRequest> make_way = traffic_.TakeMakeWayRequests();
   std::erase_if(make_way, [&](const MakeWayRequest& request) {
     if (request.withdraw_job_id.empty()) return false;
-    if (matcher_.IsMakeWayJob(request.withdraw_job_id)) return true;
+    if (matcher_.IsMakeWayJob(request.withdraw_job_id)) {
+      // A make-way job is not withdrawn (that would queue the same move again), but one in a
+      // circle of waits is given up for a place off the ways as they are now.
+      return !request.breaks_wait_cycle ||
+             !lifecycle_
+                  .Cancel(request.withdraw_job_id,
+                          absl::StrCat("its way closes a circle of waits (", request.for_robot_id,
+                                       " waits for ", request.robot_id, "); sent to another place"))
+                  .ok();
+    }
     return !lifecycle_
                 .Withdraw(request.withdraw_job_id,
                           absl::StrCat("withdrawn from ", request.robot_id, " to let ",
-                                       request.for_robot_id, " pass; queued again"))
+                                       request.for_robot_id, " pass",
+                                       request.breaks_wait_cycle ? " (a circle of waits)" : "",
+                                       "; queued again"))
                 .ok();
   });
   if (!make_way.empty()) {

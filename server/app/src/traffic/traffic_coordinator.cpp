@@ -9,6 +9,7 @@
 #include "fleetnav/core/segment_gate.hpp"
 #include "fleetnav/planner/coordination/make_way.hpp"
 #include "fleetnav/planner/coordination/route_segments.hpp"
+#include "fleetnav/planner/coordination/wait_cycles.hpp"
 #include "fleetnav/planner/single_robot/planner_factory.hpp"
 
 namespace fleetnav::server {
@@ -36,6 +37,10 @@ absl::Status TrafficCoordinatorParams::Validate() const {
   }
   if (absl::Status s = make_way.Validate(); !s.ok()) {
     return absl::InvalidArgumentError(absl::StrCat("make_way.", s.message()));
+  }
+  if (!std::isfinite(break_cycle_every_s) || break_cycle_every_s <= 0.0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("break_cycle_every_s: must be > 0, got ", break_cycle_every_s));
   }
   if (horizon_actions < 2) {
     return absl::InvalidArgumentError(
@@ -113,6 +118,9 @@ void TrafficCoordinator::End(const std::string& job_id) {
     robot_id = it->second.robot_id;
     jobs_.erase(it);
     changed_ = true;
+    // It stands anew: it may be asked to make way again. (A request made while its job was held
+    // may have been dropped: a make-way job is not withdrawn.)
+    make_way_asked_.erase(robot_id);
     // The floor a job needed is free again: a robot that found no place to make way to looks
     // again on the next update.
     for (const auto& [stuck_robot_id, why] : cannot_make_way_) {
@@ -232,6 +240,7 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
       const std::vector<planner::TrafficClearanceDecision> decisions =
           deciders_[map_id].Decide(routes, parked);
       AskIdleRobotsToMakeWay(map_id, tracked_jobs, decisions, parked, by_id);
+      BreakWaitCycles(map_id, tracked_jobs, decisions, parked, by_id);
       for (size_t i = 0; i < decisions.size(); ++i) {
         Tracked& t = *tracked_jobs[i];
         t.schedule->cleared_up_to = decisions[i].cleared_up_to;
@@ -294,31 +303,9 @@ void TrafficCoordinator::AskIdleRobotsToMakeWay(
       auto record = records.find(wait.blocker_robot_id);
       if (record == records.end() || !record->second->last_telemetry) continue;
       const RobotRecord& robot = *record->second;
-      const Telemetry& telemetry = *robot.last_telemetry;
-      // What the others still need: every unfinished action and its end, and where the other
-      // idle robots stand.
-      planner::MakeWayRequestGeometry geometry;
-      geometry.from_in_map = telemetry.pose_in_map;
-      geometry.footprint_m = robot.identity.model.FootprintCarrying(telemetry.carried_load_m);
-      geometry.margin_m = StandingMarginM(telemetry);
-      geometry.cell_m = params_.cell_m;
-      for (const Tracked* t : tracked_jobs) {
-        const planner::ScheduledRoute& route = *t->schedule;
-        if (route.robot_id == robot.identity.robot_id) continue;  // its own, withdrawn
-        for (size_t k = std::max(route.first_unfinished, 0); k < route.action_cells.size(); ++k) {
-          geometry.keep_off.push_back(&route.action_cells[k]);
-          geometry.keep_off.push_back(&route.action_end_cells[k]);
-        }
-        if (route.first_unfinished == 0) geometry.keep_off.push_back(&route.start_cells);
-      }
-      for (const planner::ParkedRobot& other : parked) {
-        if (other.robot_id != robot.identity.robot_id) geometry.keep_off.push_back(&other.cells);
-      }
-      PlannerCache& cache =
-          CacheFor(map_id, tracked_jobs[i]->assignment.map_version, robot.identity.model);
-      if (cache.costmap == nullptr) continue;
-      absl::StatusOr<Pose2> place =
-          planner::FindMakeWayPlace(*cache.costmap, cache.map_origin, geometry, params_.make_way);
+      absl::StatusOr<Pose2> place = PlaceAside(map_id, tracked_jobs[i]->assignment.map_version,
+                                               robot, tracked_jobs, parked, records);
+      if (absl::IsUnavailable(place.status())) continue;
       make_way_asked_.insert(robot.identity.robot_id);
       if (!place.ok()) {
         cannot_make_way_[robot.identity.robot_id] = std::string(place.status().message());
@@ -328,6 +315,163 @@ void TrafficCoordinator::AskIdleRobotsToMakeWay(
       make_way_requests_.push_back(
           {robot.identity.robot_id, map_id, *place, decisions[i].robot_id, mover->second});
     }
+  }
+}
+
+absl::StatusOr<Pose2> TrafficCoordinator::PlaceAside(
+    const std::string& map_id, uint32_t map_version, const RobotRecord& robot,
+    const std::vector<Tracked*>& tracked_jobs, const std::vector<planner::ParkedRobot>& parked,
+    const std::map<std::string, const RobotRecord*>& records,
+    const std::vector<std::string>* near_only_except) {
+  const Telemetry& telemetry = *robot.last_telemetry;
+  // What the others still need: every unfinished action and its end, and where the other idle
+  // robots stand.
+  planner::MakeWayRequestGeometry geometry;
+  geometry.from_in_map = telemetry.pose_in_map;
+  geometry.footprint_m = robot.identity.model.FootprintCarrying(telemetry.carried_load_m);
+  geometry.margin_m = StandingMarginM(telemetry);
+  geometry.cell_m = params_.cell_m;
+  for (const Tracked* t : tracked_jobs) {
+    const planner::ScheduledRoute& route = *t->schedule;
+    if (route.robot_id == robot.identity.robot_id) continue;  // its own, withdrawn
+    size_t end = route.action_cells.size();
+    if (near_only_except != nullptr && std::find(near_only_except->begin(), near_only_except->end(),
+                                                 route.robot_id) == near_only_except->end()) {
+      end = std::min(end, static_cast<size_t>(std::max(route.cleared_up_to, -1) + 2));
+      if (!route.action_end_cells.empty())
+        geometry.keep_off.push_back(&route.action_end_cells.back());
+    }
+    for (size_t k = std::max(route.first_unfinished, 0); k < end; ++k) {
+      geometry.keep_off.push_back(&route.action_cells[k]);
+      geometry.keep_off.push_back(&route.action_end_cells[k]);
+    }
+    if (route.first_unfinished == 0) geometry.keep_off.push_back(&route.start_cells);
+  }
+  for (const planner::ParkedRobot& other : parked) {
+    if (other.robot_id != robot.identity.robot_id) {
+      geometry.keep_off.push_back(&other.cells);
+      geometry.impassable.push_back(&other.cells);
+    }
+  }
+  // Where the robots with jobs on this map stand now.
+  std::vector<planner::CellSet> standing;
+  standing.reserve(tracked_jobs.size());
+  for (const Tracked* t : tracked_jobs) {
+    auto other = records.find(t->robot_id);
+    if (t->robot_id == robot.identity.robot_id || other == records.end() ||
+        !other->second->last_telemetry) {
+      continue;
+    }
+    const Telemetry& at = *other->second->last_telemetry;
+    standing.push_back(planner::CellSet::Sweep(
+        {at.pose_in_map}, other->second->identity.model.FootprintCarrying(at.carried_load_m),
+        StandingMarginM(at), params_.cell_m));
+  }
+  for (const planner::CellSet& cells : standing) geometry.impassable.push_back(&cells);
+  geometry.pass_margin_m = params_.margin_m;
+  PlannerCache& cache = CacheFor(map_id, map_version, robot.identity.model);
+  if (cache.costmap == nullptr) {
+    return absl::UnavailableError(absl::StrCat("map '", map_id, "' is not loaded"));
+  }
+  absl::StatusOr<Pose2> place =
+      planner::FindMakeWayPlace(*cache.costmap, cache.map_origin, geometry, params_.make_way);
+  if (!absl::IsNotFound(place.status())) return place;
+  // Boxed in by the others: a place it reaches only past someone is still better than none.
+  geometry.impassable.clear();
+  return planner::FindMakeWayPlace(*cache.costmap, cache.map_origin, geometry, params_.make_way);
+}
+
+void TrafficCoordinator::BreakWaitCycles(
+    const std::string& map_id, const std::vector<Tracked*>& tracked_jobs,
+    const std::vector<planner::TrafficClearanceDecision>& decisions,
+    const std::vector<planner::ParkedRobot>& parked,
+    const std::map<std::string, const RobotRecord*>& records) {
+  const double now_s = static_cast<double>(clock_->NowNs()) * 1e-9;
+  for (const std::vector<std::string>& cycle : planner::FindWaitCycles(decisions)) {
+    // A circle one of whose robots was sent aside lately is being broken: left alone.
+    if (std::any_of(cycle.begin(), cycle.end(), [&](const std::string& robot_id) {
+          auto broken = cycle_broken_s_.find(robot_id);
+          return broken != cycle_broken_s_.end() &&
+                 now_s - broken->second < params_.break_cycle_every_s;
+        })) {
+      continue;
+    }
+    const auto in_cycle = [&](const std::string& robot_id) {
+      return std::find(cycle.begin(), cycle.end(), robot_id) != cycle.end();
+    };
+    // Who in the circle stands in the way of another of it (and who waits for it).
+    std::map<std::string, std::string> stands_in_way_of;
+    for (const planner::TrafficClearanceDecision& d : decisions) {
+      if (!in_cycle(d.robot_id)) continue;
+      for (const planner::TrafficWait& wait : d.waits) {
+        if (wait.blocker_action < 0 && in_cycle(wait.blocker_robot_id)) {
+          stands_in_way_of.emplace(wait.blocker_robot_id, d.robot_id);
+        }
+      }
+    }
+    // The robot to send aside: one that has not started its job (it stands at its start and
+    // can drop it). Of those, the one sent aside for a circle least often (a circle that forms
+    // again after a robot went aside is broken by another: in the dense hall one robot's place
+    // aside was found the same each time, and its way there met the same neighbour), then one
+    // that stands in the way of another (moving it clears a way), then the one expected to
+    // start last (of equals, the later one, as DecideClearances holds the newer).
+    int chosen = -1;
+    const auto rank = [&](int i) {
+      const planner::ScheduledRoute& route = *tracked_jobs[i]->schedule;
+      auto count = cycle_broken_count_.find(route.robot_id);
+      return std::make_tuple(count == cycle_broken_count_.end() ? 0 : -count->second,
+                             stands_in_way_of.contains(route.robot_id), route.action_start_s[0]);
+    };
+    for (size_t i = 0; i < decisions.size(); ++i) {
+      const planner::ScheduledRoute& route = *tracked_jobs[i]->schedule;
+      if (!in_cycle(route.robot_id) || route.first_unfinished != 0 || route.cleared_up_to >= 0 ||
+          route.action_start_s.empty()) {
+        continue;
+      }
+      if (chosen < 0 || rank(static_cast<int>(i)) >= rank(chosen)) chosen = static_cast<int>(i);
+    }
+    if (chosen < 0) continue;
+    const Tracked& tracked = *tracked_jobs[chosen];
+    if (auto asked =
+            std::find_if(make_way_requests_.begin(), make_way_requests_.end(),
+                         [&](const MakeWayRequest& r) { return r.robot_id == tracked.robot_id; });
+        asked != make_way_requests_.end()) {
+      // Already sent aside on this pass (its job held whole): it breaks the circle.
+      asked->breaks_wait_cycle = true;
+      cycle_broken_s_[tracked.robot_id] = now_s;
+      ++cycle_broken_count_[tracked.robot_id];
+      continue;
+    }
+    auto record = records.find(tracked.robot_id);
+    if (record == records.end() || !record->second->last_telemetry) continue;
+    cycle_broken_s_[tracked.robot_id] = now_s;
+    ++cycle_broken_count_[tracked.robot_id];
+    absl::StatusOr<Pose2> place = PlaceAside(map_id, tracked.assignment.map_version,
+                                             *record->second, tracked_jobs, parked, records);
+    if (absl::IsNotFound(place.status())) {
+      // Off the circle's ways and whatever the others do next: the rest waits its turn.
+      place = PlaceAside(map_id, tracked.assignment.map_version, *record->second, tracked_jobs,
+                         parked, records, &cycle);
+    }
+    if (!place.ok()) {
+      // Said in the reason of whoever waits for it.
+      cannot_make_way_[tracked.robot_id] = std::string(place.status().message());
+      continue;
+    }
+    // Someone in the circle waits for it (standing in its way, if it does).
+    std::string for_robot_id;
+    if (auto waiter = stands_in_way_of.find(tracked.robot_id); waiter != stands_in_way_of.end()) {
+      for_robot_id = waiter->second;
+    }
+    for (size_t i = 0; i < decisions.size() && for_robot_id.empty(); ++i) {
+      for (const planner::TrafficWait& wait : decisions[i].waits) {
+        if (wait.blocker_robot_id == tracked.robot_id && in_cycle(decisions[i].robot_id)) {
+          for_robot_id = decisions[i].robot_id;
+        }
+      }
+    }
+    make_way_requests_.push_back({tracked.robot_id, map_id, *place, for_robot_id,
+                                  tracked.assignment.job.job_id, /*breaks_wait_cycle=*/true});
   }
 }
 

@@ -45,6 +45,47 @@ Costmap AisleCostmap(const OccupancyGrid& grid) {
   return Costmap::Build(grid, kSquare, CostmapParams{}).value();
 }
 
+TEST(MakeWayTest, ARobotIsNotSentPastOneThatStandsInTheAisle) {
+  // As above, but a robot stands at the aisle's east end (the one that waits): the nearer
+  // end is past it, so the place is out at the west end.
+  const OccupancyGrid grid = AisleFloor();
+  Costmap costmap = AisleCostmap(grid);
+  const CellSet way = Way({-9.0, 0.0}, {9.0, 0.0});
+  const CellSet other = CellSet::Sweep({Pose2(5.0, 0.0, 0.0)}, kSquare, 0.2, kCellM);
+  MakeWayRequestGeometry request{Pose2(2.0, 0.0, 0.0), kSquare,  kMarginM, kCellM,
+                                 {&way, &other},       {&other}, kMarginM};
+  absl::StatusOr<Pose2> place = FindMakeWayPlace(costmap, grid.origin(), request);
+  ASSERT_TRUE(place.ok()) << place.status();
+  EXPECT_LT(place->x_m(), -6.0);
+  EXPECT_FALSE(CellSet::Sweep({*place}, kSquare, kMarginM, kCellM).Intersects(way));
+  // Without knowing where it stands, the east end is nearer.
+  request.impassable.clear();
+  place = FindMakeWayPlace(costmap, grid.origin(), request);
+  ASSERT_TRUE(place.ok()) << place.status();
+  EXPECT_GT(place->x_m(), 6.0);
+}
+
+TEST(MakeWayTest, ARobotAHairInsideAWayIsSentClearOfItNotACellAside) {
+  // On open floor, a way along y = 0 and a robot whose grown footprint reaches just into it.
+  const OccupancyGrid grid = AisleFloor();
+  Costmap costmap = AisleCostmap(grid);
+  const CellSet way = Way({-9.5, 0.0}, {-6.5, 0.0});
+  const double y_m = 0.4 + kMarginM + 0.4 + kMarginM - 0.05;  // 5 cm inside, before the cells
+  MakeWayRequestGeometry request{Pose2(-8.0, y_m, 0.0), kSquare, kMarginM, kCellM, {&way}};
+  ASSERT_TRUE(CellSet::Sweep({request.from_in_map}, kSquare, kMarginM, kCellM).Intersects(way));
+  absl::StatusOr<Pose2> place = FindMakeWayPlace(costmap, grid.origin(), request);
+  ASSERT_TRUE(place.ok()) << place.status();
+  // Clear of the way with a cell to spare wherever within 0.1 m of the place the robot stops:
+  // before, the answer was the place 2 cm off, which the robot reached at once, still in the way.
+  for (double dx : {-0.1, 0.0, 0.1}) {
+    for (double dy : {-0.1, 0.0, 0.1}) {
+      const Pose2 stop(place->x_m() + dx, place->y_m() + dy, place->yaw_rad());
+      EXPECT_FALSE(CellSet::Sweep({stop}, kSquare, kMarginM, kCellM).Intersects(way))
+          << dx << ", " << dy;
+    }
+  }
+}
+
 TEST(MakeWayTest, ARobotInAnAisleAnotherDrivesThroughGoesToTheNearestEndOutOfTheWay) {
   const OccupancyGrid grid = AisleFloor();
   Costmap costmap = AisleCostmap(grid);

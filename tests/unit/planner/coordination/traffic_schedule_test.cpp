@@ -192,6 +192,37 @@ TEST(TrafficScheduleTest, RoutesThatEndOnEachOthersStartAreHeldNotDeadlocked) {
   EXPECT_EQ(d[1].cleared_up_to, -1);
 }
 
+TEST(TrafficScheduleTest, AHeldRouteWaitsForTheRouteItCouldNotBeOrderedWithOnly) {
+  // a and b swap places; c drives elsewhere. b is held for a, not for c: a circle of waits
+  // through b (planner::FindWaitCycles) is one through a.
+  ScheduledRoute a = Route("a", {{0, 0}, {6, 0}}, 0.0);
+  ScheduledRoute b = Route("b", {{6, 0}, {0, 0}}, 1.0);
+  ScheduledRoute c = Route("c", {{0, 20}, {6, 20}}, 0.5);
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b, c}, {});
+  ASSERT_TRUE(d[1].deadlocked);
+  ASSERT_EQ(d[1].waits.size(), 1u);
+  EXPECT_EQ(d[1].waits[0].blocker_robot_id, "a");
+  EXPECT_EQ(d[1].waits[0].blocker_action, 0);
+}
+
+TEST(TrafficScheduleTest, OfTwoRoutesThatCannotBothGoOnTheOneNotBegunIsHeldNotTheOneUnderWay) {
+  // b is newer but has driven its first leg and stands at (6, 0), where a ends; a stands at
+  // (0, 0), where b goes next. Holding b (the newer) would leave both standing for good: b
+  // cannot drop its job. a has not begun: it is held, so it can be withdrawn and sent aside.
+  ScheduledRoute a = Route("a", {{0, 0}, {6, 0}}, 0.0);
+  ScheduledRoute b = Route("b", {{9, 0}, {6, 0}, {0, 0}}, 1.0);
+  b.first_unfinished = 1;
+  b.cleared_up_to = 0;
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
+  EXPECT_TRUE(d[0].deadlocked);
+  EXPECT_EQ(d[0].cleared_up_to, -1);
+  EXPECT_FALSE(d[1].deadlocked);
+  // b waits for a to stand aside, not for a's job to end.
+  ASSERT_FALSE(d[1].waits.empty());
+  EXPECT_EQ(d[1].waits[0].blocker_robot_id, "a");
+  EXPECT_EQ(d[1].waits[0].blocker_action, -1);
+}
+
 /// A route along `points` cut into legs of about `step_m`, as fleetnavd cuts actions into
 /// segments.
 ScheduledRoute Segmented(const std::string& robot, std::vector<Eigen::Vector2d> points,

@@ -296,7 +296,8 @@ TEST_F(JobServiceTest, OfTwoRobotsSwappingPlacesTheNewerJobWaitsWhileItsRobotMak
   ASSERT_FALSE(mailbox_.commands["b"].empty());
   EXPECT_EQ(mailbox_.commands["b"].back().type, JobCommandType::kCancel);
   EXPECT_EQ(mailbox_.commands["b"].back().job_id, job_b);
-  EXPECT_THAT(mailbox_.commands["b"].back().reason, HasSubstr("withdrawn from b to let a pass"));
+  EXPECT_THAT(mailbox_.commands["b"].back().reason,
+              HasSubstr("withdrawn from b to let a pass (a circle of waits)"));
   EXPECT_EQ(jobs.Get(job_a).value().state, JobState::kAssigned);
 
   // The next pass gives b its make-way job: a goal off a's way, not its own job.

@@ -311,6 +311,8 @@ TEST_F(TrafficCoordinatorTest, OfTwoRobotsSwappingPlacesTheNewerJobIsWithdrawnAn
   EXPECT_EQ(requests[0].robot_id, "b");
   EXPECT_EQ(requests[0].for_robot_id, "a");
   EXPECT_EQ(requests[0].withdraw_job_id, "job-b");
+  // a waits for b standing and b's held job for a: a circle of waits, which b breaks.
+  EXPECT_TRUE(requests[0].breaks_wait_cycle);
   // Its place is off a's way and off where a ends.
   EXPECT_FALSE(InTheWayOfTwelveMetresEastFrom(-6.0, requests[0].place));
 
@@ -320,6 +322,42 @@ TEST_F(TrafficCoordinatorTest, OfTwoRobotsSwappingPlacesTheNewerJobIsWithdrawnAn
   clock_.AdvanceNs(1'000'000'000);
   coordinator_.Update();
   EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+}
+
+TEST_F(TrafficCoordinatorTest, ACircleOfWaitsThatStaysIsBrokenOncePerPeriodByTurns) {
+  // The swap above, but nobody is withdrawn or moves: the circle stays.
+  Connect("a", Pose2(-6, 0, 0));
+  Connect("b", Pose2(6, 0, kPi));
+  coordinator_.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
+  clock_.AdvanceNs(1'000'000'000);
+  coordinator_.Begin("b", Job("job-b", {{StraightAction{12.0, 0.5}, {}}}));
+  coordinator_.Update();
+  ASSERT_EQ(coordinator_.TakeMakeWayRequests().size(), 1u);
+  // Within break_cycle_every_s (20 s) b is not sent aside again, however often it is decided.
+  for (int i = 0; i < 19; ++i) {
+    clock_.AdvanceNs(1'000'000'000);
+    coordinator_.Resend("a");
+    coordinator_.Update();
+    EXPECT_TRUE(coordinator_.TakeMakeWayRequests().empty()) << i;
+  }
+  clock_.AdvanceNs(1'000'000'000);
+  coordinator_.Resend("a");
+  coordinator_.Update();
+  // The circle stayed although b was sent aside: now the other robot of it goes aside.
+  const std::vector<MakeWayRequest> again = coordinator_.TakeMakeWayRequests();
+  ASSERT_EQ(again.size(), 1u);
+  EXPECT_EQ(again[0].robot_id, "a");
+  EXPECT_EQ(again[0].withdraw_job_id, "job-a");
+  EXPECT_TRUE(again[0].breaks_wait_cycle);
+  // And then b again, another period on.
+  for (int i = 0; i < 20; ++i) {
+    clock_.AdvanceNs(1'000'000'000);
+    coordinator_.Resend("a");
+    coordinator_.Update();
+  }
+  const std::vector<MakeWayRequest> third = coordinator_.TakeMakeWayRequests();
+  ASSERT_EQ(third.size(), 1u);
+  EXPECT_EQ(third[0].robot_id, "b");
 }
 
 TEST_F(TrafficCoordinatorTest, AnIdleRobotWithNoPlaceLooksAgainOnceAJobHasEnded) {

@@ -67,9 +67,11 @@ struct TrafficClearanceDecision {
 /// soon as A has left what B's first action needs, and stays one region behind A. Who goes first: a
 /// robot already cleared into the block; else the one that stands in the block before it starts (it
 /// cannot make way); else not the one whose route ends in the block (it would stay there); else the
-/// earlier expected start (robot index breaks ties). Orders that close a cycle hold the newest
-/// route whole (deadlocked; its robot stands as parked). Actions that cross a parked robot are
-/// never cleared. Clearances only grow. Pure function.
+/// earlier expected start (robot index breaks ties). Orders that cannot be met or close a cycle
+/// hold one route whole (deadlocked; its robot stands as parked): a route its robot has not
+/// begun before one part-way through (the first can be withdrawn and its robot sent aside, the
+/// second cannot drop its job), else the newest, so the oldest always goes on. Actions that
+/// cross a parked robot are never cleared. Clearances only grow. Pure function.
 std::vector<TrafficClearanceDecision> DecideClearances(const std::vector<ScheduledRoute>& routes,
                                                        const std::vector<ParkedRobot>& parked);
 /// The same over routes held elsewhere (the server keeps one per job), so that none is copied.

@@ -25,6 +25,8 @@ class CellSet {
   void GrowBounds(const CellSet& other);
   /// Whether the bounds of the two sets overlap (a necessary condition for Intersects).
   bool BoundsOverlap(const CellSet& other) const;
+  /// Whether the cell holding `point_m` is in the set (`cell_m` as the set was swept with).
+  bool ContainsPoint(const Eigen::Vector2d& point_m, double cell_m) const;
   bool empty() const { return keys_.empty(); }
   size_t size() const { return keys_.size(); }
 

@@ -55,6 +55,8 @@ struct ScenarioExpectations {
   std::map<std::string, std::string> job_states;  ///< … unless named here
   int max_contacts = 0;
   std::optional<double> min_separation_m;
+  /// The fleet may stand still (no robot moving, a job unfinished) at most this long (sim s).
+  std::optional<double> max_standstill_s;
   double deadline_s = 600.0;  ///< sim time by which every job has ended
   /// Sim time each named robot may be held by traffic coordination at most.
   std::map<std::string, double> max_waiting_s;

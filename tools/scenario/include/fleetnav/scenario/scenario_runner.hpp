@@ -85,6 +85,9 @@ struct ScenarioReport {
   /// robot's last job end minus the time it was held — when the work would have ended had
   /// traffic coordination never held anyone (0 when no job ended).
   double no_wait_end_s = 0.0;
+  /// The longest stretch of sim time in which no robot moved (5 cm, in ground truth) while a
+  /// submitted job had not ended (LongestStandstillS): a gridlock lasts to the run's end.
+  double longest_standstill_s = 0.0;
   /// CPU time (user + system) of fleetnavd, the simulator and all agents over the run (every
   /// start of each counted), the machine's cost of the run.
   double server_cpu_s = 0.0;

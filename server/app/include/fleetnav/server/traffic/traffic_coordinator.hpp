@@ -55,6 +55,11 @@ struct TrafficCoordinatorParams {
   planner::RoutePredictionParams prediction;
   /// Where a robot without a job that stands in a waiting robot's way is sent.
   planner::MakeWayParams make_way;
+  /// When the robots' waits close a circle (planner::FindWaitCycles), the robot in it whose
+  /// job has not started and was expected to start last is sent aside and its job given again
+  /// (a make-way job is given up for a place off today's ways); each robot at most this often
+  /// (clock time), so a circle that forms again is broken again without churning.
+  double break_cycle_every_s = 20.0;
   absl::Status Validate() const;
 };
 
@@ -68,6 +73,9 @@ struct MakeWayRequest {
   /// Its job, when it has one that traffic coordination holds and that it has not started:
   /// the job is to be withdrawn (queued again) before the robot goes.
   std::string withdraw_job_id;
+  /// The robots' waits close a circle through this robot: a make-way job it holds is given up
+  /// (cancelled) for this place, where otherwise a make-way job is never withdrawn.
+  bool breaks_wait_cycle = false;
 };
 
 /// A change of why a robot's job is held, for the job's events.
@@ -167,6 +175,29 @@ class TrafficCoordinator {
                               const std::vector<planner::ParkedRobot>& parked,
                               const std::map<std::string, const RobotRecord*>& records)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Where `robot` could stand off every way the jobs on `map_id` still need (its own job's
+  /// left out) and off the other idle robots; NotFound naming the place when there is none.
+  /// With `near_only_except`, the routes of robots not in it are kept off only as far as they
+  /// are cleared and one step more, and where they end (a fleet's whole ways can cover a dense
+  /// hall; a robot that later stands in someone's way is asked to make way again). The way
+  /// there does not pass where another robot of the map stands (`records`), when there is
+  /// such a place.
+  absl::StatusOr<Pose2> PlaceAside(const std::string& map_id, uint32_t map_version,
+                                   const RobotRecord& robot,
+                                   const std::vector<Tracked*>& tracked_jobs,
+                                   const std::vector<planner::ParkedRobot>& parked,
+                                   const std::map<std::string, const RobotRecord*>& records,
+                                   const std::vector<std::string>* near_only_except = nullptr)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// For each circle of waits among the decisions (planner::FindWaitCycles), sends aside a
+  /// robot in it whose job has not started, withdrawing that job: the one sent aside for a
+  /// circle least often, then one that stands in another's way, then the one expected to start
+  /// last; a circle one of whose robots was sent aside within break_cycle_every_s is left alone.
+  void BreakWaitCycles(const std::string& map_id, const std::vector<Tracked*>& tracked_jobs,
+                       const std::vector<planner::TrafficClearanceDecision>& decisions,
+                       const std::vector<planner::ParkedRobot>& parked,
+                       const std::map<std::string, const RobotRecord*>& records)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Why the decision holds the robot, for people ("" when it does not); `jobs_on_map` are
   /// the tracked jobs the decision's waits may name, by robot id.
   static std::string Describe(const planner::TrafficClearanceDecision& d,
@@ -212,6 +243,10 @@ class TrafficCoordinator {
   /// A job began, ended or moved on since the last decision.
   bool changed_ ABSL_GUARDED_BY(mutex_) = true;
   double last_decision_s_ ABSL_GUARDED_BY(mutex_) = -1e300;
+  /// When each robot was last sent aside to break a circle of waits (clock seconds), and how
+  /// often it was.
+  std::map<std::string, double> cycle_broken_s_ ABSL_GUARDED_BY(mutex_);
+  std::map<std::string, int> cycle_broken_count_ ABSL_GUARDED_BY(mutex_);
 };
 
 }  // namespace fleetnav::server
