@@ -14,7 +14,8 @@ TrafficClearanceDecision Decision(const std::string& robot, int cleared_up_to,
   TrafficClearanceDecision d;
   d.robot_id = robot;
   d.cleared_up_to = cleared_up_to;
-  for (const auto& [blocker, action] : waits) d.waits.push_back({robot, cleared_up_to + 1, blocker, action});
+  for (const auto& [blocker, action] : waits)
+    d.waits.push_back({robot, cleared_up_to + 1, blocker, action});
   return d;
 }
 
@@ -26,8 +27,9 @@ TEST(WaitCyclesTest, AChainThatEndsInAFreeRobotIsNoCycle) {
 
 TEST(WaitCyclesTest, WaitsThroughStandingRobotsCloseACircle) {
   // The dense hall's stall: a waits for b's next action, b for c standing, c's held job for a.
-  const auto cycles = FindWaitCycles({Decision("x", 0, {}), Decision("a", 0, {{"b", 3}}),
-                                      Decision("b", 2, {{"c", -1}}), Decision("c", -1, {{"a", 5}})});
+  const auto cycles =
+      FindWaitCycles({Decision("x", 0, {}), Decision("a", 0, {{"b", 3}}),
+                      Decision("b", 2, {{"c", -1}}), Decision("c", -1, {{"a", 5}})});
   ASSERT_EQ(cycles.size(), 1u);
   EXPECT_THAT(cycles[0], ElementsAre("a", "b", "c"));
 }
@@ -45,10 +47,9 @@ TEST(WaitCyclesTest, AParkedRobotClosesNoCircle) {
 }
 
 TEST(WaitCyclesTest, SeparateCirclesAreReportedApartInDecisionOrder) {
-  const auto cycles =
-      FindWaitCycles({Decision("d", -1, {{"e", -1}}), Decision("a", -1, {{"b", 0}}),
-                      Decision("e", -1, {{"d", 0}}), Decision("b", -1, {{"a", 0}}),
-                      Decision("f", -1, {{"a", 0}})});
+  const auto cycles = FindWaitCycles({Decision("d", -1, {{"e", -1}}), Decision("a", -1, {{"b", 0}}),
+                                      Decision("e", -1, {{"d", 0}}), Decision("b", -1, {{"a", 0}}),
+                                      Decision("f", -1, {{"a", 0}})});
   ASSERT_EQ(cycles.size(), 2u);
   EXPECT_THAT(cycles[0], ElementsAre("d", "e"));
   EXPECT_THAT(cycles[1], ElementsAre("a", "b"));
