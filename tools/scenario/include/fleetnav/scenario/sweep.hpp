@@ -33,8 +33,8 @@ struct SweepRun {
 
 /// A sweep's findings on one scenario file: how many runs passed, which seeds failed and why,
 /// and the spread of the figures that tell a flaky behaviour (sim_time_s, wall_time_s,
-/// min_separation_m, waiting_share, longest_standstill_s, max_loc_error_m, contacts) over the runs that produced a
-/// report.
+/// min_separation_m, waiting_share, longest_standstill_s, max_loc_error_m, contacts) over the runs
+/// that produced a report.
 struct SweepSummary {
   std::string name;
   std::string file;            ///< the scenario file as given on the command line
