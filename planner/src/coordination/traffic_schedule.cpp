@@ -171,9 +171,17 @@ BuildResult Build(const RouteList& routes, const std::vector<bool>& held,
   // until their jobs end.
   std::vector<bool> standing_route(routes.size(), false);
   for (size_t r = 0; r < routes.size(); ++r) {
-    standing_route[r] = held[r] || routes[r].first_unfinished >= Count(routes[r]);
-    if (standing_route[r]) {
-      standing.emplace_back(static_cast<int>(parked.size() + r), &Standing(routes[r]));
+    const ScheduledRoute& route = routes[r];
+    standing_route[r] = held[r] || route.first_unfinished >= Count(route);
+    if (!standing_route[r]) continue;
+    const int index = static_cast<int>(parked.size() + r);
+    standing.emplace_back(index, &Standing(route));
+    // A held robot still drives what it was cleared for before it stops: that floor is its
+    // too (clearances are never taken back).
+    for (int k = std::max(route.first_unfinished, 0); k <= route.cleared_up_to && k < Count(route);
+         ++k) {
+      standing.emplace_back(index, &route.action_cells[k]);
+      standing.emplace_back(index, &route.action_end_cells[k]);
     }
   }
   auto key = [&](int r, int k) {

@@ -28,9 +28,13 @@ bool SameDemand(const Demand& a, const Demand& b) {
 }  // namespace
 
 void JobMatcher::OnJobSucceeded(const std::string& robot_id, const std::string& job_id) {
+  // Another job of the robot succeeded: a make-way job of it that failed no longer keeps it
+  // from being sent again. One still to run stays known as a make-way job (forgotten, it was
+  // withdrawn as an ordinary job, given again and withdrawn again ten times a second).
   if (auto made_way = make_way_job_.find(robot_id);
       made_way != make_way_job_.end() && made_way->second != job_id) {
-    make_way_job_.erase(made_way);
+    absl::StatusOr<Job> job = ledger_->Get(made_way->second);
+    if (!job.ok() || IsTerminal(job->state)) make_way_job_.erase(made_way);
   }
 }
 
@@ -154,6 +158,18 @@ void JobMatcher::SendLowRobotsToCharge() {
     absl::StatusOr<storage::CreatedJob> created = lifecycle_->Submit(request);
     if (created.ok()) charging_job_[id] = created->job.job_id;
   }
+}
+
+bool JobMatcher::WouldSendToMakeWay(const MakeWayRequest& request,
+                                    const std::string& ending_job_id) const {
+  if (auto map = robot_map_.find(request.robot_id);
+      map != robot_map_.end() && map->second != request.map_id) {
+    return false;
+  }
+  auto pending = make_way_job_.find(request.robot_id);
+  if (pending == make_way_job_.end() || pending->second == ending_job_id) return true;
+  absl::StatusOr<Job> job = ledger_->Get(pending->second);
+  return !job.ok() || (IsTerminal(job->state) && job->state != JobState::kFailed);
 }
 
 void JobMatcher::SendToMakeWay(const std::vector<MakeWayRequest>& requests) {

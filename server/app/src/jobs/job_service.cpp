@@ -151,7 +151,11 @@ int JobService::DispatchOnce() {
   std::vector<MakeWayRequest> make_way = traffic_.TakeMakeWayRequests();
   std::erase_if(make_way, [&](const MakeWayRequest& request) {
     if (request.withdraw_job_id.empty()) return false;
-    if (matcher_.IsMakeWayJob(request.withdraw_job_id)) {
+    const bool make_way_job = matcher_.IsMakeWayJob(request.withdraw_job_id);
+    if (!matcher_.WouldSendToMakeWay(request, make_way_job ? request.withdraw_job_id : "")) {
+      return true;  // it would not go aside: its job stays
+    }
+    if (make_way_job) {
       // A make-way job is not withdrawn (that would queue the same move again), but one in a
       // circle of waits is given up for a place off the ways as they are now.
       return !request.breaks_wait_cycle ||

@@ -192,6 +192,24 @@ TEST(TrafficScheduleTest, RoutesThatEndOnEachOthersStartAreHeldNotDeadlocked) {
   EXPECT_EQ(d[1].cleared_up_to, -1);
 }
 
+TEST(TrafficScheduleTest, AHeldRobotStillDrivesWhatItWasClearedForAndNobodyIsClearedThroughIt) {
+  // a was cleared for its first leg, north from (0, 0); its next leg, east along y = 6, meets b,
+  // which stands at (6, 6) and ends at (8, 6): neither can go first, and a, the newer, is held.
+  // a still drives its first leg: c, crossing that leg at y = 3, must wait for it.
+  ScheduledRoute a = Route("a", {{0, 0}, {0, 6}, {10, 6}}, 5.0);
+  a.cleared_up_to = 0;
+  ScheduledRoute b = Route("b", {{14, 6}, {6, 6}, {8, 6}}, 0.0);
+  b.first_unfinished = 1;
+  b.cleared_up_to = 0;
+  ScheduledRoute c = Route("c", {{-5, 3}, {5, 3}}, 1.0);
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b, c}, {});
+  ASSERT_TRUE(d[0].deadlocked);
+  EXPECT_EQ(d[0].cleared_up_to, 0);  // never taken back
+  EXPECT_EQ(d[2].cleared_up_to, -1);
+  ASSERT_FALSE(d[2].waits.empty());
+  EXPECT_EQ(d[2].waits[0].blocker_robot_id, "a");
+}
+
 TEST(TrafficScheduleTest, AHeldRouteWaitsForTheRouteItCouldNotBeOrderedWithOnly) {
   // a and b swap places; c drives elsewhere. b is held for a, not for c: a circle of waits
   // through b (planner::FindWaitCycles) is one through a.

@@ -345,6 +345,34 @@ TEST_F(JobServiceTest, ARobotThatFailedToMakeWayIsNotSentAgainUntilAJobOfItsSucc
   EXPECT_EQ(mailbox_.assignments["c"].size(), 1u);
 }
 
+// A job is withdrawn only for a robot that then goes aside: one that may not be sent to make way
+// (its make-way job failed) keeps its held job. Before, the job was withdrawn, given again at
+// once, held and withdrawn again on every pass.
+TEST_F(JobServiceTest, AHeldJobIsNotWithdrawnFromARobotThatWillNotBeSentAside) {
+  const std::unique_ptr<CoordinatedJobs> coordinated = WithTraffic();
+  JobService& jobs = coordinated->jobs;
+  ConnectGoalRobot(jobs, "a", Pose2(2.5, 5.0, 0.0));
+  ConnectGoalRobot(jobs, "b", Pose2(7.5, 5.0, kPi));  // idle, where a ends
+  SubmitGoal(jobs, "a", "hall", Pose2(7.5, 5.0, 0.0));
+  jobs.DispatchOnce();
+  jobs.DispatchOnce();
+  ASSERT_EQ(mailbox_.assignments["b"].size(), 1u);  // its make-way job
+  JobEvent failed;
+  failed.job_id = mailbox_.assignments["b"].back().job.job_id;
+  failed.type = JobEventType::kFailed;
+  failed.reason = "bumper pressed";
+  jobs.OnRobotEvent("b", failed);
+  // b is then sent to where a stands: the two swap places, and b's job is the one held.
+  clock_.AdvanceNs(kSecondNs);
+  const std::string job_b = SubmitGoal(jobs, "b", "hall", Pose2(2.5, 5.0, kPi));
+  for (int pass = 0; pass < 5; ++pass) {
+    clock_.AdvanceNs(kSecondNs);
+    jobs.DispatchOnce();
+  }
+  EXPECT_EQ(StateOf(job_b), JobState::kAssigned);
+  EXPECT_EQ(mailbox_.assignments["b"].size(), 2u);  // given once, never withdrawn
+}
+
 // Idle robots are obstacles by coordinates on every map (fleetnavd does not know where a robot
 // without a job is); one whose last job was on another map stands on another site and is not
 // sent to a place on this one.

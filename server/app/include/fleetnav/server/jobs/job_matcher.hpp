@@ -62,6 +62,10 @@ class JobMatcher {
   /// make-way job pending (highest priority, so the next pass gives it before anything else),
   /// unless the robot's last job was on another map.
   void SendToMakeWay(const std::vector<MakeWayRequest>& requests);
+  /// Whether SendToMakeWay would send the robot of `request` (its make-way job `ending_job_id`,
+  /// if any, counted as ended): a job is withdrawn only for a robot that then goes aside, or
+  /// it is given again at once, held and withdrawn again, ten times a second.
+  bool WouldSendToMakeWay(const MakeWayRequest& request, const std::string& ending_job_id) const;
   /// Whether `job_id` is a make-way job this matcher submitted (never withdrawn: withdrawing
   /// what moves a robot out of the way would only queue the same move again).
   bool IsMakeWayJob(const std::string& job_id) const;
