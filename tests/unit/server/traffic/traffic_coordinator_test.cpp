@@ -101,6 +101,17 @@ class TrafficCoordinatorTest : public ::testing::Test {
     }
   }
 
+  /// Lelys a at x = -6 and b at x = 6 are sent to each other's places (b's job a second
+  /// later), and clearances are decided once.
+  void BeginSwap() {
+    Connect("a", Pose2(-6, 0, 0));
+    Connect("b", Pose2(6, 0, kPi));
+    coordinator_.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
+    clock_.AdvanceNs(1'000'000'000);
+    coordinator_.Begin("b", Job("job-b", {{StraightAction{12.0, 0.5}, {}}}));
+    coordinator_.Update();
+  }
+
   JobAssignment Job(const std::string& job_id, std::vector<RouteAction> actions) {
     JobAssignment a;
     a.job.job_id = job_id;
@@ -298,12 +309,7 @@ TEST_F(TrafficCoordinatorTest, AnIdleRobotWithNowhereToGoIsNamedInTheWaitingRobo
 TEST_F(TrafficCoordinatorTest, OfTwoRobotsSwappingPlacesTheNewerJobIsWithdrawnAndItsRobotMakesWay) {
   // a at x = -6 goes to x = 6 where b stands; b goes to x = -6 where a stands. Neither order
   // works at action granularity: b's job, the newer, is held, and b stands in a's way.
-  Connect("a", Pose2(-6, 0, 0));
-  Connect("b", Pose2(6, 0, kPi));
-  coordinator_.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
-  clock_.AdvanceNs(1'000'000'000);
-  coordinator_.Begin("b", Job("job-b", {{StraightAction{12.0, 0.5}, {}}}));
-  coordinator_.Update();
+  BeginSwap();
   EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, -1);
   EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, -1);
   const std::vector<MakeWayRequest> requests = coordinator_.TakeMakeWayRequests();
@@ -326,12 +332,7 @@ TEST_F(TrafficCoordinatorTest, OfTwoRobotsSwappingPlacesTheNewerJobIsWithdrawnAn
 
 TEST_F(TrafficCoordinatorTest, ACircleOfWaitsThatStaysIsBrokenOncePerPeriodByTurns) {
   // The swap above, but nobody is withdrawn or moves: the circle stays.
-  Connect("a", Pose2(-6, 0, 0));
-  Connect("b", Pose2(6, 0, kPi));
-  coordinator_.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
-  clock_.AdvanceNs(1'000'000'000);
-  coordinator_.Begin("b", Job("job-b", {{StraightAction{12.0, 0.5}, {}}}));
-  coordinator_.Update();
+  BeginSwap();
   ASSERT_EQ(coordinator_.TakeMakeWayRequests().size(), 1u);
   // Within break_cycle_every_s (20 s) b is not sent aside again, however often it is decided.
   for (int i = 0; i < 19; ++i) {
