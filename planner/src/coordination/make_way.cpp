@@ -1,6 +1,8 @@
 #include "fleetnav/planner/coordination/make_way.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <optional>
@@ -11,6 +13,21 @@
 #include "fleetnav/core/angles.hpp"
 
 namespace fleetnav::planner {
+namespace {
+
+/// The smaller side of the footprint's bounding box (0 for none).
+double FootprintSmallerSideM(const std::vector<Eigen::Vector2d>& footprint_m) {
+  if (footprint_m.empty()) return 0.0;
+  Eigen::Vector2d lo = footprint_m.front();
+  Eigen::Vector2d hi = lo;
+  for (const Eigen::Vector2d& v : footprint_m) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  return (hi - lo).minCoeff();
+}
+
+}  // namespace
 
 absl::Status MakeWayParams::Validate() const {
   if (!(std::isfinite(max_distance_m) && max_distance_m > 0.0)) {
@@ -66,37 +83,36 @@ absl::StatusOr<Pose2> FindMakeWayPlace(Costmap& costmap, const Pose2& map_origin
 
   // Cells the robot's centre may not cross: within half its footprint's smaller side and the
   // pass margin of where another robot stands (tested at the centre and eight points that far
-  // round it).
-  double half_side_m = std::numeric_limits<double>::infinity();
-  {
-    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
-    Eigen::Vector2d hi = -lo;
-    for (const Eigen::Vector2d& v : request.footprint_m) {
-      lo = lo.cwiseMin(v);
-      hi = hi.cwiseMax(v);
+  // round it; each cell once).
+  const int width = costmap.width();
+  std::vector<int8_t> passes_someone_at;  // per cell: -1 unknown, 0 no, 1 yes
+  std::vector<Eigen::Vector2d> probes;
+  if (!request.impassable.empty()) {
+    passes_someone_at.assign(static_cast<size_t>(width) * costmap.height(), -1);
+    const double reach_m = 0.5 * FootprintSmallerSideM(request.footprint_m) + request.pass_margin_m;
+    probes.emplace_back(Eigen::Vector2d::Zero());
+    for (int i = 0; i < 8; ++i) {
+      probes.emplace_back(reach_m * std::cos(i * kPi / 4.0), reach_m * std::sin(i * kPi / 4.0));
     }
-    half_side_m = request.footprint_m.empty() ? 0.0 : 0.5 * (hi - lo).minCoeff();
-  }
-  const double reach_m = half_side_m + request.pass_margin_m;
-  std::vector<Eigen::Vector2d> probes{Eigen::Vector2d::Zero()};
-  for (int i = 0; i < 8; ++i) {
-    probes.emplace_back(reach_m * std::cos(i * kPi / 4.0), reach_m * std::sin(i * kPi / 4.0));
   }
   auto passes_someone = [&](int x, int y) {
     if (request.impassable.empty()) return false;
-    const Pose2 at = map_origin * Pose2((x + 0.5) * res_m, (y + 0.5) * res_m, 0.0);
-    const Eigen::Vector2d c = at.translation();
-    for (const Eigen::Vector2d& offset : probes) {
-      for (const CellSet* other : request.impassable) {
-        if (other != nullptr && other->ContainsPoint(c + offset, request.cell_m)) return true;
-      }
+    int8_t& known = passes_someone_at[static_cast<size_t>(y) * width + x];
+    if (known < 0) {
+      const Eigen::Vector2d c =
+          (map_origin * Pose2((x + 0.5) * res_m, (y + 0.5) * res_m, 0.0)).translation();
+      known = std::any_of(probes.begin(), probes.end(), [&](const Eigen::Vector2d& offset) {
+        return std::any_of(
+            request.impassable.begin(), request.impassable.end(), [&](const CellSet* other) {
+              return other != nullptr && other->ContainsPoint(c + offset, request.cell_m);
+            });
+      });
     }
-    return false;
+    return known == 1;
   };
 
   // Dijkstra from the robot's cell over cells the footprint fits in at some yaw (the start cell
   // is taken as it is: an estimate a little inside an obstacle still leaves).
-  const int width = costmap.width();
   std::vector<double> distance(static_cast<size_t>(width) * costmap.height(),
                                std::numeric_limits<double>::infinity());
   using Entry = std::pair<double, int>;

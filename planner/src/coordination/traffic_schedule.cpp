@@ -47,18 +47,13 @@ const CellSet& Standing(const ScheduledRoute& r) {
   return r.action_end_cells[std::min(r.first_unfinished, Count(r)) - 1];
 }
 
-/// Whether the robot has begun the route: cleared into it, or past an action of it.
-bool Begun(const ScheduledRoute& route) {
-  return route.first_unfinished > 0 || route.cleared_up_to >= 0;
-}
-
 /// Of two routes that cannot both go on, the one to hold whole: one its robot has not begun
 /// (it stands at its start, so its job can be withdrawn and the robot sent aside) before one
 /// part-way through (a robot that has begun cannot drop its job: holding it left two robots
 /// facing each other for good in the dense hall); of two alike, the newer (later expected
 /// start; the higher index on a tie), so the older always goes on.
 int ToHold(const RouteList& routes, int r, int s) {
-  if (Begun(routes[r]) != Begun(routes[s])) return Begun(routes[r]) ? s : r;
+  if (RouteBegun(routes[r]) != RouteBegun(routes[s])) return RouteBegun(routes[r]) ? s : r;
   const double tr = routes[r].action_start_s.empty() ? 0.0 : routes[r].action_start_s.front();
   const double ts = routes[s].action_start_s.empty() ? 0.0 : routes[s].action_start_s.front();
   return ts > tr || (ts == tr && s > r) ? s : r;

@@ -162,32 +162,24 @@ void JobMatcher::SendLowRobotsToCharge() {
 
 bool JobMatcher::WouldSendToMakeWay(const MakeWayRequest& request,
                                     const std::string& ending_job_id) const {
+  // Traffic coordination counts idle robots as obstacles by coordinates on every map; a robot
+  // whose last job was on another map stands on another site and is not sent here.
   if (auto map = robot_map_.find(request.robot_id);
       map != robot_map_.end() && map->second != request.map_id) {
     return false;
   }
   auto pending = make_way_job_.find(request.robot_id);
   if (pending == make_way_job_.end() || pending->second == ending_job_id) return true;
+  // Not while its make-way job runs; nor when it failed (its bumper, a plan it could not make)
+  // until another of its jobs has succeeded: asking again would only fail again.
   absl::StatusOr<Job> job = ledger_->Get(pending->second);
   return !job.ok() || (IsTerminal(job->state) && job->state != JobState::kFailed);
 }
 
 void JobMatcher::SendToMakeWay(const std::vector<MakeWayRequest>& requests) {
   for (const MakeWayRequest& request : requests) {
-    // Traffic coordination counts idle robots as obstacles by coordinates on every map; a
-    // robot whose last job was on another map stands on another site and is not sent here.
-    if (auto map = robot_map_.find(request.robot_id);
-        map != robot_map_.end() && map->second != request.map_id) {
-      continue;
-    }
-    if (auto pending = make_way_job_.find(request.robot_id); pending != make_way_job_.end()) {
-      absl::StatusOr<Job> job = ledger_->Get(pending->second);
-      if (job.ok() && !IsTerminal(job->state)) continue;
-      // A robot that failed to make way (its bumper, a plan it could not make) is not sent
-      // again until another of its jobs has succeeded: asking again would only fail again.
-      if (job.ok() && job->state == JobState::kFailed) continue;
-      make_way_job_.erase(pending);
-    }
+    if (!WouldSendToMakeWay(request, "")) continue;
+    make_way_job_.erase(request.robot_id);  // one that ended
     SubmitJobRequest submit;
     submit.goal_map_id = request.map_id;
     submit.goal = request.place;

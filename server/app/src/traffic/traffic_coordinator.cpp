@@ -288,7 +288,7 @@ void TrafficCoordinator::AskIdleRobotsToMakeWay(
   for (const planner::ParkedRobot& p : parked) movable[p.robot_id] = "";
   for (size_t i = 0; i < decisions.size(); ++i) {
     const planner::ScheduledRoute& route = *tracked_jobs[i]->schedule;
-    if (decisions[i].deadlocked && route.first_unfinished == 0 && route.cleared_up_to < 0) {
+    if (decisions[i].deadlocked && !planner::RouteBegun(route)) {
       movable[route.robot_id] = route.job_id;
     }
   }
@@ -390,9 +390,9 @@ void TrafficCoordinator::BreakWaitCycles(
   for (const std::vector<std::string>& cycle : planner::FindWaitCycles(decisions)) {
     // A circle one of whose robots was sent aside lately is being broken: left alone.
     if (std::any_of(cycle.begin(), cycle.end(), [&](const std::string& robot_id) {
-          auto broken = cycle_broken_s_.find(robot_id);
-          return broken != cycle_broken_s_.end() &&
-                 now_s - broken->second < params_.break_cycle_every_s;
+          auto broken = cycle_breaks_.find(robot_id);
+          return broken != cycle_breaks_.end() &&
+                 now_s - broken->second.last_s < params_.break_cycle_every_s;
         })) {
       continue;
     }
@@ -418,34 +418,32 @@ void TrafficCoordinator::BreakWaitCycles(
     int chosen = -1;
     const auto rank = [&](int i) {
       const planner::ScheduledRoute& route = *tracked_jobs[i]->schedule;
-      auto count = cycle_broken_count_.find(route.robot_id);
-      return std::make_tuple(count == cycle_broken_count_.end() ? 0 : -count->second,
+      auto broken = cycle_breaks_.find(route.robot_id);
+      return std::make_tuple(broken == cycle_breaks_.end() ? 0 : -broken->second.count,
                              stands_in_way_of.contains(route.robot_id), route.action_start_s[0]);
     };
     for (size_t i = 0; i < decisions.size(); ++i) {
       const planner::ScheduledRoute& route = *tracked_jobs[i]->schedule;
-      if (!in_cycle(route.robot_id) || route.first_unfinished != 0 || route.cleared_up_to >= 0 ||
-          route.action_start_s.empty()) {
+      if (!in_cycle(route.robot_id) || planner::RouteBegun(route) || route.action_start_s.empty()) {
         continue;
       }
       if (chosen < 0 || rank(static_cast<int>(i)) >= rank(chosen)) chosen = static_cast<int>(i);
     }
     if (chosen < 0) continue;
     const Tracked& tracked = *tracked_jobs[chosen];
+    auto record = records.find(tracked.robot_id);
+    if (record == records.end() || !record->second->last_telemetry) continue;
+    CycleBreaks& breaks = cycle_breaks_[tracked.robot_id];
+    breaks.last_s = now_s;
+    ++breaks.count;
     if (auto asked =
             std::find_if(make_way_requests_.begin(), make_way_requests_.end(),
                          [&](const MakeWayRequest& r) { return r.robot_id == tracked.robot_id; });
         asked != make_way_requests_.end()) {
       // Already sent aside on this pass (its job held whole): it breaks the circle.
       asked->breaks_wait_cycle = true;
-      cycle_broken_s_[tracked.robot_id] = now_s;
-      ++cycle_broken_count_[tracked.robot_id];
       continue;
     }
-    auto record = records.find(tracked.robot_id);
-    if (record == records.end() || !record->second->last_telemetry) continue;
-    cycle_broken_s_[tracked.robot_id] = now_s;
-    ++cycle_broken_count_[tracked.robot_id];
     absl::StatusOr<Pose2> place = PlaceAside(map_id, tracked.assignment.map_version,
                                              *record->second, tracked_jobs, parked, records);
     if (absl::IsNotFound(place.status())) {

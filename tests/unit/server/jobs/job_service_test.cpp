@@ -114,6 +114,19 @@ class JobServiceTest : public ::testing::Test {
     return session;
   }
 
+  /// Two passes send the idle `robot_id`, which stands in a waiting robot's way, to make way
+  /// (its first assignment); its bumper then fails that job.
+  void FailToMakeWay(JobService& jobs, const std::string& robot_id) {
+    jobs.DispatchOnce();
+    jobs.DispatchOnce();
+    ASSERT_EQ(mailbox_.assignments[robot_id].size(), 1u);  // its make-way job
+    JobEvent failed;
+    failed.job_id = mailbox_.assignments[robot_id].back().job.job_id;
+    failed.type = JobEventType::kFailed;
+    failed.reason = "bumper pressed";
+    jobs.OnRobotEvent(robot_id, failed);
+  }
+
   std::string SubmitGoal(JobService& jobs, const std::string& robot_id, const std::string& map_id,
                          const Pose2& goal) {
     SubmitJobRequest request;
@@ -330,14 +343,7 @@ TEST_F(JobServiceTest, ARobotThatFailedToMakeWayIsNotSentAgainUntilAJobOfItsSucc
   ConnectGoalRobot(jobs, "a", Pose2(1.5, 5.0, 0.0));
   ConnectGoalRobot(jobs, "c", Pose2(6.0, 5.0, kPi / 2));  // idle, on a's way
   SubmitGoal(jobs, "a", "hall", Pose2(8.5, 5.0, 0.0));
-  jobs.DispatchOnce();
-  jobs.DispatchOnce();
-  ASSERT_EQ(mailbox_.assignments["c"].size(), 1u);  // its make-way job
-  JobEvent failed;
-  failed.job_id = mailbox_.assignments["c"].back().job.job_id;
-  failed.type = JobEventType::kFailed;
-  failed.reason = "bumper pressed";
-  jobs.OnRobotEvent("c", failed);
+  FailToMakeWay(jobs, "c");
   for (int pass = 0; pass < 5; ++pass) {
     clock_.AdvanceNs(kSecondNs);
     jobs.DispatchOnce();
@@ -354,14 +360,7 @@ TEST_F(JobServiceTest, AHeldJobIsNotWithdrawnFromARobotThatWillNotBeSentAside) {
   ConnectGoalRobot(jobs, "a", Pose2(2.5, 5.0, 0.0));
   ConnectGoalRobot(jobs, "b", Pose2(7.5, 5.0, kPi));  // idle, where a ends
   SubmitGoal(jobs, "a", "hall", Pose2(7.5, 5.0, 0.0));
-  jobs.DispatchOnce();
-  jobs.DispatchOnce();
-  ASSERT_EQ(mailbox_.assignments["b"].size(), 1u);  // its make-way job
-  JobEvent failed;
-  failed.job_id = mailbox_.assignments["b"].back().job.job_id;
-  failed.type = JobEventType::kFailed;
-  failed.reason = "bumper pressed";
-  jobs.OnRobotEvent("b", failed);
+  FailToMakeWay(jobs, "b");
   // b is then sent to where a stands: the two swap places, and b's job is the one held.
   clock_.AdvanceNs(kSecondNs);
   const std::string job_b = SubmitGoal(jobs, "b", "hall", Pose2(2.5, 5.0, kPi));

@@ -334,29 +334,24 @@ TEST_F(TrafficCoordinatorTest, ACircleOfWaitsThatStaysIsBrokenOncePerPeriodByTur
   // The swap above, but nobody is withdrawn or moves: the circle stays.
   BeginSwap();
   ASSERT_EQ(coordinator_.TakeMakeWayRequests().size(), 1u);
-  // Within break_cycle_every_s (20 s) b is not sent aside again, however often it is decided.
-  for (int i = 0; i < 19; ++i) {
+  // A second later, decided again: the requests made.
+  const auto next_second = [&] {
     clock_.AdvanceNs(1'000'000'000);
     coordinator_.Resend("a");
     coordinator_.Update();
-    EXPECT_TRUE(coordinator_.TakeMakeWayRequests().empty()) << i;
-  }
-  clock_.AdvanceNs(1'000'000'000);
-  coordinator_.Resend("a");
-  coordinator_.Update();
+    return coordinator_.TakeMakeWayRequests();
+  };
+  // Within break_cycle_every_s (20 s) b is not sent aside again, however often it is decided.
+  for (int i = 0; i < 19; ++i) EXPECT_TRUE(next_second().empty()) << i;
   // The circle stayed although b was sent aside: now the other robot of it goes aside.
-  const std::vector<MakeWayRequest> again = coordinator_.TakeMakeWayRequests();
+  const std::vector<MakeWayRequest> again = next_second();
   ASSERT_EQ(again.size(), 1u);
   EXPECT_EQ(again[0].robot_id, "a");
   EXPECT_EQ(again[0].withdraw_job_id, "job-a");
   EXPECT_TRUE(again[0].breaks_wait_cycle);
   // And then b again, another period on.
-  for (int i = 0; i < 20; ++i) {
-    clock_.AdvanceNs(1'000'000'000);
-    coordinator_.Resend("a");
-    coordinator_.Update();
-  }
-  const std::vector<MakeWayRequest> third = coordinator_.TakeMakeWayRequests();
+  for (int i = 0; i < 19; ++i) EXPECT_TRUE(next_second().empty()) << i;
+  const std::vector<MakeWayRequest> third = next_second();
   ASSERT_EQ(third.size(), 1u);
   EXPECT_EQ(third[0].robot_id, "b");
 }

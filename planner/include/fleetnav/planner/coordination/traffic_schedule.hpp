@@ -31,6 +31,12 @@ struct ScheduledRoute {
   int cleared_up_to = -1;    ///< actions up to it were cleared earlier (never taken back)
 };
 
+/// Whether the robot has begun the route: cleared into it, or past an action of it. A robot
+/// that has not stands at its start, so its job can still be withdrawn.
+inline bool RouteBegun(const ScheduledRoute& route) {
+  return route.first_unfinished > 0 || route.cleared_up_to >= 0;
+}
+
 /// A robot with no job on the site: the floor it stands on.
 struct ParkedRobot {
   std::string robot_id;

@@ -243,10 +243,13 @@ class TrafficCoordinator {
   /// A job began, ended or moved on since the last decision.
   bool changed_ ABSL_GUARDED_BY(mutex_) = true;
   double last_decision_s_ ABSL_GUARDED_BY(mutex_) = -1e300;
-  /// When each robot was last sent aside to break a circle of waits (clock seconds), and how
-  /// often it was.
-  std::map<std::string, double> cycle_broken_s_ ABSL_GUARDED_BY(mutex_);
-  std::map<std::string, int> cycle_broken_count_ ABSL_GUARDED_BY(mutex_);
+  /// Each robot sent aside to break a circle of waits: when it last was (clock seconds), and
+  /// how often.
+  struct CycleBreaks {
+    double last_s = 0.0;
+    int count = 0;
+  };
+  std::map<std::string, CycleBreaks> cycle_breaks_ ABSL_GUARDED_BY(mutex_);
 };
 
 }  // namespace fleetnav::server
