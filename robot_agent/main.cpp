@@ -282,6 +282,7 @@ int main(int argc, char** argv) {
   fleetnav::RobotIdentity identity{robot_id, *model, fleetnav::agent::SupportedActionTypes(*model),
                                    "0.2.0"};
   identity.segment_clearances = true;  // the executor stands before a clearance's gate
+  identity.planned_paths = true;       // it drives a free-navigation action through a planned path
   absl::StatusOr<std::shared_ptr<grpc::ChannelCredentials>> server_credentials =
       fleetnav::MakeChannelCredentials(tls);
   if (!server_credentials.ok()) return Fail(server_credentials.status().ToString());

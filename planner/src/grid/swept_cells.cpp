@@ -120,4 +120,15 @@ bool CellSet::Intersects(const CellSet& other) const {
   return false;
 }
 
+std::vector<Eigen::Vector2d> CellSet::CellCentres(double cell_m) const {
+  std::vector<Eigen::Vector2d> out;
+  out.reserve(keys_.size());
+  for (const uint64_t key : keys_) {
+    const auto ix = static_cast<int32_t>(static_cast<uint32_t>(key >> 32));
+    const auto iy = static_cast<int32_t>(static_cast<uint32_t>(key & 0xffffffffU));
+    out.emplace_back((ix + 0.5) * cell_m, (iy + 0.5) * cell_m);
+  }
+  return out;
+}
+
 }  // namespace fleetnav::planner

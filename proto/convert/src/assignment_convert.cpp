@@ -86,6 +86,14 @@ v1::TrafficClearance ToProto(const ClearanceNotice& clearance) {
     wire.mutable_hold()->set_segment(clearance.hold->segment);
     *wire.mutable_hold()->mutable_gate() = ToProto(clearance.hold->gate);
   }
+  for (const ActionPath& path : clearance.paths) {
+    v1::ActionPath* planned = wire.add_paths();
+    planned->set_action(path.action_index);
+    planned->set_id(path.id);
+    for (const Eigen::Vector2d& waypoint : path.waypoints_m) {
+      *planned->add_waypoints() = ToProto(waypoint);
+    }
+  }
   return wire;
 }
 
@@ -95,6 +103,22 @@ absl::StatusOr<JobCommand> FromProto(const v1::TrafficClearance& clearance) {
   if (clearance.has_hold()) {
     ASSIGN_OR_RETURN(const Pose2 gate, FromProto(clearance.hold().gate(), "clearance.hold.gate"));
     command.hold = SegmentHold{clearance.cleared_up_to_action(), clearance.hold().segment(), gate};
+  }
+  for (int i = 0; i < clearance.paths_size(); ++i) {
+    const v1::ActionPath& wire = clearance.paths(i);
+    const std::string field = absl::StrCat("clearance.paths[", i, "]");
+    if (wire.action() < 0 || wire.action() > clearance.cleared_up_to_action()) {
+      return absl::InvalidArgumentError(absl::StrCat(field, ".action: ", wire.action(),
+                                                     " is not a cleared action (0..",
+                                                     clearance.cleared_up_to_action(), ")"));
+    }
+    ActionPath path{wire.action(), wire.id(), {}};
+    for (int k = 0; k < wire.waypoints_size(); ++k) {
+      ASSIGN_OR_RETURN(Eigen::Vector2d waypoint,
+                       FromProto(wire.waypoints(k), absl::StrCat(field, ".waypoints[", k, "]")));
+      path.waypoints_m.push_back(waypoint);
+    }
+    command.paths.push_back(std::move(path));
   }
   return command;
 }

@@ -137,6 +137,7 @@ absl::StatusOr<RobotIdentity> FromProto(const v1::AgentHello& hello) {
   out.capabilities.assign(hello.capabilities().begin(), hello.capabilities().end());
   out.software_version = hello.software_version();
   out.segment_clearances = hello.segment_clearances();
+  out.planned_paths = hello.planned_paths();
   return out;
 }
 
@@ -147,6 +148,7 @@ v1::AgentHello ToProto(const RobotIdentity& identity) {
   for (const std::string& capability : identity.capabilities) out.add_capabilities(capability);
   out.set_software_version(identity.software_version);
   out.set_segment_clearances(identity.segment_clearances);
+  out.set_planned_paths(identity.planned_paths);
   return out;
 }
 

@@ -128,6 +128,7 @@ void JobRunner::ApplyCommand(const JobCommand& command, const ExecutorOutput& ou
     // The action under way stays cleared whatever a new session says.
     executor_->SetClearedUpTo(std::max(command.cleared_up_to_action, executor_->action_index()));
     executor_->SetHold(command.hold);
+    for (const ActionPath& path : command.paths) executor_->SetActionPath(path);
   }
   if (command.type == JobCommandType::kCancel) {
     Report(JobEventType::kCancelled, output.action_index, NavigationMode::kIdle, command.reason);
@@ -160,6 +161,9 @@ void JobRunner::Serve(const ExecutorOutput& output) {
   const bool cleared = clearance_.job_id == job_id_;
   executor_->SetClearedUpTo(cleared ? clearance_.cleared_up_to_action : -1);
   executor_->SetHold(cleared ? clearance_.hold : std::nullopt);
+  if (cleared) {
+    for (const ActionPath& path : clearance_.paths) executor_->SetActionPath(path);
+  }
   // Commands about this job that came with it (a job sent again while an operator holds it
   // comes with PAUSE).
   for (const JobCommand& command : commands) {

@@ -29,6 +29,7 @@ RouteExecutor::RouteExecutor(Route route, RouteContext context, ModeParams param
 }
 
 absl::Status RouteExecutor::StartAction(int index) {
+  if (index != index_) action_fraction_ = 0.0;
   index_ = index;
   absl::StatusOr<std::unique_ptr<MotionController>> controller =
       MakeController(route_.actions[index], index, context_, params_,
@@ -36,6 +37,27 @@ absl::Status RouteExecutor::StartAction(int index) {
   if (!controller.ok()) return controller.status();
   controller_ = *std::move(controller);
   return absl::OkStatus();
+}
+
+void RouteExecutor::SetActionPath(const ActionPath& path) {
+  const int a = path.action_index;
+  if (state_ != ExecutionState::kRunning || a < 0 || a >= static_cast<int>(route_.actions.size()) ||
+      a < index_ || (a == index_ && (waiting_ || controller_ == nullptr))) {
+    return;
+  }
+  auto* nav = std::get_if<FreeNavigationAction>(&route_.actions[a].params);
+  if (nav == nullptr) return;
+  auto [taken, inserted] = taken_path_id_.try_emplace(a, path.id);
+  if (!inserted && taken->second == path.id) return;
+  taken->second = path.id;
+  nav->waypoints_m = path.waypoints_m;
+  nav->waypoint_yaws_rad.clear();
+  if (a != index_) return;
+  // Under way: the action starts again from where the robot is, its progress counted on.
+  const double done = action_fraction_;
+  if (!StartAction(a).ok()) return;  // the same action's controller was made before
+  resumed_index_ = a;
+  resumed_fraction_ = done;
 }
 
 absl::Status RouteExecutor::ResumeAt(const RoutePosition& position, const Pose2& pose_in_map) {
@@ -174,6 +196,7 @@ ExecutorOutput RouteExecutor::StepActions(const ControlInput& input,
     out.mode_reason = control.mode_reason;
     out.action_index = index_;
     out.action_fraction = done ? 1.0 : ActionFraction(control.progress_fraction);
+    action_fraction_ = out.action_fraction;
     out.progress_fraction = (index_ + out.action_fraction) / actions;
     if (!done) {
       out.command = control.command;

@@ -3,8 +3,11 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <memory>
 #include <string>
+
+#include "fleetnav/proto/telemetry_convert.hpp"
 
 namespace fleetnav {
 namespace {
@@ -114,6 +117,37 @@ TEST(AssignmentConvertTest, CommandsAndClearancesBecomeJobCommands) {
   cleared = FromProto(clearance);
   EXPECT_EQ(cleared.status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_THAT(std::string(cleared.status().message()), ::testing::HasSubstr("clearance.hold.gate"));
+}
+
+TEST(AssignmentConvertTest, PlannedPathsCrossTheWireWithTheirClearance) {
+  ClearanceNotice notice{"job-7", 2, {}, "", std::nullopt};
+  notice.paths.push_back(ActionPath{1, 41, {{1.0, 2.0}, {3.5, -1.25}}});
+  notice.paths.push_back(ActionPath{2, 42, {}});
+  absl::StatusOr<JobCommand> got = FromProto(ToProto(notice));
+  ASSERT_TRUE(got.ok()) << got.status();
+  ASSERT_EQ(got->paths.size(), 2u);
+  EXPECT_EQ(got->paths[0], notice.paths[0]);
+  EXPECT_EQ(got->paths[1], notice.paths[1]);
+  // A path for an action not cleared, or a waypoint that is not finite, is refused naming it.
+  notice.paths[1].action_index = 3;
+  got = FromProto(ToProto(notice));
+  EXPECT_EQ(got.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(got.status().message()),
+              ::testing::HasSubstr("clearance.paths[1].action"));
+  notice.paths[1].action_index = 2;
+  notice.paths[0].waypoints_m[1].x() = std::nan("");
+  got = FromProto(ToProto(notice));
+  EXPECT_EQ(got.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(got.status().message()),
+              ::testing::HasSubstr("clearance.paths[0].waypoints[1]"));
+  // An agent's hello says whether it drives planned paths.
+  RobotIdentity identity;
+  identity.robot_id = "omni1";
+  identity.model = MecanumPlatformModel();
+  identity.planned_paths = true;
+  absl::StatusOr<RobotIdentity> back = FromProto(ToProto(identity));
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_TRUE(back->planned_paths);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -34,12 +35,24 @@ struct JobAssignment {
 /// that action only up to `hold`'s gate when it is set (segment clearances).
 enum class JobCommandType { kPause, kResume, kCancel, kClearance };
 
+/// A path traffic coordination planned for one free-navigation action of the job, around the
+/// robots that stand (docs/server.md, "Traffic coordination"): the robot drives through these
+/// waypoints (map frame) to the action's goal instead of planning the leg on the map alone.
+/// `id` names the plan, so a path told again is not taken twice.
+struct ActionPath {
+  int action_index = 0;
+  uint64_t id = 0;
+  std::vector<Eigen::Vector2d> waypoints_m;
+  bool operator==(const ActionPath&) const = default;
+};
+
 struct JobCommand {
   JobCommandType type = JobCommandType::kCancel;
   std::string job_id;
   std::string reason;
   int cleared_up_to_action = -1;
   std::optional<SegmentHold> hold;  ///< kClearance: stand before this gate of that action
+  std::vector<ActionPath> paths;    ///< kClearance: the cleared actions' planned paths
 };
 
 /// What the server tells a robot about its job's traffic: the actions it may enter, what holds
@@ -52,6 +65,8 @@ struct ClearanceNotice {
   std::string wait_reason;  ///< empty when nothing holds the robot
   /// Only part of cleared_up_to_action is cleared: the robot stands before this gate.
   std::optional<SegmentHold> hold;
+  /// Paths planned for actions up to cleared_up_to_action (robots that said planned_paths).
+  std::vector<ActionPath> paths;
 };
 
 }  // namespace fleetnav

@@ -72,6 +72,9 @@ struct RobotIdentity {
   /// The agent stands before a clearance's gate within an action, so traffic coordination may
   /// clear its actions segment by segment (AgentHello.segment_clearances).
   bool segment_clearances = false;
+  /// The agent drives a free-navigation action through the path a clearance plans for it
+  /// (AgentHello.planned_paths), so traffic coordination may route it around robots that stand.
+  bool planned_paths = false;
 };
 
 /// What the fleet server knows about one robot at one moment (its registry entry, also sent

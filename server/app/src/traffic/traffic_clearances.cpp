@@ -77,6 +77,17 @@ ClearanceNotice TrafficCoordinator::Notice(const Tracked& tracked,
     notice.cleared_up_to_action = step.action;
     if (step.gate) notice.hold = SegmentHold{step.action, step.segment, *step.gate};
   }
+  if (const std::optional<SegmentHold>& stood = tracked.hold_under_way;
+      stood && d.cleared_up_to < FirstStepOf(tracked, stood->action_index)) {
+    // Its way was planned again in the middle of the action: it stands where it was.
+    notice.cleared_up_to_action = stood->action_index;
+    notice.hold = stood;
+  }
+  for (const auto& [action, path] : tracked.paths) {
+    if (action >= tracked.start_action && action <= notice.cleared_up_to_action) {
+      notice.paths.push_back(path);
+    }
+  }
   for (const planner::TrafficWait& wait : d.waits) {
     int blocker_action = wait.blocker_action;
     auto blocker = jobs_on_map.find(wait.blocker_robot_id);

@@ -27,6 +27,10 @@ absl::Status TrafficCoordinatorParams::Validate() const {
         "standing_margin_min_m must be in [0, margin_m] and standing_sigmas >= 0, got ",
         standing_margin_min_m, " and ", standing_sigmas));
   }
+  if (!std::isfinite(tracking_allowance_m) || tracking_allowance_m < 0.0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("tracking_allowance_m: must be >= 0, got ", tracking_allowance_m));
+  }
   if (!std::isfinite(segment_m) || segment_m < 0.0) {
     return absl::InvalidArgumentError(
         absl::StrCat("segment_m: must be >= 0 (0: whole actions), got ", segment_m));
@@ -41,6 +45,13 @@ absl::Status TrafficCoordinatorParams::Validate() const {
   if (!std::isfinite(break_cycle_every_s) || break_cycle_every_s <= 0.0) {
     return absl::InvalidArgumentError(
         absl::StrCat("break_cycle_every_s: must be > 0, got ", break_cycle_every_s));
+  }
+  if (!std::isfinite(detour_every_s) || detour_every_s < 0.0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("detour_every_s: must be >= 0 (0: never), got ", detour_every_s));
+  }
+  if (absl::Status s = detour.Validate(); !s.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("detour.", s.message()));
   }
   if (horizon_actions < 2) {
     return absl::InvalidArgumentError(
@@ -68,6 +79,7 @@ void TrafficCoordinator::Begin(const std::string& robot_id, const JobAssignment&
   if (record.ok()) {
     tracked.model = record->identity.model;
     tracked.segment_clearances = record->identity.segment_clearances;
+    tracked.planned_paths = record->identity.planned_paths;
   }
   tracked.assigned_s = static_cast<double>(clock_->NowNs()) * 1e-9;
   tracked.start_action = std::max(resume_action, 0);
@@ -90,6 +102,9 @@ void TrafficCoordinator::OnActionFinished(const std::string& robot_id, const std
   if (it == jobs_.end() || it->second.robot_id != robot_id) return;
   Tracked& tracked = it->second;
   tracked.start_action = std::max(tracked.start_action, action_index + 1);
+  if (tracked.hold_under_way && tracked.hold_under_way->action_index <= action_index) {
+    tracked.hold_under_way.reset();
+  }
   changed_ = true;
   if (tracked.schedule) {
     tracked.schedule->first_unfinished =
@@ -176,7 +191,8 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
         if (telemetry.job_id != job_id) continue;
         tracked.start_action = std::max(tracked.start_action, telemetry.action_index);
       }
-      Predict(tracked, telemetry.pose_in_map, telemetry.carried_load_m, StandingMarginM(telemetry));
+      Predict(tracked, telemetry.pose_in_map, telemetry.carried_load_m, StandingMarginM(telemetry),
+              SweptMarginM(tracked.model, telemetry));
     }
     for (const auto& [job_id, tracked] : jobs_) {
       // A job still waiting for its robot's pose is looked at again on the next update.
@@ -237,8 +253,9 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
         routes.push_back(&*t->schedule);
         on_map[t->robot_id] = t;
       }
-      const std::vector<planner::TrafficClearanceDecision> decisions =
+      std::vector<planner::TrafficClearanceDecision> decisions =
           deciders_[map_id].Decide(routes, parked);
+      HoldClearOfWhereRobotsAre(tracked_jobs, decisions, by_id);
       AskIdleRobotsToMakeWay(map_id, tracked_jobs, decisions, parked, by_id);
       BreakWaitCycles(map_id, tracked_jobs, decisions, parked, by_id);
       for (size_t i = 0; i < decisions.size(); ++i) {
@@ -261,6 +278,7 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
           sends.push_back({t.robot_id, Notice(t, decisions[i], on_map, reason)});
         }
       }
+      PlanDetours(map_id, tracked_jobs, decisions, by_id);
     }
   }
   for (const auto& [robot_id, notice] : sends) {
@@ -275,6 +293,38 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
     registry_->SetTrafficWait(change.robot_id, change.reason);
   }
   return changes;
+}
+
+void TrafficCoordinator::HoldClearOfWhereRobotsAre(
+    const std::vector<Tracked*>& tracked_jobs,
+    std::vector<planner::TrafficClearanceDecision>& decisions,
+    const std::map<std::string, const RobotRecord*>& records) {
+  // Where each robot of the map stands now.
+  std::vector<std::pair<std::string, planner::CellSet>> now;
+  for (const Tracked* t : tracked_jobs) {
+    auto record = records.find(t->robot_id);
+    if (record == records.end() || !record->second->last_telemetry) continue;
+    const Telemetry& at = *record->second->last_telemetry;
+    now.emplace_back(
+        t->robot_id,
+        planner::CellSet::Sweep({at.pose_in_map},
+                                record->second->identity.model.FootprintCarrying(at.carried_load_m),
+                                StandingMarginM(at), params_.cell_m));
+  }
+  for (size_t i = 0; i < decisions.size(); ++i) {
+    planner::TrafficClearanceDecision& d = decisions[i];
+    const planner::ScheduledRoute& route = *tracked_jobs[i]->schedule;
+    const int first_new = std::max(route.cleared_up_to, route.first_unfinished - 1) + 1;
+    for (int k = first_new; k <= d.cleared_up_to; ++k) {
+      auto in_way = std::find_if(now.begin(), now.end(), [&](const auto& other) {
+        return other.first != route.robot_id && route.action_cells[k].Intersects(other.second);
+      });
+      if (in_way == now.end()) continue;
+      d.cleared_up_to = k - 1;
+      d.waits = {planner::TrafficWait{route.robot_id, k, in_way->first, -1}};
+      break;
+    }
+  }
 }
 
 void TrafficCoordinator::AskIdleRobotsToMakeWay(

@@ -75,9 +75,14 @@ double TrafficCoordinator::StandingMarginM(const Telemetry& telemetry) const {
                     params_.margin_m);
 }
 
+double TrafficCoordinator::SweptMarginM(const RobotModel& model, const Telemetry& telemetry) const {
+  if (!FollowsClosely(model)) return params_.margin_m;
+  return std::min(StandingMarginM(telemetry) + params_.tracking_allowance_m, params_.margin_m);
+}
+
 void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
                                  const std::optional<Eigen::Vector2d>& carried_load_m,
-                                 double standing_margin_m) {
+                                 double standing_margin_m, double swept_margin_m) {
   std::shared_ptr<const storage::StoredMarkerSet> markers;
   if (tracked.assignment.marker_set_version > 0) {
     absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> stored =
@@ -93,6 +98,15 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
   remaining.name = tracked.assignment.route->name;
   remaining.map_id = tracked.assignment.route->map_id;
   remaining.actions.assign(all.begin() + skipped, all.begin() + end);
+  // Ways planned round robots that stand replace what the agent would plan alone.
+  for (const auto& [action, path] : tracked.paths) {
+    if (action < skipped || action >= end) continue;
+    if (auto* nav =
+            std::get_if<FreeNavigationAction>(&remaining.actions[action - skipped].params)) {
+      nav->waypoints_m = path.waypoints_m;
+      nav->waypoint_yaws_rad.clear();
+    }
+  }
   tracked.predicted_end = end;
   Pose2 map_origin;
   planner::SingleRobotPlanner* planner = PlannerFor(tracked, &map_origin);
@@ -111,7 +125,7 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
   // load changes where a trolley dock or an undock ends.
   const auto sweep = [&](const std::vector<Pose2>& poses,
                          const std::optional<Eigen::Vector2d>& load_m) {
-    return planner::CellSet::Sweep(poses, tracked.model.FootprintCarrying(load_m), params_.margin_m,
+    return planner::CellSet::Sweep(poses, tracked.model.FootprintCarrying(load_m), swept_margin_m,
                                    params_.cell_m);
   };
   const auto stand = [&](const Pose2& at, const std::optional<Eigen::Vector2d>& load_m) {
@@ -167,8 +181,11 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
   }
   schedule.first_unfinished = skipped;
   // The action the robot may be in already (a later window, or a job resumed after a restart)
-  // stays cleared whole.
-  if (skipped >= static_cast<int>(tracked.assignment.route->actions.size())) {
+  // stays cleared whole; one whose way was planned again is cleared afresh, the robot standing.
+  if (tracked.hold_under_way && tracked.hold_under_way->action_index == skipped) {
+    schedule.cleared_up_to = FirstStepOf(tracked, skipped) - 1;
+    schedule.begun = true;
+  } else if (skipped >= static_cast<int>(tracked.assignment.route->actions.size())) {
     schedule.cleared_up_to = skipped - 1;
   } else if (skipped > 0 || tracked.resume_from_telemetry) {
     schedule.cleared_up_to = FirstStepOf(tracked, skipped + 1) - 1;

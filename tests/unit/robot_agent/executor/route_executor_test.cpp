@@ -340,5 +340,108 @@ TEST(RouteExecutorTest, ResumePositionOutsideTheRouteFailsIt) {
   EXPECT_THAT(executor.failure().message(), HasSubstr("action 3 is not in route"));
 }
 
+/// A 14 x 6 m room (0.1 m cells) walled round, for free navigation.
+RouteContext OmniInRoom() {
+  OccupancyGrid grid =
+      OccupancyGrid::Filled(140, 60, 0.1, Pose2(), OccupancyGrid::kFreeValue).value();
+  for (int y = 0; y < 60; ++y) {
+    for (int x = 0; x < 140; ++x) {
+      if (x == 0 || y == 0 || x == 139 || y == 59) {
+        grid.SetValue({x, y}, OccupancyGrid::kOccupiedValue);
+      }
+    }
+  }
+  return RouteContext{MecanumPlatformModel(), std::nullopt,
+                      std::make_shared<const OccupancyGrid>(std::move(grid))};
+}
+
+/// Drives `executor` on an ideal omnidirectional body from `start`; `at_step(i, pose)` runs
+/// before each tick with the progress so far. Returns the poses driven.
+template <typename AtStep>
+std::vector<Pose2> DriveOmni(RouteExecutor& executor, const Pose2& start, AtStep at_step) {
+  std::vector<Pose2> poses{start};
+  double progress = 0.0;
+  for (int i = 0; i < kMaxSteps; ++i) {
+    at_step(progress, poses.back());
+    const ExecutorOutput out = executor.Step(OdometryInput(poses.back(), kDt));
+    if (out.state != ExecutionState::kRunning) break;
+    progress = out.progress_fraction;
+    poses.push_back(testing::MovedOmni(poses.back(), out.command, kDt));
+  }
+  return poses;
+}
+
+double ClosestM(const std::vector<Pose2>& poses, const Eigen::Vector2d& point) {
+  double closest_m = 1e9;
+  for (const Pose2& p : poses) closest_m = std::min(closest_m, (p.translation() - point).norm());
+  return closest_m;
+}
+
+TEST(RouteExecutorTest, APlannedPathToldBeforeTheActionIsDrivenThrough) {
+  FreeNavigationAction nav;
+  nav.goal = Pose2(12.0, 3.0, 0.0);
+  RouteExecutor executor(MakeRoute({Act(nav, {EndConditionKind::kGoalReached, 0})}), OmniInRoom());
+  executor.SetClearedUpTo(-1);
+  executor.SetActionPath(ActionPath{0, 7, {{7.0, 5.0}}});
+  ASSERT_EQ(std::get<FreeNavigationAction>(executor.route().actions[0].params).waypoints_m.size(),
+            1u);
+  executor.SetClearedUpTo(0);
+  const std::vector<Pose2> driven =
+      DriveOmni(executor, Pose2(2.0, 3.0, 0.0), [](double, const Pose2&) {});
+  EXPECT_EQ(executor.state(), ExecutionState::kSucceeded) << executor.failure();
+  EXPECT_LT(ClosestM(driven, {7.0, 5.0}), 0.3);
+  EXPECT_LT((driven.back().translation() - nav.goal.translation()).norm(), 0.1);
+}
+
+TEST(RouteExecutorTest, APlannedPathToldUnderWayIsDrivenFromWhereTheRobotIs) {
+  FreeNavigationAction nav;
+  nav.goal = Pose2(12.0, 3.0, 0.0);
+  RouteExecutor executor(MakeRoute({Act(nav, {EndConditionKind::kGoalReached, 0})}), OmniInRoom());
+  bool told = false;
+  double progress_when_told = 0.0;
+  double least_progress_after = 1.0;
+  const std::vector<Pose2> driven =
+      DriveOmni(executor, Pose2(2.0, 3.0, 0.0), [&](double progress, const Pose2& pose) {
+        if (told) least_progress_after = std::min(least_progress_after, progress);
+        if (!told && pose.x_m() > 5.0) {
+          executor.SetActionPath(ActionPath{0, 9, {{8.0, 1.2}}});
+          told = true;
+          progress_when_told = progress;
+        }
+      });
+  ASSERT_TRUE(told);
+  // Its progress goes on from what was done (the new way's own counts the rest).
+  EXPECT_GT(progress_when_told, 0.2);
+  EXPECT_GE(least_progress_after, progress_when_told - 1e-9);
+  EXPECT_EQ(executor.state(), ExecutionState::kSucceeded) << executor.failure();
+  EXPECT_LT(ClosestM(driven, {8.0, 1.2}), 0.3);
+  // Driven on the map alone the way stays on y = 3.
+  RouteExecutor alone(MakeRoute({Act(nav, {EndConditionKind::kGoalReached, 0})}), OmniInRoom());
+  EXPECT_GT(
+      ClosestM(DriveOmni(alone, Pose2(2.0, 3.0, 0.0), [](double, const Pose2&) {}), {8.0, 1.2}),
+      1.0);
+}
+
+TEST(RouteExecutorTest, APlannedPathForAnotherKindOfActionOrTakenBeforeIsIgnored) {
+  FreeNavigationAction nav;
+  nav.goal = Pose2(12.0, 3.0, 0.0);
+  RouteExecutor executor(
+      MakeRoute({Act(StraightAction{1.0, 0.3}), Act(nav, {EndConditionKind::kGoalReached, 0})}),
+      OmniInRoom());
+  executor.SetActionPath(ActionPath{0, 1, {{7.0, 5.0}}});  // a straight: nothing to plan
+  EXPECT_TRUE(std::holds_alternative<StraightAction>(executor.route().actions[0].params));
+  executor.SetActionPath(ActionPath{1, 2, {{7.0, 5.0}}});
+  executor.SetActionPath(ActionPath{1, 2, {{7.0, 1.0}}});  // the same plan told again
+  const auto waypoints = [&] {
+    return std::get<FreeNavigationAction>(executor.route().actions[1].params).waypoints_m;
+  };
+  ASSERT_EQ(waypoints().size(), 1u);
+  EXPECT_DOUBLE_EQ(waypoints()[0].y(), 5.0);
+  executor.SetActionPath(ActionPath{1, 3, {{7.0, 1.0}}});  // a new plan
+  EXPECT_DOUBLE_EQ(waypoints()[0].y(), 1.0);
+  executor.SetActionPath(ActionPath{5, 4, {{7.0, 1.0}}});  // no such action
+  EXPECT_EQ(executor.route().actions.size(), 2u);
+}
+
 }  // namespace
 }  // namespace fleetnav::agent

@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <vector>
@@ -15,6 +16,7 @@ namespace fleetnav::server {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 /// Records what would be sent to the robots.
 class RecordingMailbox : public RobotMailbox {
@@ -44,11 +46,13 @@ class TrafficCoordinatorTest : public ::testing::Test {
 
   /// Connects a robot standing at `pose` (telemetry in map).
   void Connect(const std::string& robot_id, const Pose2& pose,
-               const RobotModel& model = LelyVectorModel(), bool segment_clearances = false) {
+               const RobotModel& model = LelyVectorModel(), bool segment_clearances = false,
+               bool planned_paths = false) {
     RobotIdentity identity;
     identity.robot_id = robot_id;
     identity.model = model;
     identity.segment_clearances = segment_clearances;
+    identity.planned_paths = planned_paths;
     sessions_[robot_id] = registry_.Connect(identity);
     Move(robot_id, pose);
   }
@@ -195,7 +199,8 @@ TEST_F(TrafficCoordinatorTest, AnAgentWithoutGatesIsClearedWholeActionsOnly) {
   ASSERT_FALSE(mailbox_.sent["b"].empty());
   EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, -1);
   EXPECT_FALSE(mailbox_.sent["b"].back().hold.has_value());
-  // a has passed all its gates; b goes once a has finished the action.
+  // a has passed all its gates; b goes once a has finished the action (and stands at its end).
+  MoveInJob("a", Pose2(11, 0, 0), "job-a", 0);
   coordinator_.OnActionFinished("a", "job-a", 0);
   coordinator_.Update();
   EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, 0);
@@ -219,13 +224,13 @@ INSTANTIATE_TEST_SUITE_P(LelyAndAckermann, WholeActionsTest,
                          [](const auto& info) { return info.index == 0 ? "Lely" : "Ackermann"; });
 
 TEST_F(TrafficCoordinatorTest, WhereARobotStandsGrowsWithItsPositionUncertainty) {
-  // A platform stands 1.45 m beside another's way. Well localized (σ 2 cm), it stands off the
-  // way; with σ 15 cm its standing place grows by 0.45 m and the other waits for it.
+  // A platform stands 1.33 m beside another's way. Well localized (σ 2 cm), it stands off the
+  // way; with σ 20 cm its standing place grows by 0.5 m and the other waits for it.
   Connect("a", Pose2(-8, 0, 0), MecanumPlatformModel());
-  Connect("idle", Pose2(0, 1.45, 0), MecanumPlatformModel());
+  Connect("idle", Pose2(0, 1.33, 0), MecanumPlatformModel());
   const auto stand_with_sigma = [&](double sigma_m) {
     Telemetry telemetry;
-    telemetry.pose_in_map = Pose2(0, 1.45, 0);
+    telemetry.pose_in_map = Pose2(0, 1.33, 0);
     telemetry.covariance[0] = telemetry.covariance[4] = sigma_m * sigma_m;
     ASSERT_TRUE(registry_.RecordTelemetry("idle", sessions_["idle"], telemetry).ok());
   };
@@ -235,11 +240,63 @@ TEST_F(TrafficCoordinatorTest, WhereARobotStandsGrowsWithItsPositionUncertainty)
   ASSERT_FALSE(mailbox_.sent["a"].empty());
   EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
   coordinator_.End("job-a1");
-  stand_with_sigma(0.15);
+  stand_with_sigma(0.2);
   coordinator_.Begin("a", Job("job-a2", {{StraightAction{12.0, 0.3}, {}}}));
   coordinator_.Update();
   EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, -1);
   EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("idle, which stands in its way"));
+}
+
+TEST_F(TrafficCoordinatorTest, WhatARobotSweepsGrowsWithItsOwnUncertaintyAndItsKind) {
+  // A platform stands 1.2 m beside the way of another (σ 2 cm). The other, well localized
+  // (σ 2 cm), sweeps its footprint grown by 0.3 m and passes; unsure (σ 13 cm), by 0.49 m, and
+  // waits for it; a Lely, drifting between markers, by the whole 0.5 m whatever it reports.
+  Connect("idle", Pose2(0, 1.2, 0), MecanumPlatformModel());
+  const auto drive_with_sigma = [&](const std::string& robot_id, const RobotModel& model,
+                                    double sigma_m) {
+    Connect(robot_id, Pose2(-8, 0, 0), model);
+    Telemetry telemetry;
+    telemetry.pose_in_map = Pose2(-8, 0, 0);
+    telemetry.covariance[0] = telemetry.covariance[4] = sigma_m * sigma_m;
+    ASSERT_TRUE(registry_.RecordTelemetry(robot_id, sessions_[robot_id], telemetry).ok());
+    coordinator_.Begin(robot_id, Job("job-" + robot_id, {{StraightAction{12.0, 0.3}, {}}}));
+    coordinator_.Update();
+    coordinator_.End("job-" + robot_id);
+    registry_.Disconnect(robot_id, sessions_[robot_id]);
+  };
+  drive_with_sigma("sure", MecanumPlatformModel(), 0.02);
+  ASSERT_FALSE(mailbox_.sent["sure"].empty());
+  EXPECT_EQ(mailbox_.sent["sure"].back().cleared_up_to_action, 0);
+  drive_with_sigma("unsure", MecanumPlatformModel(), 0.13);
+  ASSERT_FALSE(mailbox_.sent["unsure"].empty());
+  EXPECT_EQ(mailbox_.sent["unsure"].back().cleared_up_to_action, -1);
+  EXPECT_THAT(mailbox_.sent["unsure"].back().wait_reason,
+              HasSubstr("idle, which stands in its way"));
+  drive_with_sigma("lely", LelyVectorModel(), 0.02);
+  ASSERT_FALSE(mailbox_.sent["lely"].empty());
+  EXPECT_EQ(mailbox_.sent["lely"].back().cleared_up_to_action, -1);
+}
+
+TEST_F(TrafficCoordinatorTest, ARobotOffItsPredictionIsWaitedForWhereItIsNotWhereItWasPlanned) {
+  // a is sent 14 m east; b, whose way ends 6 m north of a's way, has been cleared and
+  // predicted to stand there, but reports itself on a's way (it drove off its prediction).
+  Connect("b", Pose2(0, 6, kPi / 2), MecanumPlatformModel(), true);
+  coordinator_.Begin("b", Job("job-b", {{StraightAction{0.5, 0.3}, {}}}));
+  coordinator_.Update();
+  ASSERT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, 0);
+  MoveInJob("b", Pose2(0, 0.3, kPi / 2), "job-b", 0);
+  Connect("a", Pose2(-8, 0, 0), MecanumPlatformModel(), true);
+  clock_.AdvanceNs(500'000'000);
+  coordinator_.Begin("a", Job("job-a", {{StraightAction{14.0, 0.3}, {}}}));
+  coordinator_.Update();
+  ASSERT_FALSE(mailbox_.sent["a"].empty());
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, -1);
+  EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("b, which stands in its way"));
+  // Back where it was predicted, a goes.
+  MoveInJob("b", Pose2(0, 6.5, kPi / 2), "job-b", 0);
+  clock_.AdvanceNs(500'000'000);
+  coordinator_.Update();
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
 }
 
 TEST_F(TrafficCoordinatorTest, AnIdleRobotInTheWayIsNeverDrivenThrough) {
@@ -250,6 +307,92 @@ TEST_F(TrafficCoordinatorTest, AnIdleRobotInTheWayIsNeverDrivenThrough) {
   coordinator_.Update();
   ASSERT_FALSE(mailbox_.sent["a"].empty());
   EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+  EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("idle, which stands in its way"));
+}
+
+/// The closest of `path`'s waypoints to `point`.
+double ClosestWaypointM(const ActionPath& path, const Eigen::Vector2d& point) {
+  double closest_m = 1e9;
+  for (const Eigen::Vector2d& p : path.waypoints_m) {
+    closest_m = std::min(closest_m, (p - point).norm());
+  }
+  return closest_m;
+}
+
+TEST_F(TrafficCoordinatorTest, ARobotWaitingForOneThatStandsInItsWayIsPlannedAWayRoundIt) {
+  // A platform that drives planned paths, sent 14 m east; a Lely stands without a job on the
+  // way (it will not move by itself).
+  Connect("a", Pose2(-8, 0, 0), MecanumPlatformModel(), /*segment_clearances=*/true,
+          /*planned_paths=*/true);
+  Connect("idle", Pose2(0, 0, kPi / 2));
+  coordinator_.Begin("a", Job("job-a", {{GoEast(-8, 14.0), {}}}));
+  coordinator_.Update();
+  ASSERT_FALSE(mailbox_.sent["a"].empty());
+  EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("idle, which stands in its way"));
+  EXPECT_TRUE(mailbox_.sent["a"].back().paths.empty());
+  clock_.AdvanceNs(500'000'000);
+  coordinator_.Update();
+  // Cleared along a way round it, told with the clearance.
+  const ClearanceNotice& told = mailbox_.sent["a"].back();
+  EXPECT_EQ(told.wait_reason, "");
+  EXPECT_EQ(told.cleared_up_to_action, 0);
+  ASSERT_EQ(told.paths.size(), 1u);
+  EXPECT_EQ(told.paths[0].action_index, 0);
+  // Abreast of the Lely the way keeps both footprints and the swept margin between them.
+  EXPECT_GT(ClosestWaypointM(told.paths[0], {0, 0}), 1.0);
+}
+
+TEST_F(TrafficCoordinatorTest, ARobotUnderWayStandsWhereItIsUntilItsNewWayIsCleared) {
+  // A Lely cleared first crosses the platform's way and ends on it.
+  Connect("c", Pose2(0, -3, kPi / 2));
+  coordinator_.Begin("c", Job("job-c", {{StraightAction{3.0, 0.5}, {}}}));
+  coordinator_.Update();
+  Connect("a", Pose2(-8, 0, 0), MecanumPlatformModel(), /*segment_clearances=*/true,
+          /*planned_paths=*/true);
+  clock_.AdvanceNs(500'000'000);
+  coordinator_.Begin("a", Job("job-a", {{GoEast(-8, 14.0), {}}}));
+  coordinator_.Update();
+  ASSERT_TRUE(mailbox_.sent["a"].back().hold.has_value());
+  const double gate_x_m = mailbox_.sent["a"].back().hold->gate.x_m();
+  ASSERT_LT(gate_x_m, -1.0);
+  // The Lely ends its job where it crossed: it stands in the way of the platform under way.
+  Move("c", Pose2(0, 0, kPi / 2));
+  coordinator_.End("job-c");
+  clock_.AdvanceNs(500'000'000);
+  coordinator_.Update();
+  EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("c, which stands in its way"));
+  for (double x = -8.0; x <= gate_x_m + 0.3 && mailbox_.sent["a"].back().paths.empty(); x += 0.25) {
+    MoveInJob("a", Pose2(std::min(x, gate_x_m), 0, 0), "job-a", 0);
+    clock_.AdvanceNs(500'000'000);
+    coordinator_.Update();
+  }
+  // Told the way round with its clearance along it, from where it stands.
+  const std::vector<ClearanceNotice>& sent = mailbox_.sent["a"];
+  auto told = std::find_if(sent.begin(), sent.end(),
+                           [](const ClearanceNotice& n) { return !n.paths.empty(); });
+  ASSERT_NE(told, sent.end());
+  EXPECT_EQ(told->cleared_up_to_action, 0);
+  EXPECT_EQ(told->wait_reason, "");
+  EXPECT_GT(ClosestWaypointM(told->paths[0], {0, 0}), 1.0);
+  EXPECT_GT((told->paths[0].waypoints_m.front() - Eigen::Vector2d(gate_x_m, 0)).norm(), 0.5);
+  // Told again with each later clearance: the same way.
+  MoveInJob("a", Pose2(gate_x_m + 0.5, 0.3, 0), "job-a", 0);
+  clock_.AdvanceNs(500'000'000);
+  coordinator_.Update();
+  ASSERT_FALSE(sent.back().paths.empty());
+  EXPECT_EQ(sent.back().paths[0].id, told->paths[0].id);
+}
+
+TEST_F(TrafficCoordinatorTest, AnAgentWithoutPlannedPathsIsNeverPlannedAWayRound) {
+  Connect("a", Pose2(-8, 0, 0), MecanumPlatformModel(), /*segment_clearances=*/true);
+  Connect("idle", Pose2(0, 0, kPi / 2));
+  coordinator_.Begin("a", Job("job-a", {{GoEast(-8, 14.0), {}}}));
+  for (double x = -8.0; x <= -2.0; x += 0.25) {
+    MoveInJob("a", Pose2(x, 0, 0), "job-a", 0);
+    clock_.AdvanceNs(500'000'000);
+    coordinator_.Update();
+  }
+  for (const ClearanceNotice& notice : mailbox_.sent["a"]) EXPECT_TRUE(notice.paths.empty());
   EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("idle, which stands in its way"));
 }
 
@@ -454,7 +597,7 @@ TEST_F(TrafficCoordinatorTest, AParkedRobotCarryingATrolleyBlocksWithTheTrolleys
 }
 
 TEST_F(TrafficCoordinatorTest, AJobCarryingATrolleySweepsItsOutlineUntilTheUndock) {
-  Connect("idle", Pose2(2, 2.3, 0), MecanumPlatformModel());
+  Connect("idle", Pose2(2, 2.2, 0), MecanumPlatformModel());
   Connect("carrier", Pose2(-8, 0, 0), MecanumPlatformModel());
   Move("carrier", Pose2(-8, 0, 0), kWideTrolleyM);
   coordinator_.Begin("carrier", Job("job-carry", {{StraightAction{12.0, 0.3}, {}}}));

@@ -29,12 +29,15 @@ struct ScheduledRoute {
   std::vector<int> whole_from;
   int first_unfinished = 0;  ///< actions before it have finished
   int cleared_up_to = -1;    ///< actions up to it were cleared earlier (never taken back)
+  /// The robot is part-way through the route although nothing of this schedule is cleared yet
+  /// (its way was planned again in the middle of an action).
+  bool begun = false;
 };
 
 /// Whether the robot has begun the route: cleared into it, or past an action of it. A robot
 /// that has not stands at its start, so its job can still be withdrawn.
 inline bool RouteBegun(const ScheduledRoute& route) {
-  return route.first_unfinished > 0 || route.cleared_up_to >= 0;
+  return route.begun || route.first_unfinished > 0 || route.cleared_up_to >= 0;
 }
 
 /// A robot with no job on the site: the floor it stands on.

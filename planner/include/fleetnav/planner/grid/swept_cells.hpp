@@ -27,6 +27,8 @@ class CellSet {
   bool BoundsOverlap(const CellSet& other) const;
   /// Whether the cell holding `point_m` is in the set (`cell_m` as the set was swept with).
   bool ContainsPoint(const Eigen::Vector2d& point_m, double cell_m) const;
+  /// The centres of the set's cells (`cell_m` as the set was swept with), in key order.
+  std::vector<Eigen::Vector2d> CellCentres(double cell_m) const;
   bool empty() const { return keys_.empty(); }
   size_t size() const { return keys_.size(); }
 

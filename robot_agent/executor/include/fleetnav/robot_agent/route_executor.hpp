@@ -1,12 +1,14 @@
 #pragma once
 
 #include <limits>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "absl/status/status.h"
+#include "fleetnav/core/job_assignment.hpp"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/core/segment_gate.hpp"
 #include "fleetnav/robot_agent/control/common/motion_controller.hpp"
@@ -63,6 +65,12 @@ class RouteExecutor {
   /// Within action hold->action_index, the robot may go only up to the hold's gate: it brakes
   /// to stand just before it (nullopt: the whole of every cleared action).
   void SetHold(const std::optional<SegmentHold>& hold) { hold_ = hold; }
+  /// Drives free-navigation action path.action_index through the path's waypoints to its goal
+  /// (a path traffic coordination planned around robots that stand). An action not begun
+  /// takes it when it starts; the action under way plans again from where the robot is, its
+  /// progress going on from what was done. A path already taken (same id), one for an action
+  /// that has ended, or one for an action that is not free navigation is ignored.
+  void SetActionPath(const ActionPath& path);
   ExecutionState state() const { return state_; }
   /// Why the route failed (OK while running or after success).
   const absl::Status& failure() const { return failure_; }
@@ -98,6 +106,8 @@ class RouteExecutor {
   absl::Status failure_;
   bool lift_raised_ = false;
   std::optional<SegmentHold> hold_;
+  double action_fraction_ = 0.0;           ///< of action index_, as last reported
+  std::map<int, uint64_t> taken_path_id_;  ///< per action: the planned path it drives
 };
 
 }  // namespace fleetnav::agent

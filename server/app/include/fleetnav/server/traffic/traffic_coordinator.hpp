@@ -11,6 +11,7 @@
 #include "absl/status/status.h"
 #include "absl/synchronization/mutex.h"
 #include "fleetnav/core/clock.hpp"
+#include "fleetnav/planner/coordination/detour.hpp"
 #include "fleetnav/planner/coordination/make_way.hpp"
 #include "fleetnav/planner/coordination/route_prediction.hpp"
 #include "fleetnav/planner/coordination/traffic_schedule.hpp"
@@ -23,9 +24,15 @@
 namespace fleetnav::server {
 
 struct TrafficCoordinatorParams {
-  /// Grown around each swept footprint: the estimate's error plus the reactive controllers'
-  /// deviation from the nominal path (the Lely's estimate is within 0.5 m at p95).
+  /// Grown around each swept footprint of a robot that does not follow its predicted path
+  /// closely (the Lely's estimate is within 0.5 m at p95; an Ackermann robot's pure pursuit
+  /// cuts corners), and the most any robot's swept or standing region is grown.
   double margin_m = 0.5;
+  /// A robot that follows its path closely (laser-localized against the map, not Ackermann)
+  /// sweeps its footprint grown by where it stands (its standing margin below, from its
+  /// covariance) plus this allowance for its path tracker's error, at most margin_m: two
+  /// platforms pass each other in an aisle while a drifting Lely keeps a wide berth.
+  double tracking_allowance_m = 0.1;
   /// A robot standing still is off its estimate by its localization error alone: where it
   /// stands (before, between and after its actions, and without a job) is grown by
   /// standing_sigmas standard deviations of its position (its telemetry's covariance, the
@@ -60,6 +67,12 @@ struct TrafficCoordinatorParams {
   /// (a make-way job is given up for a place off today's ways); each robot at most this often
   /// (clock time), so a circle that forms again is broken again without churning.
   double break_cycle_every_s = 20.0;
+  /// A robot whose next free-navigation step waits for a robot that stands in its way (parked,
+  /// or held) is planned a way round the robots that stand (planner::PlanDetour) and drives it
+  /// (agents that said RobotIdentity::planned_paths); each robot at most this often (clock
+  /// time). 0: never.
+  double detour_every_s = 10.0;
+  planner::DetourParams detour;
   absl::Status Validate() const;
 };
 
@@ -150,6 +163,13 @@ class TrafficCoordinator {
     int predicted_end = 0;    ///< actions before it are in the schedule
     int sent_cleared = -2;    ///< the clearance last sent; -2: none
     std::string reason;
+    bool planned_paths = false;  ///< its agent drives a planned path (RobotIdentity)
+    /// Paths planned round robots that stand, by action; sent with the clearances.
+    std::map<int, ActionPath> paths;
+    double detour_tried_s = -1e300;  ///< when a detour was last looked for
+    /// Set when the way of the action the robot is in was planned again: where it stood, which
+    /// is where it stands until the new way is cleared.
+    std::optional<SegmentHold> hold_under_way;
   };
   struct PlannerCache {
     std::unique_ptr<planner::Costmap> costmap;
@@ -160,8 +180,12 @@ class TrafficCoordinator {
   /// Schedules the window of `tracked`'s actions ahead from `pose`, the robot carrying
   /// `carried_load_m` (nullopt: nothing) as it starts.
   void Predict(Tracked& tracked, const Pose2& pose,
-               const std::optional<Eigen::Vector2d>& carried_load_m, double standing_margin_m)
-      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+               const std::optional<Eigen::Vector2d>& carried_load_m, double standing_margin_m,
+               double swept_margin_m) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// How far to grow what a robot of `model` with this telemetry sweeps while it drives:
+  /// margin_m, or for one that follows its path closely its standing margin plus
+  /// tracking_allowance_m (at most margin_m).
+  double SweptMarginM(const RobotModel& model, const Telemetry& telemetry) const;
   /// How far to grow where a robot with this telemetry stands (standing_margin_min_m..margin_m).
   double StandingMarginM(const Telemetry& telemetry) const;
   planner::SingleRobotPlanner* PlannerFor(const Tracked& tracked, Pose2* map_origin)
@@ -197,6 +221,21 @@ class TrafficCoordinator {
                        const std::vector<planner::TrafficClearanceDecision>& decisions,
                        const std::vector<planner::ParkedRobot>& parked,
                        const std::map<std::string, const RobotRecord*>& records)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Holds back what the decisions newly clear where it meets another robot of the map where
+  /// that robot stands now by its telemetry (footprint grown by its standing margin): the
+  /// orders are computed on predicted places, and a robot off its prediction (a way it planned
+  /// again, its tracker's error) is then waited for as one that stands in the way.
+  void HoldClearOfWhereRobotsAre(const std::vector<Tracked*>& tracked_jobs,
+                                 std::vector<planner::TrafficClearanceDecision>& decisions,
+                                 const std::map<std::string, const RobotRecord*>& records)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// For each robot on `map_id` whose next free-navigation step waits for a robot that stands
+  /// in its way: a way round the robots that stand (parked, held, or not cleared further),
+  /// which its window is then predicted along (its schedule starts again from that action).
+  void PlanDetours(const std::string& map_id, const std::vector<Tracked*>& tracked_jobs,
+                   const std::vector<planner::TrafficClearanceDecision>& decisions,
+                   const std::map<std::string, const RobotRecord*>& records)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Why the decision holds the robot, for people ("" when it does not); `jobs_on_map` are
   /// the tracked jobs the decision's waits may name, by robot id.
@@ -235,6 +274,7 @@ class TrafficCoordinator {
   /// Remembers which pairs of predicted windows share floor, per map.
   std::map<std::string, planner::ClearanceDecider> deciders_ ABSL_GUARDED_BY(mutex_);
   uint64_t next_cells_id_ ABSL_GUARDED_BY(mutex_) = 1;
+  uint64_t next_path_id_ ABSL_GUARDED_BY(mutex_) = 1;
   std::vector<MakeWayRequest> make_way_requests_ ABSL_GUARDED_BY(mutex_);
   /// Idle robots asked to make way (or found to have no place) since their last job began.
   std::set<std::string> make_way_asked_ ABSL_GUARDED_BY(mutex_);

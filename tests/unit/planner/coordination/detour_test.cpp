@@ -1,0 +1,146 @@
+#include "fleetnav/planner/coordination/detour.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "fleetnav/core/angles.hpp"
+#include "fleetnav/planner/coordination/route_prediction.hpp"
+#include "fleetnav/planner/grid/costmap.hpp"
+#include "fleetnav/planner/single_robot/planner_factory.hpp"
+
+namespace fleetnav::planner {
+namespace {
+
+constexpr double kCellM = 0.2;
+constexpr double kMarginM = 0.5;
+
+/// A 16 x 8 m hall (0.05 m cells, origin (-8, -4)): walls round it and a shelf block north of
+/// y = 0.8 from x = -5 to 5, so a lane 4.75 m wide runs along the south wall below it.
+OccupancyGrid Hall() {
+  OccupancyGrid grid =
+      OccupancyGrid::Filled(320, 160, 0.05, Pose2(-8.0, -4.0, 0.0), OccupancyGrid::kFreeValue)
+          .value();
+  for (int y = 0; y < 160; ++y) {
+    for (int x = 0; x < 320; ++x) {
+      const double wx = -8.0 + 0.05 * (x + 0.5);
+      const double wy = -4.0 + 0.05 * (y + 0.5);
+      const bool wall = x < 2 || y < 2 || x >= 318 || y >= 158;
+      const bool shelf = std::abs(wx) < 5.0 && wy > 0.8;
+      if (wall || shelf) grid.SetValue({x, y}, OccupancyGrid::kOccupiedValue);
+    }
+  }
+  return grid;
+}
+
+/// The path the robot drives through `waypoints` to `goal` on the map alone (as the agent and
+/// fleetnavd's prediction plan it).
+std::vector<Pose2> Drive(const OccupancyGrid& grid, const RobotModel& model, const Pose2& from,
+                         const std::vector<Eigen::Vector2d>& waypoints, const Pose2& goal) {
+  CostmapParams params;
+  params.padding_m = 0.1;
+  Costmap costmap = Costmap::Build(grid, model.footprint_m, params).value();
+  std::unique_ptr<SingleRobotPlanner> planner =
+      MakeSingleRobotPlanner(&costmap, model, NavigationPlannerParams(model)).value();
+  absl::StatusOr<WaypointPath> path =
+      PlanThroughWaypoints(*planner, grid.origin(), from, waypoints, goal, 1.0, {});
+  EXPECT_TRUE(path.ok()) << path.status();
+  return path.ok() ? path->poses : std::vector<Pose2>{};
+}
+
+TEST(DetourTest, AWayRoundARobotStandingInTheLaneKeepsTheMarginOffIt) {
+  const OccupancyGrid grid = Hall();
+  const RobotModel model = MecanumPlatformModel();
+  const Pose2 from(-6.0, -1.0, 0.0);
+  FreeNavigationAction action;
+  action.goal = Pose2(6.0, -1.0, 0.0);
+  // One stands on the straight way, as a platform parked in the lane.
+  const Pose2 standing_at(0.0, -1.0, kPi / 2.0);
+  const CellSet standing = CellSet::Sweep({standing_at}, model.footprint_m, 0.2, kCellM);
+  const CellSet kept_off =
+      CellSet::Sweep({standing_at}, model.footprint_m, 0.2 + kMarginM, kCellM);
+  // The way the map alone gives passes through it.
+  const std::vector<Pose2> direct = Drive(grid, model, from, {}, action.goal);
+  ASSERT_TRUE(CellSet::Sweep(direct, model.footprint_m, kMarginM, kCellM).Intersects(standing));
+
+  absl::StatusOr<std::vector<Eigen::Vector2d>> waypoints =
+      PlanDetour(grid, model, {&kept_off}, kCellM, from, action);
+  ASSERT_TRUE(waypoints.ok()) << waypoints.status();
+  ASSERT_GE(waypoints->size(), 3u);
+  // Driven through the waypoints on the map alone, the way sweeps clear of it.
+  const std::vector<Pose2> round = Drive(grid, model, from, *waypoints, action.goal);
+  EXPECT_FALSE(CellSet::Sweep(round, model.footprint_m, kMarginM, kCellM).Intersects(standing));
+  // Waypoints are about a metre apart and none sits on the start or the goal.
+  for (size_t i = 1; i < waypoints->size(); ++i) {
+    EXPECT_LT(((*waypoints)[i] - (*waypoints)[i - 1]).norm(), 1.6);
+  }
+  EXPECT_GT((waypoints->front() - from.translation()).norm(), 0.9);
+  EXPECT_GT((waypoints->back() - action.goal.translation()).norm(), 0.4);
+}
+
+TEST(DetourTest, NoWayRoundRobotsAcrossTheLaneIsNotFound) {
+  const OccupancyGrid grid = Hall();
+  const RobotModel model = MecanumPlatformModel();
+  // Robots standing across the whole lane below the shelf block.
+  std::vector<CellSet> across;
+  for (double y = -3.6; y <= 0.6; y += 0.6) {
+    across.push_back(CellSet::Sweep({Pose2(0.0, y, 0.0)}, model.footprint_m, 0.3, kCellM));
+  }
+  std::vector<const CellSet*> blocked;
+  for (const CellSet& cells : across) blocked.push_back(&cells);
+  FreeNavigationAction action;
+  action.goal = Pose2(3.0, -1.0, 0.0);
+  absl::StatusOr<std::vector<Eigen::Vector2d>> waypoints =
+      PlanDetour(grid, model, blocked, kCellM, Pose2(-3.0, -1.0, 0.0), action);
+  EXPECT_TRUE(absl::IsNotFound(waypoints.status())) << waypoints.status();
+  EXPECT_NE(waypoints.status().message().find("no way round the robots that stand"),
+            std::string::npos);
+}
+
+TEST(DetourTest, ARobotStandingCloseBesideTheStartDoesNotTrapIt) {
+  const OccupancyGrid grid = Hall();
+  const RobotModel model = MecanumPlatformModel();
+  const Pose2 from(-6.0, -1.0, 0.0);
+  // Its neighbour's grown floor reaches under the robot's own footprint.
+  const CellSet beside =
+      CellSet::Sweep({Pose2(-6.0, -0.2, 0.0)}, model.footprint_m, 0.2 + kMarginM, kCellM);
+  ASSERT_TRUE(CellSet::Sweep({from}, model.footprint_m, 0.0, kCellM).Intersects(beside));
+  FreeNavigationAction action;
+  action.goal = Pose2(-2.0, -2.5, 0.0);
+  absl::StatusOr<std::vector<Eigen::Vector2d>> waypoints =
+      PlanDetour(grid, model, {&beside}, kCellM, from, action);
+  EXPECT_TRUE(waypoints.ok()) << waypoints.status();
+}
+
+TEST(DetourTest, BadInputIsRefusedNamingIt) {
+  const OccupancyGrid grid = Hall();
+  const RobotModel model = MecanumPlatformModel();
+  FreeNavigationAction action;
+  action.goal = Pose2(3.0, -1.0, 0.0);
+  DetourParams params;
+  params.waypoint_spacing_m = 0.0;
+  absl::StatusOr<std::vector<Eigen::Vector2d>> got =
+      PlanDetour(grid, model, {}, kCellM, Pose2(-3.0, -1.0, 0.0), action, params);
+  EXPECT_TRUE(absl::IsInvalidArgument(got.status()));
+  EXPECT_NE(got.status().message().find("waypoint_spacing_m"), std::string::npos);
+  got = PlanDetour(grid, model, {}, kCellM, Pose2(30.0, -1.0, 0.0), action);
+  EXPECT_TRUE(absl::IsInvalidArgument(got.status()));
+  EXPECT_NE(got.status().message().find("outside the map"), std::string::npos);
+}
+
+TEST(DetourTest, ThinningKeepsSpacingAndTheGivenWaypoints) {
+  std::vector<Pose2> poses;
+  for (int i = 0; i <= 100; ++i) poses.emplace_back(0.1 * i, 0.0, 0.0);  // 10 m along x
+  const std::vector<Eigen::Vector2d> thin = ThinToWaypoints(poses, 2.0, {{5.05, 0.1}});
+  // 2, 4, the kept (5.05, 0.1), 7.05..., none within 1 m of the end at 10.
+  ASSERT_GE(thin.size(), 4u);
+  EXPECT_NEAR(thin[0].x(), 2.0, 0.11);
+  EXPECT_NEAR(thin[1].x(), 4.0, 0.11);
+  EXPECT_DOUBLE_EQ(thin[2].x(), 5.05);
+  EXPECT_DOUBLE_EQ(thin[2].y(), 0.1);
+  for (const Eigen::Vector2d& p : thin) EXPECT_LT(p.x(), 9.0);
+  EXPECT_TRUE(ThinToWaypoints({Pose2()}, 1.0).empty());
+}
+
+}  // namespace
+}  // namespace fleetnav::planner
