@@ -1,6 +1,8 @@
 #include "fleetnav/planner/coordination/detour.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <utility>
@@ -83,8 +85,8 @@ absl::Status DetourParams::Validate() const {
   if (!(std::isfinite(padding_m) && padding_m >= 0.0)) {
     return absl::InvalidArgumentError("padding_m: must be finite and >= 0");
   }
-  if (!(std::isfinite(waypoint_spacing_m) && waypoint_spacing_m > 0.0)) {
-    return absl::InvalidArgumentError("waypoint_spacing_m: must be finite and > 0");
+  if (!(std::isfinite(max_leg_m) && max_leg_m > 0.0)) {
+    return absl::InvalidArgumentError("max_leg_m: must be finite and > 0");
   }
   if (!(std::isfinite(time_limit_s) && time_limit_s > 0.0)) {
     return absl::InvalidArgumentError("time_limit_s: must be finite and > 0");
@@ -92,42 +94,78 @@ absl::Status DetourParams::Validate() const {
   return absl::OkStatus();
 }
 
-std::vector<Eigen::Vector2d> ThinToWaypoints(const std::vector<Pose2>& poses, double spacing_m,
+std::vector<Eigen::Vector2d> ThinToWaypoints(const std::vector<Pose2>& poses,
+                                             const Costmap& costmap, const Pose2& map_origin,
+                                             const DetourParams& params,
                                              const std::vector<Eigen::Vector2d>& keep) {
   std::vector<Eigen::Vector2d> out;
   if (poses.size() < 2) return out;
-  const Eigen::Vector2d end = poses.back().translation();
-  size_t next_keep = 0;
-  double since_m = 0.0;
-  for (size_t i = 1; i < poses.size(); ++i) {
-    const Eigen::Vector2d p = poses[i].translation();
-    since_m += (p - poses[i - 1].translation()).norm();
-    if (next_keep < keep.size() && (p - keep[next_keep]).norm() <= 0.25) {
-      out.push_back(keep[next_keep++]);
-      since_m = 0.0;
-      continue;
+  const double res_m = costmap.resolution_m();
+  const Pose2 grid_from_map = map_origin.Inverse();
+  // Clearance of a point of the map: the distance from its cell to the nearest obstacle.
+  const auto clearance_m = [&](const Eigen::Vector2d& p) {
+    const Eigen::Vector2d g = grid_from_map.TransformPoint(p);
+    const int x = static_cast<int>(std::floor(g.x() / res_m));
+    const int y = static_cast<int>(std::floor(g.y() / res_m));
+    return costmap.InBounds(x, y) ? costmap.DistanceToObstacle_m(x, y) : 0.0;
+  };
+  std::vector<double> along(poses.size(), 0.0);  // the path's own clearance at each pose
+  for (size_t i = 0; i < poses.size(); ++i) along[i] = clearance_m(poses[i].translation());
+  // Whether the straight line from pose i to pose j keeps as far off obstacles as the path
+  // between them does (within half a cell), and is no longer than the longest leg.
+  const auto straight = [&](size_t i, size_t j) {
+    const Eigen::Vector2d a = poses[i].translation();
+    const Eigen::Vector2d b = poses[j].translation();
+    if ((b - a).norm() > params.max_leg_m) return false;
+    const double needed_m = *std::min_element(along.begin() + static_cast<std::ptrdiff_t>(i),
+                                              along.begin() + static_cast<std::ptrdiff_t>(j) + 1) -
+                            0.5 * res_m;
+    const int samples = static_cast<int>(std::ceil((b - a).norm() / (0.5 * res_m)));
+    for (int k = 1; k < samples; ++k) {
+      if (clearance_m(a + (b - a) * (static_cast<double>(k) / samples)) < needed_m) return false;
     }
-    if (since_m >= spacing_m && (end - p).norm() >= 0.5 * spacing_m) {
-      out.push_back(p);
-      since_m = 0.0;
+    return true;
+  };
+  // The action's own waypoints, each where the poses first pass within 0.25 m of it.
+  std::vector<size_t> kept_at;
+  for (size_t i = 0, next = 0; i < poses.size() && next < keep.size(); ++i) {
+    if ((poses[i].translation() - keep[next]).norm() <= 0.25) {
+      kept_at.push_back(i);
+      ++next;
     }
   }
-  // Waypoints the path never came near (it cannot miss them: it was planned through them).
-  while (next_keep < keep.size()) out.push_back(keep[next_keep++]);
+  // From each waypoint, the farthest pose reached in a straight line (never past a kept one).
+  size_t from = 0;
+  size_t next_kept = 0;
+  const size_t last = poses.size() - 1;
+  while (from < last) {
+    const size_t limit = next_kept < kept_at.size() ? kept_at[next_kept] : last;
+    size_t to = from + 1;
+    while (to < limit && straight(from, to + 1)) ++to;
+    if (to == limit && next_kept < kept_at.size()) {
+      out.push_back(keep[next_kept++]);
+    } else if (to < last) {
+      out.push_back(poses[to].translation());
+    }
+    from = to;
+  }
+  while (next_kept < kept_at.size()) out.push_back(keep[next_kept++]);
   return out;
 }
 
-absl::StatusOr<std::vector<Eigen::Vector2d>> PlanDetour(
-    const OccupancyGrid& grid, const RobotModel& model, const std::vector<const CellSet*>& blocked,
-    double cell_m, const Pose2& from, const FreeNavigationAction& action,
-    const DetourParams& params) {
+absl::StatusOr<std::vector<Eigen::Vector2d>> PlanDetour(const OccupancyGrid& grid,
+                                                        const RobotModel& model,
+                                                        const std::vector<const CellSet*>& blocked,
+                                                        double cell_m, const Pose2& from,
+                                                        const FreeNavigationAction& action,
+                                                        const DetourParams& params) {
   if (absl::Status s = params.Validate(); !s.ok()) return s;
   if (!(std::isfinite(cell_m) && cell_m > 0.0)) {
     return absl::InvalidArgumentError("cell_m: must be finite and > 0");
   }
   if (!from.IsFinite() || !grid.ContainsWorld(from.translation())) {
-    return absl::InvalidArgumentError(absl::StrFormat(
-        "the robot at (%.2f, %.2f) is outside the map", from.x_m(), from.y_m()));
+    return absl::InvalidArgumentError(
+        absl::StrFormat("the robot at (%.2f, %.2f) is outside the map", from.x_m(), from.y_m()));
   }
   OccupancyGrid marked = grid;
   const CellSet own = CellSet::Sweep({from}, model.footprint_m, params.padding_m + cell_m, cell_m);
@@ -140,9 +178,9 @@ absl::StatusOr<std::vector<Eigen::Vector2d>> PlanDetour(
   for (const Eigen::Vector2d& target : action.waypoints_m) {
     if (!MaybeReachable(*costmap, grid_from_map * from,
                         grid_from_map * Pose2(target.x(), target.y(), 0.0))) {
-      return absl::NotFoundError(absl::StrFormat(
-          "no way round the robots that stand: waypoint (%.2f, %.2f) is cut off", target.x(),
-          target.y()));
+      return absl::NotFoundError(
+          absl::StrFormat("no way round the robots that stand: waypoint (%.2f, %.2f) is cut off",
+                          target.x(), target.y()));
     }
   }
   if (!MaybeReachable(*costmap, grid_from_map * from, grid_from_map * action.goal)) {
@@ -157,10 +195,10 @@ absl::StatusOr<std::vector<Eigen::Vector2d>> PlanDetour(
       PlanThroughWaypoints(**planner, marked.origin(), from, action.waypoints_m, action.goal,
                            params.time_limit_s, action.waypoint_yaws_rad);
   if (!path.ok()) {
-    return absl::NotFoundError(absl::StrCat("no way round the robots that stand: ",
-                                            path.status().message()));
+    return absl::NotFoundError(
+        absl::StrCat("no way round the robots that stand: ", path.status().message()));
   }
-  return ThinToWaypoints(path->poses, params.waypoint_spacing_m, action.waypoints_m);
+  return ThinToWaypoints(path->poses, *costmap, marked.origin(), params, action.waypoints_m);
 }
 
 }  // namespace fleetnav::planner

@@ -135,6 +135,16 @@ void Follow(Graph& g, int follower, int first, const std::vector<int>& last_meet
   }
 }
 
+/// Follow for the follower's actions from `from` on only (those before it are cleared and
+/// wait for nothing more).
+void FollowFrom(Graph& g, int follower, int first, const std::vector<int>& last_meeting, int leader,
+                int from) {
+  for (size_t n = 0; n < last_meeting.size(); ++n) {
+    const int action = first + static_cast<int>(n);
+    if (action >= from) g.deps[{follower, action}].push_back({leader, last_meeting[n], -1});
+  }
+}
+
 /// Whether `cells` meets any of the route's action regions first..last.
 bool Meets(const CellSet& cells, const ScheduledRoute& route, int first, int last) {
   for (int k = first; k <= last; ++k) {
@@ -228,9 +238,33 @@ BuildResult Build(const RouteList& routes, const std::vector<bool>& held,
           const int waiting_first = a_cleared ? block.l1 : block.k1;
           if (waiting_first == waiting.first_unfinished &&
               Meets(Standing(waiting), in, std::max(in_first, in.cleared_up_to + 1), in_last)) {
-            out.infeasible_route = a_cleared ? s : r;
-            out.infeasible_partner = a_cleared ? r : s;
-            return out;
+            // Holding the one that stands there can never let the other on (in the dense hall
+            // a robot at its pack station stood for good in the way of the next robot to that
+            // station, its way out held). Unless its way out passes where the other will stand
+            // when done with what it is cleared for, it goes first: it waits only for those of
+            // the other's cleared actions that meet its own, and the other follows it through
+            // what it is not cleared for yet.
+            const int in_route = a_cleared ? r : s;
+            const int waiting_route = a_cleared ? s : r;
+            const int waiting_last = a_cleared ? block.l2 : block.k2;
+            const CellSet& in_stops = in.action_end_cells[in.cleared_up_to];
+            if (Meets(in_stops, waiting, waiting_first, waiting_last)) {
+              out.infeasible_route = waiting_route;
+              out.infeasible_partner = in_route;
+              return out;
+            }
+            FollowFrom(g, in_route, in_first,
+                       a_cleared ? block.last_l_meeting_k : block.last_k_meeting_l, waiting_route,
+                       in.cleared_up_to + 1);
+            for (int l = waiting_first; l <= waiting_last; ++l) {
+              for (int k = std::min(in.cleared_up_to, in_last); k >= in_first; --k) {
+                if (Meet(in, k, waiting, l)) {
+                  g.deps[{waiting_route, l}].push_back({in_route, k, -1});
+                  break;
+                }
+              }
+            }
+            continue;
           }
           a_first = a_cleared;
         } else {

@@ -9,10 +9,10 @@
 
 namespace fleetnav::server {
 
-void TrafficCoordinator::PlanDetours(const std::string& map_id,
-                                     const std::vector<Tracked*>& tracked_jobs,
-                                     const std::vector<planner::TrafficClearanceDecision>& decisions,
-                                     const std::map<std::string, const RobotRecord*>& records) {
+void TrafficCoordinator::PlanDetours(
+    const std::string& map_id, const std::vector<Tracked*>& tracked_jobs,
+    const std::vector<planner::TrafficClearanceDecision>& decisions,
+    const std::map<std::string, const RobotRecord*>& records) {
   if (params_.detour_every_s <= 0.0) return;
   const double now_s = static_cast<double>(clock_->NowNs()) * 1e-9;
   // Robots that stand: those with no job on the site (any robot not tracked here), those held
@@ -27,17 +27,20 @@ void TrafficCoordinator::PlanDetours(const std::string& map_id,
   for (size_t i = 0; i < decisions.size(); ++i) {
     Tracked& t = *tracked_jobs[i];
     const planner::TrafficClearanceDecision& d = decisions[i];
-    if (!t.planned_paths || d.deadlocked || d.waits.empty() ||
-        now_s - t.detour_tried_s < params_.detour_every_s) {
+    if (!t.planned_paths || d.waits.empty() || now_s - t.detour_tried_s < params_.detour_every_s) {
       continue;
     }
-    // It stands at its gate (everything cleared is done) and waits for one that stands there.
+    // It stands at its gate (everything cleared is done) and waits for one that stands there;
+    // or its route is held whole and it stands (the other route's robot may stand in its way:
+    // a way round it lets the two be ordered).
     const planner::TrafficWait& wait = d.waits.front();
     const planner::ScheduledRoute& route = *t.schedule;
-    if (wait.blocker_action >= 0 || wait.action != route.first_unfinished) continue;
-    const int action = ActionOfStep(t, wait.action);
+    const bool standing = d.cleared_up_to < route.first_unfinished;
+    if (!standing || (!d.deadlocked && wait.blocker_action >= 0)) continue;
+    const int action = ActionOfStep(t, route.first_unfinished);
     if (action < 0 || action >= static_cast<int>(t.assignment.route->actions.size())) continue;
-    const auto* nav = std::get_if<FreeNavigationAction>(&t.assignment.route->actions[action].params);
+    const auto* nav =
+        std::get_if<FreeNavigationAction>(&t.assignment.route->actions[action].params);
     auto record = records.find(t.robot_id);
     if (nav == nullptr || record == records.end() || !record->second->last_telemetry ||
         (planner::RouteBegun(route) && !nav->waypoints_m.empty())) {
@@ -85,8 +88,7 @@ void TrafficCoordinator::PlanDetours(const std::string& map_id,
       const double yaw_rad = towards.norm() > 1e-6 ? std::atan2(towards.y(), towards.x())
                                                    : telemetry.pose_in_map.yaw_rad();
       t.hold_under_way = SegmentHold{
-          action, 0,
-          Pose2(telemetry.pose_in_map.x_m(), telemetry.pose_in_map.y_m(), yaw_rad)};
+          action, 0, Pose2(telemetry.pose_in_map.x_m(), telemetry.pose_in_map.y_m(), yaw_rad)};
     }
     t.start_action = action;
     t.schedule.reset();

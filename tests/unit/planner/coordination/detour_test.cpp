@@ -57,8 +57,7 @@ TEST(DetourTest, AWayRoundARobotStandingInTheLaneKeepsTheMarginOffIt) {
   // One stands on the straight way, as a platform parked in the lane.
   const Pose2 standing_at(0.0, -1.0, kPi / 2.0);
   const CellSet standing = CellSet::Sweep({standing_at}, model.footprint_m, 0.2, kCellM);
-  const CellSet kept_off =
-      CellSet::Sweep({standing_at}, model.footprint_m, 0.2 + kMarginM, kCellM);
+  const CellSet kept_off = CellSet::Sweep({standing_at}, model.footprint_m, 0.2 + kMarginM, kCellM);
   // The way the map alone gives passes through it.
   const std::vector<Pose2> direct = Drive(grid, model, from, {}, action.goal);
   ASSERT_TRUE(CellSet::Sweep(direct, model.footprint_m, kMarginM, kCellM).Intersects(standing));
@@ -66,16 +65,16 @@ TEST(DetourTest, AWayRoundARobotStandingInTheLaneKeepsTheMarginOffIt) {
   absl::StatusOr<std::vector<Eigen::Vector2d>> waypoints =
       PlanDetour(grid, model, {&kept_off}, kCellM, from, action);
   ASSERT_TRUE(waypoints.ok()) << waypoints.status();
-  ASSERT_GE(waypoints->size(), 3u);
+  // A few corners, not a waypoint every metre: each leg through them is a search.
+  ASSERT_GE(waypoints->size(), 1u);
+  EXPECT_LE(waypoints->size(), 6u);
   // Driven through the waypoints on the map alone, the way sweeps clear of it.
   const std::vector<Pose2> round = Drive(grid, model, from, *waypoints, action.goal);
   EXPECT_FALSE(CellSet::Sweep(round, model.footprint_m, kMarginM, kCellM).Intersects(standing));
-  // Waypoints are about a metre apart and none sits on the start or the goal.
-  for (size_t i = 1; i < waypoints->size(); ++i) {
-    EXPECT_LT(((*waypoints)[i] - (*waypoints)[i - 1]).norm(), 1.6);
+  for (const Eigen::Vector2d& w : *waypoints) {
+    EXPECT_GT((w - from.translation()).norm(), 0.3);
+    EXPECT_GT((w - action.goal.translation()).norm(), 0.3);
   }
-  EXPECT_GT((waypoints->front() - from.translation()).norm(), 0.9);
-  EXPECT_GT((waypoints->back() - action.goal.translation()).norm(), 0.4);
 }
 
 TEST(DetourTest, NoWayRoundRobotsAcrossTheLaneIsNotFound) {
@@ -118,28 +117,39 @@ TEST(DetourTest, BadInputIsRefusedNamingIt) {
   FreeNavigationAction action;
   action.goal = Pose2(3.0, -1.0, 0.0);
   DetourParams params;
-  params.waypoint_spacing_m = 0.0;
+  params.max_leg_m = 0.0;
   absl::StatusOr<std::vector<Eigen::Vector2d>> got =
       PlanDetour(grid, model, {}, kCellM, Pose2(-3.0, -1.0, 0.0), action, params);
   EXPECT_TRUE(absl::IsInvalidArgument(got.status()));
-  EXPECT_NE(got.status().message().find("waypoint_spacing_m"), std::string::npos);
+  EXPECT_NE(got.status().message().find("max_leg_m"), std::string::npos);
   got = PlanDetour(grid, model, {}, kCellM, Pose2(30.0, -1.0, 0.0), action);
   EXPECT_TRUE(absl::IsInvalidArgument(got.status()));
   EXPECT_NE(got.status().message().find("outside the map"), std::string::npos);
 }
 
-TEST(DetourTest, ThinningKeepsSpacingAndTheGivenWaypoints) {
+TEST(DetourTest, AStraightWayNeedsNoWaypointsAndTheActionsOwnAreKept) {
+  const OccupancyGrid grid = Hall();
+  const RobotModel model = MecanumPlatformModel();
+  const Costmap costmap = Costmap::Build(grid, model.footprint_m, CostmapParams{}).value();
   std::vector<Pose2> poses;
-  for (int i = 0; i <= 100; ++i) poses.emplace_back(0.1 * i, 0.0, 0.0);  // 10 m along x
-  const std::vector<Eigen::Vector2d> thin = ThinToWaypoints(poses, 2.0, {{5.05, 0.1}});
-  // 2, 4, the kept (5.05, 0.1), 7.05..., none within 1 m of the end at 10.
-  ASSERT_GE(thin.size(), 4u);
-  EXPECT_NEAR(thin[0].x(), 2.0, 0.11);
-  EXPECT_NEAR(thin[1].x(), 4.0, 0.11);
-  EXPECT_DOUBLE_EQ(thin[2].x(), 5.05);
-  EXPECT_DOUBLE_EQ(thin[2].y(), 0.1);
-  for (const Eigen::Vector2d& p : thin) EXPECT_LT(p.x(), 9.0);
-  EXPECT_TRUE(ThinToWaypoints({Pose2()}, 1.0).empty());
+  for (int i = 0; i <= 100; ++i) poses.emplace_back(-6.0 + 0.1 * i, -2.0, 0.0);  // 10 m east
+  DetourParams long_legs;
+  long_legs.max_leg_m = 20.0;
+  EXPECT_TRUE(ThinToWaypoints(poses, costmap, grid.origin(), long_legs).empty());
+  // The longest leg bounds a straight way.
+  DetourParams short_legs;
+  short_legs.max_leg_m = 3.0;
+  const std::vector<Eigen::Vector2d> legs =
+      ThinToWaypoints(poses, costmap, grid.origin(), short_legs);
+  EXPECT_EQ(legs.size(), 3u);
+  for (const Eigen::Vector2d& p : legs) EXPECT_NEAR(p.y(), -2.0, 1e-9);
+  // A waypoint of the action's own is kept where the path passes it.
+  const std::vector<Eigen::Vector2d> kept =
+      ThinToWaypoints(poses, costmap, grid.origin(), long_legs, {{-1.0, -1.9}});
+  ASSERT_EQ(kept.size(), 1u);
+  EXPECT_DOUBLE_EQ(kept[0].x(), -1.0);
+  EXPECT_DOUBLE_EQ(kept[0].y(), -1.9);
+  EXPECT_TRUE(ThinToWaypoints({Pose2()}, costmap, grid.origin(), DetourParams{}).empty());
 }
 
 }  // namespace

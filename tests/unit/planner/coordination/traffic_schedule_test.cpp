@@ -156,19 +156,40 @@ TEST(TrafficScheduleTest, ARobotStandingAtItsStartIsPassedOnlyAfterItLeaves) {
   EXPECT_EQ(d[1].cleared_up_to, 0);
 }
 
-TEST(TrafficScheduleTest, ACrossingAlreadyEnteredIsNotDrivenOnThroughARobotThatStandsInIt) {
+TEST(TrafficScheduleTest, ARobotStandingWhereAnotherClearedOneMustGoGoesFirst) {
   // a was cleared into the place where b stands (its first action), before b's route was
-  // known: a may not go on through b, and b cannot make way first (a is in its way): b is held
-  // and a waits for it — both stand, nobody is driven into.
-  ScheduledRoute a = Route("a", {{-5, 0}, {2.2, 0}, {8, 0}}, 0.0);
+  // known: a may not go on through b. Holding b would leave both standing for good; b's way
+  // out (north) does not pass where a stops, so b goes first and a follows it.
+  ScheduledRoute a = Route("a", {{-5, 0}, {1.5, 0}, {8, 0}}, 0.0);
   a.cleared_up_to = 0;
   ScheduledRoute b = Route("b", {{3.5, 0}, {3.5, 5}}, 1.0);
   std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
   EXPECT_EQ(d[0].cleared_up_to, 0);
   ASSERT_FALSE(d[0].waits.empty());
   EXPECT_EQ(d[0].waits[0].blocker_robot_id, "b");
+  EXPECT_EQ(d[0].waits[0].blocker_action, 0);
+  EXPECT_FALSE(d[1].deadlocked);
+  EXPECT_EQ(d[1].cleared_up_to, 0);
+  EXPECT_TRUE(d[1].waits.empty());
+}
+
+TEST(TrafficScheduleTest, ARobotStandingWhereAnotherMustGoIsHeldIfItsWayOutPassesWhereItStops) {
+  // a was cleared north to (0, -1.5); b stands on a's next leg at (0, 1). b's way out to the
+  // north-west goes first, a following it.
+  ScheduledRoute a = Route("a", {{0, -5}, {0, -1.5}, {0, 8}}, 0.0);
+  a.cleared_up_to = 0;
+  ScheduledRoute b = Route("b", {{0, 1}, {-1.0, 2.5}, {-6, 2.5}}, 1.0);
+  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
+  EXPECT_FALSE(d[1].deadlocked);
+  EXPECT_EQ(d[0].cleared_up_to, 0);
+  ASSERT_FALSE(d[0].waits.empty());
+  EXPECT_EQ(d[0].waits[0].blocker_robot_id, "b");
+  // Where a stops after its cleared leg, b's first leg passes: b cannot go first after all.
+  ScheduledRoute c = Route("c", {{0, 1}, {0, -3}, {-6, -3}}, 1.0);
+  d = DecideClearances({a, c}, {});
   EXPECT_TRUE(d[1].deadlocked);
   EXPECT_EQ(d[1].cleared_up_to, -1);
+  EXPECT_EQ(d[0].cleared_up_to, 0);
 }
 
 TEST(TrafficScheduleTest, ParkedRobotsAreNeverDrivenThrough) {

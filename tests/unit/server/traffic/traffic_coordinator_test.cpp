@@ -383,6 +383,28 @@ TEST_F(TrafficCoordinatorTest, ARobotUnderWayStandsWhereItIsUntilItsNewWayIsClea
   EXPECT_EQ(sent.back().paths[0].id, told->paths[0].id);
 }
 
+TEST_F(TrafficCoordinatorTest, ARouteHeldWholeIsPlannedAWayRoundTheRobotItCouldNotBeOrderedWith) {
+  // a (an older agent: no planned paths) is sent east from (-6, 0); w stands on its way at
+  // (0, 0) and is sent west past a's start. Each stands where the other must go: w's job,
+  // the newer, is held whole. A way round a lets w go first, and a follows.
+  Connect("a", Pose2(-6, 0, 0), MecanumPlatformModel(), true, false);
+  Connect("w", Pose2(0, 0, kPi / 2), MecanumPlatformModel(), true, true);
+  coordinator_.Begin("a", Job("job-a", {{GoEast(-6, 12.0), {}}}));
+  clock_.AdvanceNs(500'000'000);
+  coordinator_.Begin("w",
+                     Job("job-w", {{FreeNavigationAction{{}, Pose2(-9, 0, kPi), 0.5, {}}, {}}}));
+  coordinator_.Update();
+  ASSERT_FALSE(mailbox_.sent["w"].empty());
+  EXPECT_THAT(mailbox_.sent["w"].back().wait_reason, HasSubstr("block each other"));
+  clock_.AdvanceNs(500'000'000);
+  coordinator_.Update();
+  const ClearanceNotice& w = mailbox_.sent["w"].back();
+  EXPECT_EQ(w.cleared_up_to_action, 0) << w.wait_reason;
+  ASSERT_EQ(w.paths.size(), 1u);
+  EXPECT_GT(ClosestWaypointM(w.paths[0], {-6, 0}), 1.0);
+  EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("w"));
+}
+
 TEST_F(TrafficCoordinatorTest, AnAgentWithoutPlannedPathsIsNeverPlannedAWayRound) {
   Connect("a", Pose2(-8, 0, 0), MecanumPlatformModel(), /*segment_clearances=*/true);
   Connect("idle", Pose2(0, 0, kPi / 2));

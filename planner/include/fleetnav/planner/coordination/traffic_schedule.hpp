@@ -74,7 +74,10 @@ struct TrafficClearanceDecision {
 /// the other follows it through: B's action l waits for the last of A's actions in the block
 /// that meets l or where B stands after l (or the other way round), so B enters the block as
 /// soon as A has left what B's first action needs, and stays one region behind A. Who goes first: a
-/// robot already cleared into the block; else the one that stands in the block before it starts (it
+/// robot already cleared into the block, unless the other stands where it has still to go: then
+/// the one that stands (holding it could never let the other on), waiting for those of the
+/// other's cleared actions that meet its way, unless its way passes where the other stops after
+/// them (then it is held); else the one that stands in the block before it starts (it
 /// cannot make way); else not the one whose route ends in the block (it would stay there); else the
 /// earlier expected start (robot index breaks ties). Orders that cannot be met or close a cycle
 /// hold one route whole (deadlocked; its robot stands as parked): a route its robot has not
