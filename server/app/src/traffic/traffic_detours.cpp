@@ -24,7 +24,10 @@ void TrafficCoordinator::PlanDetours(
     stands[route.robot_id] =
         decisions[i].deadlocked || decisions[i].cleared_up_to < route.first_unfinished;
   }
-  for (size_t i = 0; i < decisions.size(); ++i) {
+  // One search per decision at most (each costs tens of milliseconds of the dispatcher's
+  // thread on a hall-sized map); the others are looked at on the next decision.
+  bool searched = false;
+  for (size_t i = 0; i < decisions.size() && !searched; ++i) {
     Tracked& t = *tracked_jobs[i];
     const planner::TrafficClearanceDecision& d = decisions[i];
     if (!t.planned_paths || d.waits.empty() || now_s - t.detour_tried_s < params_.detour_every_s) {
@@ -47,6 +50,7 @@ void TrafficCoordinator::PlanDetours(
       continue;
     }
     t.detour_tried_s = now_s;
+    searched = true;
     absl::StatusOr<std::shared_ptr<const storage::StoredMap>> map =
         site_data_->Map(map_id, t.assignment.map_version);
     if (!map.ok()) continue;
