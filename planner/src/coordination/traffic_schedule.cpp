@@ -297,6 +297,28 @@ BuildResult Build(const RouteList& routes, const std::vector<bool>& held,
   return out;
 }
 
+/// Of the routes on a cycle, the one to hold: ToHold's pick among those whose robot does not
+/// stand in the way of another route on the cycle (held, it would stand there for good: in the
+/// dense hall a robot at a pack station, the only one of three not begun, was held again and
+/// again while the next robot to that station waited for it), or among all when each does.
+int RouteToHoldOf(const RouteList& routes, const std::vector<int>& on_cycle) {
+  const auto in_way = [&](int r) {
+    return std::any_of(on_cycle.begin(), on_cycle.end(), [&](int s) {
+      return s != r && Meets(Standing(routes[r]), routes[s], routes[s].first_unfinished,
+                             Count(routes[s]) - 1);
+    });
+  };
+  int hold = -1;
+  for (const bool skip_those_in_way : {true, false}) {
+    for (int r : on_cycle) {
+      if (skip_those_in_way && in_way(r)) continue;
+      hold = hold < 0 ? r : ToHold(routes, hold, r);
+    }
+    if (hold >= 0) return hold;
+  }
+  return hold;
+}
+
 /// A cycle of the graph (intra-route edges k → k+1 plus the dependencies): the route on it to
 /// hold (-1: no cycle) and the routes on it.
 struct RouteCycle {
@@ -343,12 +365,12 @@ RouteCycle RouteOnCycle(const RouteList& routes, const std::vector<bool>& held, 
         const int to = child < next[node].size() ? next[node][child] : node + 1;
         ++child;
         if (color[to] == 1) {
-          // The cycle runs from `to` up the stack: hold the route ToHold picks of it.
-          RouteCycle cycle{route_of[to], {route_of[to]}};
+          // The cycle runs from `to` up the stack: hold the route RouteToHoldOf picks of it.
+          RouteCycle cycle{-1, {route_of[to]}};
           for (auto it = stack.rbegin(); it != stack.rend() && it->first != to; ++it) {
-            cycle.hold = ToHold(routes, cycle.hold, route_of[it->first]);
             cycle.routes.push_back(route_of[it->first]);
           }
+          cycle.hold = RouteToHoldOf(routes, cycle.routes);
           return cycle;
         }
         if (color[to] == 0) {

@@ -192,6 +192,25 @@ TEST(TrafficScheduleTest, ARobotStandingWhereAnotherMustGoIsHeldIfItsWayOutPasse
   EXPECT_EQ(d[0].cleared_up_to, 0);
 }
 
+TEST(TrafficScheduleTest, OfACycleTheRobotStandingInAnothersWayIsNotTheOneHeld) {
+  // w stands at (0, 0), where c ends; c, cleared down from the north, waits for w to leave;
+  // w's way out to the north-east ends across b's way, so b passes there first; b, begun,
+  // crosses c's way first and follows c, whose last leg ends at w. The three wait in a
+  // cycle. Holding w (the only one not begun) would leave it standing where c must end: b,
+  // the newer of the others, is held, and w goes.
+  ScheduledRoute w = Route("w", {{0, 0}, {3, 4}}, 2.0);
+  ScheduledRoute c = Route("c", {{0, 6}, {0, 3}, {0, 0}}, 0.0);
+  c.cleared_up_to = 0;
+  ScheduledRoute b = Route("b", {{-9, 3}, {-6, 3}, {0, 3}, {6, 3}}, 1.0);
+  b.first_unfinished = 1;
+  b.cleared_up_to = 0;
+  std::vector<TrafficClearanceDecision> d = DecideClearances({w, c, b}, {});
+  EXPECT_FALSE(d[0].deadlocked);
+  EXPECT_EQ(d[0].cleared_up_to, 0);
+  EXPECT_TRUE(d[2].deadlocked);
+  EXPECT_FALSE(d[1].deadlocked);
+}
+
 TEST(TrafficScheduleTest, ParkedRobotsAreNeverDrivenThrough) {
   ScheduledRoute a = Route("a", {{-5, 0}, {-2, 0}, {5, 0}}, 0.0);
   std::vector<TrafficClearanceDecision> d =

@@ -80,7 +80,8 @@ struct TrafficClearanceDecision {
 /// them (then it is held); else the one that stands in the block before it starts (it
 /// cannot make way); else not the one whose route ends in the block (it would stay there); else the
 /// earlier expected start (robot index breaks ties). Orders that cannot be met or close a cycle
-/// hold one route whole (deadlocked; its robot stands as parked): a route its robot has not
+/// hold one route whole (deadlocked; its robot stands as parked; of a cycle, not one whose robot
+/// stands in the way of another route on it, unless each does): a route its robot has not
 /// begun before one part-way through (the first can be withdrawn and its robot sent aside, the
 /// second cannot drop its job), else the newest, so the oldest always goes on. Actions that
 /// cross a parked robot are never cleared. Clearances only grow. Pure function.
