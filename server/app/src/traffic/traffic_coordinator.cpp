@@ -299,23 +299,26 @@ void TrafficCoordinator::HoldClearOfWhereRobotsAre(
     const std::vector<Tracked*>& tracked_jobs,
     std::vector<planner::TrafficClearanceDecision>& decisions,
     const std::map<std::string, const RobotRecord*>& records) {
-  // Where each robot of the map stands now.
+  // Where each robot of the map stands now: swept only when some decision clears anything new.
+  const auto first_new = [&](size_t i) {
+    const planner::ScheduledRoute& route = *tracked_jobs[i]->schedule;
+    return std::max(route.cleared_up_to, route.first_unfinished - 1) + 1;
+  };
+  bool clears_new = false;
+  for (size_t i = 0; i < decisions.size() && !clears_new; ++i) {
+    clears_new = first_new(i) <= decisions[i].cleared_up_to;
+  }
+  if (!clears_new) return;
   std::vector<std::pair<std::string, planner::CellSet>> now;
   for (const Tracked* t : tracked_jobs) {
     auto record = records.find(t->robot_id);
     if (record == records.end() || !record->second->last_telemetry) continue;
-    const Telemetry& at = *record->second->last_telemetry;
-    now.emplace_back(
-        t->robot_id,
-        planner::CellSet::Sweep({at.pose_in_map},
-                                record->second->identity.model.FootprintCarrying(at.carried_load_m),
-                                StandingMarginM(at), params_.cell_m));
+    now.emplace_back(t->robot_id, WhereItStands(*record->second));
   }
   for (size_t i = 0; i < decisions.size(); ++i) {
     planner::TrafficClearanceDecision& d = decisions[i];
     const planner::ScheduledRoute& route = *tracked_jobs[i]->schedule;
-    const int first_new = std::max(route.cleared_up_to, route.first_unfinished - 1) + 1;
-    for (int k = first_new; k <= d.cleared_up_to; ++k) {
+    for (int k = first_new(i); k <= d.cleared_up_to; ++k) {
       auto in_way = std::find_if(now.begin(), now.end(), [&](const auto& other) {
         return other.first != route.robot_id && route.action_cells[k].Intersects(other.second);
       });
@@ -408,14 +411,10 @@ absl::StatusOr<Pose2> TrafficCoordinator::PlaceAside(
   standing.reserve(tracked_jobs.size());
   for (const Tracked* t : tracked_jobs) {
     auto other = records.find(t->robot_id);
-    if (t->robot_id == robot.identity.robot_id || other == records.end() ||
-        !other->second->last_telemetry) {
-      continue;
+    if (t->robot_id != robot.identity.robot_id && other != records.end() &&
+        other->second->last_telemetry) {
+      standing.push_back(WhereItStands(*other->second));
     }
-    const Telemetry& at = *other->second->last_telemetry;
-    standing.push_back(planner::CellSet::Sweep(
-        {at.pose_in_map}, other->second->identity.model.FootprintCarrying(at.carried_load_m),
-        StandingMarginM(at), params_.cell_m));
   }
   for (const planner::CellSet& cells : standing) geometry.impassable.push_back(&cells);
   geometry.pass_margin_m = params_.margin_m;

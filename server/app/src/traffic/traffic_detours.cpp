@@ -15,19 +15,9 @@ void TrafficCoordinator::PlanDetours(
     const std::map<std::string, const RobotRecord*>& records) {
   if (params_.detour_every_s <= 0.0) return;
   const double now_s = static_cast<double>(clock_->NowNs()) * 1e-9;
-  // Robots that stand: those with no job on the site (any robot not tracked here), those held
-  // whole, and those cleared no further than where they are.
-  std::map<std::string, bool> stands;
-  for (const auto& [robot_id, record] : records) stands[robot_id] = true;
-  for (size_t i = 0; i < decisions.size(); ++i) {
-    const planner::ScheduledRoute& route = *tracked_jobs[i]->schedule;
-    stands[route.robot_id] =
-        decisions[i].deadlocked || decisions[i].cleared_up_to < route.first_unfinished;
-  }
   // One search per decision at most (each costs tens of milliseconds of the dispatcher's
   // thread on a hall-sized map); the others are looked at on the next decision.
-  bool searched = false;
-  for (size_t i = 0; i < decisions.size() && !searched; ++i) {
+  for (size_t i = 0; i < decisions.size(); ++i) {
     Tracked& t = *tracked_jobs[i];
     const planner::TrafficClearanceDecision& d = decisions[i];
     if (!t.planned_paths || d.waits.empty() || now_s - t.detour_tried_s < params_.detour_every_s) {
@@ -50,56 +40,68 @@ void TrafficCoordinator::PlanDetours(
       continue;
     }
     t.detour_tried_s = now_s;
-    searched = true;
     absl::StatusOr<std::shared_ptr<const storage::StoredMap>> map =
         site_data_->Map(map_id, t.assignment.map_version);
-    if (!map.ok()) continue;
-    // Their floor grown by this robot's swept margin too, so the way keeps off them as traffic
-    // coordination keeps a moving robot off one that stands.
-    const double swept_margin_m = SweptMarginM(t.model, *record->second->last_telemetry);
-    std::vector<planner::CellSet> blocked;
-    for (const auto& [robot_id, standing] : stands) {
-      auto other = records.find(robot_id);
-      if (!standing || robot_id == t.robot_id || other == records.end() ||
-          !other->second->last_telemetry ||
-          other->second->connection == ConnectionState::kOffline) {
-        continue;
-      }
-      const Telemetry& at = *other->second->last_telemetry;
-      blocked.push_back(planner::CellSet::Sweep(
-          {at.pose_in_map}, other->second->identity.model.FootprintCarrying(at.carried_load_m),
-          StandingMarginM(at) + swept_margin_m, params_.cell_m));
+    if (map.ok()) {
+      PlanWayRound(t, action, *nav, *record->second, **map, tracked_jobs, decisions, records);
     }
-    std::vector<const planner::CellSet*> blocked_pointers;
-    for (const planner::CellSet& cells : blocked) blocked_pointers.push_back(&cells);
-    // From where it stands through the action's own waypoints to its goal. (Under way, which
-    // of its own waypoints are behind it is not known: such an action is not planned again.)
-    const Telemetry& telemetry = *record->second->last_telemetry;
-    absl::StatusOr<std::vector<Eigen::Vector2d>> waypoints =
-        planner::PlanDetour(map->get()->grid, t.model, blocked_pointers, params_.cell_m,
-                            telemetry.pose_in_map, *nav, params_.detour);
-    if (!waypoints.ok()) continue;  // it waits on; the robot in its way may be sent aside
-    t.paths[action] = ActionPath{action, next_path_id_++, *std::move(waypoints)};
-    // Its window is predicted again from that action along the new way. Under way, the robot
-    // stands where it is until the new way is cleared.
-    const bool under_way = planner::RouteBegun(route);
-    t.hold_under_way.reset();
-    if (under_way) {
-      const ActionPath& path = t.paths[action];
-      const Eigen::Vector2d first =
-          path.waypoints_m.empty() ? nav->goal.translation() : path.waypoints_m.front();
-      const Eigen::Vector2d towards = first - telemetry.pose_in_map.translation();
-      const double yaw_rad = towards.norm() > 1e-6 ? std::atan2(towards.y(), towards.x())
-                                                   : telemetry.pose_in_map.yaw_rad();
-      t.hold_under_way = SegmentHold{
-          action, 0, Pose2(telemetry.pose_in_map.x_m(), telemetry.pose_in_map.y_m(), yaw_rad)};
-    }
-    t.start_action = action;
-    t.schedule.reset();
-    t.sent_cleared = -2;
-    t.assigned_s = now_s;
-    changed_ = true;
+    return;
   }
+}
+
+void TrafficCoordinator::PlanWayRound(
+    Tracked& t, int action, const FreeNavigationAction& nav, const RobotRecord& robot,
+    const storage::StoredMap& map, const std::vector<Tracked*>& tracked_jobs,
+    const std::vector<planner::TrafficClearanceDecision>& decisions,
+    const std::map<std::string, const RobotRecord*>& records) {
+  // Robots that stand: those with no job on the site (any robot not tracked here), those held
+  // whole, and those cleared no further than where they are.
+  std::map<std::string, bool> stands;
+  for (const auto& [robot_id, record] : records) stands[robot_id] = true;
+  for (size_t i = 0; i < decisions.size(); ++i) {
+    const planner::ScheduledRoute& route = *tracked_jobs[i]->schedule;
+    stands[route.robot_id] =
+        decisions[i].deadlocked || decisions[i].cleared_up_to < route.first_unfinished;
+  }
+  // Their floor grown by this robot's swept margin too, so the way keeps off them as traffic
+  // coordination keeps a moving robot off one that stands.
+  const Telemetry& telemetry = *robot.last_telemetry;
+  const double swept_margin_m = SweptMarginM(t.model, telemetry);
+  std::vector<planner::CellSet> blocked;
+  for (const auto& [robot_id, standing] : stands) {
+    auto other = records.find(robot_id);
+    if (standing && robot_id != t.robot_id && other != records.end() &&
+        other->second->last_telemetry && other->second->connection != ConnectionState::kOffline) {
+      blocked.push_back(WhereItStands(*other->second, swept_margin_m));
+    }
+  }
+  std::vector<const planner::CellSet*> blocked_pointers;
+  for (const planner::CellSet& cells : blocked) blocked_pointers.push_back(&cells);
+  // From where it stands through the action's own waypoints to its goal. (Under way, which of
+  // its own waypoints are behind it is not known: such an action is not planned again.)
+  absl::StatusOr<std::vector<Eigen::Vector2d>> waypoints =
+      planner::PlanDetour(map.grid, t.model, blocked_pointers, params_.cell_m,
+                          telemetry.pose_in_map, nav, params_.detour);
+  if (!waypoints.ok()) return;  // it waits on; the robot in its way may be sent aside
+  const ActionPath& path = t.paths[action] =
+      ActionPath{action, next_path_id_++, *std::move(waypoints)};
+  // Its window is predicted again from that action along the new way. Under way, the robot
+  // stands where it is until the new way is cleared.
+  t.hold_under_way.reset();
+  if (planner::RouteBegun(*t.schedule)) {
+    const Eigen::Vector2d first =
+        path.waypoints_m.empty() ? nav.goal.translation() : path.waypoints_m.front();
+    const Eigen::Vector2d towards = first - telemetry.pose_in_map.translation();
+    const double yaw_rad = towards.norm() > 1e-6 ? std::atan2(towards.y(), towards.x())
+                                                 : telemetry.pose_in_map.yaw_rad();
+    t.hold_under_way = SegmentHold{
+        action, 0, Pose2(telemetry.pose_in_map.x_m(), telemetry.pose_in_map.y_m(), yaw_rad)};
+  }
+  t.start_action = action;
+  t.schedule.reset();
+  t.sent_cleared = -2;
+  t.assigned_s = static_cast<double>(clock_->NowNs()) * 1e-9;
+  changed_ = true;
 }
 
 }  // namespace fleetnav::server

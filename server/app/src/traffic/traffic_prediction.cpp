@@ -75,6 +75,13 @@ double TrafficCoordinator::StandingMarginM(const Telemetry& telemetry) const {
                     params_.margin_m);
 }
 
+planner::CellSet TrafficCoordinator::WhereItStands(const RobotRecord& robot, double more_m) const {
+  const Telemetry& at = *robot.last_telemetry;
+  return planner::CellSet::Sweep({at.pose_in_map},
+                                 robot.identity.model.FootprintCarrying(at.carried_load_m),
+                                 StandingMarginM(at) + more_m, params_.cell_m);
+}
+
 double TrafficCoordinator::SweptMarginM(const RobotModel& model, const Telemetry& telemetry) const {
   if (!FollowsClosely(model)) return params_.margin_m;
   return std::min(StandingMarginM(telemetry) + params_.tracking_allowance_m, params_.margin_m);

@@ -182,6 +182,9 @@ class TrafficCoordinator {
   void Predict(Tracked& tracked, const Pose2& pose,
                const std::optional<Eigen::Vector2d>& carried_load_m, double standing_margin_m,
                double swept_margin_m) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Where `robot` stands by its last telemetry (which it must have): its footprint, carrying
+  /// its load, grown by its standing margin plus `more_m`.
+  planner::CellSet WhereItStands(const RobotRecord& robot, double more_m = 0.0) const;
   /// How far to grow what a robot of `model` with this telemetry sweeps while it drives:
   /// margin_m, or for one that follows its path closely its standing margin plus
   /// tracking_allowance_m (at most margin_m).
@@ -236,6 +239,15 @@ class TrafficCoordinator {
   void PlanDetours(const std::string& map_id, const std::vector<Tracked*>& tracked_jobs,
                    const std::vector<planner::TrafficClearanceDecision>& decisions,
                    const std::map<std::string, const RobotRecord*>& records)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// PlanDetours' search for one robot: `t`'s action `action` (`nav`) from where `robot`
+  /// stands, round the robots that stand on `map`; on success its path is kept and its window
+  /// predicted again from that action.
+  void PlanWayRound(Tracked& t, int action, const FreeNavigationAction& nav,
+                    const RobotRecord& robot, const storage::StoredMap& map,
+                    const std::vector<Tracked*>& tracked_jobs,
+                    const std::vector<planner::TrafficClearanceDecision>& decisions,
+                    const std::map<std::string, const RobotRecord*>& records)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Why the decision holds the robot, for people ("" when it does not); `jobs_on_map` are
   /// the tracked jobs the decision's waits may name, by robot id.
