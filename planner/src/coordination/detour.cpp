@@ -12,6 +12,7 @@
 #include "absl/strings/str_format.h"
 #include "fleetnav/planner/coordination/route_prediction.hpp"
 #include "fleetnav/planner/grid/costmap.hpp"
+#include "fleetnav/planner/grid/free_space_regions.hpp"
 #include "fleetnav/planner/single_robot/planner_factory.hpp"
 
 namespace fleetnav::planner {
@@ -38,45 +39,6 @@ void MarkBlocked(OccupancyGrid& grid, const std::vector<const CellSet*>& blocked
       }
     }
   }
-}
-
-/// Whether the goal's cell can be reached from the start's over cells where at least the
-/// footprint's inscribed circle fits (a necessary condition, and cheap: without it a search
-/// with no way round the robots spends its whole time limit).
-bool MaybeReachable(const Costmap& costmap, const Pose2& start_in_grid, const Pose2& goal_in_grid) {
-  const double res_m = costmap.resolution_m();
-  const auto cell = [&](const Pose2& p) {
-    return std::make_pair(static_cast<int>(std::floor(p.x_m() / res_m)),
-                          static_cast<int>(std::floor(p.y_m() / res_m)));
-  };
-  const auto [sx, sy] = cell(start_in_grid);
-  const auto [gx, gy] = cell(goal_in_grid);
-  if (!costmap.InBounds(sx, sy) || !costmap.InBounds(gx, gy)) return false;
-  // Half a cell of slack: distances are between cell centres.
-  const double fits_m = costmap.inscribed_radius_m() - 0.5 * res_m;
-  const int width = costmap.width();
-  std::vector<uint8_t> seen(static_cast<size_t>(width) * costmap.height(), 0);
-  std::vector<int> open{sy * width + sx};
-  seen[open.front()] = 1;
-  while (!open.empty()) {
-    const int index = open.back();
-    open.pop_back();
-    const int x = index % width;
-    const int y = index / width;
-    if (x == gx && y == gy) return true;
-    constexpr int kDx[4] = {1, -1, 0, 0};
-    constexpr int kDy[4] = {0, 0, 1, -1};
-    for (int k = 0; k < 4; ++k) {
-      const int nx = x + kDx[k];
-      const int ny = y + kDy[k];
-      if (!costmap.InBounds(nx, ny)) continue;
-      const int n = ny * width + nx;
-      if (seen[n] != 0 || costmap.DistanceToObstacle_m(nx, ny) < fits_m) continue;
-      seen[n] = 1;
-      open.push_back(n);
-    }
-  }
-  return false;
 }
 
 }  // namespace
@@ -175,15 +137,20 @@ absl::StatusOr<std::vector<Eigen::Vector2d>> PlanDetour(const OccupancyGrid& gri
   absl::StatusOr<Costmap> costmap = Costmap::Build(marked, model.footprint_m, costmap_params);
   if (!costmap.ok()) return costmap.status();
   const Pose2 grid_from_map = marked.origin().Inverse();
+  // Without a way wide enough for the robot's inscribed circle there is none for the robot: a
+  // search would spend its whole time limit to find that.
+  const FreeSpaceRegions regions(*costmap);
+  const Eigen::Vector2d from_in_grid = (grid_from_map * from).translation();
+  // A robot standing nearer an obstacle than its padded inscribed circle drives off from there.
+  const double near_m = params.padding_m + 2.0 * grid.resolution_m();
   for (const Eigen::Vector2d& target : action.waypoints_m) {
-    if (!MaybeReachable(*costmap, grid_from_map * from,
-                        grid_from_map * Pose2(target.x(), target.y(), 0.0))) {
+    if (!regions.Connected(from_in_grid, grid_from_map.TransformPoint(target), near_m)) {
       return absl::NotFoundError(
           absl::StrFormat("no way round the robots that stand: waypoint (%.2f, %.2f) is cut off",
                           target.x(), target.y()));
     }
   }
-  if (!MaybeReachable(*costmap, grid_from_map * from, grid_from_map * action.goal)) {
+  if (!regions.Connected(from_in_grid, (grid_from_map * action.goal).translation(), near_m)) {
     return absl::NotFoundError(
         absl::StrFormat("no way round the robots that stand: the goal (%.2f, %.2f) is cut off",
                         action.goal.x_m(), action.goal.y_m()));

@@ -12,6 +12,7 @@ namespace fleetnav::server {
 absl::StatusOr<storage::CreatedJob> JobLifecycle::Submit(const SubmitJobRequest& request) {
   Job job;
   std::vector<NeededCapability> needs;
+  std::shared_ptr<const storage::StoredMap> goal_map;  // a goal's
   const bool has_route = !request.route_name.empty();
   if (has_route == request.goal.has_value()) {
     return absl::InvalidArgumentError("target: give either `route_name` or `goal`");
@@ -33,6 +34,7 @@ absl::StatusOr<storage::CreatedJob> JobLifecycle::Submit(const SubmitJobRequest&
     if (map->grid.State(*cell) != CellState::kFree) {
       return absl::InvalidArgumentError("goal.goal: not on a free cell of the map");
     }
+    goal_map = std::move(map);
     job.map_id = request.goal_map_id;
     job.goal = request.goal;
     needs = NeedsOfGoal();
@@ -41,6 +43,7 @@ absl::StatusOr<storage::CreatedJob> JobLifecycle::Submit(const SubmitJobRequest&
     ASSIGN_OR_RETURN(const RobotRecord robot, registry_->Get(request.robot_id));
     RETURN_IF_ERROR(CheckRobotCanRun(robot, needs));
   }
+  if (goal_map) RETURN_IF_ERROR(CheckGoalReachable(request, *goal_map));
   if (request.idempotency_key.size() > 128) {
     return absl::InvalidArgumentError("idempotency_key: at most 128 characters");
   }
@@ -51,6 +54,44 @@ absl::StatusOr<storage::CreatedJob> JobLifecycle::Submit(const SubmitJobRequest&
   absl::StatusOr<storage::CreatedJob> created = ledger_->Create(job);
   if (created.ok() && !created->deduplicated) work_->Notify();
   return created;
+}
+
+absl::Status JobLifecycle::CheckGoalReachable(const SubmitJobRequest& request,
+                                              const storage::StoredMap& map) {
+  std::vector<RobotRecord> robots;
+  if (!request.robot_id.empty()) {
+    absl::StatusOr<RobotRecord> named = registry_->Get(request.robot_id);
+    if (!named.ok()) return named.status();
+    robots.push_back(*std::move(named));
+  } else {
+    robots = registry_->Snapshot();
+    std::erase_if(robots, [](const RobotRecord& robot) {
+      const std::vector<std::string>& have = robot.identity.capabilities;
+      return std::find(have.begin(), have.end(), "free_navigation") == have.end();
+    });
+  }
+  // A robot that is away may be anywhere when it comes back: only its footprint is checked.
+  std::string refusal;
+  for (const RobotRecord& robot : robots) {
+    std::optional<Pose2> from;
+    if (robot.connection != ConnectionState::kOffline && robot.last_telemetry) {
+      from = robot.last_telemetry->pose_in_map;
+    }
+    const absl::Status reachable = reachability_.Check(
+        request.goal_map_id, map.info.version, robot.identity.model, request.goal->translation(),
+        from,
+        absl::StrCat("robot ", robot.identity.robot_id, " (", robot.identity.model.kind_name, ")"));
+    if (reachable.ok()) return absl::OkStatus();
+    if (!absl::IsFailedPrecondition(reachable)) return reachable;
+    if (refusal.empty()) refusal = std::string(reachable.message());
+  }
+  if (refusal.empty()) return absl::OkStatus();  // no robot known yet
+  return absl::FailedPreconditionError(
+      absl::StrCat("goal.goal: ",
+                   robots.size() > 1 ? absl::StrCat("none of the ", robots.size(),
+                                                    " robots that navigate freely can go there; ")
+                                     : "",
+                   refusal));
 }
 
 absl::Status JobLifecycle::CheckRobotCanRun(const RobotRecord& robot,

@@ -212,6 +212,43 @@ TEST_F(JobServiceTest, AJobPinnedToAConnectedRobotThatCannotRunItIsRefusedAndNot
   EXPECT_TRUE(jobs_->Submit(request).ok());
 }
 
+// A goal no robot can stand at or drive to is refused at submission, naming the robot and why,
+// instead of sending a robot that searches and fails; nothing is stored.
+TEST_F(JobServiceTest, AGoalARobotCannotStandAtOrReachIsRefusedAndNotStored) {
+  // Two rooms, 5 m each, with a wall between them and no door.
+  OccupancyGrid rooms = OccupancyGrid::Filled(100, 100, 0.1, Pose2(), 0).value();
+  for (int y = 0; y < 100; ++y) rooms.SetValue({50, y}, OccupancyGrid::kOccupiedValue);
+  ASSERT_TRUE(MapCatalog(&site_data_, &clock_).Put("rooms", rooms, "").ok());
+  ConnectGoalRobot(*jobs_, "a", Pose2(2.5, 5.0, 0.0));
+  const auto submit = [&](const std::string& robot_id, double x_m, double y_m) {
+    SubmitJobRequest request;
+    request.goal_map_id = "rooms";
+    request.goal = Pose2(x_m, y_m, 0.0);
+    request.robot_id = robot_id;
+    return jobs_->Submit(request).status();
+  };
+  const absl::Status closed_room = submit("a", 8.0, 5.0);
+  EXPECT_EQ(closed_room.code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_EQ(closed_room.message(),
+            "goal.goal: robot a (lely-vector) cannot reach (8.00, 5.00) from where it stands "
+            "(2.50, 5.00): no way on map 'rooms' between the two is as wide as its footprint's "
+            "inscribed circle (1.60 m across)");
+  // A free cell beside the wall, nearer it than the robot is wide.
+  const absl::Status too_near = submit("a", 4.85, 5.0);
+  EXPECT_EQ(too_near.code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_THAT(too_near.message(), HasSubstr("robot a (lely-vector) does not fit at (4.85, 5.00)"));
+  // Unpinned, the only robot that navigates freely cannot go there either.
+  EXPECT_EQ(submit("", 8.0, 5.0).code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_TRUE(jobs_->List(storage::JobFilter{}).value().jobs.empty());
+  // In its own room it can; and once a robot stands in the other room, an unpinned job there is
+  // taken while the one pinned to a is still refused.
+  EXPECT_TRUE(submit("a", 2.5, 2.5).ok());
+  ConnectGoalRobot(*jobs_, "b", Pose2(7.5, 5.0, kPi));
+  EXPECT_TRUE(submit("", 8.0, 5.0).ok());
+  EXPECT_EQ(submit("a", 8.0, 5.0).code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_EQ(jobs_->List(storage::JobFilter{}).value().jobs.size(), 2u);
+}
+
 TEST_F(JobServiceTest, AJobNoRobotHasEverBeenAbleToRunSaysSoFromTheFirstPass) {
   Route fence;
   fence.name = "fence";

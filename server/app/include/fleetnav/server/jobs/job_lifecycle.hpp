@@ -13,6 +13,7 @@
 #include "fleetnav/server/jobs/work_signal.hpp"
 #include "fleetnav/server/robots/fleet_registry.hpp"
 #include "fleetnav/server/robots/robot_mailbox.hpp"
+#include "fleetnav/server/site/goal_reachability.hpp"
 #include "fleetnav/server/site/site_cache.hpp"
 #include "fleetnav/server/site/site_catalog.hpp"
 
@@ -32,6 +33,7 @@ class JobLifecycle {
       : ledger_(ledger),
         site_(site),
         site_data_(site_data),
+        reachability_(site_data),
         registry_(registry),
         mailbox_(mailbox),
         traffic_(traffic),
@@ -40,7 +42,9 @@ class JobLifecycle {
 
   /// Checks the job against the site and, when it names a connected robot, against what that
   /// robot can run (FailedPrecondition naming the robot, its kind and the action), then stores
-  /// it; nothing is stored when a check fails.
+  /// it; nothing is stored when a check fails. A goal must be on a free cell (InvalidArgument)
+  /// where a robot that may run it fits and which it can reach from where it stands
+  /// (FailedPrecondition naming the robot; CheckGoalReachable).
   absl::StatusOr<storage::CreatedJob> Submit(const SubmitJobRequest& request);
   /// FailedPrecondition for a job that has already ended.
   absl::StatusOr<Job> Cancel(const std::string& job_id, const std::string& reason);
@@ -60,6 +64,9 @@ class JobLifecycle {
   /// FailedPrecondition when `robot` is connected and lacks one of `needs`.
   static absl::Status CheckRobotCanRun(const RobotRecord& robot,
                                        const std::vector<NeededCapability>& needs);
+  /// The named robot, or else some robot that runs free navigation, fits at the goal and can
+  /// reach it from where it stands (GoalReachability); OK when no such robot is known yet.
+  absl::Status CheckGoalReachable(const SubmitJobRequest& request, const storage::StoredMap& map);
   /// A job the server takes back (cancelled or withdrawn): no longer coordinated or awaited,
   /// and its robot, if any, told to drop it and free for the next job.
   void TakeFromRobot(const std::string& job_id, const std::string& robot_id,
@@ -70,6 +77,7 @@ class JobLifecycle {
   JobLedger* ledger_;
   SiteCatalog* site_;
   SiteCache* site_data_;
+  GoalReachability reachability_;
   FleetRegistry* registry_;
   RobotMailbox* mailbox_;
   JobTraffic* traffic_;
