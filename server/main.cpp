@@ -272,6 +272,7 @@ void LogExitFigures(const fleetnav::server::FleetServer& server) {
   const fleetnav::server::PassFigures passes = server.assigning_passes();
   const fleetnav::server::PassFigures one_job = server.one_job_passes();
   const fleetnav::server::PassFigures one_job_cpu = server.one_job_pass_cpu();
+  const fleetnav::server::PassFigures searches = server.traffic_search_cpu();
   if (server.secure()) {
     const fleetnav::server::AccessCounts access = server.access_counts();
     spdlog::info(
@@ -282,9 +283,11 @@ void LogExitFigures(const fleetnav::server::FleetServer& server) {
   spdlog::info(
       "fleetnavd: {} assigning dispatch passes, p50 {:.2f} ms, p99 {:.2f} ms, max {:.2f} ms; {} "
       "one-job passes, p50 {:.2f} ms, p99 {:.2f} ms, max {:.2f} ms; one-job pass CPU p50 {:.2f} "
-      "ms, p99 {:.2f} ms, max {:.2f} ms",
+      "ms, p99 {:.2f} ms, max {:.2f} ms; {} traffic searches, CPU p50 {:.2f} ms, p99 {:.2f} ms, "
+      "max {:.2f} ms",
       passes.count, passes.p50_ms, passes.p99_ms, passes.max_ms, one_job.count, one_job.p50_ms,
-      one_job.p99_ms, one_job.max_ms, one_job_cpu.p50_ms, one_job_cpu.p99_ms, one_job_cpu.max_ms);
+      one_job.p99_ms, one_job.max_ms, one_job_cpu.p50_ms, one_job_cpu.p99_ms, one_job_cpu.max_ms,
+      searches.count, searches.p50_ms, searches.p99_ms, searches.max_ms);
 }
 
 /// One fleetnavd (not a replica): serves, with the dashboard when asked, until SIGINT/SIGTERM.

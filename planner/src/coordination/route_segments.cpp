@@ -1,5 +1,6 @@
 #include "fleetnav/planner/coordination/route_segments.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace fleetnav::planner {
@@ -21,11 +22,29 @@ double TravelYaw(const std::vector<Pose2>& poses, size_t i) {
 
 }  // namespace
 
-std::vector<ActionSegment> SplitIntoSegments(const PredictedAction& action, double segment_m) {
+std::vector<ActionSegment> SplitIntoSegments(const PredictedAction& action, double segment_m,
+                                             const std::vector<Eigen::Vector2d>& stops) {
   const std::vector<Pose2>& poses = action.poses;
   double length_m = 0.0;
   for (size_t i = 1; i < poses.size(); ++i) length_m += DistanceM(poses[i - 1], poses[i]);
-  if (segment_m <= 0.0 || length_m < 1.5 * segment_m || poses.size() < 2) {
+  // The pose nearest each stop, each after the one before (not the first pose, nor the last).
+  std::vector<bool> cut_at(poses.size(), false);
+  size_t from = 1;
+  for (const Eigen::Vector2d& stop : stops) {
+    size_t nearest = 0;
+    for (size_t i = from; i + 1 < poses.size(); ++i) {
+      if (nearest == 0 ||
+          (poses[i].translation() - stop).norm() < (poses[nearest].translation() - stop).norm()) {
+        nearest = i;
+      }
+    }
+    if (nearest == 0) break;
+    cut_at[nearest] = true;
+    from = nearest + 1;
+  }
+  const bool any_cut = std::find(cut_at.begin(), cut_at.end(), true) != cut_at.end();
+  if (segment_m <= 0.0 || poses.size() < 2 || length_m <= 1e-9 ||
+      (length_m < 1.5 * segment_m && !any_cut)) {
     return {ActionSegment{poses, action.duration_s, std::nullopt}};
   }
   std::vector<ActionSegment> out;
@@ -38,7 +57,8 @@ std::vector<ActionSegment> SplitIntoSegments(const PredictedAction& action, doub
     piece_m += step_m;
     done_m += step_m;
     current.poses.push_back(poses[i]);
-    if (piece_m >= segment_m && length_m - done_m >= 0.5 * segment_m) {
+    if (cut_at[i] || (piece_m >= segment_m && length_m - done_m >= 0.5 * segment_m &&
+                      length_m >= 1.5 * segment_m)) {
       current.duration_s = action.duration_s * piece_m / length_m;
       current.gate = Pose2(poses[i].x_m(), poses[i].y_m(), TravelYaw(poses, i));
       out.push_back(std::move(current));

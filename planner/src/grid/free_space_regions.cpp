@@ -71,8 +71,8 @@ int FreeSpaceRegions::RegionNear(const Eigen::Vector2d& point_in_grid, double wi
   return best;
 }
 
-bool FreeSpaceRegions::Connected(const Eigen::Vector2d& a_in_grid,
-                                 const Eigen::Vector2d& b_in_grid, double within_m) const {
+bool FreeSpaceRegions::Connected(const Eigen::Vector2d& a_in_grid, const Eigen::Vector2d& b_in_grid,
+                                 double within_m) const {
   const int a = RegionNear(a_in_grid, within_m);
   return a != kNone && a == RegionNear(b_in_grid, within_m);
 }

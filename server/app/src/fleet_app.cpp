@@ -89,10 +89,16 @@ absl::Status FleetApp::Open() {
   traffic_planner_ = std::make_unique<TrafficPlanner>(site_data_.get());
   dispatcher_ = std::make_unique<DispatcherLoop>(jobs_.get(), params_.dispatch_period_s,
                                                  params_.on_dispatch_pass);
+  dispatcher_->SetTraffic(coordinator_.get());
   return absl::OkStatus();
 }
 
 void FleetApp::Start(std::function<bool()> ticks_keep_house) {
+  // A finished search wakes the dispatcher to take it up; in lockstep the ticks run the passes
+  // instead (a wake at a moment of the wall clock would make runs differ).
+  coordinator_->StartSearchThread([this] {
+    if (!lockstep_.load()) jobs_->WakeDispatcher();
+  });
   dispatcher_->Start();
   housekeeper_ = std::thread([this, ticks_keep_house = std::move(ticks_keep_house)] {
     // Wakes often and compares the app's clock (the simulator's with --clock sim) with what is
@@ -115,11 +121,15 @@ void FleetApp::Start(std::function<bool()> ticks_keep_house) {
 
 void FleetApp::Stop() {
   if (dispatcher_ != nullptr) dispatcher_->Stop();
+  if (coordinator_ != nullptr) coordinator_->StopSearchThread();
   if (!stop_housekeeping_.HasBeenNotified()) stop_housekeeping_.Notify();
   if (housekeeper_.joinable()) housekeeper_.join();
 }
 
-void FleetApp::EnterLockstep() { dispatcher_->TakeOver(); }
+void FleetApp::EnterLockstep() {
+  lockstep_.store(true);
+  dispatcher_->TakeOver();
+}
 
 void FleetApp::RunTick(int64_t now_ns) {
   dispatcher_->RunPassIfDue(now_ns);
@@ -160,6 +170,10 @@ PassFigures FleetApp::one_job_passes() const {
 
 PassFigures FleetApp::one_job_pass_cpu() const {
   return dispatcher_ ? dispatcher_->one_job_pass_cpu() : PassFigures{};
+}
+
+PassFigures FleetApp::traffic_search_cpu() const {
+  return coordinator_ ? coordinator_->search_cpu() : PassFigures{};
 }
 
 }  // namespace fleetnav::server

@@ -182,6 +182,10 @@ PassFigures FleetServer::one_job_pass_cpu() const {
   return app_ ? app_->one_job_pass_cpu() : PassFigures{};
 }
 
+PassFigures FleetServer::traffic_search_cpu() const {
+  return app_ ? app_->traffic_search_cpu() : PassFigures{};
+}
+
 void FleetServer::Shutdown() {
   if (server_ == nullptr || stopping_.exchange(true)) return;
   if (front_door_ != nullptr) front_door_->Stop();

@@ -63,6 +63,10 @@ void PrintReport(const ScenarioReport& report, std::ostream& out) {
       "  the same in the dispatcher thread's CPU time: p50 %.2f ms, p99 %.2f ms, max %.2f ms\n",
       report.one_job_pass_cpu_ms_p50, report.one_job_pass_cpu_ms_p99,
       report.one_job_pass_cpu_ms_max);
+  out << absl::StrFormat(
+      "traffic searches on their own thread: %d, CPU p50 %.2f ms, p99 %.2f ms, max %.2f ms\n",
+      report.traffic_searches, report.traffic_search_cpu_ms_p50, report.traffic_search_cpu_ms_p99,
+      report.traffic_search_cpu_ms_max);
   if (!report.failovers_s.empty()) {
     out << "leader failovers (kill to the successor leading):";
     for (const double seconds : report.failovers_s) out << absl::StrFormat(" %.2f s", seconds);
@@ -125,6 +129,10 @@ std::string ReportJson(const ScenarioReport& report) {
                         {"one_job_pass_cpu_ms_p50", report.one_job_pass_cpu_ms_p50},
                         {"one_job_pass_cpu_ms_p99", report.one_job_pass_cpu_ms_p99},
                         {"one_job_pass_cpu_ms_max", report.one_job_pass_cpu_ms_max},
+                        {"traffic_searches", report.traffic_searches},
+                        {"traffic_search_cpu_ms_p50", report.traffic_search_cpu_ms_p50},
+                        {"traffic_search_cpu_ms_p99", report.traffic_search_cpu_ms_p99},
+                        {"traffic_search_cpu_ms_max", report.traffic_search_cpu_ms_max},
                         {"failovers_s", report.failovers_s}};
   if (!report.work_dir.empty()) out["work_dir"] = report.work_dir;
   return out.dump();

@@ -61,6 +61,17 @@ void ReadAssigningPasses(const std::string& log, ScenarioReport* report) {
     report->one_job_pass_cpu_ms_p99 = p99;
     report->one_job_pass_cpu_ms_max = max;
   }
+  const size_t searches = log.find(" traffic searches, CPU ", one);
+  if (searches == std::string::npos) return;
+  const size_t searches_line = log.rfind(' ', searches - 1);
+  if (std::sscanf(log.c_str() + searches_line + 1,
+                  "%lld traffic searches, CPU p50 %lf ms, p99 %lf ms, max %lf ms", &count, &p50,
+                  &p99, &max) == 4) {
+    report->traffic_searches = count;
+    report->traffic_search_cpu_ms_p50 = p50;
+    report->traffic_search_cpu_ms_p99 = p99;
+    report->traffic_search_cpu_ms_max = max;
+  }
 }
 
 namespace {

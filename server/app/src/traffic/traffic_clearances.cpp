@@ -31,9 +31,13 @@ std::string StepName(int action, int segment, int segments, const Route& route) 
 }  // namespace
 
 int TrafficCoordinator::FirstStepOf(const Tracked& tracked, int action) {
-  const auto it = std::lower_bound(tracked.steps.begin(), tracked.steps.end(), action,
+  return FirstStepOf(tracked.steps, action);
+}
+
+int TrafficCoordinator::FirstStepOf(const std::vector<Step>& steps, int action) {
+  const auto it = std::lower_bound(steps.begin(), steps.end(), action,
                                    [](const Step& step, int a) { return step.action < a; });
-  return static_cast<int>(it - tracked.steps.begin());
+  return static_cast<int>(it - steps.begin());
 }
 
 int TrafficCoordinator::ActionOfStep(const Tracked& tracked, int step) {

@@ -90,6 +90,21 @@ void TrafficCoordinator::Begin(const std::string& robot_id, const JobAssignment&
   changed_ = true;
 }
 
+void TrafficCoordinator::StartSearchThread(std::function<void()> on_searched) {
+  searches_.Start(std::move(on_searched));
+}
+
+void TrafficCoordinator::StopSearchThread() { searches_.Stop(); }
+
+bool TrafficCoordinator::SearchesPending() {
+  absl::MutexLock lock(&mutex_);
+  if (detour_ != nullptr) return true;
+  return std::any_of(jobs_.begin(), jobs_.end(),
+                     [](const auto& entry) { return entry.second.prediction != nullptr; });
+}
+
+void TrafficCoordinator::WaitForSearches() { searches_.WaitForAll(); }
+
 bool TrafficCoordinator::Tracks(const std::string& job_id) {
   absl::MutexLock lock(&mutex_);
   return jobs_.count(job_id) > 0;
@@ -116,12 +131,14 @@ void TrafficCoordinator::OnActionFinished(const std::string& robot_id, const std
     const bool more =
         tracked.predicted_end < static_cast<int>(tracked.assignment.route->actions.size());
     if (more && first_unfinished_action + params_.horizon_actions / 2 >= tracked.predicted_end) {
-      // The next window is predicted on the next update, from where the robot then is.
+      // The next window is predicted on the next update, from where the robot then is; the
+      // window in force stays until it is taken up.
       tracked.start_action = first_unfinished_action;
-      tracked.schedule.reset();
+      tracked.needs_prediction = true;
       tracked.assigned_s = static_cast<double>(clock_->NowNs()) * 1e-9;
     }
   }
+  ++tracked.revision;  // a search under way started from before this action's end
 }
 
 void TrafficCoordinator::End(const std::string& job_id) {
@@ -165,6 +182,7 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
     if (!changed_ && now_s - last_decision_s_ < params_.recheck_period_s) return {};
     changed_ = false;
     last_decision_s_ = now_s;
+    ++updates_;
   }
   // Who stands where: online robots without a coordinated job are obstacles on every site (the
   // server does not know the site of a robot that has had no job).
@@ -181,22 +199,40 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
       auto it = by_id.find(tracked.robot_id);
       if (it == by_id.end() || !it->second->last_telemetry) continue;
       const Telemetry& telemetry = *it->second->last_telemetry;
-      if (tracked.schedule) {
-        // Segments end where the robot reaches their gates.
-        PassGates(tracked, telemetry);
-        continue;
+      // Segments end where the robot reaches their gates.
+      if (tracked.schedule) PassGates(tracked, telemetry);
+      if (!tracked.needs_prediction) continue;
+      // A prediction given before the job moved on is of no use.
+      if (tracked.prediction && tracked.prediction->revision != tracked.revision) {
+        tracked.prediction.reset();
       }
-      if (tracked.resume_from_telemetry) {
-        // After a server restart: the robot is in the action it reports.
-        if (telemetry.job_id != job_id) continue;
-        tracked.start_action = std::max(tracked.start_action, telemetry.action_index);
+      if (!tracked.prediction) {
+        if (tracked.resume_from_telemetry && !tracked.schedule) {
+          // After a server restart: the robot is in the action it reports.
+          if (telemetry.job_id != job_id) continue;
+          tracked.start_action = std::max(tracked.start_action, telemetry.action_index);
+        }
+        GivePrediction(tracked, telemetry);
       }
-      Predict(tracked, telemetry.pose_in_map, telemetry.carried_load_m, StandingMarginM(telemetry),
-              SweptMarginM(tracked.model, telemetry));
+      if (Finished(tracked.prediction->given)) {
+        TakePrediction(tracked, std::move(tracked.prediction->result));
+      }
     }
     for (const auto& [job_id, tracked] : jobs_) {
-      // A job still waiting for its robot's pose is looked at again on the next update.
-      if (!tracked.schedule) changed_ = true;
+      // A job still waiting for its robot's pose, or for its prediction, is looked at again on
+      // the next update.
+      if (tracked.needs_prediction) changed_ = true;
+    }
+    if (detour_ != nullptr && Finished(detour_->given)) TakeDetour(by_id);
+    if (detour_ != nullptr) changed_ = true;  // taken up once it has been searched
+    // A robot whose job is still to be predicted stands where it is, as one without a job does,
+    // but is not sent aside.
+    awaiting_prediction_.clear();
+    for (auto& [job_id, tracked] : jobs_) {
+      if (!tracked.schedule) {
+        coordinated.erase(tracked.robot_id);
+        awaiting_prediction_.insert(tracked.robot_id);
+      }
     }
     std::map<std::string, std::vector<Tracked*>> by_map;
     // A job resumed after a server restart whose robot has not yet said where it is: nobody
@@ -338,7 +374,9 @@ void TrafficCoordinator::AskIdleRobotsToMakeWay(
   // Robots that can be sent aside, with the job to withdraw first ("" for none): those
   // without a job, and those whose job is held whole before it started.
   std::map<std::string, std::string> movable;
-  for (const planner::ParkedRobot& p : parked) movable[p.robot_id] = "";
+  for (const planner::ParkedRobot& p : parked) {
+    if (!awaiting_prediction_.contains(p.robot_id)) movable[p.robot_id] = "";
+  }
   for (size_t i = 0; i < decisions.size(); ++i) {
     const planner::ScheduledRoute& route = *tracked_jobs[i]->schedule;
     if (decisions[i].deadlocked && !planner::RouteBegun(route)) {
@@ -478,6 +516,26 @@ void TrafficCoordinator::BreakWaitCycles(
       }
       if (chosen < 0 || rank(static_cast<int>(i)) >= rank(chosen)) chosen = static_cast<int>(i);
     }
+    // One sent aside for a circle before that is in a circle again may be boxed in by a robot
+    // under way, standing at its gate, whose way it must leave by (in a generated dense hall a
+    // robot at a pack station could leave only past the next robot to it, and was sent to one
+    // place after another for 30 minutes): that robot steps aside within its action instead.
+    // So does one when no robot of the circle can drop its job; each steps aside less often
+    // than the other was sent.
+    const auto breaks_of = [&](const std::string& robot_id) {
+      auto broken = cycle_breaks_.find(robot_id);
+      return broken == cycle_breaks_.end() ? 0 : broken->second.count;
+    };
+    const int chosen_breaks = chosen < 0 ? 1 : breaks_of(tracked_jobs[chosen]->robot_id);
+    bool stepped_aside = false;
+    for (size_t i = 0; i < decisions.size() && chosen_breaks > 0 && !stepped_aside; ++i) {
+      if (in_cycle(tracked_jobs[i]->robot_id) &&
+          breaks_of(tracked_jobs[i]->robot_id) < chosen_breaks) {
+        stepped_aside = StepAsideUnderWay(map_id, *tracked_jobs[i], decisions[i], tracked_jobs,
+                                          parked, records);
+      }
+    }
+    if (stepped_aside) continue;
     if (chosen < 0) continue;
     const Tracked& tracked = *tracked_jobs[chosen];
     auto record = records.find(tracked.robot_id);
@@ -520,6 +578,50 @@ void TrafficCoordinator::BreakWaitCycles(
     make_way_requests_.push_back({tracked.robot_id, map_id, *place, for_robot_id,
                                   tracked.assignment.job.job_id, /*breaks_wait_cycle=*/true});
   }
+}
+
+bool TrafficCoordinator::StepAsideUnderWay(
+    const std::string& map_id, Tracked& t, const planner::TrafficClearanceDecision& d,
+    const std::vector<Tracked*>& tracked_jobs, const std::vector<planner::ParkedRobot>& parked,
+    const std::map<std::string, const RobotRecord*>& records) {
+  if (!t.planned_paths || t.needs_prediction || !t.schedule) return false;
+  const planner::ScheduledRoute& route = *t.schedule;
+  // Under way, standing at its gate with all it was cleared for done.
+  if (!planner::RouteBegun(route) || d.deadlocked || d.cleared_up_to >= route.first_unfinished) {
+    return false;
+  }
+  const int action = ActionOfStep(t, route.first_unfinished);
+  if (action < 0 || action >= static_cast<int>(t.assignment.route->actions.size())) return false;
+  // Which of its own waypoints are behind it is not known: only an action without them.
+  const auto* nav = std::get_if<FreeNavigationAction>(&t.assignment.route->actions[action].params);
+  auto record = records.find(t.robot_id);
+  if (nav == nullptr || !nav->waypoints_m.empty() || record == records.end() ||
+      !record->second->last_telemetry) {
+    return false;
+  }
+  absl::StatusOr<Pose2> place =
+      PlaceAside(map_id, t.assignment.map_version, *record->second, tracked_jobs, parked, records);
+  if (!place.ok()) return false;
+  const Pose2& from = record->second->last_telemetry->pose_in_map;
+  const Eigen::Vector2d towards = place->translation() - from.translation();
+  if (towards.norm() < params_.cell_m) return false;  // it stands there already
+  const double now_s = static_cast<double>(clock_->NowNs()) * 1e-9;
+  CycleBreaks& breaks = cycle_breaks_[t.robot_id];
+  breaks.last_s = now_s;
+  ++breaks.count;
+  // Through the place aside to the action's goal; it stands where it is until that way is
+  // cleared.
+  t.paths[action] = ActionPath{action, next_path_id_++, {place->translation()}};
+  t.stops[action] = {place->translation()};
+  t.hold_under_way =
+      SegmentHold{action, 0, Pose2(from.x_m(), from.y_m(), std::atan2(towards.y(), towards.x()))};
+  t.start_action = action;
+  t.assigned_s = now_s;
+  t.sent_cleared = -2;
+  t.needs_prediction = true;
+  ++t.revision;
+  changed_ = true;
+  return true;
 }
 
 std::vector<MakeWayRequest> TrafficCoordinator::TakeMakeWayRequests() {

@@ -4,23 +4,31 @@
 #include <cmath>
 #include <utility>
 
+#include "fleetnav/core/angles.hpp"
 #include "fleetnav/planner/coordination/detour.hpp"
 #include "fleetnav/server/traffic/traffic_coordinator.hpp"
 
 namespace fleetnav::server {
+namespace {
+
+/// A way round is taken up only while the robot stands this near where it was searched from.
+constexpr double kDetourFromToleranceM = 0.25;
+
+}  // namespace
 
 void TrafficCoordinator::PlanDetours(
     const std::string& map_id, const std::vector<Tracked*>& tracked_jobs,
     const std::vector<planner::TrafficClearanceDecision>& decisions,
     const std::map<std::string, const RobotRecord*>& records) {
-  if (params_.detour_every_s <= 0.0) return;
+  // One search at a time (each is a lattice search of a hall-sized map): the others are looked
+  // at once it has been taken up.
+  if (params_.detour_every_s <= 0.0 || detour_ != nullptr) return;
   const double now_s = static_cast<double>(clock_->NowNs()) * 1e-9;
-  // One search per decision at most (each costs tens of milliseconds of the dispatcher's
-  // thread on a hall-sized map); the others are looked at on the next decision.
   for (size_t i = 0; i < decisions.size(); ++i) {
     Tracked& t = *tracked_jobs[i];
     const planner::TrafficClearanceDecision& d = decisions[i];
-    if (!t.planned_paths || d.waits.empty() || now_s - t.detour_tried_s < params_.detour_every_s) {
+    if (!t.planned_paths || t.needs_prediction || d.waits.empty() ||
+        now_s - t.detour_tried_s < params_.detour_every_s) {
       continue;
     }
     // It stands at its gate (everything cleared is done) and waits for one that stands there;
@@ -43,7 +51,8 @@ void TrafficCoordinator::PlanDetours(
     absl::StatusOr<std::shared_ptr<const storage::StoredMap>> map =
         site_data_->Map(map_id, t.assignment.map_version);
     if (map.ok()) {
-      PlanWayRound(t, action, *nav, *record->second, **map, tracked_jobs, decisions, records);
+      PlanWayRound(t, action, *nav, *record->second, *std::move(map), tracked_jobs, decisions,
+                   records);
     }
     return;
   }
@@ -51,7 +60,7 @@ void TrafficCoordinator::PlanDetours(
 
 void TrafficCoordinator::PlanWayRound(
     Tracked& t, int action, const FreeNavigationAction& nav, const RobotRecord& robot,
-    const storage::StoredMap& map, const std::vector<Tracked*>& tracked_jobs,
+    std::shared_ptr<const storage::StoredMap> map, const std::vector<Tracked*>& tracked_jobs,
     const std::vector<planner::TrafficClearanceDecision>& decisions,
     const std::map<std::string, const RobotRecord*>& records) {
   // Robots that stand: those with no job on the site (any robot not tracked here), those held
@@ -75,33 +84,72 @@ void TrafficCoordinator::PlanWayRound(
       blocked.push_back(WhereItStands(*other->second, swept_margin_m));
     }
   }
-  std::vector<const planner::CellSet*> blocked_pointers;
-  for (const planner::CellSet& cells : blocked) blocked_pointers.push_back(&cells);
-  // From where it stands through the action's own waypoints to its goal. (Under way, which of
-  // its own waypoints are behind it is not known: such an action is not planned again.)
-  absl::StatusOr<std::vector<Eigen::Vector2d>> waypoints =
-      planner::PlanDetour(map.grid, t.model, blocked_pointers, params_.cell_m,
-                          telemetry.pose_in_map, nav, params_.detour);
-  if (!waypoints.ok()) return;  // it waits on; the robot in its way may be sent aside
-  const ActionPath& path = t.paths[action] =
-      ActionPath{action, next_path_id_++, *std::move(waypoints)};
-  // Its window is predicted again from that action along the new way. Under way, the robot
-  // stands where it is until the new way is cleared.
-  t.hold_under_way.reset();
-  if (planner::RouteBegun(*t.schedule)) {
-    const Eigen::Vector2d first =
-        path.waypoints_m.empty() ? nav.goal.translation() : path.waypoints_m.front();
-    const Eigen::Vector2d towards = first - telemetry.pose_in_map.translation();
-    const double yaw_rad = towards.norm() > 1e-6 ? std::atan2(towards.y(), towards.x())
-                                                 : telemetry.pose_in_map.yaw_rad();
-    t.hold_under_way = SegmentHold{
-        action, 0, Pose2(telemetry.pose_in_map.x_m(), telemetry.pose_in_map.y_m(), yaw_rad)};
+  auto detour = std::make_shared<PendingDetour>();
+  detour->job_id = t.assignment.job.job_id;
+  detour->revision = t.revision;
+  detour->action = action;
+  detour->from = telemetry.pose_in_map;
+  detour->assigned_s = static_cast<double>(clock_->NowNs()) * 1e-9;
+  // Its window is predicted again from that action along the new way.
+  PredictionInput input = PredictionInputOf(t, telemetry);
+  input.start_action = action;
+  input.assigned_s = detour->assigned_s;
+  const bool begun = planner::RouteBegun(*t.schedule);
+  const uint64_t path_id = next_path_id_++;
+  detour_ = detour;
+  detour->given = GiveSearch([this, detour, map = std::move(map), blocked = std::move(blocked), nav,
+                              input = std::move(input), begun, path_id]() mutable {
+    std::vector<const planner::CellSet*> blocked_pointers;
+    for (const planner::CellSet& cells : blocked) blocked_pointers.push_back(&cells);
+    // From where it stands through the action's own waypoints to its goal. (Under way, which
+    // of its own waypoints are behind it is not known: such an action is not planned again.)
+    absl::StatusOr<std::vector<Eigen::Vector2d>> waypoints = planner::PlanDetour(
+        map->grid, input.model, blocked_pointers, params_.cell_m, input.pose, nav, params_.detour);
+    if (!waypoints.ok()) return;  // it waits on; the robot in its way may be sent aside
+    detour->path = ActionPath{detour->action, path_id, *std::move(waypoints)};
+    if (begun) {
+      // Under way, the robot stands where it is until the new way is cleared.
+      const std::vector<Eigen::Vector2d>& way = detour->path.waypoints_m;
+      const Eigen::Vector2d first = way.empty() ? nav.goal.translation() : way.front();
+      const Eigen::Vector2d towards = first - input.pose.translation();
+      const double yaw_rad =
+          towards.norm() > 1e-6 ? std::atan2(towards.y(), towards.x()) : input.pose.yaw_rad();
+      detour->hold_under_way =
+          SegmentHold{detour->action, 0, Pose2(input.pose.x_m(), input.pose.y_m(), yaw_rad)};
+    }
+    input.paths[detour->action] = detour->path;
+    input.stops.erase(detour->action);
+    input.hold_under_way = detour->hold_under_way;
+    detour->prediction =
+        PredictWindow(input, SearchCacheFor(input.map_id, input.map_version, input.model));
+    detour->found = true;
+  });
+  if (Finished(detour->given)) TakeDetour(records);
+}
+
+void TrafficCoordinator::TakeDetour(const std::map<std::string, const RobotRecord*>& records) {
+  const std::shared_ptr<PendingDetour> detour = std::move(detour_);
+  detour_.reset();
+  if (!detour->found) return;
+  auto it = jobs_.find(detour->job_id);
+  if (it == jobs_.end()) return;
+  Tracked& t = it->second;
+  // Of no use once the job has moved on, or the robot has left where the way starts.
+  if (t.revision != detour->revision || t.needs_prediction) return;
+  auto record = records.find(t.robot_id);
+  if (record == records.end() || !record->second->last_telemetry ||
+      !record->second->last_telemetry->pose_in_map.IsNear(detour->from, kDetourFromToleranceM,
+                                                          kPi)) {
+    return;
   }
-  t.start_action = action;
-  t.schedule.reset();
+  t.paths[detour->action] = detour->path;
+  t.stops.erase(detour->action);
+  t.hold_under_way = detour->hold_under_way;
+  t.start_action = detour->action;
+  t.assigned_s = detour->assigned_s;
   t.sent_cleared = -2;
-  t.assigned_s = static_cast<double>(clock_->NowNs()) * 1e-9;
-  changed_ = true;
+  TakePrediction(t, std::move(detour->prediction));
+  changed_ = true;  // decided again along the new way
 }
 
 }  // namespace fleetnav::server

@@ -28,44 +28,51 @@ bool FollowsClosely(const RobotModel& model) {
 
 }  // namespace
 
+TrafficCoordinator::PlannerCache TrafficCoordinator::BuildPlannerCache(
+    const std::string& map_id, uint32_t map_version, const RobotModel& model) const {
+  PlannerCache cache;
+  absl::StatusOr<std::shared_ptr<const storage::StoredMap>> shared =
+      site_data_->Map(map_id, map_version);
+  if (!shared.ok()) return cache;
+  const storage::StoredMap* map = shared->get();
+  // The agent's free navigation plans with 0.1 m of padding (FreeNavigationParams).
+  planner::CostmapParams costmap_params;
+  costmap_params.padding_m = 0.1;
+  absl::StatusOr<planner::Costmap> costmap =
+      planner::Costmap::Build(map->grid, model.footprint_m, costmap_params);
+  if (costmap.ok()) {
+    cache.costmap = std::make_unique<planner::Costmap>(*std::move(costmap));
+    // The planner the robot's agent navigates with, so the prediction is its path.
+    const planner::SingleRobotPlannerParams planner_params =
+        planner::NavigationPlannerParams(model);
+    absl::StatusOr<std::unique_ptr<planner::SingleRobotPlanner>> planner =
+        planner::MakeSingleRobotPlanner(cache.costmap.get(), model, planner_params);
+    if (planner.ok()) cache.planner = *std::move(planner);
+  }
+  cache.map_origin = map->grid.origin();
+  return cache;
+}
+
 TrafficCoordinator::PlannerCache& TrafficCoordinator::CacheFor(const std::string& map_id,
                                                                uint32_t map_version,
                                                                const RobotModel& model) {
   const auto key = std::make_tuple(map_id, map_version, model.kind_name);
   auto it = planners_.find(key);
   if (it == planners_.end()) {
-    PlannerCache cache;
-    absl::StatusOr<std::shared_ptr<const storage::StoredMap>> shared =
-        site_data_->Map(map_id, map_version);
-    if (shared.ok()) {
-      const storage::StoredMap* map = shared->get();
-      // The agent's free navigation plans with 0.1 m of padding (FreeNavigationParams).
-      planner::CostmapParams costmap_params;
-      costmap_params.padding_m = 0.1;
-      absl::StatusOr<planner::Costmap> costmap =
-          planner::Costmap::Build(map->grid, model.footprint_m, costmap_params);
-      if (costmap.ok()) {
-        cache.costmap = std::make_unique<planner::Costmap>(*std::move(costmap));
-        // The planner the robot's agent navigates with, so the prediction is its path.
-        const planner::SingleRobotPlannerParams planner_params =
-            planner::NavigationPlannerParams(model);
-        absl::StatusOr<std::unique_ptr<planner::SingleRobotPlanner>> planner =
-            planner::MakeSingleRobotPlanner(cache.costmap.get(), model, planner_params);
-        if (planner.ok()) cache.planner = *std::move(planner);
-      }
-      cache.map_origin = map->grid.origin();
-    }
-    it = planners_.emplace(key, std::move(cache)).first;
+    it = planners_.emplace(key, BuildPlannerCache(map_id, map_version, model)).first;
   }
   return it->second;
 }
 
-planner::SingleRobotPlanner* TrafficCoordinator::PlannerFor(const Tracked& tracked,
-                                                            Pose2* map_origin) {
-  PlannerCache& cache =
-      CacheFor(tracked.assignment.job.map_id, tracked.assignment.map_version, tracked.model);
-  *map_origin = cache.map_origin;
-  return cache.planner.get();
+TrafficCoordinator::PlannerCache& TrafficCoordinator::SearchCacheFor(const std::string& map_id,
+                                                                     uint32_t map_version,
+                                                                     const RobotModel& model) {
+  const auto key = std::make_tuple(map_id, map_version, model.kind_name);
+  auto it = search_planners_.find(key);
+  if (it == search_planners_.end()) {
+    it = search_planners_.emplace(key, BuildPlannerCache(map_id, map_version, model)).first;
+  }
+  return it->second;
 }
 
 double TrafficCoordinator::StandingMarginM(const Telemetry& telemetry) const {
@@ -87,26 +94,83 @@ double TrafficCoordinator::SweptMarginM(const RobotModel& model, const Telemetry
   return std::min(StandingMarginM(telemetry) + params_.tracking_allowance_m, params_.margin_m);
 }
 
-void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
-                                 const std::optional<Eigen::Vector2d>& carried_load_m,
-                                 double standing_margin_m, double swept_margin_m) {
-  std::shared_ptr<const storage::StoredMarkerSet> markers;
+TrafficCoordinator::PredictionInput TrafficCoordinator::PredictionInputOf(
+    const Tracked& tracked, const Telemetry& telemetry) const {
+  PredictionInput input;
+  input.robot_id = tracked.robot_id;
+  input.job_id = tracked.assignment.job.job_id;
+  input.map_id = tracked.assignment.job.map_id;
+  input.map_version = tracked.assignment.map_version;
+  input.route = tracked.assignment.route;
+  input.model = tracked.model;
+  input.start_action = tracked.start_action;
+  input.assigned_s = tracked.assigned_s;
+  input.segment_clearances = tracked.segment_clearances;
+  input.resume_from_telemetry = tracked.resume_from_telemetry;
+  input.paths = tracked.paths;
+  input.stops = tracked.stops;
+  input.hold_under_way = tracked.hold_under_way;
+  input.pose = telemetry.pose_in_map;
+  input.carried_load_m = telemetry.carried_load_m;
+  input.standing_margin_m = StandingMarginM(telemetry);
+  input.swept_margin_m = SweptMarginM(tracked.model, telemetry);
   if (tracked.assignment.marker_set_version > 0) {
     absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> stored =
         site_data_->MarkerSetVersion(tracked.assignment.job.map_id,
                                      tracked.assignment.marker_set_version);
-    if (stored.ok()) markers = *std::move(stored);
+    if (stored.ok()) input.markers = *std::move(stored);
   }
+  return input;
+}
+
+void TrafficCoordinator::GivePrediction(Tracked& tracked, const Telemetry& telemetry) {
+  auto pending = std::make_shared<PendingPrediction>();
+  pending->revision = tracked.revision;
+  tracked.prediction = pending;
+  pending->given = GiveSearch([this, pending, input = PredictionInputOf(tracked, telemetry)] {
+    pending->result =
+        PredictWindow(input, SearchCacheFor(input.map_id, input.map_version, input.model));
+  });
+}
+
+TrafficCoordinator::Given TrafficCoordinator::GiveSearch(std::function<void()> search) {
+  Given given;
+  given.update = updates_;
+  given.ran_at_once = !searches_.threaded();
+  given.ticket = searches_.Add(std::move(search));
+  return given;
+}
+
+bool TrafficCoordinator::Finished(const Given& given) {
+  return (given.ran_at_once || given.update < updates_) && searches_.Done(given.ticket);
+}
+
+void TrafficCoordinator::TakePrediction(Tracked& tracked, Prediction prediction) {
+  tracked.schedule = std::move(prediction.schedule);
+  tracked.schedule->cells_id = next_cells_id_++;
+  tracked.steps = std::move(prediction.steps);
+  tracked.predicted_end = prediction.predicted_end;
+  tracked.needs_prediction = false;
+  tracked.prediction.reset();
+  ++tracked.revision;
+}
+
+TrafficCoordinator::Prediction TrafficCoordinator::PredictWindow(const PredictionInput& input,
+                                                                 PlannerCache& cache) const {
+  Prediction out;
+  const std::shared_ptr<const storage::StoredMarkerSet>& markers = input.markers;
+  const Pose2& pose = input.pose;
+  const std::optional<Eigen::Vector2d>& carried_load_m = input.carried_load_m;
   // Only the window of actions ahead is predicted (horizon_actions).
-  const std::vector<RouteAction>& all = tracked.assignment.route->actions;
-  const int skipped = std::min<int>(tracked.start_action, all.size());
+  const std::vector<RouteAction>& all = input.route->actions;
+  const int skipped = std::min<int>(input.start_action, all.size());
   const int end = std::min<int>(all.size(), skipped + params_.horizon_actions);
   Route remaining;
-  remaining.name = tracked.assignment.route->name;
-  remaining.map_id = tracked.assignment.route->map_id;
+  remaining.name = input.route->name;
+  remaining.map_id = input.route->map_id;
   remaining.actions.assign(all.begin() + skipped, all.begin() + end);
   // Ways planned round robots that stand replace what the agent would plan alone.
-  for (const auto& [action, path] : tracked.paths) {
+  for (const auto& [action, path] : input.paths) {
     if (action < skipped || action >= end) continue;
     if (auto* nav =
             std::get_if<FreeNavigationAction>(&remaining.actions[action - skipped].params)) {
@@ -114,9 +178,9 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
       nav->waypoint_yaws_rad.clear();
     }
   }
-  tracked.predicted_end = end;
-  Pose2 map_origin;
-  planner::SingleRobotPlanner* planner = PlannerFor(tracked, &map_origin);
+  out.predicted_end = end;
+  const Pose2 map_origin = cache.map_origin;
+  planner::SingleRobotPlanner* planner = cache.planner.get();
   const MarkerSet* marker_set = markers ? &markers->markers : nullptr;
   absl::StatusOr<std::vector<planner::PredictedAction>> predicted =
       planner::PredictRoute(remaining, pose, marker_set, planner, map_origin, params_.prediction);
@@ -126,40 +190,39 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
         planner::PredictRoute(remaining, pose, marker_set, nullptr, map_origin, params_.prediction);
   }
   planner::ScheduledRoute schedule;
-  schedule.robot_id = tracked.robot_id;
-  schedule.job_id = tracked.assignment.job.job_id;
+  schedule.robot_id = input.robot_id;
+  schedule.job_id = input.job_id;
   // A robot carrying a trolley sweeps the trolley's outline too (RobotModel::CarryingLoad); the
   // load changes where a trolley dock or an undock ends.
   const auto sweep = [&](const std::vector<Pose2>& poses,
                          const std::optional<Eigen::Vector2d>& load_m) {
-    return planner::CellSet::Sweep(poses, tracked.model.FootprintCarrying(load_m), swept_margin_m,
-                                   params_.cell_m);
+    return planner::CellSet::Sweep(poses, input.model.FootprintCarrying(load_m),
+                                   input.swept_margin_m, params_.cell_m);
   };
   const auto stand = [&](const Pose2& at, const std::optional<Eigen::Vector2d>& load_m) {
-    return planner::CellSet::Sweep({at}, tracked.model.FootprintCarrying(load_m), standing_margin_m,
-                                   params_.cell_m);
+    return planner::CellSet::Sweep({at}, input.model.FootprintCarrying(load_m),
+                                   input.standing_margin_m, params_.cell_m);
   };
   std::optional<Eigen::Vector2d> load_m = carried_load_m;
   schedule.start_cells = stand(pose, load_m);
-  schedule.cells_id = next_cells_id_++;
   // Actions already run are one empty step each.
-  tracked.steps.clear();
+  std::vector<Step>& steps = out.steps;
   for (int k = 0; k < skipped; ++k) {
-    tracked.steps.push_back({k, 0, 1, std::nullopt});
+    steps.push_back({k, 0, 1, std::nullopt});
     schedule.whole_from.push_back(k);
     schedule.action_cells.emplace_back();
     schedule.action_end_cells.push_back(schedule.start_cells);
-    schedule.action_start_s.push_back(tracked.assigned_s);
+    schedule.action_start_s.push_back(input.assigned_s);
   }
   const double segment_m =
-      tracked.segment_clearances && FollowsClosely(tracked.model) ? params_.segment_m : 0.0;
-  double t_s = tracked.assigned_s;
+      input.segment_clearances && FollowsClosely(input.model) ? params_.segment_m : 0.0;
+  double t_s = input.assigned_s;
   for (size_t i = 0; i < remaining.actions.size(); ++i) {
     const int action = skipped + static_cast<int>(i);
     if (!predicted.ok()) {
       // Unpredictable (a stripe the marker set lacks): reserve where it stands.
-      schedule.whole_from.push_back(static_cast<int>(tracked.steps.size()));
-      tracked.steps.push_back({action, 0, 1, std::nullopt});
+      schedule.whole_from.push_back(static_cast<int>(steps.size()));
+      steps.push_back({action, 0, 1, std::nullopt});
       schedule.action_cells.push_back(sweep({pose}, carried_load_m));
       schedule.action_end_cells.push_back(schedule.start_cells);
       schedule.action_start_s.push_back(t_s);
@@ -169,13 +232,15 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
         CarriedLoadAfter(remaining.actions[i], load_m, marker_set, Eigen::Vector2d::Zero());
     const bool free_navigation =
         std::holds_alternative<FreeNavigationAction>(remaining.actions[i].params);
-    const std::vector<planner::ActionSegment> segments =
-        planner::SplitIntoSegments(predicted->at(i), free_navigation ? segment_m : 0.0);
-    const int action_first_step = static_cast<int>(tracked.steps.size());
+    const auto stops = input.stops.find(action);
+    const std::vector<planner::ActionSegment> segments = planner::SplitIntoSegments(
+        predicted->at(i), free_navigation ? segment_m : 0.0,
+        stops != input.stops.end() ? stops->second : std::vector<Eigen::Vector2d>{});
+    const int action_first_step = static_cast<int>(steps.size());
     for (size_t j = 0; j < segments.size(); ++j) {
       const bool last = j + 1 == segments.size();
       schedule.whole_from.push_back(action_first_step);
-      tracked.steps.push_back(
+      steps.push_back(
           {action, static_cast<int>(j), static_cast<int>(segments.size()), segments[j].gate});
       schedule.action_cells.push_back(sweep(segments[j].poses, load_m));
       // The load changes where the action ends (a trolley dock or an undock).
@@ -189,17 +254,18 @@ void TrafficCoordinator::Predict(Tracked& tracked, const Pose2& pose,
   schedule.first_unfinished = skipped;
   // The action the robot may be in already (a later window, or a job resumed after a restart)
   // stays cleared whole; one whose way was planned again is cleared afresh, the robot standing.
-  if (tracked.hold_under_way && tracked.hold_under_way->action_index == skipped) {
-    schedule.cleared_up_to = FirstStepOf(tracked, skipped) - 1;
+  if (input.hold_under_way && input.hold_under_way->action_index == skipped) {
+    schedule.cleared_up_to = FirstStepOf(steps, skipped) - 1;
     schedule.begun = true;
-  } else if (skipped >= static_cast<int>(tracked.assignment.route->actions.size())) {
+  } else if (skipped >= static_cast<int>(all.size())) {
     schedule.cleared_up_to = skipped - 1;
-  } else if (skipped > 0 || tracked.resume_from_telemetry) {
-    schedule.cleared_up_to = FirstStepOf(tracked, skipped + 1) - 1;
+  } else if (skipped > 0 || input.resume_from_telemetry) {
+    schedule.cleared_up_to = FirstStepOf(steps, skipped + 1) - 1;
   } else {
     schedule.cleared_up_to = -1;
   }
-  tracked.schedule = std::move(schedule);
+  out.schedule = std::move(schedule);
+  return out;
 }
 
 }  // namespace fleetnav::server

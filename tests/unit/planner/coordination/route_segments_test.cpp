@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "fleetnav/core/angles.hpp"
@@ -39,6 +40,30 @@ TEST(RouteSegmentsTest, AnActionIsCutIntoSegmentsThatChainWithGatesAlongTheWay) 
   EXPECT_NEAR(segments[0].gate->yaw_rad(), 0.0, 1e-6);
   EXPECT_NEAR(segments[4].gate->x_m(), 5.0, 1e-9);
   EXPECT_NEAR(segments[4].gate->yaw_rad(), kPi / 2, 1e-6);
+}
+
+// A robot stepping aside stands at a place on its way until it is cleared on: a segment ends
+// where the way comes nearest that place, in a short action too.
+TEST(RouteSegmentsTest, ASegmentEndsWhereTheWayComesNearestEachStop) {
+  const PredictedAction action = Corner(5.0);
+  const std::vector<ActionSegment> segments =
+      SplitIntoSegments(action, 1.5, {Eigen::Vector2d(2.23, 0.3)});
+  const auto gate_near = [&](double x_m, double y_m) {
+    return std::any_of(segments.begin(), segments.end(), [&](const ActionSegment& s) {
+      return s.gate && std::hypot(s.gate->x_m() - x_m, s.gate->y_m() - y_m) < 0.06;
+    });
+  };
+  EXPECT_TRUE(gate_near(2.2, 0.0));
+  const PredictedAction short_action = Corner(1.0);  // 2 m: one segment without stops
+  ASSERT_EQ(SplitIntoSegments(short_action, 1.5).size(), 1u);
+  const std::vector<ActionSegment> stopped =
+      SplitIntoSegments(short_action, 1.5, {Eigen::Vector2d(1.0, 0.0)});
+  ASSERT_EQ(stopped.size(), 2u);
+  EXPECT_NEAR(stopped[0].gate->x_m(), 1.0, 1e-9);
+  EXPECT_NEAR(stopped[0].gate->y_m(), 0.0, 1e-9);
+  EXPECT_NEAR(stopped[0].duration_s + stopped[1].duration_s, short_action.duration_s, 1e-9);
+  // Whole actions (no segments) ignore stops.
+  EXPECT_EQ(SplitIntoSegments(short_action, 0.0, {Eigen::Vector2d(1.0, 0.0)}).size(), 1u);
 }
 
 TEST(RouteSegmentsTest, ShortActionsTurnsAndWholeActionOrderingAreOneSegment) {

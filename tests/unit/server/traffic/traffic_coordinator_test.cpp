@@ -171,6 +171,43 @@ TEST_F(TrafficCoordinatorTest, CrossingRobotsAreClearedOneAfterTheOtherAndToldWh
   EXPECT_EQ(registry_.Get("b")->traffic_wait, "");
 }
 
+// With the search thread, a job's prediction is taken up by a later Update than the one that gave
+// it, whatever the thread's speed (so a simulated run replays exactly), and meanwhile its robot
+// stands as a robot without a job does: nobody is cleared through it.
+TEST_F(TrafficCoordinatorTest,
+       OnTheSearchThreadAPredictionIsTakenUpLaterAndItsRobotStandsMeanwhile) {
+  coordinator_.StartSearchThread({});
+  // b, 4 m north of a, is sent 8 m south across where a stands.
+  Connect("a", Pose2(-8, 0, 0));
+  Connect("b", Pose2(-8, 4, -kPi / 2));
+  coordinator_.Begin("b", Job("job-b", {{StraightAction{8.0, 0.5}, {}}}));
+  coordinator_.Update();
+  EXPECT_TRUE(mailbox_.sent["b"].empty());  // its prediction is not yet taken up
+  EXPECT_TRUE(coordinator_.SearchesPending());
+  coordinator_.WaitForSearches();
+  clock_.AdvanceNs(100'000'000);
+  coordinator_.Update();
+  ASSERT_EQ(mailbox_.sent["b"].size(), 1u);
+  EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, -1);
+  EXPECT_THAT(mailbox_.sent["b"].back().wait_reason, HasSubstr("a, which stands in its way"));
+  // a's job begins, going east: until its prediction is taken up a still stands in b's way.
+  coordinator_.TakeMakeWayRequests();  // a, then without a job, was asked to make way
+  coordinator_.Begin("a", Job("job-a", {{StraightAction{12.0, 0.5}, {}}}));
+  coordinator_.Update();
+  EXPECT_TRUE(mailbox_.sent["a"].empty());
+  EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, -1);
+  EXPECT_TRUE(coordinator_.TakeMakeWayRequests().empty());  // with a job, it is not sent aside
+  coordinator_.WaitForSearches();
+  clock_.AdvanceNs(100'000'000);
+  coordinator_.Update();
+  EXPECT_FALSE(coordinator_.SearchesPending());
+  ASSERT_EQ(mailbox_.sent["a"].size(), 1u);
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+  EXPECT_THAT(mailbox_.sent["b"].back().wait_reason, HasSubstr("waits for a to finish action 0"));
+  coordinator_.StopSearchThread();
+  EXPECT_EQ(coordinator_.search_cpu().count, 2);
+}
+
 TEST_F(TrafficCoordinatorTest, AnAgentThatStandsAtGatesFollowsAnotherOneSegmentBehind) {
   // Two laser-localized platforms go to goals 20 m east along y = 0, b 4 m behind a. b's agent
   // stands at segment gates: it is cleared into its free-navigation leg up to a gate behind a,
@@ -352,7 +389,9 @@ TEST_F(TrafficCoordinatorTest, ARobotUnderWayStandsWhereItIsUntilItsNewWayIsClea
   clock_.AdvanceNs(500'000'000);
   coordinator_.Begin("a", Job("job-a", {{GoEast(-8, 14.0), {}}}));
   coordinator_.Update();
-  ASSERT_TRUE(mailbox_.sent["a"].back().hold.has_value());
+  ASSERT_TRUE(mailbox_.sent["a"].back().hold.has_value())
+      << mailbox_.sent["a"].back().cleared_up_to_action << " "
+      << mailbox_.sent["a"].back().wait_reason;
   const double gate_x_m = mailbox_.sent["a"].back().hold->gate.x_m();
   ASSERT_LT(gate_x_m, -1.0);
   // The Lely ends its job where it crossed: it stands in the way of the platform under way.
@@ -403,6 +442,86 @@ TEST_F(TrafficCoordinatorTest, ARouteHeldWholeIsPlannedAWayRoundTheRobotItCouldN
   ASSERT_EQ(w.paths.size(), 1u);
   EXPECT_GT(ClosestWaypointM(w.paths[0], {-6, 0}), 1.0);
   EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("w"));
+}
+
+// A robot at the end of a dead-end corridor can leave only past the robot under way to its place,
+// which stands at its gate in the corridor: sending the first aside again and again cannot break
+// the circle (in a generated dense hall one was sent to a new place every 20 s for half an hour).
+// The one under way steps aside within its action instead, through a place off the other's way.
+TEST_F(TrafficCoordinatorTest, ARobotUnderWayStepsAsideForOneThatCanLeaveOnlyPastIt) {
+  // A corridor 1.2 m wide from x = 2 to 8 m along y = 0, closed at its east end.
+  OccupancyGrid grid =
+      OccupancyGrid::Filled(600, 200, 0.05, Pose2(-15, -5, 0), OccupancyGrid::kFreeValue).value();
+  for (double x = 2.0; x < 8.6; x += 0.05) {
+    for (double y = -1.2; y < 1.2; y += 0.05) {
+      if (std::abs(y) >= 0.6 || x >= 8.2) {
+        grid.SetValue(*grid.WorldToCell({x + 0.025, y + 0.025}), OccupancyGrid::kOccupiedValue);
+      }
+    }
+  }
+  ASSERT_TRUE(maps_.PutMap("hall", grid, "", 0).ok());  // version 2
+  const auto on_version_2 = [&](JobAssignment job) {
+    job.map_version = 2;
+    return job;
+  };
+  Connect("a", Pose2(-4, 0, 0), MecanumPlatformModel(), true, true);
+  Connect("b", Pose2(7.4, 0, kPi), MecanumPlatformModel(), true, true);
+  // a is sent to the corridor's mouth, then on to where b stands: it drives the first leg and
+  // stands there, under way.
+  coordinator_.Begin("a",
+                     on_version_2(Job("job-a", {{GoEast(-4, 4.0), {}}, {GoEast(0, 7.4), {}}})));
+  coordinator_.Update();
+  coordinator_.TakeMakeWayRequests();  // b, then without a job, was asked to make way
+  ASSERT_FALSE(mailbox_.sent["a"].empty());
+  ASSERT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+  const double gate_x_m = 0.0;
+  MoveInJob("a", Pose2(gate_x_m, 0, 0), "job-a", 0);
+  coordinator_.OnActionFinished("a", "job-a", 0);
+  clock_.AdvanceNs(500'000'000);
+  coordinator_.Update();
+  EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("b, which stands in its way"));
+  // b is then sent west, past a: its job, not begun, is held, and b is sent aside once.
+  clock_.AdvanceNs(500'000'000);
+  coordinator_.Begin(
+      "b",
+      on_version_2(Job("job-b", {{FreeNavigationAction{{}, Pose2(-10, 0, kPi), 0.5, {}}, {}}})));
+  coordinator_.Update();
+  EXPECT_THAT(mailbox_.sent["b"].back().wait_reason, HasSubstr("block each other"));
+  std::vector<MakeWayRequest> asked = coordinator_.TakeMakeWayRequests();
+  ASSERT_EQ(asked.size(), 1u);
+  EXPECT_EQ(asked[0].robot_id, "b");
+  EXPECT_TRUE(asked[0].breaks_wait_cycle);
+  // b cannot leave: the circle stays. A period on, a steps aside instead of b going again.
+  for (int second = 0; second < 21; ++second) {
+    clock_.AdvanceNs(1'000'000'000);
+    coordinator_.Resend("a");
+    coordinator_.Update();
+    asked = coordinator_.TakeMakeWayRequests();
+    EXPECT_TRUE(std::none_of(asked.begin(), asked.end(), [](const MakeWayRequest& r) {
+      return r.robot_id == "b";
+    })) << second;
+  }
+  const std::vector<ClearanceNotice>& sent = mailbox_.sent["a"];
+  auto told = std::find_if(sent.begin(), sent.end(),
+                           [](const ClearanceNotice& n) { return !n.paths.empty(); });
+  ASSERT_NE(told, sent.end());
+  ASSERT_EQ(told->paths[0].waypoints_m.size(), 1u);
+  const Eigen::Vector2d aside = told->paths[0].waypoints_m[0];
+  EXPECT_LT(aside.x(), 2.0) << aside.transpose();  // outside the corridor
+  ASSERT_TRUE(told->hold.has_value());  // it stands where it is until the new way is cleared
+  EXPECT_NEAR(told->hold->gate.x_m(), gate_x_m, 1e-6);
+  // Its way through that place is then cleared, and once it stands there b may leave.
+  ASSERT_EQ(sent.back().paths.size(), 1u);
+  EXPECT_EQ(sent.back().paths[0].id, told->paths[0].id);
+  EXPECT_EQ(sent.back().cleared_up_to_action, 1) << sent.back().wait_reason;
+  EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, -1);
+  MoveInJob("a", Pose2(aside.x(), aside.y(), 0), "job-a", 1);
+  for (int pass = 0; pass < 2; ++pass) {
+    clock_.AdvanceNs(500'000'000);
+    coordinator_.Update();
+  }
+  EXPECT_EQ(mailbox_.sent["b"].back().cleared_up_to_action, 0)
+      << mailbox_.sent["b"].back().wait_reason;
 }
 
 TEST_F(TrafficCoordinatorTest, AnAgentWithoutPlannedPathsIsNeverPlannedAWayRound) {

@@ -20,8 +20,11 @@ struct ActionSegment {
 };
 
 /// Cuts `action` into segments of at least `segment_m` of travel each (a shorter rest joins
-/// the last one); a turn in place, or `segment_m` <= 0, is one segment. The duration is shared
-/// out by length.
-std::vector<ActionSegment> SplitIntoSegments(const PredictedAction& action, double segment_m);
+/// the last one); a turn in place, or `segment_m` <= 0, is one segment. A segment also ends
+/// where the way comes nearest each of `stops` (in the order of travel; a robot stepping aside
+/// stands there, at that segment's gate, until it is cleared on). The duration is shared out
+/// by length.
+std::vector<ActionSegment> SplitIntoSegments(const PredictedAction& action, double segment_m,
+                                             const std::vector<Eigen::Vector2d>& stops = {});
 
 }  // namespace fleetnav::planner

@@ -121,12 +121,16 @@ class FleetApp {
   PassFigures assigning_passes() const;
   PassFigures one_job_passes() const;
   PassFigures one_job_pass_cpu() const;
+  /// Traffic coordination's searches (route predictions, ways round) in the CPU time of the
+  /// thread they run on; read after Stop.
+  PassFigures traffic_search_cpu() const;
 
  private:
   FleetAppParams params_;
   const Clock* clock_;
   RobotMailbox* robots_;
   std::atomic<uint64_t> job_changes_{0};
+  std::atomic<bool> lockstep_{false};  ///< EnterLockstep was called
   FleetRegistry registry_;
   std::unique_ptr<storage::SqlDatabase> db_;
   std::unique_ptr<storage::SqlMapRepository> map_repository_;

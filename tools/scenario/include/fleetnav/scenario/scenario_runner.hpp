@@ -109,6 +109,12 @@ struct ScenarioReport {
   double one_job_pass_cpu_ms_p50 = 0.0;
   double one_job_pass_cpu_ms_p99 = 0.0;
   double one_job_pass_cpu_ms_max = 0.0;
+  /// Traffic coordination's searches (route predictions, ways round robots that stand), in the
+  /// CPU time of fleetnavd's search thread, off the dispatcher's.
+  int64_t traffic_searches = 0;
+  double traffic_search_cpu_ms_p50 = 0.0;
+  double traffic_search_cpu_ms_p99 = 0.0;
+  double traffic_search_cpu_ms_max = 0.0;
   /// With replicas: wall seconds from each kill_leader to the line of the replica that took
   /// the site over ("leading at epoch N": jobs recovered, dispatching).
   std::vector<double> failovers_s;

@@ -9,31 +9,10 @@
 #include <vector>
 
 #include "fleetnav/server/jobs/job_service.hpp"
+#include "fleetnav/server/traffic/pass_timings.hpp"
+#include "fleetnav/server/traffic/traffic_coordinator.hpp"
 
 namespace fleetnav::server {
-
-/// Latency figures of one kind of dispatcher pass: how many there were, and percentiles over
-/// the latest ones (milliseconds of computing time).
-struct PassFigures {
-  int64_t count = 0;
-  double p50_ms = 0.0;
-  double p99_ms = 0.0;
-  double max_ms = 0.0;
-};
-
-/// The latest `capacity` durations of one kind of pass and how many there were in all: a
-/// server runs for months, so older samples are overwritten. Not thread-safe.
-class PassTimings {
- public:
-  explicit PassTimings(size_t capacity = 100'000) : capacity_(capacity) {}
-  void Add(double ms);
-  PassFigures Figures() const;
-
- private:
-  size_t capacity_;
-  std::vector<double> ms_;
-  int64_t count_ = 0;
-};
 
 /// Runs JobService's dispatcher on a thread of its own: one pass (DispatchOnce), then a wait
 /// until there may be work (a job submitted, a robot idle) or `period_s` passed. It times the
@@ -56,6 +35,10 @@ class DispatcherLoop {
   DispatcherLoop(const DispatcherLoop&) = delete;
   DispatcherLoop& operator=(const DispatcherLoop&) = delete;
 
+  /// In lockstep a pass is due on every tick while `traffic` has searches not yet taken up,
+  /// and it first waits for them (TrafficCoordinator::WaitForSearches), so that each search is
+  /// taken up by the same pass in every run. Call before TakeOver.
+  void SetTraffic(TrafficCoordinator* traffic) { traffic_ = traffic; }
   void Start();
   void Stop();
   /// Ends the thread; from now on only RunPassIfDue runs passes. Idempotent.
@@ -73,6 +56,7 @@ class DispatcherLoop {
   JobService* jobs_;
   double period_s_;
   std::function<void(double seconds)> on_assigning_pass_;
+  TrafficCoordinator* traffic_ = nullptr;
   std::atomic<bool> stopping_{false};
   std::atomic<bool> taken_over_{false};
   std::thread thread_;

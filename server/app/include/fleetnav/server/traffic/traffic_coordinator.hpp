@@ -1,5 +1,6 @@
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -20,6 +21,7 @@
 #include "fleetnav/server/robots/fleet_registry.hpp"
 #include "fleetnav/server/robots/robot_mailbox.hpp"
 #include "fleetnav/server/site/site_cache.hpp"
+#include "fleetnav/server/traffic/planning_thread.hpp"
 
 namespace fleetnav::server {
 
@@ -141,6 +143,20 @@ class TrafficCoordinator {
   /// job has ended.
   std::vector<MakeWayRequest> TakeMakeWayRequests();
 
+  /// Runs the searches (route predictions, ways round robots that stand) on a thread of their
+  /// own from now on (PlanningThread); `on_searched` is called on it after each one (fleetnavd
+  /// wakes its dispatcher). Without it they run within Update on the caller's thread.
+  void StartSearchThread(std::function<void()> on_searched);
+  /// Ends the search thread (searches not begun are dropped); later ones run within Update.
+  void StopSearchThread();
+  /// Whether a search an Update gave has not yet been taken up by an Update.
+  bool SearchesPending();
+  /// Blocks until every search given so far has finished: in a simulated run's lockstep each
+  /// pass waits for them first, so that a search is taken up by the same pass in every run.
+  void WaitForSearches();
+  /// CPU time of each search on the search thread. Read after StopSearchThread.
+  PassFigures search_cpu() const { return searches_.task_cpu(); }
+
  private:
   /// One unit traffic coordination orders: a segment of an action.
   struct Step {
@@ -149,6 +165,7 @@ class TrafficCoordinator {
     int segments = 1;           ///< of the action
     std::optional<Pose2> gate;  ///< where it ends, unless it is the action's last
   };
+  struct PendingPrediction;
   struct Tracked {
     std::string robot_id;
     JobAssignment assignment;
@@ -166,10 +183,73 @@ class TrafficCoordinator {
     bool planned_paths = false;  ///< its agent drives a planned path (RobotIdentity)
     /// Paths planned round robots that stand, by action; sent with the clearances.
     std::map<int, ActionPath> paths;
+    /// Places on those paths where the robot stands until it is cleared on (a segment ends
+    /// there): where it steps aside (StepAsideUnderWay).
+    std::map<int, std::vector<Eigen::Vector2d>> stops;
     double detour_tried_s = -1e300;  ///< when a detour was last looked for
     /// Set when the way of the action the robot is in was planned again: where it stood, which
     /// is where it stands until the new way is cleared.
     std::optional<SegmentHold> hold_under_way;
+    /// Its window is to be predicted (again): its job began, or it came near the window's end.
+    /// Until the prediction is taken up, the schedule it has (if any) stays in force.
+    bool needs_prediction = true;
+    /// Grows with every change that makes a search under way for it stale (an action
+    /// finished, a window ended, a prediction or a way round taken up).
+    uint64_t revision = 0;
+    std::shared_ptr<PendingPrediction> prediction;  ///< given, not yet taken up
+  };
+  /// What a window's prediction is made from: copies, so that it runs on the search thread.
+  struct PredictionInput {
+    std::string robot_id;
+    std::string job_id;
+    std::string map_id;
+    uint32_t map_version = 0;
+    std::shared_ptr<const Route> route;
+    RobotModel model;
+    int start_action = 0;
+    double assigned_s = 0.0;
+    bool segment_clearances = false;
+    bool resume_from_telemetry = false;
+    std::map<int, ActionPath> paths;
+    std::map<int, std::vector<Eigen::Vector2d>> stops;
+    std::optional<SegmentHold> hold_under_way;
+    Pose2 pose;
+    std::optional<Eigen::Vector2d> carried_load_m;
+    double standing_margin_m = 0.0;
+    double swept_margin_m = 0.0;
+    std::shared_ptr<const storage::StoredMarkerSet> markers;
+  };
+  /// A predicted window: its schedule (cells_id not yet set) and steps.
+  struct Prediction {
+    planner::ScheduledRoute schedule;
+    std::vector<Step> steps;
+    int predicted_end = 0;
+  };
+  /// A search on the thread is taken up by a later Update than the one that gave it, never by
+  /// the same (it would be taken up there or not by how fast it ran: runs would differ); one
+  /// run at once (no thread) is taken up at once.
+  struct Given {
+    uint64_t ticket = 0;
+    uint64_t update = 0;  ///< the Update that gave it
+    bool ran_at_once = false;
+  };
+  struct PendingPrediction {
+    Given given;
+    uint64_t revision = 0;  ///< the job's when it was given
+    Prediction result;      ///< written by the search
+  };
+  /// A way round robots that stand, searched for one robot, with its window predicted along it.
+  struct PendingDetour {
+    Given given;
+    std::string job_id;
+    uint64_t revision = 0;
+    int action = 0;
+    Pose2 from;  ///< where the robot stood
+    double assigned_s = 0.0;
+    bool found = false;  ///< written by the search, with what follows
+    ActionPath path;
+    std::optional<SegmentHold> hold_under_way;
+    Prediction prediction;
   };
   struct PlannerCache {
     std::unique_ptr<planner::Costmap> costmap;
@@ -177,11 +257,24 @@ class TrafficCoordinator {
     Pose2 map_origin;
   };
 
-  /// Schedules the window of `tracked`'s actions ahead from `pose`, the robot carrying
-  /// `carried_load_m` (nullopt: nothing) as it starts.
-  void Predict(Tracked& tracked, const Pose2& pose,
-               const std::optional<Eigen::Vector2d>& carried_load_m, double standing_margin_m,
-               double swept_margin_m) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// What predicting `tracked`'s window from where its robot stands by `telemetry` needs.
+  PredictionInput PredictionInputOf(const Tracked& tracked, const Telemetry& telemetry) const;
+  /// Gives the search thread the prediction of `tracked`'s window from `telemetry`.
+  void GivePrediction(Tracked& tracked, const Telemetry& telemetry)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Takes up a finished prediction: its schedule replaces the one in force.
+  void TakePrediction(Tracked& tracked, Prediction prediction)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Schedules the window of actions ahead from the input's pose, the robot carrying its load
+  /// as it starts. Runs on the search thread: it reads only its input, params_ and `cache`.
+  Prediction PredictWindow(const PredictionInput& input, PlannerCache& cache) const;
+  /// Gives the search thread `search`.
+  Given GiveSearch(std::function<void()> search) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Whether a search given may be taken up now.
+  bool Finished(const Given& given) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Takes up the detour searched for, when its job has not moved on since.
+  void TakeDetour(const std::map<std::string, const RobotRecord*>& records)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Where `robot` stands by its last telemetry (which it must have): its footprint, carrying
   /// its load, grown by its standing margin plus `more_m`.
   planner::CellSet WhereItStands(const RobotRecord& robot, double more_m = 0.0) const;
@@ -191,10 +284,15 @@ class TrafficCoordinator {
   double SweptMarginM(const RobotModel& model, const Telemetry& telemetry) const;
   /// How far to grow where a robot with this telemetry stands (standing_margin_min_m..margin_m).
   double StandingMarginM(const Telemetry& telemetry) const;
-  planner::SingleRobotPlanner* PlannerFor(const Tracked& tracked, Pose2* map_origin)
-      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   PlannerCache& CacheFor(const std::string& map_id, uint32_t map_version, const RobotModel& model)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// The same kept for the searches alone (they run on the search thread; a costmap fills its
+  /// cache as it is used).
+  PlannerCache& SearchCacheFor(const std::string& map_id, uint32_t map_version,
+                               const RobotModel& model);
+  /// A costmap and the agent's planner of `model`'s kind for the map version.
+  PlannerCache BuildPlannerCache(const std::string& map_id, uint32_t map_version,
+                                 const RobotModel& model) const;
   /// Finds a place for each idle robot that a decision on `map_id` waits for (not asked yet)
   /// and queues the request, or notes why there is none.
   void AskIdleRobotsToMakeWay(const std::string& map_id, const std::vector<Tracked*>& tracked_jobs,
@@ -225,6 +323,16 @@ class TrafficCoordinator {
                        const std::vector<planner::ParkedRobot>& parked,
                        const std::map<std::string, const RobotRecord*>& records)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Sends `t`'s robot, under way and standing at its gate on a free-navigation action without
+  /// waypoints of its own, aside within that action: its way goes through a place off every
+  /// other robot's way (PlaceAside) to the action's goal, and it stands where it is until that
+  /// way is cleared. Returns whether it was sent.
+  bool StepAsideUnderWay(const std::string& map_id, Tracked& t,
+                         const planner::TrafficClearanceDecision& d,
+                         const std::vector<Tracked*>& tracked_jobs,
+                         const std::vector<planner::ParkedRobot>& parked,
+                         const std::map<std::string, const RobotRecord*>& records)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Holds back what the decisions newly clear where it meets another robot of the map where
   /// that robot stands now by its telemetry (footprint grown by its standing margin): the
   /// orders are computed on predicted places, and a robot off its prediction (a way it planned
@@ -240,11 +348,11 @@ class TrafficCoordinator {
                    const std::vector<planner::TrafficClearanceDecision>& decisions,
                    const std::map<std::string, const RobotRecord*>& records)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
-  /// PlanDetours' search for one robot: `t`'s action `action` (`nav`) from where `robot`
-  /// stands, round the robots that stand on `map`; on success its path is kept and its window
-  /// predicted again from that action.
+  /// Gives the search thread PlanDetours' search for one robot: `t`'s action `action` (`nav`)
+  /// from where `robot` stands, round the robots that stand on `map`, and its window predicted
+  /// along the way found (TakeDetour keeps them).
   void PlanWayRound(Tracked& t, int action, const FreeNavigationAction& nav,
-                    const RobotRecord& robot, const storage::StoredMap& map,
+                    const RobotRecord& robot, std::shared_ptr<const storage::StoredMap> map,
                     const std::vector<Tracked*>& tracked_jobs,
                     const std::vector<planner::TrafficClearanceDecision>& decisions,
                     const std::map<std::string, const RobotRecord*>& records)
@@ -261,6 +369,7 @@ class TrafficCoordinator {
   static void PassGates(Tracked& tracked, const Telemetry& telemetry);
   /// The first step of `action` (steps.size() past the last predicted action).
   static int FirstStepOf(const Tracked& tracked, int action);
+  static int FirstStepOf(const std::vector<Step>& steps, int action);
   /// The action of `step` (a step index outside the schedule is returned as it is: -1 none).
   static int ActionOfStep(const Tracked& tracked, int step);
 
@@ -283,6 +392,9 @@ class TrafficCoordinator {
   /// Costmap and planner per (map id, map version, robot kind).
   std::map<std::tuple<std::string, uint32_t, std::string>, PlannerCache> planners_
       ABSL_GUARDED_BY(mutex_);
+  /// The searches' own (SearchCacheFor): touched by one search at a time, on the search thread
+  /// or within Update.
+  std::map<std::tuple<std::string, uint32_t, std::string>, PlannerCache> search_planners_;
   /// Remembers which pairs of predicted windows share floor, per map.
   std::map<std::string, planner::ClearanceDecider> deciders_ ABSL_GUARDED_BY(mutex_);
   uint64_t next_cells_id_ ABSL_GUARDED_BY(mutex_) = 1;
@@ -295,6 +407,7 @@ class TrafficCoordinator {
   /// A job began, ended or moved on since the last decision.
   bool changed_ ABSL_GUARDED_BY(mutex_) = true;
   double last_decision_s_ ABSL_GUARDED_BY(mutex_) = -1e300;
+  uint64_t updates_ ABSL_GUARDED_BY(mutex_) = 0;  ///< Updates that decided
   /// Each robot sent aside to break a circle of waits: when it last was (clock seconds), and
   /// how often.
   struct CycleBreaks {
@@ -302,6 +415,12 @@ class TrafficCoordinator {
     int count = 0;
   };
   std::map<std::string, CycleBreaks> cycle_breaks_ ABSL_GUARDED_BY(mutex_);
+  /// Robots whose job is still to be predicted (they stand, and are not sent aside).
+  std::set<std::string> awaiting_prediction_ ABSL_GUARDED_BY(mutex_);
+  /// The detour given to the search thread and not yet taken up (one at a time).
+  std::shared_ptr<PendingDetour> detour_ ABSL_GUARDED_BY(mutex_);
+  /// Last, so that it ends (and its searches with it) before what they use.
+  PlanningThread searches_;
 };
 
 }  // namespace fleetnav::server

@@ -72,6 +72,8 @@ class FleetServer {
   PassFigures one_job_passes() const;
   /// The same passes in the dispatcher thread's CPU time.
   PassFigures one_job_pass_cpu() const;
+  /// Traffic coordination's searches in the CPU time of their own thread.
+  PassFigures traffic_search_cpu() const;
   /// The Prometheus text exposition of the server's metrics now (docs/metrics.md).
   std::string RenderMetrics() const;
   /// Calls the TLS gate admitted and refused so far (all zero without TLS).
