@@ -56,9 +56,8 @@ bool PlanningThread::Done(uint64_t ticket) {
 void PlanningThread::WaitForAll() {
   absl::MutexLock lock(&mutex_);
   mutex_.Await(absl::Condition(
-      +[](PlanningThread* self) ABSL_EXCLUSIVE_LOCKS_REQUIRED(self->mutex_) {
-        return self->finished_ >= self->given_;
-      },
+      +[](PlanningThread* self)
+           ABSL_EXCLUSIVE_LOCKS_REQUIRED(self->mutex_) { return self->finished_ >= self->given_; },
       this));
 }
 

@@ -53,26 +53,28 @@ TrafficCoordinator::PlannerCache TrafficCoordinator::BuildPlannerCache(
   return cache;
 }
 
+TrafficCoordinator::PlannerCache& TrafficCoordinator::CacheIn(PlannerCaches& caches,
+                                                              const std::string& map_id,
+                                                              uint32_t map_version,
+                                                              const RobotModel& model) const {
+  const auto key = std::make_tuple(map_id, map_version, model.kind_name);
+  auto it = caches.find(key);
+  if (it == caches.end()) {
+    it = caches.emplace(key, BuildPlannerCache(map_id, map_version, model)).first;
+  }
+  return it->second;
+}
+
 TrafficCoordinator::PlannerCache& TrafficCoordinator::CacheFor(const std::string& map_id,
                                                                uint32_t map_version,
                                                                const RobotModel& model) {
-  const auto key = std::make_tuple(map_id, map_version, model.kind_name);
-  auto it = planners_.find(key);
-  if (it == planners_.end()) {
-    it = planners_.emplace(key, BuildPlannerCache(map_id, map_version, model)).first;
-  }
-  return it->second;
+  return CacheIn(planners_, map_id, map_version, model);
 }
 
 TrafficCoordinator::PlannerCache& TrafficCoordinator::SearchCacheFor(const std::string& map_id,
                                                                      uint32_t map_version,
                                                                      const RobotModel& model) {
-  const auto key = std::make_tuple(map_id, map_version, model.kind_name);
-  auto it = search_planners_.find(key);
-  if (it == search_planners_.end()) {
-    it = search_planners_.emplace(key, BuildPlannerCache(map_id, map_version, model)).first;
-  }
-  return it->second;
+  return CacheIn(search_planners_, map_id, map_version, model);
 }
 
 double TrafficCoordinator::StandingMarginM(const Telemetry& telemetry) const {

@@ -293,6 +293,11 @@ class TrafficCoordinator {
   /// A costmap and the agent's planner of `model`'s kind for the map version.
   PlannerCache BuildPlannerCache(const std::string& map_id, uint32_t map_version,
                                  const RobotModel& model) const;
+  /// Costmaps and planners by (map id, map version, robot kind), built on first use.
+  using PlannerCaches = std::map<std::tuple<std::string, uint32_t, std::string>, PlannerCache>;
+  /// `caches`' entry for the map version and `model`'s kind, built when it has none.
+  PlannerCache& CacheIn(PlannerCaches& caches, const std::string& map_id, uint32_t map_version,
+                        const RobotModel& model) const;
   /// Finds a place for each idle robot that a decision on `map_id` waits for (not asked yet)
   /// and queues the request, or notes why there is none.
   void AskIdleRobotsToMakeWay(const std::string& map_id, const std::vector<Tracked*>& tracked_jobs,
@@ -390,11 +395,10 @@ class TrafficCoordinator {
   };
   std::map<std::string, ParkedSweep> parked_cells_ ABSL_GUARDED_BY(mutex_);  ///< by job id
   /// Costmap and planner per (map id, map version, robot kind).
-  std::map<std::tuple<std::string, uint32_t, std::string>, PlannerCache> planners_
-      ABSL_GUARDED_BY(mutex_);
+  PlannerCaches planners_ ABSL_GUARDED_BY(mutex_);
   /// The searches' own (SearchCacheFor): touched by one search at a time, on the search thread
   /// or within Update.
-  std::map<std::tuple<std::string, uint32_t, std::string>, PlannerCache> search_planners_;
+  PlannerCaches search_planners_;
   /// Remembers which pairs of predicted windows share floor, per map.
   std::map<std::string, planner::ClearanceDecider> deciders_ ABSL_GUARDED_BY(mutex_);
   uint64_t next_cells_id_ ABSL_GUARDED_BY(mutex_) = 1;
