@@ -61,6 +61,7 @@ std::vector<ActionSegment> SplitIntoSegments(const PredictedAction& action, doub
                       length_m >= 1.5 * segment_m)) {
       current.duration_s = action.duration_s * piece_m / length_m;
       current.gate = Pose2(poses[i].x_m(), poses[i].y_m(), TravelYaw(poses, i));
+      current.ends_at_stop = cut_at[i];
       out.push_back(std::move(current));
       current = ActionSegment{};
       current.poses.push_back(poses[i]);

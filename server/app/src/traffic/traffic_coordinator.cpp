@@ -50,6 +50,10 @@ absl::Status TrafficCoordinatorParams::Validate() const {
     return absl::InvalidArgumentError(
         absl::StrCat("detour_every_s: must be >= 0 (0: never), got ", detour_every_s));
   }
+  if (!std::isfinite(step_aside_dwell_s) || step_aside_dwell_s < 0.0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("step_aside_dwell_s: must be >= 0, got ", step_aside_dwell_s));
+  }
   if (absl::Status s = detour.Validate(); !s.ok()) {
     return absl::InvalidArgumentError(absl::StrCat("detour.", s.message()));
   }
@@ -584,7 +588,7 @@ bool TrafficCoordinator::StepAsideUnderWay(
     const std::string& map_id, Tracked& t, const planner::TrafficClearanceDecision& d,
     const std::vector<Tracked*>& tracked_jobs, const std::vector<planner::ParkedRobot>& parked,
     const std::map<std::string, const RobotRecord*>& records) {
-  if (!t.planned_paths || t.needs_prediction || !t.schedule) return false;
+  if (!t.planned_paths || t.needs_prediction || !t.schedule || detour_ != nullptr) return false;
   const planner::ScheduledRoute& route = *t.schedule;
   // Under way, standing at its gate with all it was cleared for done.
   if (!planner::RouteBegun(route) || d.deadlocked || d.cleared_up_to >= route.first_unfinished) {
@@ -602,25 +606,21 @@ bool TrafficCoordinator::StepAsideUnderWay(
   absl::StatusOr<Pose2> place =
       PlaceAside(map_id, t.assignment.map_version, *record->second, tracked_jobs, parked, records);
   if (!place.ok()) return false;
-  const Pose2& from = record->second->last_telemetry->pose_in_map;
-  const Eigen::Vector2d towards = place->translation() - from.translation();
-  if (towards.norm() < params_.cell_m) return false;  // it stands there already
-  const double now_s = static_cast<double>(clock_->NowNs()) * 1e-9;
+  const Telemetry& telemetry = *record->second->last_telemetry;
+  if ((place->translation() - telemetry.pose_in_map.translation()).norm() < params_.cell_m) {
+    return false;  // it stands there already
+  }
   CycleBreaks& breaks = cycle_breaks_[t.robot_id];
-  breaks.last_s = now_s;
+  breaks.last_s = static_cast<double>(clock_->NowNs()) * 1e-9;
   ++breaks.count;
-  // Through the place aside to the action's goal; it stands where it is until that way is
-  // cleared.
-  t.paths[action] = ActionPath{action, next_path_id_++, {place->translation()}};
-  t.stops[action] = {place->translation()};
-  t.hold_under_way =
-      SegmentHold{action, 0, Pose2(from.x_m(), from.y_m(), std::atan2(towards.y(), towards.x()))};
-  t.start_action = action;
-  t.assigned_s = now_s;
-  t.sent_cleared = -2;
-  t.needs_prediction = true;
-  ++t.revision;
-  changed_ = true;
+  // Through the place aside, where it stands until cleared on, to the action's goal; it
+  // stands where it is until that way is cleared.
+  const Eigen::Vector2d aside = place->translation();
+  GiveWayRound(t, action, *nav, telemetry, {aside},
+               [aside]() -> absl::StatusOr<std::vector<Eigen::Vector2d>> {
+                 return std::vector<Eigen::Vector2d>{aside};
+               });
+  if (Finished(detour_->given)) TakeDetour(records);
   return true;
 }
 

@@ -84,12 +84,30 @@ void TrafficCoordinator::PlanWayRound(
       blocked.push_back(WhereItStands(*other->second, swept_margin_m));
     }
   }
+  // From where it stands through the action's own waypoints to its goal. (Under way, which of
+  // its own waypoints are behind it is not known: such an action is not planned again.)
+  GiveWayRound(t, action, nav, telemetry, {},
+               [this, map = std::move(map), blocked = std::move(blocked), nav, model = t.model,
+                from = telemetry.pose_in_map] {
+                 std::vector<const planner::CellSet*> blocked_pointers;
+                 for (const planner::CellSet& cells : blocked) blocked_pointers.push_back(&cells);
+                 return planner::PlanDetour(map->grid, model, blocked_pointers, params_.cell_m,
+                                            from, nav, params_.detour);
+               });
+  if (Finished(detour_->given)) TakeDetour(records);
+}
+
+void TrafficCoordinator::GiveWayRound(
+    Tracked& t, int action, const FreeNavigationAction& nav, const Telemetry& telemetry,
+    std::vector<Eigen::Vector2d> stops,
+    std::function<absl::StatusOr<std::vector<Eigen::Vector2d>>()> way) {
   auto detour = std::make_shared<PendingDetour>();
   detour->job_id = t.assignment.job.job_id;
   detour->revision = t.revision;
   detour->action = action;
   detour->from = telemetry.pose_in_map;
   detour->assigned_s = static_cast<double>(clock_->NowNs()) * 1e-9;
+  detour->stops = std::move(stops);
   // Its window is predicted again from that action along the new way.
   PredictionInput input = PredictionInputOf(t, telemetry);
   input.start_action = action;
@@ -97,20 +115,15 @@ void TrafficCoordinator::PlanWayRound(
   const bool begun = planner::RouteBegun(*t.schedule);
   const uint64_t path_id = next_path_id_++;
   detour_ = detour;
-  detour->given = GiveSearch([this, detour, map = std::move(map), blocked = std::move(blocked), nav,
+  detour->given = GiveSearch([this, detour, way = std::move(way), goal = nav.goal,
                               input = std::move(input), begun, path_id]() mutable {
-    std::vector<const planner::CellSet*> blocked_pointers;
-    for (const planner::CellSet& cells : blocked) blocked_pointers.push_back(&cells);
-    // From where it stands through the action's own waypoints to its goal. (Under way, which
-    // of its own waypoints are behind it is not known: such an action is not planned again.)
-    absl::StatusOr<std::vector<Eigen::Vector2d>> waypoints = planner::PlanDetour(
-        map->grid, input.model, blocked_pointers, params_.cell_m, input.pose, nav, params_.detour);
+    absl::StatusOr<std::vector<Eigen::Vector2d>> waypoints = way();
     if (!waypoints.ok()) return;  // it waits on; the robot in its way may be sent aside
     detour->path = ActionPath{detour->action, path_id, *std::move(waypoints)};
     if (begun) {
       // Under way, the robot stands where it is until the new way is cleared.
-      const std::vector<Eigen::Vector2d>& way = detour->path.waypoints_m;
-      const Eigen::Vector2d first = way.empty() ? nav.goal.translation() : way.front();
+      const std::vector<Eigen::Vector2d>& path = detour->path.waypoints_m;
+      const Eigen::Vector2d first = path.empty() ? goal.translation() : path.front();
       const Eigen::Vector2d towards = first - input.pose.translation();
       const double yaw_rad =
           towards.norm() > 1e-6 ? std::atan2(towards.y(), towards.x()) : input.pose.yaw_rad();
@@ -118,13 +131,15 @@ void TrafficCoordinator::PlanWayRound(
           SegmentHold{detour->action, 0, Pose2(input.pose.x_m(), input.pose.y_m(), yaw_rad)};
     }
     input.paths[detour->action] = detour->path;
-    input.stops.erase(detour->action);
+    input.stops[detour->action] = detour->stops;
     input.hold_under_way = detour->hold_under_way;
     detour->prediction =
         PredictWindow(input, SearchCacheFor(input.map_id, input.map_version, input.model));
-    detour->found = true;
+    // The agent plans through the waypoints as the prediction did: a way it could not follow
+    // (a corner it cannot reach facing on) is never sent. In a generated hall one was, and the
+    // robot's job failed.
+    detour->found = detour->prediction.planned;
   });
-  if (Finished(detour->given)) TakeDetour(records);
 }
 
 void TrafficCoordinator::TakeDetour(const std::map<std::string, const RobotRecord*>& records) {
@@ -143,7 +158,7 @@ void TrafficCoordinator::TakeDetour(const std::map<std::string, const RobotRecor
     return;
   }
   t.paths[detour->action] = detour->path;
-  t.stops.erase(detour->action);
+  t.stops[detour->action] = detour->stops;
   t.hold_under_way = detour->hold_under_way;
   t.start_action = detour->action;
   t.assigned_s = detour->assigned_s;

@@ -188,6 +188,7 @@ TrafficCoordinator::Prediction TrafficCoordinator::PredictWindow(const Predictio
       planner::PredictRoute(remaining, pose, marker_set, planner, map_origin, params_.prediction);
   if (!predicted.ok() && planner != nullptr) {
     // The agent will say why it cannot plan; the straight lines still reserve its way there.
+    out.planned = false;
     predicted =
         planner::PredictRoute(remaining, pose, marker_set, nullptr, map_origin, params_.prediction);
   }
@@ -250,6 +251,7 @@ TrafficCoordinator::Prediction TrafficCoordinator::PredictWindow(const Predictio
           stand(segments[j].poses.back(), last ? load_after_m : load_m));
       schedule.action_start_s.push_back(t_s);
       t_s += segments[j].duration_s;
+      if (segments[j].ends_at_stop) t_s += params_.step_aside_dwell_s;
     }
     load_m = load_after_m;
   }

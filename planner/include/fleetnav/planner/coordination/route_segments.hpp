@@ -17,6 +17,7 @@ struct ActionSegment {
   /// there (core/segment_gate.hpp). Nullopt for the action's last segment, which ends with the
   /// action.
   std::optional<Pose2> gate;
+  bool ends_at_stop = false;  ///< it ends where the way comes nearest one of the stops
 };
 
 /// Cuts `action` into segments of at least `segment_m` of travel each (a shorter rest joins

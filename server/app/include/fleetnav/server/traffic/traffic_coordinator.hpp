@@ -74,6 +74,10 @@ struct TrafficCoordinatorParams {
   /// (agents that said RobotIdentity::planned_paths); each robot at most this often (clock
   /// time). 0: never.
   double detour_every_s = 10.0;
+  /// A robot stepping aside (StepAsideUnderWay) is expected to stand at the place aside this
+  /// long before it drives on, so that the robots whose ways cross the rest of its way are
+  /// ordered before it (they are what it stepped aside for).
+  double step_aside_dwell_s = 30.0;
   planner::DetourParams detour;
   absl::Status Validate() const;
 };
@@ -224,6 +228,8 @@ class TrafficCoordinator {
     planner::ScheduledRoute schedule;
     std::vector<Step> steps;
     int predicted_end = 0;
+    /// Whether the robot's planner found its ways (else straight lines stand in for them).
+    bool planned = true;
   };
   /// A search on the thread is taken up by a later Update than the one that gave it, never by
   /// the same (it would be taken up there or not by how fast it ran: runs would differ); one
@@ -246,7 +252,8 @@ class TrafficCoordinator {
     int action = 0;
     Pose2 from;  ///< where the robot stood
     double assigned_s = 0.0;
-    bool found = false;  ///< written by the search, with what follows
+    std::vector<Eigen::Vector2d> stops;  ///< places on the way where it stands (Tracked::stops)
+    bool found = false;                  ///< written by the search, with what follows
     ActionPath path;
     std::optional<SegmentHold> hold_under_way;
     Prediction prediction;
@@ -272,6 +279,14 @@ class TrafficCoordinator {
   Given GiveSearch(std::function<void()> search) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Whether a search given may be taken up now.
   bool Finished(const Given& given) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Gives the search thread a new way for `t`'s action `action` (`nav`) from where its robot
+  /// stands by `telemetry`: `way` finds the waypoints, and the window is predicted along them;
+  /// TakeDetour keeps both when the robot's planner could follow them. `stops`: places on the
+  /// way where it stands until cleared on.
+  void GiveWayRound(Tracked& t, int action, const FreeNavigationAction& nav,
+                    const Telemetry& telemetry, std::vector<Eigen::Vector2d> stops,
+                    std::function<absl::StatusOr<std::vector<Eigen::Vector2d>>()> way)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Takes up the detour searched for, when its job has not moved on since.
   void TakeDetour(const std::map<std::string, const RobotRecord*>& records)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
