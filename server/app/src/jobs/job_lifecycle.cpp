@@ -64,6 +64,9 @@ absl::Status JobLifecycle::CheckGoalReachable(const SubmitJobRequest& request,
     if (!named.ok()) return named.status();
     robots.push_back(*std::move(named));
   } else {
+    // A goal on a site whose robots do not navigate freely (loadgen's thousands of agents) costs
+    // no copy of the fleet.
+    if (!registry_->KnownCapabilities().contains("free_navigation")) return absl::OkStatus();
     robots = registry_->Snapshot();
     std::erase_if(robots, [](const RobotRecord& robot) {
       const std::vector<std::string>& have = robot.identity.capabilities;

@@ -616,11 +616,12 @@ bool TrafficCoordinator::StepAsideUnderWay(
   // Through the place aside, where it stands until cleared on, to the action's goal; it
   // stands where it is until that way is cleared.
   const Eigen::Vector2d aside = place->translation();
-  GiveWayRound(t, action, *nav, telemetry, {aside},
-               [aside]() -> absl::StatusOr<std::vector<Eigen::Vector2d>> {
-                 return std::vector<Eigen::Vector2d>{aside};
-               });
-  if (Finished(detour_->given)) TakeDetour(records);
+  GiveWayRound(
+      t, action, *nav, telemetry, {aside},
+      [aside]() -> absl::StatusOr<std::vector<Eigen::Vector2d>> {
+        return std::vector<Eigen::Vector2d>{aside};
+      },
+      records);
   return true;
 }
 

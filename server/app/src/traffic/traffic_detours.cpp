@@ -86,21 +86,23 @@ void TrafficCoordinator::PlanWayRound(
   }
   // From where it stands through the action's own waypoints to its goal. (Under way, which of
   // its own waypoints are behind it is not known: such an action is not planned again.)
-  GiveWayRound(t, action, nav, telemetry, {},
-               [this, map = std::move(map), blocked = std::move(blocked), nav, model = t.model,
-                from = telemetry.pose_in_map] {
-                 std::vector<const planner::CellSet*> blocked_pointers;
-                 for (const planner::CellSet& cells : blocked) blocked_pointers.push_back(&cells);
-                 return planner::PlanDetour(map->grid, model, blocked_pointers, params_.cell_m,
-                                            from, nav, params_.detour);
-               });
-  if (Finished(detour_->given)) TakeDetour(records);
+  GiveWayRound(
+      t, action, nav, telemetry, {},
+      [this, map = std::move(map), blocked = std::move(blocked), nav, model = t.model,
+       from = telemetry.pose_in_map] {
+        std::vector<const planner::CellSet*> blocked_pointers;
+        for (const planner::CellSet& cells : blocked) blocked_pointers.push_back(&cells);
+        return planner::PlanDetour(map->grid, model, blocked_pointers, params_.cell_m, from, nav,
+                                   params_.detour);
+      },
+      records);
 }
 
 void TrafficCoordinator::GiveWayRound(
     Tracked& t, int action, const FreeNavigationAction& nav, const Telemetry& telemetry,
     std::vector<Eigen::Vector2d> stops,
-    std::function<absl::StatusOr<std::vector<Eigen::Vector2d>>()> way) {
+    std::function<absl::StatusOr<std::vector<Eigen::Vector2d>>()> way,
+    const std::map<std::string, const RobotRecord*>& records) {
   auto detour = std::make_shared<PendingDetour>();
   detour->job_id = t.assignment.job.job_id;
   detour->revision = t.revision;
@@ -140,6 +142,8 @@ void TrafficCoordinator::GiveWayRound(
     // robot's job failed.
     detour->found = detour->prediction.planned;
   });
+  // Without the search thread it has run: taken up at once.
+  if (Finished(detour->given)) TakeDetour(records);
 }
 
 void TrafficCoordinator::TakeDetour(const std::map<std::string, const RobotRecord*>& records) {

@@ -281,11 +281,12 @@ class TrafficCoordinator {
   bool Finished(const Given& given) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Gives the search thread a new way for `t`'s action `action` (`nav`) from where its robot
   /// stands by `telemetry`: `way` finds the waypoints, and the window is predicted along them;
-  /// TakeDetour keeps both when the robot's planner could follow them. `stops`: places on the
-  /// way where it stands until cleared on.
+  /// TakeDetour keeps both when the robot's planner could follow them (at once, without the
+  /// search thread). `stops`: places on the way where it stands until cleared on.
   void GiveWayRound(Tracked& t, int action, const FreeNavigationAction& nav,
                     const Telemetry& telemetry, std::vector<Eigen::Vector2d> stops,
-                    std::function<absl::StatusOr<std::vector<Eigen::Vector2d>>()> way)
+                    std::function<absl::StatusOr<std::vector<Eigen::Vector2d>>()> way,
+                    const std::map<std::string, const RobotRecord*>& records)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Takes up the detour searched for, when its job has not moved on since.
   void TakeDetour(const std::map<std::string, const RobotRecord*>& records)
