@@ -84,12 +84,29 @@ absl::Status RouteExecutor::ResumeAt(const RoutePosition& position, const Pose2&
   return absl::OkStatus();
 }
 
-void RouteExecutor::HoldBeforeGate(const ControlInput& input, ExecutorOutput* out) const {
+void RouteExecutor::SetHold(const std::optional<SegmentHold>& hold) {
+  const bool same = hold && hold_ && hold->action_index == hold_->action_index &&
+                    hold->segment == hold_->segment &&
+                    hold->gate.translation() == hold_->gate.translation() &&
+                    hold->gate.yaw_rad() == hold_->gate.yaw_rad();
+  if (!same) stands_at_gate_ = false;
+  hold_ = hold;
+}
+
+void RouteExecutor::HoldBeforeGate(const ControlInput& input, ExecutorOutput* out) {
   const Eigen::Vector2d velocity_in_map_mps =
       Eigen::Rotation2Dd(input.pose_in_map.yaw_rad()) *
       Eigen::Vector2d(out->command.vx_mps, out->command.vy_mps);
-  const double limit_mps = SpeedLimitBeforeGate(hold_->gate, input.pose_in_map.translation(),
-                                                velocity_in_map_mps, params_.profile.decel_mps2);
+  // Along the robot's own path where it follows one (a path may turn back just before the
+  // gate); else by the direction it drives.
+  const std::optional<double> along_m = controller_->PathDistanceToGate(hold_->gate);
+  constexpr double kArrivedM = 0.05;
+  if (along_m && *along_m <= kArrivedM) stands_at_gate_ = true;
+  const double limit_mps =
+      stands_at_gate_ ? 0.0
+      : along_m       ? std::sqrt(2.0 * params_.profile.decel_mps2 * *along_m)
+                      : SpeedLimitBeforeGate(hold_->gate, input.pose_in_map.translation(),
+                                             velocity_in_map_mps, params_.profile.decel_mps2);
   const double speed_mps = velocity_in_map_mps.norm();
   if (speed_mps <= limit_mps) return;
   // Slowed along its own curve (the turn rate with the speed), to a stop before the gate.

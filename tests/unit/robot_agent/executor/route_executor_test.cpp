@@ -422,6 +422,35 @@ TEST(RouteExecutorTest, APlannedPathToldUnderWayIsDrivenFromWhereTheRobotIs) {
       1.0);
 }
 
+TEST(RouteExecutorTest, AWayThatTurnsBackJustBeforeItsGateIsHeldThereInPathOrder) {
+  // Out east to a place beside the way (where it steps aside), then back west: the gate where
+  // its cleared segment ends lies just beyond the place, so the robot turns back before the
+  // gate's line. Held by path order it stands at the place; a hold by heading would let it
+  // drive back west past whoever it stepped aside for.
+  FreeNavigationAction nav;
+  nav.goal = Pose2(3.0, 4.0, kPi);
+  RouteExecutor executor(MakeRoute({Act(nav, {EndConditionKind::kGoalReached, 0})}), OmniInRoom());
+  executor.SetActionPath(ActionPath{0, 1, {{9.0, 3.0}}});
+  executor.SetClearedUpTo(0);
+  const Pose2 gate(9.2, 3.0, 0.0);
+  executor.SetHold(SegmentHold{0, 0, gate});
+  std::vector<Pose2> driven = {Pose2(2.0, 3.0, 0.0)};
+  ExecutorOutput out;
+  for (int i = 0; i < 3000; ++i) {  // 60 s: long enough to have driven the whole way back
+    out = executor.Step(OdometryInput(driven.back(), kDt));
+    driven.push_back(testing::MovedOmni(driven.back(), out.command, kDt));
+  }
+  EXPECT_EQ(out.state, ExecutionState::kRunning) << executor.failure();
+  EXPECT_EQ(out.mode, NavigationMode::kIdle);
+  EXPECT_LT((driven.back().translation() - Eigen::Vector2d(9.0, 3.0)).norm(), 0.3);
+  EXPECT_TRUE(ReachedGate(gate, driven.back().translation()));  // the server sees it there
+  // Cleared on, it drives back to the goal.
+  executor.SetHold(std::nullopt);
+  driven = DriveOmni(executor, driven.back(), [](double, const Pose2&) {});
+  EXPECT_EQ(executor.state(), ExecutionState::kSucceeded) << executor.failure();
+  EXPECT_LT((driven.back().translation() - nav.goal.translation()).norm(), 0.1);
+}
+
 TEST(RouteExecutorTest, APlannedPathForAnotherKindOfActionOrTakenBeforeIsIgnored) {
   FreeNavigationAction nav;
   nav.goal = Pose2(12.0, 3.0, 0.0);

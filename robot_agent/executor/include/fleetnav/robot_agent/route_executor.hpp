@@ -63,8 +63,9 @@ class RouteExecutor {
   /// Actions up to `index` may start (-1: none).
   void SetClearedUpTo(int index) { cleared_up_to_ = index; }
   /// Within action hold->action_index, the robot may go only up to the hold's gate: it brakes
-  /// to stand just before it (nullopt: the whole of every cleared action).
-  void SetHold(const std::optional<SegmentHold>& hold) { hold_ = hold; }
+  /// to stand just before it, in the order of its own path where it follows one (nullopt: the
+  /// whole of every cleared action). Once it stands there it stays until told another hold.
+  void SetHold(const std::optional<SegmentHold>& hold);
   /// Drives free-navigation action path.action_index through the path's waypoints to its goal
   /// (a path traffic coordination planned around robots that stand). An action not begun
   /// takes it when it starts; the action under way plans again from where the robot is, its
@@ -89,7 +90,7 @@ class RouteExecutor {
   ExecutorOutput Fail(absl::Status status);
   ExecutorOutput Waiting() const;
   /// Slows `out`'s command so that the robot stands before hold_'s gate.
-  void HoldBeforeGate(const ControlInput& input, ExecutorOutput* out) const;
+  void HoldBeforeGate(const ControlInput& input, ExecutorOutput* out);
   /// The progress of action index_ given its controller's, counted from the resumed fraction.
   double ActionFraction(double controller_fraction) const;
 
@@ -106,6 +107,8 @@ class RouteExecutor {
   absl::Status failure_;
   bool lift_raised_ = false;
   std::optional<SegmentHold> hold_;
+  /// The robot has come to hold_'s gate along its path: it stands, wherever its path turns.
+  bool stands_at_gate_ = false;
   double action_fraction_ = 0.0;           ///< of action index_, as last reported
   std::map<int, uint64_t> taken_path_id_;  ///< per action: the planned path it drives
 };

@@ -42,6 +42,12 @@ class MotionController {
  public:
   virtual ~MotionController() = default;
   virtual ControlOutput Step(const ControlInput& input) = 0;
+  /// How far the robot drives along the path it follows before it stands just short of
+  /// `gate` (PathDistanceToGate); nullopt for a mode without a planned path, or when the path
+  /// does not come to the gate.
+  virtual std::optional<double> PathDistanceToGate(const Pose2& /*gate*/) const {
+    return std::nullopt;
+  }
 };
 
 /// A ControlInput carrying only the odometry pose (for controllers that drive on odometry).
