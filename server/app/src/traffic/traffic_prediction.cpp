@@ -243,8 +243,8 @@ TrafficCoordinator::Prediction TrafficCoordinator::PredictWindow(const Predictio
     for (size_t j = 0; j < segments.size(); ++j) {
       const bool last = j + 1 == segments.size();
       schedule.whole_from.push_back(action_first_step);
-      steps.push_back(
-          {action, static_cast<int>(j), static_cast<int>(segments.size()), segments[j].gate});
+      steps.push_back({action, static_cast<int>(j), static_cast<int>(segments.size()),
+                       segments[j].gate, segments[j].duration_s});
       schedule.action_cells.push_back(sweep(segments[j].poses, load_m));
       // The load changes where the action ends (a trolley dock or an undock).
       schedule.action_end_cells.push_back(
