@@ -107,6 +107,7 @@ TrafficCoordinator::PredictionInput TrafficCoordinator::PredictionInputOf(
   input.model = tracked.model;
   input.start_action = tracked.start_action;
   input.assigned_s = tracked.assigned_s;
+  input.begun_s = tracked.begun_s;
   input.segment_clearances = tracked.segment_clearances;
   input.resume_from_telemetry = tracked.resume_from_telemetry;
   input.paths = tracked.paths;
@@ -195,6 +196,7 @@ TrafficCoordinator::Prediction TrafficCoordinator::PredictWindow(const Predictio
   planner::ScheduledRoute schedule;
   schedule.robot_id = input.robot_id;
   schedule.job_id = input.job_id;
+  schedule.begun_s = input.begun_s;
   // A robot carrying a trolley sweeps the trolley's outline too (RobotModel::CarryingLoad); the
   // load changes where a trolley dock or an undock ends.
   const auto sweep = [&](const std::vector<Pose2>& poses,

@@ -181,6 +181,7 @@ class TrafficCoordinator {
     JobAssignment assignment;
     RobotModel model;
     double assigned_s = 0.0;  ///< when the current window was predicted
+    double begun_s = 0.0;     ///< when the job came under coordination (its age)
     int start_action = 0;     ///< actions before it had run before coordination began
     bool resume_from_telemetry = false;
     bool segment_clearances = false;  ///< its agent stands before a segment's gate
@@ -220,6 +221,7 @@ class TrafficCoordinator {
     RobotModel model;
     int start_action = 0;
     double assigned_s = 0.0;
+    double begun_s = 0.0;
     bool segment_clearances = false;
     bool resume_from_telemetry = false;
     std::map<int, ActionPath> paths;
