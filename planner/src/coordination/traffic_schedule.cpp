@@ -50,19 +50,13 @@ const CellSet& Standing(const ScheduledRoute& r) {
 /// Of two routes that cannot both go on, the one to hold whole: one its robot has not begun
 /// (it stands at its start, so its job can be withdrawn and the robot sent aside) before one
 /// part-way through (a robot that has begun cannot drop its job: holding it left two robots
-/// facing each other for good in the dense hall); of two alike, the newer (the job begun later,
-/// then the later expected start; the higher index on a tie), so the older always goes on. By
-/// the job's age, not its latest prediction: two robots under way in each other's way, each
-/// planned a way round in turn, were each held in turn as the newer, every five seconds for
-/// 16 minutes in a generated hall.
+/// facing each other for good in the dense hall); of two alike, the newer (later expected
+/// start; the higher index on a tie), so the older always goes on.
 int ToHold(const RouteList& routes, int r, int s) {
   if (RouteBegun(routes[r]) != RouteBegun(routes[s])) return RouteBegun(routes[r]) ? s : r;
-  const auto age = [&](int i) {
-    return std::make_pair(routes[i].begun_s, routes[i].action_start_s.empty()
-                                                 ? 0.0
-                                                 : routes[i].action_start_s.front());
-  };
-  return age(s) > age(r) || (age(s) == age(r) && s > r) ? s : r;
+  const double tr = routes[r].action_start_s.empty() ? 0.0 : routes[r].action_start_s.front();
+  const double ts = routes[s].action_start_s.empty() ? 0.0 : routes[s].action_start_s.front();
+  return ts > tr || (ts == tr && s > r) ? s : r;
 }
 
 using Block = SharedBlock;

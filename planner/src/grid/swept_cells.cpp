@@ -131,15 +131,4 @@ std::vector<Eigen::Vector2d> CellSet::CellCentres(double cell_m) const {
   return out;
 }
 
-CellSet Grown(const CellSet& cells, double margin_m, double cell_m) {
-  const double half_m = 0.5 * cell_m;
-  const std::vector<Eigen::Vector2d> square = {
-      {-half_m, -half_m}, {half_m, -half_m}, {half_m, half_m}, {-half_m, half_m}};
-  std::vector<Pose2> centres;
-  for (const Eigen::Vector2d& centre : cells.CellCentres(cell_m)) {
-    centres.emplace_back(centre.x(), centre.y(), 0.0);
-  }
-  return CellSet::Sweep(centres, square, margin_m, cell_m);
-}
-
 }  // namespace fleetnav::planner

@@ -86,7 +86,6 @@ void TrafficCoordinator::Begin(const std::string& robot_id, const JobAssignment&
     tracked.planned_paths = record->identity.planned_paths;
   }
   tracked.assigned_s = static_cast<double>(clock_->NowNs()) * 1e-9;
-  tracked.begun_s = tracked.assigned_s;
   tracked.start_action = std::max(resume_action, 0);
   tracked.resume_from_telemetry = resume_action == kResumeWhereReported;
   jobs_[assignment.job.job_id] = std::move(tracked);

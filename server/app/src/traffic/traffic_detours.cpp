@@ -1,7 +1,6 @@
 // TrafficCoordinator, part four: ways round robots that stand. A robot whose next
 // free-navigation step waits for one standing in its way (parked, or held) is planned a way
 // round every robot that stands and drives it; issue 35's coordinated paths, in space.
-#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -17,37 +16,14 @@ constexpr double kDetourFromToleranceM = 0.25;
 
 }  // namespace
 
-double TrafficCoordinator::DrivingTimeS(const std::vector<Step>& steps, int action, int from_step) {
-  double total_s = 0.0;
-  for (size_t i = std::max(from_step, 0); i < steps.size(); ++i) {
-    if (steps[i].action == action) total_s += steps[i].duration_s;
-  }
-  return total_s;
-}
-
-namespace {}  // namespace
-
 void TrafficCoordinator::PlanDetours(
     const std::string& map_id, const std::vector<Tracked*>& tracked_jobs,
     const std::vector<planner::TrafficClearanceDecision>& decisions,
     const std::map<std::string, const RobotRecord*>& records) {
-  const double now_s = static_cast<double>(clock_->NowNs()) * 1e-9;
-  // Since when each robot has stood at its gate waiting for robots under way.
-  for (size_t i = 0; i < decisions.size(); ++i) {
-    Tracked& t = *tracked_jobs[i];
-    const planner::TrafficClearanceDecision& d = decisions[i];
-    const bool waits_under_way = !d.waits.empty() && !d.deadlocked &&
-                                 d.waits.front().blocker_action >= 0 &&
-                                 d.cleared_up_to < t.schedule->first_unfinished;
-    if (!waits_under_way) {
-      t.waits_under_way_since_s = -1.0;
-    } else if (t.waits_under_way_since_s < 0.0) {
-      t.waits_under_way_since_s = now_s;
-    }
-  }
   // One search at a time (each is a lattice search of a hall-sized map): the others are looked
   // at once it has been taken up.
   if (params_.detour_every_s <= 0.0 || detour_ != nullptr) return;
+  const double now_s = static_cast<double>(clock_->NowNs()) * 1e-9;
   for (size_t i = 0; i < decisions.size(); ++i) {
     Tracked& t = *tracked_jobs[i];
     const planner::TrafficClearanceDecision& d = decisions[i];
@@ -57,22 +33,11 @@ void TrafficCoordinator::PlanDetours(
     }
     // It stands at its gate (everything cleared is done) and waits for one that stands there;
     // or its route is held whole and it stands (the other route's robot may stand in its way:
-    // a way round it lets the two be ordered); or it has waited detour_after_wait_s for robots
-    // under way, and goes round what they still drive before it if that costs less than it
-    // has waited.
+    // a way round it lets the two be ordered).
+    const planner::TrafficWait& wait = d.waits.front();
     const planner::ScheduledRoute& route = *t.schedule;
-    if (d.cleared_up_to >= route.first_unfinished) continue;
-    std::vector<planner::CellSet> round_under_way;
-    std::optional<double> max_extra_s;
-    if (!d.deadlocked && d.waits.front().blocker_action >= 0) {
-      const double waited_s = now_s - t.waits_under_way_since_s;
-      if (params_.detour_after_wait_s <= 0.0 || t.waits_under_way_since_s < 0.0 ||
-          waited_s < params_.detour_after_wait_s) {
-        continue;
-      }
-      round_under_way = StillToDriveBefore(d.waits, tracked_jobs);
-      max_extra_s = waited_s;
-    }
+    const bool standing = d.cleared_up_to < route.first_unfinished;
+    if (!standing || (!d.deadlocked && wait.blocker_action >= 0)) continue;
     const int action = ActionOfStep(t, route.first_unfinished);
     if (action < 0 || action >= static_cast<int>(t.assignment.route->actions.size())) continue;
     const auto* nav =
@@ -87,38 +52,17 @@ void TrafficCoordinator::PlanDetours(
         site_data_->Map(map_id, t.assignment.map_version);
     if (map.ok()) {
       PlanWayRound(t, action, *nav, *record->second, *std::move(map), tracked_jobs, decisions,
-                   records, std::move(round_under_way), max_extra_s);
+                   records);
     }
     return;
   }
-}
-
-std::vector<planner::CellSet> TrafficCoordinator::StillToDriveBefore(
-    const std::vector<planner::TrafficWait>& waits, const std::vector<Tracked*>& tracked_jobs) {
-  std::vector<planner::CellSet> cells;
-  for (const planner::TrafficWait& wait : waits) {
-    const auto blocker = std::find_if(tracked_jobs.begin(), tracked_jobs.end(), [&](Tracked* o) {
-      return o->robot_id == wait.blocker_robot_id;
-    });
-    if (wait.blocker_action < 0 || blocker == tracked_jobs.end() || !(*blocker)->schedule) {
-      continue;
-    }
-    const planner::ScheduledRoute& route = *(*blocker)->schedule;
-    const int last = std::min<int>(wait.blocker_action, route.action_cells.size() - 1);
-    for (int step = route.first_unfinished; step <= last; ++step) {
-      cells.push_back(route.action_cells[step]);
-    }
-    if (last >= route.first_unfinished) cells.push_back(route.action_end_cells[last]);
-  }
-  return cells;
 }
 
 void TrafficCoordinator::PlanWayRound(
     Tracked& t, int action, const FreeNavigationAction& nav, const RobotRecord& robot,
     std::shared_ptr<const storage::StoredMap> map, const std::vector<Tracked*>& tracked_jobs,
     const std::vector<planner::TrafficClearanceDecision>& decisions,
-    const std::map<std::string, const RobotRecord*>& records,
-    std::vector<planner::CellSet> also_round, std::optional<double> max_extra_s) {
+    const std::map<std::string, const RobotRecord*>& records) {
   // Robots that stand: those with no job on the site (any robot not tracked here), those held
   // whole, and those cleared no further than where they are.
   std::map<std::string, bool> stands;
@@ -144,28 +88,22 @@ void TrafficCoordinator::PlanWayRound(
   // its own waypoints are behind it is not known: such an action is not planned again.)
   GiveWayRound(
       t, action, nav, telemetry, {},
-      [this, map = std::move(map), blocked = std::move(blocked), also_round = std::move(also_round),
-       swept_margin_m, nav, model = t.model, from = telemetry.pose_in_map]() mutable {
-        // What robots under way still drive is grown by this robot's margin too.
-        for (const planner::CellSet& cells : also_round) {
-          blocked.push_back(planner::Grown(cells, swept_margin_m, params_.cell_m));
-        }
+      [this, map = std::move(map), blocked = std::move(blocked), nav, model = t.model,
+       from = telemetry.pose_in_map] {
         std::vector<const planner::CellSet*> blocked_pointers;
         for (const planner::CellSet& cells : blocked) blocked_pointers.push_back(&cells);
         return planner::PlanDetour(map->grid, model, blocked_pointers, params_.cell_m, from, nav,
                                    params_.detour);
       },
-      records, max_extra_s);
+      records);
 }
 
 void TrafficCoordinator::GiveWayRound(
     Tracked& t, int action, const FreeNavigationAction& nav, const Telemetry& telemetry,
     std::vector<Eigen::Vector2d> stops,
     std::function<absl::StatusOr<std::vector<Eigen::Vector2d>>()> way,
-    const std::map<std::string, const RobotRecord*>& records, std::optional<double> max_extra_s) {
+    const std::map<std::string, const RobotRecord*>& records) {
   auto detour = std::make_shared<PendingDetour>();
-  detour->max_extra_s = max_extra_s;
-  detour->old_rest_s = DrivingTimeS(t.steps, action, t.schedule->first_unfinished);
   detour->job_id = t.assignment.job.job_id;
   detour->revision = t.revision;
   detour->action = action;
@@ -203,11 +141,6 @@ void TrafficCoordinator::GiveWayRound(
     // (a corner it cannot reach facing on) is never sent. In a generated hall one was, and the
     // robot's job failed.
     detour->found = detour->prediction.planned;
-    if (detour->max_extra_s &&
-        DrivingTimeS(detour->prediction.steps, detour->action, 0) - detour->old_rest_s >
-            *detour->max_extra_s) {
-      detour->found = false;  // waiting on costs less
-    }
   });
   // Without the search thread it has run: taken up at once.
   if (Finished(detour->given)) TakeDetour(records);

@@ -107,7 +107,6 @@ TrafficCoordinator::PredictionInput TrafficCoordinator::PredictionInputOf(
   input.model = tracked.model;
   input.start_action = tracked.start_action;
   input.assigned_s = tracked.assigned_s;
-  input.begun_s = tracked.begun_s;
   input.segment_clearances = tracked.segment_clearances;
   input.resume_from_telemetry = tracked.resume_from_telemetry;
   input.paths = tracked.paths;
@@ -196,7 +195,6 @@ TrafficCoordinator::Prediction TrafficCoordinator::PredictWindow(const Predictio
   planner::ScheduledRoute schedule;
   schedule.robot_id = input.robot_id;
   schedule.job_id = input.job_id;
-  schedule.begun_s = input.begun_s;
   // A robot carrying a trolley sweeps the trolley's outline too (RobotModel::CarryingLoad); the
   // load changes where a trolley dock or an undock ends.
   const auto sweep = [&](const std::vector<Pose2>& poses,
@@ -245,8 +243,8 @@ TrafficCoordinator::Prediction TrafficCoordinator::PredictWindow(const Predictio
     for (size_t j = 0; j < segments.size(); ++j) {
       const bool last = j + 1 == segments.size();
       schedule.whole_from.push_back(action_first_step);
-      steps.push_back({action, static_cast<int>(j), static_cast<int>(segments.size()),
-                       segments[j].gate, segments[j].duration_s});
+      steps.push_back(
+          {action, static_cast<int>(j), static_cast<int>(segments.size()), segments[j].gate});
       schedule.action_cells.push_back(sweep(segments[j].poses, load_m));
       // The load changes where the action ends (a trolley dock or an undock).
       schedule.action_end_cells.push_back(

@@ -232,19 +232,6 @@ TEST(TrafficScheduleTest, RoutesThatEndOnEachOthersStartAreHeldNotDeadlocked) {
   EXPECT_EQ(d[1].cleared_up_to, -1);
 }
 
-TEST(TrafficScheduleTest, OfTwoRoutesThatCannotBothGoOnTheNewerJobIsHeldHoweverLatelyPredicted) {
-  // As above, but a's job is the older and was predicted again later (a way round, a new
-  // window): b's job is still the newer, and b is held. By the latest prediction the two were
-  // held in turn as each was planned a way round, every five seconds for 16 minutes.
-  ScheduledRoute a = Route("a", {{0, 0}, {6, 0}}, 30.0);
-  ScheduledRoute b = Route("b", {{6, 0}, {0, 0}}, 1.0);
-  a.begun_s = 0.0;
-  b.begun_s = 1.0;
-  std::vector<TrafficClearanceDecision> d = DecideClearances({a, b}, {});
-  EXPECT_FALSE(d[0].deadlocked);
-  EXPECT_TRUE(d[1].deadlocked);
-}
-
 TEST(TrafficScheduleTest, AHeldRobotStillDrivesWhatItWasClearedForAndNobodyIsClearedThroughIt) {
   // a was cleared for its first leg, north from (0, 0); its next leg, east along y = 6, meets b,
   // which stands at (6, 6) and ends at (8, 6): neither can go first, and a, the newer, is held.

@@ -444,54 +444,6 @@ TEST_F(TrafficCoordinatorTest, ARouteHeldWholeIsPlannedAWayRoundTheRobotItCouldN
   EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("w"));
 }
 
-TEST_F(TrafficCoordinatorTest, ARobotThatHasWaitedLongerThanAWayRoundCostsGoesRoundARobotUnderWay) {
-  // A Lely crawls north across the hall at (0, -1)..(0, 3) (a whole action: 40 s); a platform
-  // sent east along y = 0 stands at its gate before it. A way round the south end of the
-  // Lely's way costs a few seconds of driving: it is taken once the platform has waited longer
-  // than that, and not before (the ski-rental rule).
-  TrafficCoordinatorParams params;
-  params.detour_after_wait_s = 1.0;
-  TrafficCoordinator coordinator(&site_data_, &registry_, &mailbox_, &clock_, params);
-  Connect("c", Pose2(0, -1, kPi / 2));
-  coordinator.Begin("c", Job("job-c", {{StraightAction{4.0, 0.1}, {}}}));
-  coordinator.Update();
-  Connect("a", Pose2(-8, 0, 0), MecanumPlatformModel(), /*segment_clearances=*/true,
-          /*planned_paths=*/true);
-  clock_.AdvanceNs(500'000'000);
-  coordinator.Begin("a", Job("job-a", {{GoEast(-8, 14.0), {}}}));
-  coordinator.Update();
-  ASSERT_TRUE(mailbox_.sent["a"].back().hold.has_value());
-  EXPECT_THAT(mailbox_.sent["a"].back().wait_reason, HasSubstr("c to finish action 0"));
-  const Pose2 gate = mailbox_.sent["a"].back().hold->gate;
-  ASSERT_LT(gate.x_m(), -1.0);
-  MoveInJob("c", Pose2(0, -0.8, kPi / 2), "job-c", 0);
-  for (double x = -8.0; x < gate.x_m(); x += 0.25) {  // it drives to the gate
-    MoveInJob("a", Pose2(x, 0, 0), "job-a", 0);
-    clock_.AdvanceNs(500'000'000);
-    coordinator.Update();
-  }
-  MoveInJob("a", gate, "job-a", 0);
-  const auto wait_s = [&](double seconds) {
-    for (double t = 0; t < seconds; t += 0.5) {
-      clock_.AdvanceNs(500'000'000);
-      coordinator.Update();
-    }
-  };
-  wait_s(2.0);  // waited a second or two: going round costs more
-  EXPECT_TRUE(mailbox_.sent["a"].back().paths.empty());
-  wait_s(10.0);  // looked at again (detour_every_s) after ten seconds more of waiting
-  const ClearanceNotice& told = mailbox_.sent["a"].back();
-  ASSERT_EQ(told.paths.size(), 1u) << told.wait_reason;
-  EXPECT_EQ(told.wait_reason, "");
-  EXPECT_EQ(told.cleared_up_to_action, 0);
-  // The way keeps off all that the Lely still drives, its own margin and the platform's apart.
-  for (const Eigen::Vector2d& p : told.paths[0].waypoints_m) {
-    if (std::abs(p.x()) < 1.5) {
-      EXPECT_LT(p.y(), -1.9) << p.transpose();
-    }
-  }
-}
-
 // A robot at the end of a dead-end corridor can leave only past the robot under way to its place,
 // which stands at its gate in the corridor: sending the first aside again and again cannot break
 // the circle (in a generated dense hall one was sent to a new place every 20 s for half an hour).

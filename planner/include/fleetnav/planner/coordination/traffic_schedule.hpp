@@ -18,9 +18,6 @@ struct ScheduledRoute {
   std::vector<CellSet> action_cells;
   std::vector<CellSet> action_end_cells;  ///< where the robot stands after each action
   std::vector<double> action_start_s;
-  /// When its job came under coordination: its age, which predicting it again (a later window,
-  /// a way round) keeps. Of two routes that cannot both go on, the newer is held.
-  double begun_s = 0.0;
   CellSet start_cells;  ///< where the robot stands before its first action
   /// Names these cells for ClearanceDecider's memory: a new id whenever the cells are
   /// predicted again (0: never remembered).

@@ -38,8 +38,4 @@ class CellSet {
   int64_t min_x_ = 0, max_x_ = -1, min_y_ = 0, max_y_ = -1;
 };
 
-/// `cells` (of side `cell_m`) grown by `margin_m`: every cell that the cells' squares grown by
-/// margin_m touch, as CellSet::Sweep counts touching.
-CellSet Grown(const CellSet& cells, double margin_m, double cell_m);
-
 }  // namespace fleetnav::planner

@@ -74,11 +74,6 @@ struct TrafficCoordinatorParams {
   /// (agents that said RobotIdentity::planned_paths); each robot at most this often (clock
   /// time). 0: never.
   double detour_every_s = 10.0;
-  /// A robot that has stood at its gate this long (clock time) waiting for a robot under way
-  /// is planned a way round the floor that robot has still to drive before it (and round the
-  /// robots that stand), and takes it only when it costs less extra driving than it has
-  /// waited: the ski-rental rule, so it never loses more than the wait it gives up. 0: never.
-  double detour_after_wait_s = 15.0;
   /// A robot stepping aside (StepAsideUnderWay) is expected to stand at the place aside this
   /// long before it drives on, so that the robots whose ways cross the rest of its way are
   /// ordered before it (they are what it stepped aside for).
@@ -173,7 +168,6 @@ class TrafficCoordinator {
     int segment = 0;
     int segments = 1;           ///< of the action
     std::optional<Pose2> gate;  ///< where it ends, unless it is the action's last
-    double duration_s = 0.0;    ///< its nominal driving time
   };
   struct PendingPrediction;
   struct Tracked {
@@ -181,7 +175,6 @@ class TrafficCoordinator {
     JobAssignment assignment;
     RobotModel model;
     double assigned_s = 0.0;  ///< when the current window was predicted
-    double begun_s = 0.0;     ///< when the job came under coordination (its age)
     int start_action = 0;     ///< actions before it had run before coordination began
     bool resume_from_telemetry = false;
     bool segment_clearances = false;  ///< its agent stands before a segment's gate
@@ -198,8 +191,6 @@ class TrafficCoordinator {
     /// there): where it steps aside (StepAsideUnderWay).
     std::map<int, std::vector<Eigen::Vector2d>> stops;
     double detour_tried_s = -1e300;  ///< when a detour was last looked for
-    /// Since when it has stood at its gate waiting for a robot under way (-1: it does not).
-    double waits_under_way_since_s = -1.0;
     /// Set when the way of the action the robot is in was planned again: where it stood, which
     /// is where it stands until the new way is cleared.
     std::optional<SegmentHold> hold_under_way;
@@ -221,7 +212,6 @@ class TrafficCoordinator {
     RobotModel model;
     int start_action = 0;
     double assigned_s = 0.0;
-    double begun_s = 0.0;
     bool segment_clearances = false;
     bool resume_from_telemetry = false;
     std::map<int, ActionPath> paths;
@@ -263,11 +253,7 @@ class TrafficCoordinator {
     Pose2 from;  ///< where the robot stood
     double assigned_s = 0.0;
     std::vector<Eigen::Vector2d> stops;  ///< places on the way where it stands (Tracked::stops)
-    /// Taken only when the way takes at most this much longer to drive than the action's rest
-    /// as it was (unset: whatever it takes).
-    std::optional<double> max_extra_s;
-    double old_rest_s = 0.0;  ///< the action's rest as it was, nominal driving time
-    bool found = false;       ///< written by the search, with what follows
+    bool found = false;                  ///< written by the search, with what follows
     ActionPath path;
     std::optional<SegmentHold> hold_under_way;
     Prediction prediction;
@@ -300,8 +286,7 @@ class TrafficCoordinator {
   void GiveWayRound(Tracked& t, int action, const FreeNavigationAction& nav,
                     const Telemetry& telemetry, std::vector<Eigen::Vector2d> stops,
                     std::function<absl::StatusOr<std::vector<Eigen::Vector2d>>()> way,
-                    const std::map<std::string, const RobotRecord*>& records,
-                    std::optional<double> max_extra_s = std::nullopt)
+                    const std::map<std::string, const RobotRecord*>& records)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Takes up the detour searched for, when its job has not moved on since.
   void TakeDetour(const std::map<std::string, const RobotRecord*>& records)
@@ -384,12 +369,6 @@ class TrafficCoordinator {
                    const std::vector<planner::TrafficClearanceDecision>& decisions,
                    const std::map<std::string, const RobotRecord*>& records)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
-  /// The floor the robots `waits` name still drive before the steps waited for (their
-  /// unfinished steps' cells up to it, and where they stand after it).
-  static std::vector<planner::CellSet> StillToDriveBefore(
-      const std::vector<planner::TrafficWait>& waits, const std::vector<Tracked*>& tracked_jobs);
-  /// The nominal driving time of `action`'s steps from step `from_step` on.
-  static double DrivingTimeS(const std::vector<Step>& steps, int action, int from_step);
   /// Gives the search thread PlanDetours' search for one robot: `t`'s action `action` (`nav`)
   /// from where `robot` stands, round the robots that stand on `map`, and its window predicted
   /// along the way found (TakeDetour keeps them).
@@ -397,9 +376,7 @@ class TrafficCoordinator {
                     const RobotRecord& robot, std::shared_ptr<const storage::StoredMap> map,
                     const std::vector<Tracked*>& tracked_jobs,
                     const std::vector<planner::TrafficClearanceDecision>& decisions,
-                    const std::map<std::string, const RobotRecord*>& records,
-                    std::vector<planner::CellSet> also_round = {},
-                    std::optional<double> max_extra_s = std::nullopt)
+                    const std::map<std::string, const RobotRecord*>& records)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// Why the decision holds the robot, for people ("" when it does not); `jobs_on_map` are
   /// the tracked jobs the decision's waits may name, by robot id.
