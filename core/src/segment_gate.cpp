@@ -40,6 +40,14 @@ std::optional<double> PathDistanceToGate(const Pose2& gate, std::span<const Pose
   const auto to_point_m = [&](const Eigen::Vector2d& p) { return (gate.translation() - p).norm(); };
   // Only where the path drives the gate's way: a way out and back passes its return's gates
   // going the other way.
+  const auto gates_way = [&](size_t i) {
+    return (path_ahead[i].translation() - path_ahead[i - 1].translation()).dot(direction) > 0.0;
+  };
+  if (path_ahead.size() >= 2 && gates_way(1) &&
+      short_of_line_m(path_ahead[0].translation()) <= 0.0 &&
+      to_point_m(path_ahead[0].translation()) <= reach_m) {
+    return 0.0;  // there already
+  }
   double along_m = 0.0;
   bool approached = false;  // within turn_reach_m of the gate's point, driving its way
   double closest_m = std::numeric_limits<double>::max();
@@ -48,17 +56,16 @@ std::optional<double> PathDistanceToGate(const Pose2& gate, std::span<const Pose
     const Eigen::Vector2d a = path_ahead[i - 1].translation();
     const Eigen::Vector2d b = path_ahead[i].translation();
     const double step_m = (b - a).norm();
-    const bool gates_way = (b - a).dot(direction) > 0.0;
+    const bool drives_gates_way = gates_way(i);
     const double before_a = short_of_line_m(a);
     const double before_b = short_of_line_m(b);
-    if (gates_way && before_a <= 0.0 && i == 1 && to_point_m(a) <= reach_m) return 0.0;  // there
-    if (gates_way && before_a > 0.0 && before_b <= 0.0) {
+    if (drives_gates_way && before_a > 0.0 && before_b <= 0.0) {
       const double t = before_a / (before_a - before_b);
       if (to_point_m(a + t * (b - a)) <= reach_m) return along_m + t * step_m;
     }
     along_m += step_m;
     const double to_b_m = to_point_m(b);
-    if (gates_way && to_b_m <= turn_reach_m) approached = true;
+    if (drives_gates_way && to_b_m <= turn_reach_m) approached = true;
     if (!approached) continue;
     if (to_b_m > turn_reach_m) break;  // it turned away before the line
     if (to_b_m < closest_m) {

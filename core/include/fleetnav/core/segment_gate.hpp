@@ -19,6 +19,12 @@ struct SegmentHold {
   Pose2 gate;
 };
 
+/// A robot counts as at a gate within this much of its point and its line (ReachedGate), and a
+/// path that turns back before the line stands where it comes within kGateTurnReachM of the
+/// point (PathDistanceToGate): the agent and fleetnavd must agree on both.
+inline constexpr double kGateReachM = 1.0;
+inline constexpr double kGateTurnReachM = 0.3;
+
 /// How far `position_m` lies before the gate's line along the direction of travel (negative:
 /// beyond it).
 double DistanceBeforeGate(const Pose2& gate, const Eigen::Vector2d& position_m);
@@ -29,7 +35,7 @@ double DistanceBeforeGate(const Pose2& gate, const Eigen::Vector2d& position_m);
 /// PathDistanceToGate). The reach keeps a path that bends back past the line far from the
 /// point from counting.
 bool ReachedGate(const Pose2& gate, const Eigen::Vector2d& position_m, double tolerance_m = 0.2,
-                 double reach_m = 1.0, double turn_reach_m = 0.3);
+                 double reach_m = kGateReachM, double turn_reach_m = kGateTurnReachM);
 
 /// The fastest a robot at `position_m`, driving along `velocity_in_map_mps`, may go towards a
 /// gate it is held at and still stop `stop_before_m` before its line, braking at `decel_mps2`.
@@ -47,7 +53,7 @@ double SpeedLimitBeforeGate(const Pose2& gate, const Eigen::Vector2d& position_m
 /// does neither (the gate is behind the robot or off its way). Path order, unlike a test of the
 /// robot's heading, holds a robot whose way turns back just before the gate.
 std::optional<double> PathDistanceToGate(const Pose2& gate, std::span<const Pose2> path_ahead,
-                                         double stop_before_m = 0.1, double reach_m = 1.0,
-                                         double turn_reach_m = 0.3);
+                                         double stop_before_m = 0.1, double reach_m = kGateReachM,
+                                         double turn_reach_m = kGateTurnReachM);
 
 }  // namespace fleetnav

@@ -241,13 +241,6 @@ absl::Status FreeNavigationController::Plan(const Pose2& from_in_map) {
   if (model_.kinematics == Kinematics::kOmnidirectional) path->poses = Smoothed(path->poses);
   std::vector<double> clearances_m;
   if (model_.kinematics == Kinematics::kAckermann) clearances_m = ClearancesAlong(path->poses);
-  path_in_map_ = path->poses;
-  path_to_end_m_.assign(path_in_map_.size(), 0.0);
-  for (size_t i = path_in_map_.size(); i-- > 1;) {
-    path_to_end_m_[i - 1] =
-        path_to_end_m_[i] +
-        (path_in_map_[i].translation() - path_in_map_[i - 1].translation()).norm();
-  }
   tracker_->SetPath(std::move(path->poses));
   if (car_tracker_ != nullptr) car_tracker_->SetClearances(std::move(clearances_m));
   planned_ = true;
@@ -301,16 +294,8 @@ void FreeNavigationController::PassObstacles(const ControlInput& input) {
 }
 
 std::optional<double> FreeNavigationController::PathDistanceToGate(const Pose2& gate) const {
-  if (!planned_ || path_in_map_.empty()) return std::nullopt;
-  // The tracker's closest pose: the first whose distance to the end is within the robot's.
-  const double robot_to_end_m = tracker_->remaining_m() - tracker_->cross_track_m();
-  const auto closest =
-      std::find_if(path_to_end_m_.begin(), path_to_end_m_.end(),
-                   [&](double to_end_m) { return to_end_m <= robot_to_end_m + 1e-6; });
-  const size_t from = closest == path_to_end_m_.end()
-                          ? path_in_map_.size() - 1
-                          : static_cast<size_t>(closest - path_to_end_m_.begin());
-  return fleetnav::PathDistanceToGate(gate, std::span<const Pose2>(path_in_map_).subspan(from));
+  if (!planned_) return std::nullopt;
+  return fleetnav::PathDistanceToGate(gate, tracker_->path_ahead());
 }
 
 ControlOutput FreeNavigationController::Step(const ControlInput& input) {

@@ -137,9 +137,6 @@ class FreeNavigationController : public MotionController {
   AckermannPurePursuit* car_tracker_ = nullptr;  ///< tracker_ for Ackermann robots
   size_t next_waypoint_ = 0;
   int goal_corrections_ = 0;
-  /// The path the tracker follows, and each pose's distance to its end along it.
-  std::vector<Pose2> path_in_map_;
-  std::vector<double> path_to_end_m_;
   double planned_length_m_ = 0.0;
   bool planned_ = false;
   /// The latest laser scan's points in base_link that the map does not explain, and the

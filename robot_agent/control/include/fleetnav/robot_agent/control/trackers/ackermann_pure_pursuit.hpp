@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <optional>
 #include <vector>
 
@@ -85,6 +86,9 @@ class AckermannPurePursuit : public PathTracker {
   bool done() const override { return done_; }
   double remaining_m() const override { return remaining_m_; }
   double cross_track_m() const override { return cross_track_m_; }
+  std::span<const Pose2> path_ahead() const override {
+    return std::span<const Pose2>(path_).subspan(std::min(closest_, path_.size()));
+  }
   void SetObstacles(std::vector<Eigen::Vector2d> points_in_base) override {
     obstacles_ = std::move(points_in_base);
   }

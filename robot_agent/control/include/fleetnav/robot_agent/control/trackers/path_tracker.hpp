@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <span>
 #include <vector>
 
 #include "fleetnav/core/pose2.hpp"
@@ -25,6 +26,8 @@ class PathTracker {
   virtual double remaining_m() const = 0;
   /// Distance from the robot to the closest path point (for replanning).
   virtual double cross_track_m() const = 0;
+  /// The path from the robot's closest path pose (as of the last Step) to the goal.
+  virtual std::span<const Pose2> path_ahead() const = 0;
   /// What the robot's laser sees this tick, as points in base_link; trackers that avoid
   /// obstacles locally steer round them, the others ignore them.
   virtual void SetObstacles(std::vector<Eigen::Vector2d> /*points_in_base*/) {}

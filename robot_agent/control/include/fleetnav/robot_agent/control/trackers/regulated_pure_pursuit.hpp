@@ -1,5 +1,6 @@
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include "absl/status/status.h"
@@ -48,6 +49,9 @@ class RegulatedPurePursuit : public PathTracker {
   bool done() const override { return done_; }
   double remaining_m() const override { return remaining_m_; }
   double cross_track_m() const override { return cross_track_m_; }
+  std::span<const Pose2> path_ahead() const override {
+    return std::span<const Pose2>(path_).subspan(std::min(closest_, path_.size()));
+  }
 
  private:
   /// The first pose at or after `from` where the path turns in place by more than
