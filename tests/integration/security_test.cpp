@@ -204,8 +204,8 @@ int NeededRank(const std::string& method) {
   static const std::set<std::string> kOperator = {"SubmitJob", "CancelJob", "PauseJob",
                                                   "ResumeJob"};
   static const std::set<std::string> kAdmin = {
-      "PutMap",      "DeleteMap",   "PutMarkerSet", "DeleteMarkerSet", "PutRoute",
-      "DeleteRoute", "ForgetRobot", "CreateToken",  "ListTokens",      "RevokeToken"};
+      "PutMap",   "DeleteMap",   "PutMarkerSet", "DeleteMarkerSet", "PutZones",   "DeleteZones",
+      "PutRoute", "DeleteRoute", "ForgetRobot",  "CreateToken",     "ListTokens", "RevokeToken"};
   if (kAdmin.count(method) != 0) return 2;
   if (kOperator.count(method) != 0) return 1;
   return 0;

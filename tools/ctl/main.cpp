@@ -76,6 +76,19 @@ int main(int argc, char** argv) {
   CLI::App* map_delete = map->add_subcommand("delete", "delete every version of a map");
   map_delete->add_option("--id", map_id, "map id")->required();
 
+  CLI::App* zones =
+      app.add_subcommand("zones", "zones of a map (no-go, speed limit, one at a time)");
+  zones->require_subcommand(1);
+  std::string zone_map;
+  CLI::App* zones_put = zones->add_subcommand("put", "upload a zone YAML as a new version");
+  zones_put->add_option("--map", zone_map, "map id (default: the file's `map:`)");
+  zones_put->add_option("yaml", yaml_path, "zone YAML file")->required();
+  CLI::App* zones_get = zones->add_subcommand("get", "print a map's zones as YAML");
+  zones_get->add_option("--map", zone_map, "map id")->required();
+  zones_get->add_option("--version", version, "version (0 = latest)");
+  CLI::App* zones_list = zones->add_subcommand("list", "list the maps that have zones");
+  CLI::App* zones_delete = zones->add_subcommand("delete", "delete every version of a map's zones");
+  zones_delete->add_option("--map", zone_map, "map id")->required();
   CLI::App* markers = app.add_subcommand("markers", "stripe-marker sets: put, get, delete");
   markers->require_subcommand(1);
   CLI::App* markers_put = markers->add_subcommand("put", "upload a marker YAML as a new version");
@@ -230,6 +243,14 @@ int main(int argc, char** argv) {
     status = fleetnav::ctl::DeleteMarkers(context, marker_map);
   } else if (markers_get->parsed()) {
     status = fleetnav::ctl::GetMarkers(context, marker_map, version);
+  } else if (zones_put->parsed()) {
+    status = fleetnav::ctl::PutZones(context, zone_map, yaml_path);
+  } else if (zones_get->parsed()) {
+    status = fleetnav::ctl::GetZones(context, zone_map, version);
+  } else if (zones_list->parsed()) {
+    status = fleetnav::ctl::ListZones(context);
+  } else if (zones_delete->parsed()) {
+    status = fleetnav::ctl::DeleteZones(context, zone_map);
   } else if (routes_put->parsed()) {
     status = fleetnav::ctl::PutRoute(context, yaml_path);
   } else if (routes_get->parsed()) {

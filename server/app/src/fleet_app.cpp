@@ -47,6 +47,7 @@ absl::Status FleetApp::Open() {
   map_repository_ = std::make_unique<storage::SqlMapRepository>(db_.get());
   marker_repository_ = std::make_unique<storage::SqlMarkerSetRepository>(db_.get());
   route_repository_ = std::make_unique<storage::SqlRouteRepository>(db_.get());
+  zone_repository_ = std::make_unique<storage::SqlZoneSetRepository>(db_.get());
   robot_repository_ = std::make_unique<storage::SqlRobotRepository>(db_.get());
   stored_jobs_ = std::make_unique<storage::SqlJobRepository>(db_.get());
   job_repository_ =
@@ -74,6 +75,9 @@ absl::Status FleetApp::Open() {
   maps_ = std::make_unique<MapCatalog>(site_data_.get(), clock_, params_.limits);
   site_ = std::make_unique<SiteCatalog>(site_data_.get(), job_repository_.get(), clock_,
                                         params_.limits);
+  zones_ = std::make_unique<ZoneCatalog>(zone_repository_.get(), site_data_.get(), clock_,
+                                         params_.limits);
+  site_->UseZones(zones_.get());
   coordinator_ = std::make_unique<TrafficCoordinator>(site_data_.get(), &registry_, robots_, clock_,
                                                       params_.traffic);
   jobs_ = std::make_unique<JobService>(job_repository_.get(), robot_repository_.get(),

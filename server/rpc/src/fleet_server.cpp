@@ -78,8 +78,9 @@ absl::StatusOr<int> FleetServer::Start() {
     access_gate_ = std::make_shared<AccessGate>(app_->access(), std::move(relay_key));
     credentials->SetAuthMetadataProcessor(access_gate_);
   }
-  fleet_service_ = std::make_unique<FleetServiceImpl>(&app_->maps(), &app_->site(), &app_->jobs(),
-                                                      &app_->traffic_planner(), &app_->registry());
+  fleet_service_ = std::make_unique<FleetServiceImpl>(&app_->maps(), &app_->site(), &app_->zones(),
+                                                      &app_->jobs(), &app_->traffic_planner(),
+                                                      &app_->registry());
   access_service_ = std::make_unique<AccessServiceImpl>(&app_->tokens(), params_.on_token_change);
   TickWork tick_work;
   tick_work.first_join = [this] {

@@ -61,16 +61,18 @@ absl::StatusOr<FleetServerConfig> ConfigFromYaml(const YAML::Node& root, FleetSe
         absl::StrCat("agent_threads: must be in [1, 64], got ", p.agent_stream_threads));
   }
   if (const YAML::Node limits = root["limits"]) {
-    RETURN_IF_ERROR(
-        CheckKeys(limits,
-                  {"max_message_bytes", "max_page_size", "max_map_cells", "max_markers",
-                   "max_route_actions", "max_waypoints_per_action", "max_capabilities",
-                   "max_footprint_points", "max_sensors", "max_text_bytes", "site_cache_mb"},
-                  "limits"));
+    RETURN_IF_ERROR(CheckKeys(
+        limits,
+        {"max_message_bytes", "max_page_size", "max_map_cells", "max_markers", "max_zones",
+         "max_zone_vertices", "max_route_actions", "max_waypoints_per_action", "max_capabilities",
+         "max_footprint_points", "max_sensors", "max_text_bytes", "site_cache_mb"},
+        "limits"));
     RETURN_IF_ERROR(Read(limits, "max_message_bytes", "limits.", &p.max_message_bytes));
     RETURN_IF_ERROR(Read(limits, "max_page_size", "limits.", &p.jobs.max_page_size));
     RETURN_IF_ERROR(Read(limits, "max_map_cells", "limits.", &p.limits.max_map_cells));
     RETURN_IF_ERROR(Read(limits, "max_markers", "limits.", &p.limits.max_markers));
+    RETURN_IF_ERROR(Read(limits, "max_zones", "limits.", &p.limits.max_zones));
+    RETURN_IF_ERROR(Read(limits, "max_zone_vertices", "limits.", &p.limits.max_zone_vertices));
     RETURN_IF_ERROR(Read(limits, "max_route_actions", "limits.", &p.limits.max_route_actions));
     RETURN_IF_ERROR(
         Read(limits, "max_waypoints_per_action", "limits.", &p.limits.max_waypoints_per_action));

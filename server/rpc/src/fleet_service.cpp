@@ -15,6 +15,7 @@
 #include "fleetnav/proto/route_convert.hpp"
 #include "fleetnav/proto/telemetry_convert.hpp"
 #include "fleetnav/proto/traffic_plan_convert.hpp"
+#include "fleetnav/proto/zone_convert.hpp"
 
 namespace fleetnav::server {
 namespace {
@@ -122,6 +123,44 @@ grpc::Status FleetServiceImpl::GetMarkerSet(grpc::ServerContext*,
   *response->mutable_marker_set() = fleetnav::ToProto((*stored)->markers);
   response->set_version((*stored)->version);
   return grpc::Status::OK;
+}
+
+grpc::Status FleetServiceImpl::PutZones(grpc::ServerContext*, const v1::PutZonesRequest* request,
+                                        v1::PutZonesResponse* response) {
+  absl::StatusOr<ZoneSet> zones = FromProto(request->zone_set());
+  if (!zones.ok()) return ToGrpcStatus(zones.status());
+  absl::StatusOr<uint32_t> version = zones_->PutZones(*zones);
+  if (!version.ok()) return ToGrpcStatus(version.status());
+  response->set_map_id(zones->map_id);
+  response->set_version(*version);
+  return grpc::Status::OK;
+}
+
+grpc::Status FleetServiceImpl::GetZones(grpc::ServerContext*, const v1::GetZonesRequest* request,
+                                        v1::GetZonesResponse* response) {
+  absl::StatusOr<storage::StoredZoneSet> stored =
+      zones_->GetZones(request->map_id(), request->version());
+  if (!stored.ok()) return ToGrpcStatus(stored.status());
+  *response->mutable_zone_set() = fleetnav::ToProto(stored->zones);
+  response->set_version(stored->version);
+  response->set_created_unix_ms(stored->created_unix_ms);
+  return grpc::Status::OK;
+}
+
+grpc::Status FleetServiceImpl::ListZones(grpc::ServerContext*, const v1::ListZonesRequest*,
+                                         v1::ListZonesResponse* response) {
+  absl::StatusOr<std::vector<storage::StoredZoneSet>> listed = zones_->ListZones();
+  if (!listed.ok()) return ToGrpcStatus(listed.status());
+  for (const storage::StoredZoneSet& stored : *listed)
+    *response->add_zone_sets() =
+        ToSummaryProto(stored.zones, stored.version, stored.created_unix_ms);
+  return grpc::Status::OK;
+}
+
+grpc::Status FleetServiceImpl::DeleteZones(grpc::ServerContext*,
+                                           const v1::DeleteZonesRequest* request,
+                                           v1::DeleteZonesResponse*) {
+  return ToGrpcStatus(zones_->DeleteZones(request->map_id()));
 }
 
 grpc::Status FleetServiceImpl::PutRoute(grpc::ServerContext*, const v1::PutRouteRequest* request,

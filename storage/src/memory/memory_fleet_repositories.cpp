@@ -21,6 +21,28 @@ absl::StatusOr<T> PickVersion(const std::vector<T>& versions, uint32_t version,
   return versions[version - 1];
 }
 
+// Appends `stored` as the next version of `key`'s series and returns that version.
+template <typename T>
+uint32_t AppendVersion(std::map<std::string, std::vector<T>>& series, const std::string& key,
+                       T stored) {
+  auto& versions = series[key];
+  stored.version = static_cast<uint32_t>(versions.size() + 1);
+  versions.push_back(std::move(stored));
+  return versions.back().version;
+}
+
+// Forgets every version of `key`'s series; NotFound("`what` not found") when it has none.
+template <typename T>
+absl::Status EraseSeries(std::map<std::string, std::vector<T>>& series, const std::string& key,
+                         const std::string& what) {
+  auto it = series.find(key);
+  if (it == series.end() || it->second.empty()) {
+    return absl::NotFoundError(absl::StrCat(what, " not found"));
+  }
+  series.erase(it);
+  return absl::OkStatus();
+}
+
 bool Matches(const Job& job, const JobFilter& filter) {
   if (!filter.states.empty() &&
       std::find(filter.states.begin(), filter.states.end(), job.state) == filter.states.end()) {
@@ -38,10 +60,7 @@ bool Matches(const Job& job, const JobFilter& filter) {
 absl::StatusOr<uint32_t> MemoryMarkerSetRepository::PutMarkerSet(const MarkerSet& markers,
                                                                  int64_t created_unix_ms) {
   absl::MutexLock lock(&mutex_);
-  auto& versions = sets_[markers.map_id];
-  const auto version = static_cast<uint32_t>(versions.size() + 1);
-  versions.push_back(StoredMarkerSet{markers, version, created_unix_ms});
-  return version;
+  return AppendVersion(sets_, markers.map_id, StoredMarkerSet{markers, 0, created_unix_ms});
 }
 
 absl::StatusOr<StoredMarkerSet> MemoryMarkerSetRepository::GetMarkerSet(const std::string& map_id,
@@ -53,13 +72,35 @@ absl::StatusOr<StoredMarkerSet> MemoryMarkerSetRepository::GetMarkerSet(const st
 
 absl::Status MemoryMarkerSetRepository::DeleteMarkerSet(const std::string& map_id) {
   absl::MutexLock lock(&mutex_);
+  return EraseSeries(sets_, map_id, absl::StrCat("marker set of map '", EchoInput(map_id), "'"));
+}
+
+absl::StatusOr<uint32_t> MemoryZoneSetRepository::PutZoneSet(const ZoneSet& zones,
+                                                             int64_t created_unix_ms) {
+  absl::MutexLock lock(&mutex_);
+  return AppendVersion(sets_, zones.map_id, StoredZoneSet{zones, 0, created_unix_ms});
+}
+
+absl::StatusOr<StoredZoneSet> MemoryZoneSetRepository::GetZoneSet(const std::string& map_id,
+                                                                  uint32_t version) {
+  absl::MutexLock lock(&mutex_);
   auto it = sets_.find(map_id);
-  if (it == sets_.end() || it->second.empty()) {
-    return absl::NotFoundError(
-        absl::StrCat("marker set of map '", EchoInput(map_id), "' not found"));
+  return PickVersion(it == sets_.end() ? std::vector<StoredZoneSet>{} : it->second, version,
+                     absl::StrCat("zones of map '", EchoInput(map_id), "'"));
+}
+
+absl::StatusOr<std::vector<StoredZoneSet>> MemoryZoneSetRepository::ListZoneSets() {
+  absl::MutexLock lock(&mutex_);
+  std::vector<StoredZoneSet> out;
+  for (const auto& [map_id, versions] : sets_) {
+    if (!versions.empty()) out.push_back(versions.back());
   }
-  sets_.erase(it);
-  return absl::OkStatus();
+  return out;
+}
+
+absl::Status MemoryZoneSetRepository::DeleteZoneSet(const std::string& map_id) {
+  absl::MutexLock lock(&mutex_);
+  return EraseSeries(sets_, map_id, absl::StrCat("zones of map '", EchoInput(map_id), "'"));
 }
 
 absl::StatusOr<uint32_t> MemoryRouteRepository::PutRoute(const Route& route,

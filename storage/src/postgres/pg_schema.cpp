@@ -122,6 +122,16 @@ const std::vector<std::string>& PostgresFleetSchemaMigrations() {
         CREATE SEQUENCE job_numbers;
         SELECT setval('job_numbers', COALESCE((SELECT MAX(seq) FROM jobs), 0) + 1, false);
       )sql",
+      // 6: zone sets (issue 39), versioned per map like marker sets.
+      R"sql(
+        CREATE TABLE zone_sets (
+          map_id TEXT NOT NULL,
+          version BIGINT NOT NULL,
+          yaml TEXT NOT NULL,
+          created_unix_ms BIGINT NOT NULL,
+          PRIMARY KEY (map_id, version)
+        );
+      )sql",
   };
   return kMigrations;
 }

@@ -3,27 +3,9 @@
 #include "fleetnav/core/echo_input.hpp"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/storage/sql/sql_fleet_repositories.hpp"
+#include "versioned_rows_internal.hpp"
 
 namespace fleetnav::storage {
-namespace {
-
-// The next version of a (key, version) series in `table`, inside the current transaction.
-absl::StatusOr<uint32_t> NextVersion(SqlDatabase* db, const std::string& table,
-                                     const std::string& key_column, const std::string& key) {
-  RETURN_IF_ERROR(db->LockKey(absl::StrCat(table, ":", key)));
-  ASSIGN_OR_RETURN(SqlStatement latest,
-                   db->Prepare(absl::StrCat("SELECT COALESCE(MAX(version), 0) FROM ", table,
-                                            " WHERE ", key_column, " = ?")));
-  latest.Bind(1, key);
-  ASSIGN_OR_RETURN(bool has_row, latest.Step());
-  return static_cast<uint32_t>(has_row ? latest.ColumnInt(0) + 1 : 1);
-}
-
-std::string VersionText(uint32_t version) {
-  return version == 0 ? "" : absl::StrCat(" has no version ", version);
-}
-
-}  // namespace
 
 absl::StatusOr<uint32_t> SqlMarkerSetRepository::PutMarkerSet(const MarkerSet& markers,
                                                               int64_t created_unix_ms) {

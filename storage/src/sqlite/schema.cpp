@@ -116,6 +116,16 @@ const std::vector<std::string>& FleetSchemaMigrations() {
           expires_unix_ms INTEGER NOT NULL
         );
       )sql",
+      // 6: zone sets (issue 39), versioned per map like marker sets.
+      R"sql(
+        CREATE TABLE zone_sets (
+          map_id TEXT NOT NULL,
+          version INTEGER NOT NULL,
+          yaml TEXT NOT NULL,
+          created_unix_ms INTEGER NOT NULL,
+          PRIMARY KEY (map_id, version)
+        );
+      )sql",
   };
   return kMigrations;
 }

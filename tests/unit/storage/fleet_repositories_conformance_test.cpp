@@ -30,12 +30,14 @@ class FleetRepositoriesTest : public ::testing::TestWithParam<Backend> {
       db_ = std::make_unique<testing::TestDatabase>(GetParam());
       ASSERT_NE(db_->get(), nullptr);
       markers_ = std::make_unique<SqlMarkerSetRepository>(db_->get());
+      zones_ = std::make_unique<SqlZoneSetRepository>(db_->get());
       routes_ = std::make_unique<SqlRouteRepository>(db_->get());
       robots_ = std::make_unique<SqlRobotRepository>(db_->get());
       jobs_ = std::make_unique<SqlJobRepository>(db_->get());
       tokens_ = std::make_unique<SqlOperatorTokenRepository>(db_->get());
     } else {
       markers_ = std::make_unique<MemoryMarkerSetRepository>();
+      zones_ = std::make_unique<MemoryZoneSetRepository>();
       routes_ = std::make_unique<MemoryRouteRepository>();
       robots_ = std::make_unique<MemoryRobotRepository>();
       jobs_ = std::make_unique<MemoryJobRepository>();
@@ -65,6 +67,7 @@ class FleetRepositoriesTest : public ::testing::TestWithParam<Backend> {
 
   std::unique_ptr<testing::TestDatabase> db_;
   std::unique_ptr<MarkerSetRepository> markers_;
+  std::unique_ptr<ZoneSetRepository> zones_;
   std::unique_ptr<RouteRepository> routes_;
   std::unique_ptr<RobotRepository> robots_;
   std::unique_ptr<JobRepository> jobs_;
@@ -111,6 +114,45 @@ TEST_P(FleetRepositoriesTest, RoutesAreVersionedListedAndCountedPerMap) {
   ASSERT_TRUE(first.ok());
   EXPECT_DOUBLE_EQ(std::get<StraightAction>(first->route.actions[0].params).distance_m, 2.0);
   EXPECT_EQ(routes_->GetRoute("c-route", 0).status().code(), absl::StatusCode::kNotFound);
+}
+
+TEST_P(FleetRepositoriesTest, ZoneSetsAreVersionedPerMapListedByLatestAndDeletedWhole) {
+  ZoneSet barn;
+  barn.map_id = "barn";
+  barn.zones.push_back({"pen-3", ZoneKind::kNoGo, {{1, 1}, {3, 1}, {3, 2}}, 0.0, 1});
+  ZoneSet shop;
+  shop.map_id = "shop";
+  EXPECT_EQ(*zones_->PutZoneSet(barn, 10), 1u);
+  barn.zones.push_back({"kitchen", ZoneKind::kSpeedLimit, {{5, 0}, {8, 0}, {6.5, 2}}, 0.3, 1});
+  EXPECT_EQ(*zones_->PutZoneSet(barn, 20), 2u);
+  EXPECT_EQ(*zones_->PutZoneSet(shop, 30), 1u);
+
+  absl::StatusOr<StoredZoneSet> latest = zones_->GetZoneSet("barn", 0);
+  ASSERT_TRUE(latest.ok()) << latest.status();
+  EXPECT_EQ(latest->version, 2u);
+  EXPECT_EQ(latest->created_unix_ms, 20);
+  EXPECT_EQ(latest->zones.map_id, "barn");
+  ASSERT_EQ(latest->zones.zones.size(), 2u);
+  EXPECT_DOUBLE_EQ(latest->zones.zones[1].speed_limit_mps, 0.3);
+  EXPECT_EQ(zones_->GetZoneSet("barn", 1)->zones.zones.size(), 1u);
+  const absl::Status missing_version = zones_->GetZoneSet("barn", 3).status();
+  EXPECT_EQ(missing_version.code(), absl::StatusCode::kNotFound);
+  EXPECT_THAT(std::string(missing_version.message()), HasSubstr("has no version 3"));
+  EXPECT_EQ(zones_->GetZoneSet("yard", 0).status().code(), absl::StatusCode::kNotFound);
+
+  absl::StatusOr<std::vector<StoredZoneSet>> listed = zones_->ListZoneSets();
+  ASSERT_TRUE(listed.ok()) << listed.status();
+  ASSERT_EQ(listed->size(), 2u);
+  EXPECT_EQ((*listed)[0].zones.map_id, "barn");
+  EXPECT_EQ((*listed)[0].version, 2u);
+  EXPECT_EQ((*listed)[1].zones.map_id, "shop");
+  EXPECT_TRUE((*listed)[1].zones.zones.empty());
+
+  ASSERT_TRUE(zones_->DeleteZoneSet("barn").ok());
+  EXPECT_EQ(zones_->GetZoneSet("barn", 1).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(zones_->DeleteZoneSet("barn").code(), absl::StatusCode::kNotFound);
+  EXPECT_TRUE(zones_->GetZoneSet("shop", 0).ok());
+  EXPECT_EQ(*zones_->PutZoneSet(barn, 40), 1u);
 }
 
 TEST_P(FleetRepositoriesTest, ADeletedMarkerSetIsGoneWithEveryVersionOfItsMapOnly) {

@@ -20,6 +20,7 @@ absl::StatusOr<storage::CreatedJob> JobLifecycle::Submit(const SubmitJobRequest&
   if (has_route) {
     ASSIGN_OR_RETURN(std::shared_ptr<const storage::StoredRoute> route,
                      site_->GetRoute(request.route_name, 0));
+    RETURN_IF_ERROR(site_->CheckRouteOutsideNoGo(route->route));
     job.route_name = route->route.name;
     job.route_version = route->version;
     job.map_id = route->route.map_id;
@@ -34,6 +35,8 @@ absl::StatusOr<storage::CreatedJob> JobLifecycle::Submit(const SubmitJobRequest&
     if (map->grid.State(*cell) != CellState::kFree) {
       return absl::InvalidArgumentError("goal.goal: not on a free cell of the map");
     }
+    RETURN_IF_ERROR(
+        site_->CheckOutsideNoGo(request.goal_map_id, request.goal->translation(), "goal.goal"));
     goal_map = std::move(map);
     job.map_id = request.goal_map_id;
     job.goal = request.goal;

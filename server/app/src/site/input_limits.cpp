@@ -25,6 +25,8 @@ absl::Status InputLimits::Validate() const {
   const std::pair<const char*, int64_t> limits[] = {
       {"max_map_cells", max_map_cells},
       {"max_markers", max_markers},
+      {"max_zones", max_zones},
+      {"max_zone_vertices", max_zone_vertices},
       {"max_route_actions", max_route_actions},
       {"max_waypoints_per_action", max_waypoints_per_action},
       {"max_capabilities", max_capabilities},
@@ -55,6 +57,25 @@ absl::Status InputLimits::CheckMarkers(const MarkerSet& markers) const {
   if (static_cast<int64_t>(markers.markers.size()) <= max_markers) return absl::OkStatus();
   return Exceeds("marker_set.markers", static_cast<int64_t>(markers.markers.size()), "max_markers",
                  max_markers);
+}
+
+absl::Status InputLimits::CheckZones(const ZoneSet& zones) const {
+  if (static_cast<int64_t>(zones.zones.size()) > max_zones) {
+    return Exceeds("zone_set.zones", static_cast<int64_t>(zones.zones.size()), "max_zones",
+                   max_zones);
+  }
+  for (size_t i = 0; i < zones.zones.size(); ++i) {
+    const auto vertices = static_cast<int64_t>(zones.zones[i].polygon_in_map.size());
+    if (vertices > max_zone_vertices) {
+      return Exceeds(absl::StrCat("zone_set.zones[", i, "].polygon"), vertices, "max_zone_vertices",
+                     max_zone_vertices);
+    }
+    if (static_cast<int64_t>(zones.zones[i].name.size()) > max_text_bytes) {
+      return CheckText(absl::StrCat("zone_set.zones[", i, "].name"), zones.zones[i].name,
+                       max_text_bytes);
+    }
+  }
+  return absl::OkStatus();
 }
 
 absl::Status InputLimits::CheckRoute(const Route& route) const {

@@ -103,12 +103,38 @@ absl::Status SiteCatalog::CheckRouteAgainstSite(const Route& route) {
   return absl::OkStatus();
 }
 
+absl::Status SiteCatalog::CheckOutsideNoGo(const std::string& map_id, const Eigen::Vector2d& point,
+                                           const std::string& field) {
+  if (zones_ == nullptr) return absl::OkStatus();
+  const std::shared_ptr<const storage::StoredZoneSet> zones = zones_->Latest(map_id);
+  return server::CheckOutsideNoGo(zones != nullptr ? &zones->zones : nullptr, point, field);
+}
+
+absl::Status SiteCatalog::CheckRouteOutsideNoGo(const Route& route) {
+  if (zones_ == nullptr) return absl::OkStatus();
+  const std::shared_ptr<const storage::StoredZoneSet> zones = zones_->Latest(route.map_id);
+  if (zones == nullptr) return absl::OkStatus();
+  for (size_t i = 0; i < route.actions.size(); ++i) {
+    const auto* nav = std::get_if<FreeNavigationAction>(&route.actions[i].params);
+    if (nav == nullptr) continue;
+    const std::string type(ActionTypeName(route.actions[i].params));
+    const std::string where = absl::StrCat("actions[", i, "] (", type, "): ");
+    for (const Eigen::Vector2d& waypoint : nav->waypoints_m) {
+      RETURN_IF_ERROR(server::CheckOutsideNoGo(&zones->zones, waypoint, where + "waypoint"));
+    }
+    RETURN_IF_ERROR(
+        server::CheckOutsideNoGo(&zones->zones, nav->goal.translation(), where + "goal"));
+  }
+  return absl::OkStatus();
+}
+
 absl::StatusOr<uint32_t> SiteCatalog::PutRoute(const Route& route) {
   RETURN_IF_ERROR(ValidateRouteName(route.name));
   RETURN_IF_ERROR(MapCatalog::ValidateMapId(route.map_id));
   RETURN_IF_ERROR(limits_.CheckRoute(route));
   RETURN_IF_ERROR(route.Validate());
   RETURN_IF_ERROR(CheckRouteAgainstSite(route));
+  RETURN_IF_ERROR(CheckRouteOutsideNoGo(route));
   // The same content again is the version that holds it, not a new one.
   if (absl::StatusOr<std::shared_ptr<const storage::StoredRoute>> latest =
           site_data_->RouteVersion(route.name, 0);

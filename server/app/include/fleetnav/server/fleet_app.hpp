@@ -27,6 +27,7 @@
 #include "fleetnav/server/site/map_catalog.hpp"
 #include "fleetnav/server/site/site_cache.hpp"
 #include "fleetnav/server/site/site_catalog.hpp"
+#include "fleetnav/server/site/zone_catalog.hpp"
 #include "fleetnav/server/traffic/traffic_coordinator.hpp"
 #include "fleetnav/server/traffic/traffic_planner.hpp"
 #include "fleetnav/storage/postgres/pg_database.hpp"
@@ -101,6 +102,7 @@ class FleetApp {
   FleetRegistry& registry() { return registry_; }
   MapCatalog& maps() { return *maps_; }
   SiteCatalog& site() { return *site_; }
+  ZoneCatalog& zones() { return *zones_; }
   JobService& jobs() { return *jobs_; }
   TrafficPlanner& traffic_planner() { return *traffic_planner_; }
   OperatorTokenService& tokens() { return *tokens_; }
@@ -136,6 +138,7 @@ class FleetApp {
   std::unique_ptr<storage::SqlMapRepository> map_repository_;
   std::unique_ptr<storage::SqlMarkerSetRepository> marker_repository_;
   std::unique_ptr<storage::SqlRouteRepository> route_repository_;
+  std::unique_ptr<storage::SqlZoneSetRepository> zone_repository_;
   std::unique_ptr<storage::SqlRobotRepository> robot_repository_;
   std::unique_ptr<storage::SqlJobRepository> stored_jobs_;
   std::unique_ptr<NotifyingJobRepository> job_repository_;
@@ -147,6 +150,7 @@ class FleetApp {
   std::unique_ptr<SiteCache> site_data_;  ///< in front of the site repositories
   std::unique_ptr<MapCatalog> maps_;
   std::unique_ptr<SiteCatalog> site_;
+  std::unique_ptr<ZoneCatalog> zones_;
   std::unique_ptr<TrafficCoordinator> coordinator_;
   std::unique_ptr<JobService> jobs_;
   std::unique_ptr<RobotSessions> sessions_;

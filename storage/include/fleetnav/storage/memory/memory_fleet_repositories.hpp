@@ -10,6 +10,7 @@
 #include "fleetnav/storage/pose_history_repository.hpp"
 #include "fleetnav/storage/robot_repository.hpp"
 #include "fleetnav/storage/route_repository.hpp"
+#include "fleetnav/storage/zone_set_repository.hpp"
 
 namespace fleetnav::storage {
 
@@ -24,6 +25,19 @@ class MemoryMarkerSetRepository final : public MarkerSetRepository {
  private:
   absl::Mutex mutex_;
   std::map<std::string, std::vector<StoredMarkerSet>> sets_ ABSL_GUARDED_BY(mutex_);
+};
+
+/// ZoneSetRepository in memory, for unit tests of the layers above. Thread-safe.
+class MemoryZoneSetRepository final : public ZoneSetRepository {
+ public:
+  absl::StatusOr<uint32_t> PutZoneSet(const ZoneSet& zones, int64_t created_unix_ms) override;
+  absl::StatusOr<StoredZoneSet> GetZoneSet(const std::string& map_id, uint32_t version) override;
+  absl::StatusOr<std::vector<StoredZoneSet>> ListZoneSets() override;
+  absl::Status DeleteZoneSet(const std::string& map_id) override;
+
+ private:
+  absl::Mutex mutex_;
+  std::map<std::string, std::vector<StoredZoneSet>> sets_ ABSL_GUARDED_BY(mutex_);
 };
 
 /// RouteRepository in memory, for unit tests of the layers above. Thread-safe.

@@ -7,6 +7,7 @@
 #include "fleetnav/storage/robot_repository.hpp"
 #include "fleetnav/storage/route_repository.hpp"
 #include "fleetnav/storage/sql/sql_database.hpp"
+#include "fleetnav/storage/zone_set_repository.hpp"
 
 namespace fleetnav::storage {
 
@@ -19,6 +20,21 @@ class SqlMarkerSetRepository final : public MarkerSetRepository {
   absl::StatusOr<StoredMarkerSet> GetMarkerSet(const std::string& map_id,
                                                uint32_t version) override;
   absl::Status DeleteMarkerSet(const std::string& map_id) override;
+
+ private:
+  SqlDatabase* db_;
+};
+
+/// Zone sets on an SqlDatabase (SQLite or PostgreSQL), each version stored as zone YAML.
+/// Thread-safe.
+class SqlZoneSetRepository final : public ZoneSetRepository {
+ public:
+  explicit SqlZoneSetRepository(SqlDatabase* db) : db_(db) {}
+
+  absl::StatusOr<uint32_t> PutZoneSet(const ZoneSet& zones, int64_t created_unix_ms) override;
+  absl::StatusOr<StoredZoneSet> GetZoneSet(const std::string& map_id, uint32_t version) override;
+  absl::StatusOr<std::vector<StoredZoneSet>> ListZoneSets() override;
+  absl::Status DeleteZoneSet(const std::string& map_id) override;
 
  private:
   SqlDatabase* db_;

@@ -65,6 +65,16 @@ absl::Status PutMarkers(const CommandContext& context, const std::string& map_id
 absl::Status GetMarkers(const CommandContext& context, const std::string& map_id, uint32_t version);
 /// Deletes every version of a map's marker set (refused while routes or unfinished jobs use it).
 absl::Status DeleteMarkers(const CommandContext& context, const std::string& map_id);
+/// Uploads a zone YAML file (docs/file-formats.md) as a new version of its map's zones
+/// (`--map` overrides the file's `map:`).
+absl::Status PutZones(const CommandContext& context, const std::string& map_id,
+                      const std::string& yaml_path);
+/// Prints a map's zones (version 0 = latest) as zone YAML, or JSON.
+absl::Status GetZones(const CommandContext& context, const std::string& map_id, uint32_t version);
+/// Lists every map's latest zones with their counts by kind.
+absl::Status ListZones(const CommandContext& context);
+/// Deletes every version of a map's zones.
+absl::Status DeleteZones(const CommandContext& context, const std::string& map_id);
 /// Uploads a route YAML file as a new version of its route.
 absl::Status PutRoute(const CommandContext& context, const std::string& yaml_path);
 absl::Status GetRoute(const CommandContext& context, const std::string& name);

@@ -7,6 +7,7 @@
 #include "fleetnav/core/robot_state.hpp"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
+#include "fleetnav/core/zone.hpp"
 
 namespace fleetnav::server {
 
@@ -17,6 +18,8 @@ namespace fleetnav::server {
 struct InputLimits {
   int64_t max_map_cells = 64'000'000;  ///< 8000 × 8000, what the 64 MiB message limit lets in
   int max_markers = 100'000;           ///< per marker set
+  int max_zones = 1'000;               ///< per zone set
+  int max_zone_vertices = 256;         ///< per zone polygon
   int max_route_actions = 10'000;
   int max_waypoints_per_action = 1'000;
   int max_capabilities = 64;      ///< per robot hello
@@ -29,6 +32,7 @@ struct InputLimits {
   absl::Status CheckMap(const OccupancyGrid& grid) const;
   absl::Status CheckMapDescription(const std::string& description) const;
   absl::Status CheckMarkers(const MarkerSet& markers) const;
+  absl::Status CheckZones(const ZoneSet& zones) const;
   absl::Status CheckRoute(const Route& route) const;
   absl::Status CheckIdentity(const RobotIdentity& identity) const;
 };

@@ -12,6 +12,7 @@
 #include "fleetnav/core/stripe_marker.hpp"
 #include "fleetnav/server/site/input_limits.hpp"
 #include "fleetnav/server/site/site_cache.hpp"
+#include "fleetnav/server/site/zone_catalog.hpp"
 #include "fleetnav/storage/job_repository.hpp"
 #include "fleetnav/storage/map_repository.hpp"
 #include "fleetnav/storage/marker_set_repository.hpp"
@@ -22,7 +23,8 @@ namespace fleetnav::server {
 /// The use cases around a site's marker sets and routes, checked against its maps: a marker
 /// set needs its map; a route needs its map, may only name markers of the map's latest marker
 /// set, and its free-navigation waypoints and goals must lie on free cells inside the map
-/// (InvalidArgument naming `actions[i]`). Also answers whether a map is still in use, so that
+/// (InvalidArgument naming `actions[i]`), outside every no-go zone of the map when it has
+/// zones (UseZones). Also answers whether a map is still in use, so that
 /// deleting it can be refused. Thread-safe as its repositories are.
 class SiteCatalog {
  public:
@@ -37,6 +39,17 @@ class SiteCatalog {
   void SetMarkerChangeListener(std::function<void(const std::string& map_id)> listener) {
     on_marker_change_ = std::move(listener);
   }
+  /// The zones routes are checked against (no-go zones hold no waypoint or goal). Set before
+  /// the catalog is shared; without it routes are checked against the map alone.
+  void UseZones(ZoneCatalog* zones) { zones_ = zones; }
+  /// InvalidArgument naming `field` and the zone when `point` lies in a no-go zone of the map's
+  /// latest zones.
+  absl::Status CheckOutsideNoGo(const std::string& map_id, const Eigen::Vector2d& point,
+                                const std::string& field);
+  /// InvalidArgument naming `actions[i]` and the zone when a free-navigation waypoint or goal
+  /// of the route lies in a no-go zone of its map's latest zones (which may have come after
+  /// the route was stored).
+  absl::Status CheckRouteOutsideNoGo(const Route& route);
   /// version 0: the latest. Shared with the cache: never copied.
   absl::StatusOr<std::shared_ptr<const storage::StoredMarkerSet>> GetMarkerSet(
       const std::string& map_id, uint32_t version);
@@ -70,6 +83,7 @@ class SiteCatalog {
   const Clock* clock_;  ///< stamps the upload time of marker sets and routes
   const InputLimits limits_;
   std::function<void(const std::string& map_id)> on_marker_change_;
+  ZoneCatalog* zones_ = nullptr;
 };
 
 }  // namespace fleetnav::server

@@ -5,6 +5,7 @@
 #include "fleetnav/server/rpc/watch_hub.hpp"
 #include "fleetnav/server/site/map_catalog.hpp"
 #include "fleetnav/server/site/site_catalog.hpp"
+#include "fleetnav/server/site/zone_catalog.hpp"
 #include "fleetnav/server/traffic/traffic_planner.hpp"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
 
@@ -15,9 +16,14 @@ namespace fleetnav::server {
 /// Thread-safe.
 class FleetServiceImpl final : public FleetServiceBase {
  public:
-  FleetServiceImpl(MapCatalog* maps, SiteCatalog* site, JobService* jobs, TrafficPlanner* traffic,
-                   FleetRegistry* registry)
-      : maps_(maps), site_(site), jobs_(jobs), traffic_(traffic), registry_(registry) {}
+  FleetServiceImpl(MapCatalog* maps, SiteCatalog* site, ZoneCatalog* zones, JobService* jobs,
+                   TrafficPlanner* traffic, FleetRegistry* registry)
+      : maps_(maps),
+        site_(site),
+        zones_(zones),
+        jobs_(jobs),
+        traffic_(traffic),
+        registry_(registry) {}
 
   grpc::Status PutMap(grpc::ServerContext* context, const v1::PutMapRequest* request,
                       v1::PutMapResponse* response) override;
@@ -40,6 +46,14 @@ class FleetServiceImpl final : public FleetServiceBase {
   grpc::Status DeleteMarkerSet(grpc::ServerContext* context,
                                const v1::DeleteMarkerSetRequest* request,
                                v1::DeleteMarkerSetResponse* response) override;
+  grpc::Status PutZones(grpc::ServerContext* context, const v1::PutZonesRequest* request,
+                        v1::PutZonesResponse* response) override;
+  grpc::Status GetZones(grpc::ServerContext* context, const v1::GetZonesRequest* request,
+                        v1::GetZonesResponse* response) override;
+  grpc::Status ListZones(grpc::ServerContext* context, const v1::ListZonesRequest* request,
+                         v1::ListZonesResponse* response) override;
+  grpc::Status DeleteZones(grpc::ServerContext* context, const v1::DeleteZonesRequest* request,
+                           v1::DeleteZonesResponse* response) override;
   grpc::Status PutRoute(grpc::ServerContext* context, const v1::PutRouteRequest* request,
                         v1::PutRouteResponse* response) override;
   grpc::Status GetRoute(grpc::ServerContext* context, const v1::GetRouteRequest* request,
@@ -66,6 +80,7 @@ class FleetServiceImpl final : public FleetServiceBase {
  private:
   MapCatalog* maps_;
   SiteCatalog* site_;
+  ZoneCatalog* zones_;
   JobService* jobs_;
   TrafficPlanner* traffic_;
   FleetRegistry* registry_;

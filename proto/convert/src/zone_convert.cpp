@@ -1,0 +1,114 @@
+#include "fleetnav/proto/zone_convert.hpp"
+
+#include "absl/strings/str_cat.h"
+#include "fleetnav/core/status_macros.hpp"
+#include "fleetnav/proto/geometry_convert.hpp"
+
+namespace fleetnav {
+namespace {
+
+absl::StatusOr<ZoneKind> KindFromProto(v1::ZoneKind kind, const std::string& field) {
+  switch (kind) {
+    case v1::ZONE_KIND_NO_GO:
+      return ZoneKind::kNoGo;
+    case v1::ZONE_KIND_SPEED_LIMIT:
+      return ZoneKind::kSpeedLimit;
+    case v1::ZONE_KIND_ONE_AT_A_TIME:
+      return ZoneKind::kOneAtATime;
+    default:
+      return absl::InvalidArgumentError(
+          absl::StrCat(field, ": must be NO_GO, SPEED_LIMIT or ONE_AT_A_TIME, got ",
+                       static_cast<int>(kind)));
+  }
+}
+
+}  // namespace
+
+v1::ZoneKind ToProto(ZoneKind kind) {
+  switch (kind) {
+    case ZoneKind::kNoGo:
+      return v1::ZONE_KIND_NO_GO;
+    case ZoneKind::kSpeedLimit:
+      return v1::ZONE_KIND_SPEED_LIMIT;
+    case ZoneKind::kOneAtATime:
+      return v1::ZONE_KIND_ONE_AT_A_TIME;
+  }
+  return v1::ZONE_KIND_UNSPECIFIED;
+}
+
+v1::ZoneSet ToProto(const ZoneSet& zones) {
+  v1::ZoneSet out;
+  out.set_map_id(zones.map_id);
+  for (const Zone& zone : zones.zones) {
+    v1::Zone* wire = out.add_zones();
+    wire->set_name(zone.name);
+    wire->set_kind(ToProto(zone.kind));
+    for (const Eigen::Vector2d& vertex : zone.polygon_in_map) *wire->add_polygon() = ToProto(vertex);
+    if (zone.kind == ZoneKind::kSpeedLimit) wire->set_speed_limit_mps(zone.speed_limit_mps);
+    if (zone.kind == ZoneKind::kOneAtATime) {
+      wire->set_capacity(static_cast<uint32_t>(zone.capacity));
+    }
+  }
+  return out;
+}
+
+v1::ZoneSetSummary ToSummaryProto(const ZoneSet& zones, uint32_t version, int64_t created_unix_ms) {
+  v1::ZoneSetSummary out;
+  out.set_map_id(zones.map_id);
+  out.set_version(version);
+  out.set_created_unix_ms(created_unix_ms);
+  for (const Zone& zone : zones.zones) {
+    switch (zone.kind) {
+      case ZoneKind::kNoGo:
+        out.set_no_go_zones(out.no_go_zones() + 1);
+        break;
+      case ZoneKind::kSpeedLimit:
+        out.set_speed_limit_zones(out.speed_limit_zones() + 1);
+        break;
+      case ZoneKind::kOneAtATime:
+        out.set_one_at_a_time_zones(out.one_at_a_time_zones() + 1);
+        break;
+    }
+  }
+  return out;
+}
+
+absl::StatusOr<ZoneSet> FromProto(const v1::ZoneSet& zones) {
+  ZoneSet out;
+  out.map_id = zones.map_id();
+  out.zones.reserve(zones.zones_size());
+  for (int i = 0; i < zones.zones_size(); ++i) {
+    const v1::Zone& wire = zones.zones(i);
+    const std::string field = absl::StrCat("zones[", i, "]");
+    Zone zone;
+    zone.name = wire.name();
+    ASSIGN_OR_RETURN(zone.kind, KindFromProto(wire.kind(), field + ".kind"));
+    zone.polygon_in_map.reserve(wire.polygon_size());
+    for (int j = 0; j < wire.polygon_size(); ++j) {
+      ASSIGN_OR_RETURN(Eigen::Vector2d vertex,
+                       FromProto(wire.polygon(j), absl::StrCat(field, ".polygon[", j, "]")));
+      zone.polygon_in_map.push_back(vertex);
+    }
+    if (zone.kind == ZoneKind::kSpeedLimit) {
+      zone.speed_limit_mps = wire.speed_limit_mps();
+    } else if (wire.speed_limit_mps() != 0.0) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(field, ".speed_limit_mps: only a speed-limit zone has one"));
+    }
+    if (zone.kind == ZoneKind::kOneAtATime) {
+      if (wire.capacity() > 1000) {
+        return absl::InvalidArgumentError(
+            absl::StrCat(field, ".capacity: at most 1000 robots, got ", wire.capacity()));
+      }
+      zone.capacity = wire.capacity() == 0 ? 1 : static_cast<int>(wire.capacity());
+    } else if (wire.capacity() != 0) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(field, ".capacity: only a one-at-a-time zone has one"));
+    }
+    out.zones.push_back(std::move(zone));
+  }
+  RETURN_IF_ERROR(out.Validate());
+  return out;
+}
+
+}  // namespace fleetnav
