@@ -108,7 +108,7 @@ int main(int argc, char** argv) {
   double record_hz = 10.0;
   app.add_option("--record-truth", record_path,
                  "append every robot's true position at --record-truth-hz of sim time to this CSV "
-                 "(robot_id,truth,x,y,t_s: the --trajectories format)");
+                 "(robot_id,truth,x,y,t_s,yaw_rad: the --trajectories format and the yaw)");
   app.add_option("--record-truth-hz", record_hz, "rate of --record-truth (at most the tick rate)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
@@ -165,7 +165,7 @@ int main(int argc, char** argv) {
       const fleetnav::sim::GroundTruthSnapshot truth = sim.GroundTruth();
       for (const fleetnav::sim::RobotTruth& robot : truth.robots) {
         record << robot.robot_id << ",truth," << robot.pose.x_m() << ',' << robot.pose.y_m() << ','
-               << truth.sim_time_ns * 1e-9 << '\n';
+               << truth.sim_time_ns * 1e-9 << ',' << robot.pose.yaw_rad() << '\n';
       }
     });
   }

@@ -1,5 +1,6 @@
 #include "fleetnav/core/zone.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -50,8 +51,8 @@ double SegmentSegmentDistance(const Eigen::Vector2d& p1, const Eigen::Vector2d& 
 bool IsValidZoneName(const std::string& name) {
   if (name.empty() || name.size() > 64) return false;
   return std::all_of(name.begin(), name.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-           c == '_' || c == '-' || c == '.';
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '-' || c == '.';
   });
 }
 
@@ -73,9 +74,8 @@ absl::StatusOr<ZoneKind> ParseZoneKind(std::string_view name) {
   for (ZoneKind kind : {ZoneKind::kNoGo, ZoneKind::kSpeedLimit, ZoneKind::kOneAtATime}) {
     if (name == ZoneKindName(kind)) return kind;
   }
-  return absl::InvalidArgumentError(
-      absl::StrCat("unknown zone kind '", EchoInput(name),
-                   "' (expected no_go, speed_limit or one_at_a_time)"));
+  return absl::InvalidArgumentError(absl::StrCat(
+      "unknown zone kind '", EchoInput(name), "' (expected no_go, speed_limit or one_at_a_time)"));
 }
 
 double PolygonArea(const Polygon2& polygon) {
@@ -102,8 +102,8 @@ absl::Status ValidatePolygon(const Polygon2& polygon, std::string_view field) {
   }
   for (size_t i = 0; i < n; ++i) {
     if ((polygon[(i + 1) % n] - polygon[i]).norm() < kMinEdgeM) {
-      return absl::InvalidArgumentError(absl::StrCat(where, ": vertices ", i, " and ",
-                                                     (i + 1) % n, " coincide (degenerate)"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(where, ": vertices ", i, " and ", (i + 1) % n, " coincide (degenerate)"));
     }
   }
   // Edges i and j (not neighbours) must not meet: O(n²) over a bounded vertex count.
@@ -112,9 +112,9 @@ absl::Status ValidatePolygon(const Polygon2& polygon, std::string_view field) {
       const bool neighbours = j == i + 1 || (i == 0 && j == n - 1);
       if (neighbours) continue;
       if (SegmentsIntersect(polygon[i], polygon[(i + 1) % n], polygon[j], polygon[(j + 1) % n])) {
-        return absl::InvalidArgumentError(absl::StrCat(
-            where, ": edges ", i, "-", (i + 1) % n, " and ", j, "-", (j + 1) % n,
-            " cross (self-intersecting)"));
+        return absl::InvalidArgumentError(absl::StrCat(where, ": edges ", i, "-", (i + 1) % n,
+                                                       " and ", j, "-", (j + 1) % n,
+                                                       " cross (self-intersecting)"));
       }
     }
   }
@@ -153,8 +153,8 @@ bool PolygonContains(const Polygon2& polygon, const Eigen::Vector2d& point) {
 double DistanceToPolygonBoundary(const Polygon2& polygon, const Eigen::Vector2d& point) {
   double best = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < polygon.size(); ++i) {
-    best = std::min(best,
-                    PointSegmentDistance(point, polygon[i], polygon[(i + 1) % polygon.size()]));
+    best =
+        std::min(best, PointSegmentDistance(point, polygon[i], polygon[(i + 1) % polygon.size()]));
   }
   return best;
 }
@@ -231,14 +231,46 @@ std::optional<double> ZoneSet::SpeedLimitAt(const Eigen::Vector2d& point_in_map,
   return limit;
 }
 
+OccupancyGrid WithNoGoZonesOccupied(const OccupancyGrid& grid, const ZoneSet& zones) {
+  OccupancyGrid out = grid;
+  const double resolution_m = grid.resolution_m();
+  const double cell_reach_m = 0.5 * std::sqrt(2.0) * resolution_m;
+  const Eigen::Rotation2Dd to_grid(-grid.origin().yaw_rad());
+  for (const Zone& zone : zones.zones) {
+    if (zone.kind != ZoneKind::kNoGo) continue;
+    // The zone's bounds in cells, then every cell in them that the zone overlaps.
+    Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector2d high = -low;
+    for (const Eigen::Vector2d& vertex : zone.polygon_in_map) {
+      const Eigen::Vector2d in_cells =
+          to_grid * (vertex - grid.origin().translation()) / resolution_m;
+      low = low.cwiseMin(in_cells);
+      high = high.cwiseMax(in_cells);
+    }
+    const int x0 = std::max(0, static_cast<int>(std::floor(low.x())) - 1);
+    const int y0 = std::max(0, static_cast<int>(std::floor(low.y())) - 1);
+    const int x1 = std::min(grid.width() - 1, static_cast<int>(std::ceil(high.x())) + 1);
+    const int y1 = std::min(grid.height() - 1, static_cast<int>(std::ceil(high.y())) + 1);
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) {
+        const CellIndex cell{x, y};
+        if (DiscTouchesPolygon(zone.polygon_in_map, grid.CellToWorld(cell), cell_reach_m)) {
+          out.SetValue(cell, 100);
+        }
+      }
+    }
+  }
+  return out;
+}
+
 absl::Status CheckZonesOnMap(const ZoneSet& zones, const OccupancyGrid& grid) {
   for (size_t i = 0; i < zones.zones.size(); ++i) {
     const Polygon2& polygon = zones.zones[i].polygon_in_map;
     for (size_t j = 0; j < polygon.size(); ++j) {
       if (!grid.ContainsWorld(polygon[j])) {
-        return absl::InvalidArgumentError(absl::StrCat(
-            "zones[", i, "].polygon[", j, "]: (", polygon[j].x(), ", ", polygon[j].y(),
-            ") is off the map (zone '", zones.zones[i].name, "')"));
+        return absl::InvalidArgumentError(
+            absl::StrCat("zones[", i, "].polygon[", j, "]: (", polygon[j].x(), ", ", polygon[j].y(),
+                         ") is off the map (zone '", zones.zones[i].name, "')"));
       }
     }
   }

@@ -174,8 +174,9 @@ TEST_F(ZonesTest, NoGoZonesRefuseTheWaypointsAndGoalsOfRoutesAndJobs) {
   through_pen.name = "through-pen-2";
   const grpc::Status refused = PutRoute(through_pen);
   EXPECT_EQ(refused.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
-  EXPECT_THAT(refused.error_message(),
-              HasSubstr("actions[0] (free_navigation): goal (3.00, 3.00) lies in no-go zone 'pen'"));
+  EXPECT_THAT(
+      refused.error_message(),
+      HasSubstr("actions[0] (free_navigation): goal (3.00, 3.00) lies in no-go zone 'pen'"));
   // The route stored before the zone cannot be run now.
   v1::SubmitJobResponse job;
   const grpc::Status stale = Submit("through-pen", "key-1", &job);

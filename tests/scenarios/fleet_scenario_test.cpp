@@ -173,6 +173,27 @@ TEST(FleetScenario, AMecanumPlatformReachesItsGoalHolonomically) {
   ExpectGoalReached("store_goal.yaml", Pose2(3.0, -2.0, kPi / 2), 0.1, 0.06);
 }
 
+// Zones (issue 39), judged by the truth: with the west passage a no-go zone the platform goes
+// round by the east end (without the zone it goes west: entering it, the run fails), through
+// the checkout area at its speed limit (without the agent's cap it drives 0.25 m/s there).
+TEST(FleetScenario, APlatformKeepsOutOfNoGoZonesAndToSpeedLimits) {
+  int code = -1;
+  const nlohmann::json report =
+      RunShipped("store_zones.yaml", TempPath("store_zones.yaml.keep"), &code);
+  EXPECT_EQ(code, 0) << report.dump();
+  EXPECT_EQ(report.value("no_go_entries", -1), 0);
+  ASSERT_TRUE(report.contains("max_speed_in_zone_mps")) << report.dump();
+  // It drove through the checkout area (the way round), no faster than 0.15 m/s and the
+  // drive's overshoot.
+  const double checkout_mps = report["max_speed_in_zone_mps"].value("checkout", -1.0);
+  EXPECT_GT(checkout_mps, 0.05);
+  EXPECT_LE(checkout_mps, 0.16);
+  const nlohmann::json& end = report["robots"][0]["final_pose"];
+  EXPECT_TRUE(Pose2(end.value("x_m", 1e9), end.value("y_m", 1e9), end.value("yaw_rad", 0.0))
+                  .IsNear(Pose2(3.0, -2.0, kPi / 2), 0.1, 0.06))
+      << end.dump();
+}
+
 // The Ackermann robot's goal job at a yaw no lattice heading reaches: Reeds-Shepp path, pure
 // pursuit with cusps, laser AMCL with the Ackermann motion model.
 TEST(FleetScenario, AnAckermannRobotReachesAGoalAtAnyYaw) {
@@ -510,6 +531,14 @@ TEST(FleetScenario, BadScenarioFilesAreRefusedNamingTheFileAndTheKey) {
                                        "faults: [{type: cut_link, robot: lely1, at_s: 5}]\n");
     EXPECT_EQ(code, 2);
     EXPECT_THAT(err, HasSubstr("faults[0].duration_s: cut_link needs a duration > 0 s"));
+  }
+  {
+    const auto [code, err] =
+        RunBad("zone-who.yaml", kHead +
+                                    "jobs: [{route: barn-feeding}]\n"
+                                    "expect: {max_speed_in_zone: {kitchen: 0.3}}\n");
+    EXPECT_EQ(code, 2);
+    EXPECT_THAT(err, HasSubstr("expect.max_speed_in_zone.kitchen: 'kitchen' is not a zone"));
   }
   {
     const auto [code, err] = RunBad("wait-who.yaml", kHead +

@@ -20,6 +20,7 @@ v1::Assignment ToProto(const JobAssignment& assignment) {
   wire.set_map_id(assignment.job.map_id);
   wire.set_map_version(assignment.map_version);
   wire.set_marker_set_version(assignment.marker_set_version);
+  wire.set_zone_set_version(assignment.zone_set_version);
   wire.set_resume_action_index(assignment.resume.action_index);
   wire.set_resume_action_fraction(assignment.resume.action_fraction);
   return wire;
@@ -35,6 +36,7 @@ absl::StatusOr<JobAssignment> FromProto(const v1::Assignment& wire) {
   assignment.route_version = wire.route_version();
   assignment.map_version = wire.map_version();
   assignment.marker_set_version = wire.marker_set_version();
+  assignment.zone_set_version = wire.zone_set_version();
   assignment.resume = RoutePosition{wire.resume_action_index(), wire.resume_action_fraction()};
   return assignment;
 }

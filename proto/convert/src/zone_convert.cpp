@@ -16,9 +16,8 @@ absl::StatusOr<ZoneKind> KindFromProto(v1::ZoneKind kind, const std::string& fie
     case v1::ZONE_KIND_ONE_AT_A_TIME:
       return ZoneKind::kOneAtATime;
     default:
-      return absl::InvalidArgumentError(
-          absl::StrCat(field, ": must be NO_GO, SPEED_LIMIT or ONE_AT_A_TIME, got ",
-                       static_cast<int>(kind)));
+      return absl::InvalidArgumentError(absl::StrCat(
+          field, ": must be NO_GO, SPEED_LIMIT or ONE_AT_A_TIME, got ", static_cast<int>(kind)));
   }
 }
 
@@ -43,7 +42,8 @@ v1::ZoneSet ToProto(const ZoneSet& zones) {
     v1::Zone* wire = out.add_zones();
     wire->set_name(zone.name);
     wire->set_kind(ToProto(zone.kind));
-    for (const Eigen::Vector2d& vertex : zone.polygon_in_map) *wire->add_polygon() = ToProto(vertex);
+    for (const Eigen::Vector2d& vertex : zone.polygon_in_map)
+      *wire->add_polygon() = ToProto(vertex);
     if (zone.kind == ZoneKind::kSpeedLimit) wire->set_speed_limit_mps(zone.speed_limit_mps);
     if (zone.kind == ZoneKind::kOneAtATime) {
       wire->set_capacity(static_cast<uint32_t>(zone.capacity));

@@ -113,6 +113,15 @@ ExecutorOutput JobRunner::Step(const ControlInput& input, const std::vector<int>
              std::string(executor_->failure().message()));
     }
   }
+  if (zones_) {
+    const std::optional<Eigen::Vector2d> load = carried_load_m();
+    const RobotModel model = load ? context_.model.CarryingLoad(*load) : context_.model;
+    if (const std::optional<double> cap =
+            ZoneSpeedCap(*zones_, estimate.pose_in_map, estimate.covariance,
+                         model.CircumscribedRadius(), zone_speed_)) {
+      output.command = CapTwist(output.command, *cap);
+    }
+  }
   if (paused_) {
     output.mode = NavigationMode::kPaused;
     output.command = Twist2{};
@@ -177,7 +186,8 @@ absl::Status JobRunner::PrepareSite(const JobAssignment& assignment) {
     return absl::OkStatus();
   }
   const std::string key =
-      absl::StrCat(map_id, "@", assignment.map_version, "/", assignment.marker_set_version);
+      absl::StrCat(map_id, "@", assignment.map_version, "/", assignment.marker_set_version, "/",
+                   assignment.zone_set_version);
   if (key == site_key_) return absl::OkStatus();
   absl::StatusOr<SiteData> site =
       ports_.sites->Load(map_id, assignment.map_version, assignment.marker_set_version);
@@ -186,6 +196,17 @@ absl::Status JobRunner::PrepareSite(const JobAssignment& assignment) {
         absl::StrCat("map ", map_id, " v", assignment.map_version,
                      " could not be loaded on the robot: ", site.status().message()));
   }
+  std::optional<ZoneSet> zones;
+  if (assignment.zone_set_version > 0) {
+    absl::StatusOr<std::optional<ZoneSet>> loaded =
+        ports_.sites->LoadZones(map_id, assignment.zone_set_version);
+    if (!loaded.ok()) {
+      return absl::FailedPreconditionError(
+          absl::StrCat("zones of map ", map_id, " v", assignment.zone_set_version,
+                       " could not be loaded on the robot: ", loaded.status().message()));
+    }
+    zones = *std::move(loaded);
+  }
   absl::StatusOr<std::unique_ptr<localization::Localizer>> made =
       ports_.make_localizer(*site, localizer().estimate().pose_in_map);
   if (!made.ok()) {
@@ -193,7 +214,15 @@ absl::Status JobRunner::PrepareSite(const JobAssignment& assignment) {
         absl::StrCat("cannot localize on map ", map_id, ": ", made.status().message()));
   }
   job_localizer_ = *std::move(made);
-  context_.map = site->map;
+  // Localization keeps the true map; navigation plans on it with the no-go zones occupied.
+  const bool has_no_go =
+      zones && std::any_of(zones->zones.begin(), zones->zones.end(),
+                           [](const Zone& zone) { return zone.kind == ZoneKind::kNoGo; });
+  context_.map =
+      has_no_go && site->map != nullptr
+          ? std::make_shared<const OccupancyGrid>(WithNoGoZonesOccupied(*site->map, *zones))
+          : site->map;
+  zones_ = std::move(zones);
   context_.markers = site->markers;
   context_.moved_loads = {};  // places on the map the agent worked on before
   site_key_ = key;

@@ -7,6 +7,7 @@
 #include "absl/strings/str_cat.h"
 #include "fleetnav/proto/grpc_status.hpp"
 #include "fleetnav/proto/map_convert.hpp"
+#include "fleetnav/proto/zone_convert.hpp"
 
 namespace fleetnav::agent {
 namespace {
@@ -54,6 +55,21 @@ absl::StatusOr<SiteData> FleetSiteSource::Load(const std::string& map_id, uint32
     site.marker_set_version = response.version();
   }
   return site;
+}
+
+absl::StatusOr<std::optional<ZoneSet>> FleetSiteSource::LoadZones(const std::string& map_id,
+                                                                  uint32_t zone_set_version) {
+  grpc::ClientContext context;
+  SetDeadline(context, timeout_s_);
+  v1::GetZonesRequest request;
+  request.set_map_id(map_id);
+  request.set_version(zone_set_version);
+  v1::GetZonesResponse response;
+  absl::Status status = FromGrpcStatus(stub_->GetZones(&context, request, &response));
+  if (!status.ok()) return status;
+  absl::StatusOr<ZoneSet> zones = FromProto(response.zone_set());
+  if (!zones.ok()) return zones.status();
+  return std::optional<ZoneSet>(*std::move(zones));
 }
 
 }  // namespace fleetnav::agent

@@ -12,8 +12,7 @@ namespace {
 absl::StatusOr<StoredZoneSet> ZoneSetFromRow(SqlStatement& row, const std::string& map_id) {
   ASSIGN_OR_RETURN(ZoneSet zones, ParseZoneSetYaml(row.ColumnText(1)));
   zones.map_id = map_id;
-  return StoredZoneSet{std::move(zones), static_cast<uint32_t>(row.ColumnInt(0)),
-                       row.ColumnInt(2)};
+  return StoredZoneSet{std::move(zones), static_cast<uint32_t>(row.ColumnInt(0)), row.ColumnInt(2)};
 }
 
 }  // namespace

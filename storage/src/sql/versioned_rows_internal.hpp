@@ -13,8 +13,7 @@ namespace fleetnav::storage {
 /// The next version of a (key, version) series in `table`, inside the current transaction
 /// (the key is locked first, so two writers never take the same version).
 inline absl::StatusOr<uint32_t> NextVersion(SqlDatabase* db, const std::string& table,
-                                            const std::string& key_column,
-                                            const std::string& key) {
+                                            const std::string& key_column, const std::string& key) {
   RETURN_IF_ERROR(db->LockKey(absl::StrCat(table, ":", key)));
   ASSIGN_OR_RETURN(SqlStatement latest,
                    db->Prepare(absl::StrCat("SELECT COALESCE(MAX(version), 0) FROM ", table,

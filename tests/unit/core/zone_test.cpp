@@ -62,13 +62,12 @@ TEST(ZoneTest, AnEmptySetIsValidAndLiftsEveryRule) {
 }
 
 TEST(ZoneTest, BadZonesAreRefusedNamingTheField) {
-  ExpectInvalid(ParseZoneSetYaml("zones:\n  - {name: a, kind: no_go, polygon: [[0,0],[1,1]]}\n")
-                    .status(),
-                "zones[0].polygon: needs at least 3 vertices");
+  ExpectInvalid(
+      ParseZoneSetYaml("zones:\n  - {name: a, kind: no_go, polygon: [[0,0],[1,1]]}\n").status(),
+      "zones[0].polygon: needs at least 3 vertices");
   // A bow tie: edges 0-1 and 2-3 cross.
   ExpectInvalid(
-      ParseZoneSetYaml(
-          "zones:\n  - {name: a, kind: no_go, polygon: [[0,0],[2,2],[2,0],[0,2]]}\n")
+      ParseZoneSetYaml("zones:\n  - {name: a, kind: no_go, polygon: [[0,0],[2,2],[2,0],[0,2]]}\n")
           .status(),
       "zones[0].polygon: edges 0-1 and 2-3 cross (self-intersecting)");
   ExpectInvalid(
@@ -166,6 +165,38 @@ TEST(ZoneTest, AZoneOffTheMapIsRefusedNamingTheVertex) {
   EXPECT_TRUE(CheckZonesOnMap(zones, *grid).ok());
   zones.zones.push_back({"over", ZoneKind::kNoGo, Square(8, 3, 3), 0.0, 1});
   ExpectInvalid(CheckZonesOnMap(zones, *grid), "zones[1].polygon[1]");
+}
+
+TEST(ZoneTest, PlannersSeeNoGoZonesAsOccupiedCellsAndNothingElseChanges) {
+  absl::StatusOr<OccupancyGrid> grid =
+      OccupancyGrid::Filled(100, 50, 0.1, Pose2(0, 0, 0), int8_t{0});
+  ASSERT_TRUE(grid.ok());
+  grid->SetValue({90, 40}, -1);
+  ZoneSet zones;
+  zones.zones.push_back({"pen", ZoneKind::kNoGo, Square(2, 1, 1), 0.0, 1});
+  zones.zones.push_back({"slow", ZoneKind::kSpeedLimit, Square(6, 1, 2), 0.3, 1});
+  const OccupancyGrid marked = WithNoGoZonesOccupied(*grid, zones);
+  int occupied = 0;
+  for (int y = 0; y < marked.height(); ++y) {
+    for (int x = 0; x < marked.width(); ++x) {
+      const Eigen::Vector2d center = marked.CellToWorld({x, y});
+      const bool in_pen =
+          center.x() > 1.95 && center.x() < 3.05 && center.y() > 0.95 && center.y() < 2.05;
+      if (marked.Value({x, y}) == 100) ++occupied;
+      if (in_pen) {
+        EXPECT_EQ(marked.Value({x, y}), 100) << x << "," << y;
+      } else if (x != 90 || y != 40) {
+        // Cells beside the pen may be marked (a cell the edge passes through); no others.
+        const bool beside =
+            center.x() > 1.85 && center.x() < 3.15 && center.y() > 0.85 && center.y() < 2.15;
+        if (!beside) EXPECT_EQ(marked.Value({x, y}), 0) << x << "," << y;
+      }
+    }
+  }
+  EXPECT_GE(occupied, 100);  // the 1 m² pen is 100 cells
+  EXPECT_LE(occupied, 144);  // and at most a ring of cells around it
+  EXPECT_EQ(marked.Value({90, 40}), -1);
+  EXPECT_EQ(marked.Value({70, 20}), 0);  // in the speed-limit zone
 }
 
 TEST(ZoneTest, FilesRoundTrip) {

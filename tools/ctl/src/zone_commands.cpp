@@ -45,8 +45,8 @@ absl::Status PutZones(const CommandContext& context, const std::string& map_id,
       context,
       [&] {
         return context.json ? nlohmann::json{{"map_id", response.map_id()},
-                                              {"version", response.version()},
-                                              {"zones", zones->zones.size()}}
+                                             {"version", response.version()},
+                                             {"zones", zones->zones.size()}}
                                   .dump()
                             : absl::StrCat("stored ", zones->zones.size(), " zone(s) of map '",
                                            response.map_id(), "' as version ", response.version());
@@ -54,8 +54,7 @@ absl::Status PutZones(const CommandContext& context, const std::string& map_id,
       [&](auto& stub, auto* rpc) { return stub.PutZones(rpc, request, &response); });
 }
 
-absl::Status GetZones(const CommandContext& context, const std::string& map_id,
-                      uint32_t version) {
+absl::Status GetZones(const CommandContext& context, const std::string& map_id, uint32_t version) {
   v1::GetZonesRequest request;
   request.set_map_id(map_id);
   request.set_version(version);

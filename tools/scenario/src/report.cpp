@@ -44,6 +44,14 @@ void PrintReport(const ScenarioReport& report, std::ostream& out) {
         return total;
       }(),
       report.no_wait_end_s, report.longest_standstill_s);
+  if (report.no_go_entries > 0 || !report.max_speed_in_zone_mps.empty()) {
+    out << absl::StrFormat("zones: %d no-go entr%s", report.no_go_entries,
+                           report.no_go_entries == 1 ? "y" : "ies");
+    for (const auto& [zone, speed_mps] : report.max_speed_in_zone_mps) {
+      out << absl::StrFormat(", %s at most %.3f m/s", zone, speed_mps);
+    }
+    out << "\n";
+  }
   const double per_sim_s = report.sim_time_s > 0.0 ? 1.0 / report.sim_time_s : 0.0;
   out << absl::StrFormat(
       "CPU: fleetnavd %.1f s (%.4f per sim-s), simulator %.1f s, agents %.1f s (%.4f per robot "
@@ -115,6 +123,8 @@ std::string ReportJson(const ScenarioReport& report) {
                         {"waiting_share", report.waiting_share},
                         {"no_wait_end_s", report.no_wait_end_s},
                         {"longest_standstill_s", report.longest_standstill_s},
+                        {"no_go_entries", report.no_go_entries},
+                        {"max_speed_in_zone_mps", report.max_speed_in_zone_mps},
                         {"server_cpu_s", report.server_cpu_s},
                         {"sim_cpu_s", report.sim_cpu_s},
                         {"agents_cpu_s", report.agents_cpu_s},

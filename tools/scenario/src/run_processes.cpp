@@ -286,6 +286,11 @@ absl::Status Run::LoadSite() {
   if (fs::exists(markers_yaml)) {
     if (absl::Status st = Ctl({"markers", "put", markers_yaml}); !st.ok()) return st;
   }
+  if (!s_.zones_path.empty()) {
+    if (absl::Status st = Ctl({"zones", "put", "--map", s_.map_id, s_.zones_path}); !st.ok()) {
+      return st;
+    }
+  }
   for (const std::string& route : s_.route_paths) {
     if (absl::Status st = Ctl({"routes", "put", route}); !st.ok()) return st;
   }

@@ -17,11 +17,13 @@
 #include "absl/strings/strip.h"
 #include "fleetnav/core/angles.hpp"
 #include "fleetnav/core/clock.hpp"
+#include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/core/status_macros.hpp"
 #include "fleetnav/proto/channel_credentials.hpp"
 #include "fleetnav/proto/geometry_convert.hpp"
 #include "fleetnav/proto/server_target.hpp"
 #include "fleetnav/scenario/standstill.hpp"
+#include "fleetnav/scenario/zone_truth.hpp"
 #include "scenario_run.hpp"
 
 namespace fleetnav::scenario::internal {
@@ -78,7 +80,7 @@ namespace {
 
 /// Rows "robot_id,kind,x,y,t_s" of a trajectory CSV, per robot, in file order.
 struct Sample {
-  double t_s, x, y;
+  double t_s, x, y, yaw_rad;
 };
 std::map<std::string, std::vector<Sample>> ReadTrajectories(const std::string& path) {
   std::map<std::string, std::vector<Sample>> out;
@@ -88,7 +90,9 @@ std::map<std::string, std::vector<Sample>> ReadTrajectories(const std::string& p
     std::vector<std::string> f = absl::StrSplit(line, ',');
     if (f.size() < 5) continue;
     try {
-      out[f[0]].push_back({std::stod(f[4]), std::stod(f[2]), std::stod(f[3])});
+      // The truth's sixth column is the yaw (estimates have none).
+      out[f[0]].push_back({std::stod(f[4]), std::stod(f[2]), std::stod(f[3]),
+                           f.size() > 5 ? std::stod(f[5]) : 0.0});
     } catch (const std::exception&) {
       continue;  // a header or a line cut by a kill
     }
@@ -168,7 +172,19 @@ void Run::Finish(ScenarioReport* report) {
   {
     std::map<std::string, std::vector<TruthSample>> samples;
     for (const auto& [id, trajectory] : truth) {
-      for (const Sample& s : trajectory) samples[id].push_back({s.t_s, s.x, s.y});
+      for (const Sample& s : trajectory) samples[id].push_back({s.t_s, s.x, s.y, s.yaw_rad});
+    }
+    if (s_.zones) {
+      std::map<std::string, Polygon2> footprints;
+      for (const ScenarioRobot& robot : s_.robots) {
+        if (absl::StatusOr<RobotModel> model = RobotModelByKind(robot.kind_name); model.ok()) {
+          footprints[robot.robot_id] = model->footprint_m;
+        }
+      }
+      const ZoneTruth zones = JudgeZones(*s_.zones, samples, footprints);
+      report->no_go_entries = zones.no_go_entries;
+      report->first_no_go_entry = zones.first_no_go_entry;
+      report->max_speed_in_zone_mps = zones.max_speed_in_zone_mps;
     }
     std::vector<JobWindow> windows;
     for (size_t i = 0; i < jobs_.size(); ++i) {
@@ -214,6 +230,19 @@ void Run::Finish(ScenarioReport* report) {
     report->failures.push_back(absl::StrFormat("min separation %.3f m (at least %.3f m expected)",
                                                report->min_separation_m,
                                                *s_.expect.min_separation_m));
+  }
+  if (s_.expect.max_no_go_entries && report->no_go_entries > *s_.expect.max_no_go_entries) {
+    report->failures.push_back(
+        absl::StrCat(report->no_go_entries, " entry(ies) into no-go zones (at most ",
+                     *s_.expect.max_no_go_entries, " expected): ", report->first_no_go_entry));
+  }
+  for (const auto& [zone, most_mps] : s_.expect.max_speed_in_zone_mps) {
+    const auto driven = report->max_speed_in_zone_mps.find(zone);
+    if (driven != report->max_speed_in_zone_mps.end() && driven->second > most_mps) {
+      report->failures.push_back(
+          absl::StrFormat("a robot drove %.3f m/s in zone '%s' (at most %.3f m/s expected)",
+                          driven->second, zone, most_mps));
+    }
   }
   for (const auto& [robot_id, most_s] : s_.expect.max_waiting_s) {
     const double waited_s = figures_[robot_id].waiting_s;

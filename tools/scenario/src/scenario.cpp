@@ -77,8 +77,8 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
     return std::filesystem::path(p).is_absolute() ? p : (dir / p).lexically_normal().string();
   };
   RETURN_IF_ERROR(CheckKeys(root, "",
-                            {"name", "world", "routes", "seed", "real_time_factor", "replicas",
-                             "tls_dev_certs", "robots", "jobs", "faults", "expect"}));
+                            {"name", "world", "routes", "zones", "seed", "real_time_factor",
+                             "replicas", "tls_dev_certs", "robots", "jobs", "faults", "expect"}));
   Scenario s;
   s.path = path;
   s.name =
@@ -110,6 +110,18 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
       return absl::InvalidArgumentError(
           absl::StrCat("tls_dev_certs: no such file '", s.tls_dev_certs, "'"));
     }
+  }
+  if (root["zones"]) {
+    s.zones_path = resolve(Text(root["zones"]));
+    absl::StatusOr<ZoneSet> zones = LoadZoneSet(s.zones_path);
+    if (!zones.ok())
+      return absl::InvalidArgumentError(absl::StrCat("zones: ", zones.status().message()));
+    if (!zones->map_id.empty() && zones->map_id != s.map_id) {
+      return absl::InvalidArgumentError(absl::StrCat("zones: the file is of map '", zones->map_id,
+                                                     "', the world is '", s.map_id, "'"));
+    }
+    zones->map_id = s.map_id;
+    s.zones = *std::move(zones);
   }
   // Routes: loaded here so that a bad file is refused before anything starts.
   std::set<std::string> route_names;
@@ -173,11 +185,34 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
     }
     return false;
   };
+  if (s.zones && std::any_of(s.zones->zones.begin(), s.zones->zones.end(),
+                             [](const Zone& z) { return z.kind == ZoneKind::kNoGo; })) {
+    s.expect.max_no_go_entries = 0;  // unless the expectations say otherwise
+  }
   // Expectations first: the deadline bounds every time.
   if (const YAML::Node e = root["expect"]) {
-    RETURN_IF_ERROR(CheckKeys(e, "expect",
-                              {"jobs", "contacts", "min_separation_m", "deadline_s",
-                               "max_waiting_s", "max_standstill_s"}));
+    RETURN_IF_ERROR(
+        CheckKeys(e, "expect",
+                  {"jobs", "contacts", "min_separation_m", "deadline_s", "max_waiting_s",
+                   "max_standstill_s", "no_go_entries", "max_speed_in_zone"}));
+    if (e["no_go_entries"]) {
+      ASSIGN_OR_RETURN(const double entries, Number(e["no_go_entries"], "expect.no_go_entries", 0));
+      s.expect.max_no_go_entries = static_cast<int>(entries);
+    }
+    if (const YAML::Node speeds = e["max_speed_in_zone"]) {
+      if (!speeds.IsMap()) {
+        return absl::InvalidArgumentError("expect.max_speed_in_zone: expected {zone: m/s, ...}");
+      }
+      for (const auto& entry : speeds) {
+        const std::string zone = entry.first.as<std::string>();
+        const std::string where = absl::StrCat("expect.max_speed_in_zone.", zone);
+        if (!s.zones || s.zones->Find(zone) == nullptr) {
+          return absl::InvalidArgumentError(
+              absl::StrCat(where, ": '", zone, "' is not a zone of the scenario's `zones`"));
+        }
+        ASSIGN_OR_RETURN(s.expect.max_speed_in_zone_mps[zone], Number(entry.second, where, 0));
+      }
+    }
     if (const YAML::Node waits = e["max_waiting_s"]) {
       if (!waits.IsMap()) {
         return absl::InvalidArgumentError("expect.max_waiting_s: expected {robot: seconds, ...}");

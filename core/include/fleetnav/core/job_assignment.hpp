@@ -24,6 +24,7 @@ struct JobAssignment {
   uint32_t route_version = 0;
   uint32_t map_version = 0;         ///< 0: unknown, the agent uses what it has
   uint32_t marker_set_version = 0;  ///< 0: the map has no marker set
+  uint32_t zone_set_version = 0;    ///< 0: the map has no zones
   /// The route's beginning, or — for a job the robot held before its agent restarted — the
   /// action it was in and how much of it was done.
   RoutePosition resume;

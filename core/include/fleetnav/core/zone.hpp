@@ -73,6 +73,12 @@ struct ZoneSet {
 /// InvalidArgument naming `zones[i].polygon[j]` for a vertex outside the map's extent.
 absl::Status CheckZonesOnMap(const ZoneSet& zones, const OccupancyGrid& grid);
 
+/// `grid` with every cell that a no-go zone of `zones` overlaps marked occupied (100): the map
+/// planners plan on, so that their paths, inflated by the footprint, keep the robot out of the
+/// zones. Localization keeps the true map (a zone is no wall). Cells outside every no-go zone
+/// keep their value.
+OccupancyGrid WithNoGoZonesOccupied(const OccupancyGrid& grid, const ZoneSet& zones);
+
 /// Zone YAML:
 ///   map: barn                       # optional
 ///   zones:

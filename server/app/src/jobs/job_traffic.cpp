@@ -24,6 +24,7 @@ absl::StatusOr<JobAssignment> ResolveAssignment(const Job& job, SiteCatalog& sit
   }
   ASSIGN_OR_RETURN(assignment.map_version, site_data.LatestMapVersion(job.map_id));
   assignment.marker_set_version = site_data.LatestMarkerSetVersion(job.map_id);
+  assignment.zone_set_version = site.LatestZoneSetVersion(job.map_id);
   return assignment;
 }
 

@@ -103,6 +103,12 @@ absl::Status SiteCatalog::CheckRouteAgainstSite(const Route& route) {
   return absl::OkStatus();
 }
 
+uint32_t SiteCatalog::LatestZoneSetVersion(const std::string& map_id) {
+  if (zones_ == nullptr) return 0;
+  const std::shared_ptr<const storage::StoredZoneSet> zones = zones_->Latest(map_id);
+  return zones != nullptr ? zones->version : 0;
+}
+
 absl::Status SiteCatalog::CheckOutsideNoGo(const std::string& map_id, const Eigen::Vector2d& point,
                                            const std::string& field) {
   if (zones_ == nullptr) return absl::OkStatus();

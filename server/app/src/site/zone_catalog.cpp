@@ -22,9 +22,8 @@ absl::StatusOr<uint32_t> ZoneCatalog::PutZones(const ZoneSet& zones) {
   ASSIGN_OR_RETURN(const uint32_t version, zones_->PutZoneSet(zones, created_unix_ms));
   {
     absl::MutexLock lock(&mutex_);
-    latest_[zones.map_id] =
-        std::make_shared<const storage::StoredZoneSet>(storage::StoredZoneSet{
-            zones, version, created_unix_ms});
+    latest_[zones.map_id] = std::make_shared<const storage::StoredZoneSet>(
+        storage::StoredZoneSet{zones, version, created_unix_ms});
   }
   if (on_change_) on_change_(zones.map_id);
   return version;
@@ -69,9 +68,9 @@ absl::Status CheckOutsideNoGo(const ZoneSet* zones, const Eigen::Vector2d& point
                               const std::string& field) {
   if (zones == nullptr) return absl::OkStatus();
   for (const Zone* zone : zones->Touching(ZoneKind::kNoGo, point, 0.0)) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        field, absl::StrFormat(" (%.2f, %.2f)", point.x(), point.y()), " lies in no-go zone '",
-        zone->name, "' of map '", zones->map_id, "'"));
+    return absl::InvalidArgumentError(
+        absl::StrCat(field, absl::StrFormat(" (%.2f, %.2f)", point.x(), point.y()),
+                     " lies in no-go zone '", zone->name, "' of map '", zones->map_id, "'"));
   }
   return absl::OkStatus();
 }

@@ -22,8 +22,7 @@ class ZoneSetRepository {
   virtual ~ZoneSetRepository() = default;
   virtual absl::StatusOr<uint32_t> PutZoneSet(const ZoneSet& zones, int64_t created_unix_ms) = 0;
   /// version 0 reads the latest; NotFound names the map (and version).
-  virtual absl::StatusOr<StoredZoneSet> GetZoneSet(const std::string& map_id,
-                                                   uint32_t version) = 0;
+  virtual absl::StatusOr<StoredZoneSet> GetZoneSet(const std::string& map_id, uint32_t version) = 0;
   /// The latest version of every map's zone set, by map id.
   virtual absl::StatusOr<std::vector<StoredZoneSet>> ListZoneSets() = 0;
   /// Deletes every version of the map's zone set (a new one starts again at 1); NotFound names

@@ -17,6 +17,7 @@
 #include "fleetnav/robot_agent/route_executor.hpp"
 #include "fleetnav/robot_agent/safety_monitor.hpp"
 #include "fleetnav/robot_agent/site_source.hpp"
+#include "fleetnav/robot_agent/zone_speed_limit.hpp"
 
 namespace fleetnav::agent {
 
@@ -92,7 +93,10 @@ class JobRunner {
   /// the job cannot run here.
   absl::Status PrepareSite(const JobAssignment& assignment);
 
-  RouteContext context_;  ///< the site in use; the loads between routes
+  RouteContext context_;  ///< the site in use (its map with no-go zones occupied); the loads
+  /// The zones of the site in use (speed limits held each tick); nullopt: none.
+  std::optional<ZoneSet> zones_;
+  ZoneSpeedParams zone_speed_;
   JobRunnerPorts ports_;
   ModeParams modes_;
   SafetyMonitor safety_;

@@ -8,6 +8,7 @@
 #include "absl/status/statusor.h"
 #include "fleetnav/core/occupancy_grid.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
+#include "fleetnav/core/zone.hpp"
 
 namespace fleetnav::agent {
 
@@ -29,6 +30,13 @@ class SiteSource {
   /// NotFound for a map or version the source does not have.
   virtual absl::StatusOr<SiteData> Load(const std::string& map_id, uint32_t map_version,
                                         uint32_t marker_set_version) = 0;
+  /// The map's zones at `zone_set_version` (> 0). A source that knows no zones has none.
+  virtual absl::StatusOr<std::optional<ZoneSet>> LoadZones(const std::string& map_id,
+                                                           uint32_t zone_set_version) {
+    (void)map_id;
+    (void)zone_set_version;
+    return std::nullopt;
+  }
 };
 
 }  // namespace fleetnav::agent

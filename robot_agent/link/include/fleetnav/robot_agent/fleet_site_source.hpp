@@ -17,6 +17,8 @@ class FleetSiteSource final : public SiteSource {
   explicit FleetSiteSource(std::shared_ptr<grpc::Channel> channel, double timeout_s = 10.0);
   absl::StatusOr<SiteData> Load(const std::string& map_id, uint32_t map_version,
                                 uint32_t marker_set_version) override;
+  absl::StatusOr<std::optional<ZoneSet>> LoadZones(const std::string& map_id,
+                                                   uint32_t zone_set_version) override;
 
  private:
   std::unique_ptr<v1::FleetService::Stub> stub_;

@@ -8,6 +8,7 @@
 
 #include "absl/status/statusor.h"
 #include "fleetnav/core/pose2.hpp"
+#include "fleetnav/core/zone.hpp"
 
 namespace fleetnav::scenario {
 
@@ -60,6 +61,11 @@ struct ScenarioExpectations {
   double deadline_s = 600.0;  ///< sim time by which every job has ended
   /// Sim time each named robot may be held by traffic coordination at most.
   std::map<std::string, double> max_waiting_s;
+  /// Entries of true footprints into no-go zones (ZoneTruth) at most; 0 unless said when the
+  /// scenario has no-go zones.
+  std::optional<int> max_no_go_entries;
+  /// Per zone: the highest true speed (m/s) of a robot whose centre is inside it.
+  std::map<std::string, double> max_speed_in_zone_mps;
 };
 
 /// A multi-robot scenario (docs/scenarios.md). Paths are resolved against the file's folder.
@@ -69,6 +75,9 @@ struct Scenario {
   std::string world_path;  ///< the world YAML
   std::string map_id;      ///< the world's name: its exported map is uploaded under it
   std::vector<std::string> route_paths;
+  /// `zones`: a zone YAML put on the world's map before the routes; empty: none.
+  std::string zones_path;
+  std::optional<ZoneSet> zones;
   unsigned seed = 1;
   double real_time_factor = 0.0;
   /// fleetnavd replicas sharing the run's PostgreSQL database (1: one plain fleetnavd).

@@ -88,6 +88,11 @@ struct ScenarioReport {
   /// The longest stretch of sim time in which no robot moved (5 cm, in ground truth) while a
   /// submitted job had not ended (LongestStandstillS): a gridlock lasts to the run's end.
   double longest_standstill_s = 0.0;
+  /// With zones (ZoneTruth, from the truth recording): no-go entries of true footprints, the
+  /// first of them in words, and the highest true speed in each zone robots drove in.
+  int no_go_entries = 0;
+  std::string first_no_go_entry;
+  std::map<std::string, double> max_speed_in_zone_mps;
   /// CPU time (user + system) of fleetnavd, the simulator and all agents over the run (every
   /// start of each counted), the machine's cost of the run.
   double server_cpu_s = 0.0;

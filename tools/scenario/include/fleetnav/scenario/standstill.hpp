@@ -6,11 +6,12 @@
 
 namespace fleetnav::scenario {
 
-/// One robot's true position at a sim time (the simulator's truth recording).
+/// One robot's true pose at a sim time (the simulator's truth recording).
 struct TruthSample {
   double t_s = 0.0;
   double x_m = 0.0;
   double y_m = 0.0;
+  double yaw_rad = 0.0;
 };
 
 /// When a job was submitted and when it ended (sim seconds; end_s < 0: it never ended).

@@ -42,6 +42,8 @@ class SiteCatalog {
   /// The zones routes are checked against (no-go zones hold no waypoint or goal). Set before
   /// the catalog is shared; without it routes are checked against the map alone.
   void UseZones(ZoneCatalog* zones) { zones_ = zones; }
+  /// The latest zone-set version of the map; 0 when it has none (or no zones are used).
+  uint32_t LatestZoneSetVersion(const std::string& map_id);
   /// InvalidArgument naming `field` and the zone when `point` lies in a no-go zone of the map's
   /// latest zones.
   absl::Status CheckOutsideNoGo(const std::string& map_id, const Eigen::Vector2d& point,

@@ -1,0 +1,75 @@
+#include "fleetnav/scenario/zone_truth.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+#include "absl/strings/str_format.h"
+
+namespace fleetnav::scenario {
+namespace {
+
+// The footprint at a true pose, in the map frame.
+Polygon2 Placed(const Polygon2& footprint, const TruthSample& sample) {
+  const Eigen::Rotation2Dd rotation(sample.yaw_rad);
+  const Eigen::Vector2d at(sample.x_m, sample.y_m);
+  Polygon2 out;
+  out.reserve(footprint.size());
+  for (const Eigen::Vector2d& vertex : footprint) out.push_back(at + rotation * vertex);
+  return out;
+}
+
+bool Overlaps(const Polygon2& zone, const Polygon2& body, const Eigen::Vector2d& center) {
+  if (body.size() < 3) return PolygonContains(zone, center);
+  for (size_t i = 0; i < body.size(); ++i) {
+    if (SegmentTouchesPolygon(zone, body[i], body[(i + 1) % body.size()], 0.0)) return true;
+  }
+  // A zone wholly under the robot.
+  return PolygonContains(body, zone.front());
+}
+
+}  // namespace
+
+ZoneTruth JudgeZones(const ZoneSet& zones,
+                     const std::map<std::string, std::vector<TruthSample>>& truth,
+                     const std::map<std::string, Polygon2>& footprints) {
+  ZoneTruth out;
+  double first_entry_s = 0.0;
+  for (const auto& [robot_id, samples] : truth) {
+    const auto footprint = footprints.find(robot_id);
+    const Polygon2 none;
+    const Polygon2& shape = footprint != footprints.end() ? footprint->second : none;
+    for (const Zone& zone : zones.zones) {
+      bool inside_before = false;
+      for (size_t i = 0; i < samples.size(); ++i) {
+        const TruthSample& s = samples[i];
+        const Eigen::Vector2d center(s.x_m, s.y_m);
+        if (zone.kind == ZoneKind::kNoGo) {
+          const bool inside = Overlaps(zone.polygon_in_map, Placed(shape, s), center);
+          if (inside && !inside_before) {
+            ++out.no_go_entries;
+            if (out.first_no_go_entry.empty() || s.t_s < first_entry_s) {
+              first_entry_s = s.t_s;
+              out.first_no_go_entry = absl::StrFormat("%s entered no-go zone '%s' at %.2f s",
+                                                      robot_id, zone.name, s.t_s);
+            }
+          }
+          inside_before = inside;
+        }
+        if (i == 0) continue;
+        const TruthSample& p = samples[i - 1];
+        const double dt_s = s.t_s - p.t_s;
+        if (dt_s <= 0.0 || !PolygonContains(zone.polygon_in_map, center) ||
+            !PolygonContains(zone.polygon_in_map, Eigen::Vector2d(p.x_m, p.y_m))) {
+          continue;
+        }
+        const double speed_mps = std::hypot(s.x_m - p.x_m, s.y_m - p.y_m) / dt_s;
+        double& most = out.max_speed_in_zone_mps[zone.name];
+        most = std::max(most, speed_mps);
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace fleetnav::scenario
