@@ -25,12 +25,11 @@ std::optional<double> ZoneSpeedCap(const ZoneSet& zones, const Pose2& pose_in_ma
                                    const ZoneSpeedParams& params) {
   const Eigen::Matrix2d position = covariance.topLeftCorner<2, 2>();
   const double largest_variance =
-      position.allFinite()
-          ? std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(position,
-                                                                        Eigen::EigenvaluesOnly)
-                              .eigenvalues()
-                              .maxCoeff())
-          : 0.0;
+      position.allFinite() ? std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(
+                                               position, Eigen::EigenvaluesOnly)
+                                               .eigenvalues()
+                                               .maxCoeff())
+                           : 0.0;
   const double reach_m = footprint_radius_m + params.sigma_multiple * std::sqrt(largest_variance);
   const Eigen::Vector2d center = pose_in_map.translation();
   std::optional<double> cap;

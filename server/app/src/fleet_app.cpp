@@ -80,6 +80,7 @@ absl::Status FleetApp::Open() {
   site_->UseZones(zones_.get());
   coordinator_ = std::make_unique<TrafficCoordinator>(site_data_.get(), &registry_, robots_, clock_,
                                                       params_.traffic);
+  coordinator_->UseZones(zones_.get());
   jobs_ = std::make_unique<JobService>(job_repository_.get(), robot_repository_.get(),
                                        site_data_.get(), site_.get(), &registry_, robots_, clock_,
                                        params_.jobs, coordinator_.get());

@@ -9,15 +9,16 @@ namespace {
 ZoneSet Zones() {
   ZoneSet zones;
   zones.zones.push_back({"pen", ZoneKind::kNoGo, {{4, -1}, {5, -1}, {5, 1}, {4, 1}}, 0.0, 1});
-  zones.zones.push_back({"slow", ZoneKind::kSpeedLimit, {{0, -1}, {2, -1}, {2, 1}, {0, 1}}, 0.3, 1});
+  zones.zones.push_back(
+      {"slow", ZoneKind::kSpeedLimit, {{0, -1}, {2, -1}, {2, 1}, {0, 1}}, 0.3, 1});
   return zones;
 }
 
 // A robot driving along y = `y_m` from x = 0 at `speed_mps`, sampled at 10 Hz for `end_s`.
 std::vector<TruthSample> Drive(double y_m, double speed_mps, double end_s, double yaw_rad = 0.0) {
   std::vector<TruthSample> out;
-  for (int i = 0; i * 0.1 <= end_s + 1e-9; ++i) out.push_back({i * 0.1, speed_mps * i * 0.1, y_m,
-                                                               yaw_rad});
+  for (int i = 0; i * 0.1 <= end_s + 1e-9; ++i)
+    out.push_back({i * 0.1, speed_mps * i * 0.1, y_m, yaw_rad});
   return out;
 }
 
@@ -25,14 +26,14 @@ const Polygon2 kBox = {{-0.3, -0.2}, {0.3, -0.2}, {0.3, 0.2}, {-0.3, 0.2}};
 
 TEST(ZoneTruthTest, AFootprintThatReachesANoGoZoneIsOneEntryAndTheFirstIsNamed) {
   // Straight through the pen: one entry however many samples it stays in.
-  const ZoneTruth through = JudgeZones(Zones(), {{"omni1", Drive(0.0, 1.0, 8.0)}},
-                                       {{"omni1", kBox}});
+  const ZoneTruth through =
+      JudgeZones(Zones(), {{"omni1", Drive(0.0, 1.0, 8.0)}}, {{"omni1", kBox}});
   EXPECT_EQ(through.no_go_entries, 1);
   EXPECT_THAT(through.first_no_go_entry, ::testing::HasSubstr("omni1 entered no-go zone 'pen'"));
   // Along y = 1.25, 0.25 m beside the pen's edge: the 0.2 m half-width keeps it out.
-  EXPECT_EQ(JudgeZones(Zones(), {{"omni1", Drive(1.25, 1.0, 8.0, 0.0)}}, {{"omni1", kBox}})
-                .no_go_entries,
-            0);
+  EXPECT_EQ(
+      JudgeZones(Zones(), {{"omni1", Drive(1.25, 1.0, 8.0, 0.0)}}, {{"omni1", kBox}}).no_go_entries,
+      0);
   // Turned across (yaw 90°) its 0.3 m half-length reaches in, the centre does not.
   EXPECT_EQ(JudgeZones(Zones(), {{"omni1", Drive(1.25, 1.0, 8.0, M_PI / 2)}}, {{"omni1", kBox}})
                 .no_go_entries,

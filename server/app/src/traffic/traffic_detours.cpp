@@ -84,16 +84,19 @@ void TrafficCoordinator::PlanWayRound(
       blocked.push_back(WhereItStands(*other->second, swept_margin_m));
     }
   }
+  std::shared_ptr<const storage::StoredZoneSet> zones = NoGoZonesOf(map->info.map_id);
   // From where it stands through the action's own waypoints to its goal. (Under way, which of
   // its own waypoints are behind it is not known: such an action is not planned again.)
   GiveWayRound(
       t, action, nav, telemetry, {},
-      [this, map = std::move(map), blocked = std::move(blocked), nav, model = t.model,
-       from = telemetry.pose_in_map] {
+      [this, map = std::move(map), zones = std::move(zones), blocked = std::move(blocked), nav,
+       model = t.model, from = telemetry.pose_in_map] {
         std::vector<const planner::CellSet*> blocked_pointers;
         for (const planner::CellSet& cells : blocked) blocked_pointers.push_back(&cells);
-        return planner::PlanDetour(map->grid, model, blocked_pointers, params_.cell_m, from, nav,
-                                   params_.detour);
+        // Round the no-go zones, as the agent plans.
+        return planner::PlanDetour(
+            zones != nullptr ? WithNoGoZonesOccupied(map->grid, zones->zones) : map->grid, model,
+            blocked_pointers, params_.cell_m, from, nav, params_.detour);
       },
       records);
 }

@@ -28,8 +28,22 @@ bool FollowsClosely(const RobotModel& model) {
 
 }  // namespace
 
-TrafficCoordinator::PlannerCache TrafficCoordinator::BuildPlannerCache(
-    const std::string& map_id, uint32_t map_version, const RobotModel& model) const {
+std::shared_ptr<const storage::StoredZoneSet> TrafficCoordinator::NoGoZonesOf(
+    const std::string& map_id) const {
+  if (zones_ == nullptr) return nullptr;
+  std::shared_ptr<const storage::StoredZoneSet> zones = zones_->Latest(map_id);
+  if (zones == nullptr ||
+      std::none_of(zones->zones.zones.begin(), zones->zones.zones.end(),
+                   [](const Zone& zone) { return zone.kind == ZoneKind::kNoGo; })) {
+    return nullptr;
+  }
+  return zones;
+}
+
+TrafficCoordinator::PlannerCache TrafficCoordinator::BuildPlannerCache(const std::string& map_id,
+                                                                       uint32_t map_version,
+                                                                       const RobotModel& model,
+                                                                       const ZoneSet* zones) const {
   PlannerCache cache;
   absl::StatusOr<std::shared_ptr<const storage::StoredMap>> shared =
       site_data_->Map(map_id, map_version);
@@ -38,8 +52,10 @@ TrafficCoordinator::PlannerCache TrafficCoordinator::BuildPlannerCache(
   // The agent's free navigation plans with 0.1 m of padding (FreeNavigationParams).
   planner::CostmapParams costmap_params;
   costmap_params.padding_m = 0.1;
-  absl::StatusOr<planner::Costmap> costmap =
-      planner::Costmap::Build(map->grid, model.footprint_m, costmap_params);
+  // The agent plans round the no-go zones: so does its prediction.
+  absl::StatusOr<planner::Costmap> costmap = planner::Costmap::Build(
+      zones != nullptr ? WithNoGoZonesOccupied(map->grid, *zones) : map->grid, model.footprint_m,
+      costmap_params);
   if (costmap.ok()) {
     cache.costmap = std::make_unique<planner::Costmap>(*std::move(costmap));
     // The planner the robot's agent navigates with, so the prediction is its path.
@@ -57,10 +73,15 @@ TrafficCoordinator::PlannerCache& TrafficCoordinator::CacheIn(PlannerCaches& cac
                                                               const std::string& map_id,
                                                               uint32_t map_version,
                                                               const RobotModel& model) const {
-  const auto key = std::make_tuple(map_id, map_version, model.kind_name);
+  const std::shared_ptr<const storage::StoredZoneSet> zones = NoGoZonesOf(map_id);
+  const auto key =
+      std::make_tuple(map_id, map_version, model.kind_name, zones != nullptr ? zones->version : 0);
   auto it = caches.find(key);
   if (it == caches.end()) {
-    it = caches.emplace(key, BuildPlannerCache(map_id, map_version, model)).first;
+    it = caches
+             .emplace(key, BuildPlannerCache(map_id, map_version, model,
+                                             zones != nullptr ? &zones->zones : nullptr))
+             .first;
   }
   return it->second;
 }

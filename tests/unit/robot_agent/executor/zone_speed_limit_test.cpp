@@ -11,10 +11,10 @@ ZoneSet Checkout() {
   ZoneSet zones;
   zones.map_id = "store";
   // 0.3 m/s from x = 5 to 8; a stricter 0.1 m/s at x = 20.
-  zones.zones.push_back({"checkout", ZoneKind::kSpeedLimit, {{5, 0}, {8, 0}, {8, 3}, {5, 3}},
-                         0.3, 1});
-  zones.zones.push_back({"crossing", ZoneKind::kSpeedLimit,
-                         {{20, 0}, {21, 0}, {21, 3}, {20, 3}}, 0.1, 1});
+  zones.zones.push_back(
+      {"checkout", ZoneKind::kSpeedLimit, {{5, 0}, {8, 0}, {8, 3}, {5, 3}}, 0.3, 1});
+  zones.zones.push_back(
+      {"crossing", ZoneKind::kSpeedLimit, {{20, 0}, {21, 0}, {21, 3}, {20, 3}}, 0.1, 1});
   zones.zones.push_back({"pen", ZoneKind::kNoGo, {{0, 0}, {1, 0}, {1, 1}}, 0.0, 1});
   return zones;
 }

@@ -379,6 +379,36 @@ TEST_F(TrafficCoordinatorTest, ARobotWaitingForOneThatStandsInItsWayIsPlannedAWa
   EXPECT_GT(ClosestWaypointM(told.paths[0], {0, 0}), 1.0);
 }
 
+TEST_F(TrafficCoordinatorTest, AFreeNavigationLegIsPredictedRoundTheNoGoZonesAsItsAgentDrives) {
+  // A platform sent 16 m east along y = 0; a Lely stands without a job 3.5 m north of its way.
+  // On the map alone the way keeps far off the Lely: cleared.
+  Connect("a", Pose2(-8, 0, 0), MecanumPlatformModel());
+  Connect("idle", Pose2(0, 3.5, 0));
+  coordinator_.Begin("a", Job("job-a", {{GoEast(-8, 16.0), {}}}));
+  coordinator_.Update();
+  ASSERT_FALSE(mailbox_.sent["a"].empty());
+  EXPECT_EQ(mailbox_.sent["a"].back().cleared_up_to_action, 0);
+  EXPECT_EQ(mailbox_.sent["a"].back().wait_reason, "");
+  // A no-go zone closes the hall south of y = 2.5 between x = -2 and 2: the agent plans round
+  // it, past the Lely, so must the prediction, which then finds the Lely in the way.
+  storage::MemoryZoneSetRepository zone_store;
+  ZoneCatalog zones(&zone_store, &site_data_, &clock_);
+  ZoneSet closed;
+  closed.map_id = "hall";
+  closed.zones.push_back(
+      {"spill", ZoneKind::kNoGo, {{-2, -5}, {2, -5}, {2, 2.5}, {-2, 2.5}}, 0.0, 1});
+  ASSERT_TRUE(zones.PutZones(closed).ok());
+  RecordingMailbox mailbox;
+  TrafficCoordinator coordinator(&site_data_, &registry_, &mailbox, &clock_,
+                                 TrafficCoordinatorParams{});
+  coordinator.UseZones(&zones);
+  coordinator.Begin("a", Job("job-a", {{GoEast(-8, 16.0), {}}}));
+  coordinator.Update();
+  ASSERT_FALSE(mailbox.sent["a"].empty());
+  EXPECT_EQ(mailbox.sent["a"].back().cleared_up_to_action, -1);
+  EXPECT_THAT(mailbox.sent["a"].back().wait_reason, HasSubstr("idle"));
+}
+
 TEST_F(TrafficCoordinatorTest, ARobotUnderWayStandsWhereItIsUntilItsNewWayIsCleared) {
   // A Lely cleared first crosses the platform's way and ends on it.
   Connect("c", Pose2(0, -3, kPi / 2));

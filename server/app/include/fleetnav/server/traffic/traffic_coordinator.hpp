@@ -21,6 +21,7 @@
 #include "fleetnav/server/robots/fleet_registry.hpp"
 #include "fleetnav/server/robots/robot_mailbox.hpp"
 #include "fleetnav/server/site/site_cache.hpp"
+#include "fleetnav/server/site/zone_catalog.hpp"
 #include "fleetnav/server/traffic/planning_thread.hpp"
 
 namespace fleetnav::server {
@@ -121,6 +122,11 @@ class TrafficCoordinator {
  public:
   TrafficCoordinator(SiteCache* site_data, FleetRegistry* registry, RobotMailbox* mailbox,
                      const Clock* clock, TrafficCoordinatorParams params);
+
+  /// The zones whose no-go areas the predictions and ways round plan around, as the agents do
+  /// (docs/server.md, "Zones"). Set before the coordinator is shared; without it they plan on
+  /// the map alone.
+  void UseZones(ZoneCatalog* zones) { zones_ = zones; }
 
   /// Begin's resume_action for a job resumed after a server restart: the robot is in the
   /// action its telemetry reports. Until its robot has reported, no other robot on the job's
@@ -306,11 +312,16 @@ class TrafficCoordinator {
   /// cache as it is used).
   PlannerCache& SearchCacheFor(const std::string& map_id, uint32_t map_version,
                                const RobotModel& model);
-  /// A costmap and the agent's planner of `model`'s kind for the map version.
+  /// A costmap and the agent's planner of `model`'s kind for the map version, on the map with
+  /// the no-go zones of `zones` (may be null) occupied.
   PlannerCache BuildPlannerCache(const std::string& map_id, uint32_t map_version,
-                                 const RobotModel& model) const;
-  /// Costmaps and planners by (map id, map version, robot kind), built on first use.
-  using PlannerCaches = std::map<std::tuple<std::string, uint32_t, std::string>, PlannerCache>;
+                                 const RobotModel& model, const ZoneSet* zones) const;
+  /// The map's latest zones when it has a no-go zone; nullptr else.
+  std::shared_ptr<const storage::StoredZoneSet> NoGoZonesOf(const std::string& map_id) const;
+  /// Costmaps and planners by (map id, map version, robot kind, zone version), built on first
+  /// use.
+  using PlannerCaches =
+      std::map<std::tuple<std::string, uint32_t, std::string, uint32_t>, PlannerCache>;
   /// `caches`' entry for the map version and `model`'s kind, built when it has none.
   PlannerCache& CacheIn(PlannerCaches& caches, const std::string& map_id, uint32_t map_version,
                         const RobotModel& model) const;
@@ -395,6 +406,7 @@ class TrafficCoordinator {
   static int ActionOfStep(const Tracked& tracked, int step);
 
   SiteCache* site_data_;
+  ZoneCatalog* zones_ = nullptr;
   FleetRegistry* registry_;
   RobotMailbox* mailbox_;
   const Clock* clock_;
