@@ -201,8 +201,8 @@ int RoleRank(const std::string& role) { return role == "viewer" ? 0 : role == "o
 /// The role each FleetService and AccessService method needs (docs/security.md); a method missing
 /// here fails.
 int NeededRank(const std::string& method) {
-  static const std::set<std::string> kOperator = {"SubmitJob", "CancelJob", "PauseJob",
-                                                  "ResumeJob"};
+  static const std::set<std::string> kOperator = {"SubmitJob", "CancelJob",  "PauseJob",
+                                                  "ResumeJob", "StopRobots", "ResumeRobots"};
   static const std::set<std::string> kAdmin = {
       "PutMap",   "DeleteMap",   "PutMarkerSet", "DeleteMarkerSet", "PutZones",   "DeleteZones",
       "PutRoute", "DeleteRoute", "ForgetRobot",  "CreateToken",     "ListTokens", "RevokeToken"};

@@ -10,8 +10,10 @@
 
 #include "fleet_fixture.hpp"
 #include "fleetnav/proto/geometry_convert.hpp"
+#include "fleetnav/proto/telemetry_convert.hpp"
 #include "fleetnav/proto/zone_convert.hpp"
 #include "fleetnav/scenario/child_process.hpp"
+#include "fleetnav/v1/agent_service.grpc.pb.h"
 
 namespace fleetnav {
 namespace {
@@ -247,6 +249,116 @@ TEST_F(ZonesTest, FleetnavctlPutsGetsListsAndDeletesZones) {
   ASSERT_EQ(delete_code, 0) << delete_err;
   EXPECT_EQ(nlohmann::json::parse(delete_out)["deleted_zones_of"], "hall");
   EXPECT_EQ(std::get<0>(run({"zones", "get", "--map", "hall"})), 3);
+}
+
+TEST_F(ZonesTest, StopsAreCheckedStoredKeptThroughARestartAndCleared) {
+  PutHall();
+  v1::PutZonesResponse put;
+  ASSERT_TRUE(PutZones(ToProto(HallZones()), &put).ok());
+  const auto stop = [&](bool whole_fleet, const std::string& map, const std::string& zone,
+                        v1::StopRobotsResponse* response) {
+    grpc::ClientContext context;
+    v1::StopRobotsRequest request;
+    request.mutable_scope()->set_whole_fleet(whole_fleet);
+    request.mutable_scope()->set_map_id(map);
+    request.mutable_scope()->set_zone(zone);
+    request.set_reason("cleaning");
+    return fleet_->StopRobots(&context, request, response);
+  };
+  const auto list = [&] {
+    grpc::ClientContext context;
+    v1::ListStopsResponse response;
+    EXPECT_TRUE(fleet_->ListStops(&context, {}, &response).ok());
+    return response;
+  };
+  v1::StopRobotsResponse stopped;
+  // Bad scopes, unknown zones: nothing stored.
+  EXPECT_EQ(stop(false, "", "", &stopped).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(stop(true, "", "pen", &stopped).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  const grpc::Status unknown = stop(false, "", "kitchen", &stopped);
+  EXPECT_EQ(unknown.error_code(), grpc::StatusCode::NOT_FOUND);
+  EXPECT_THAT(unknown.error_message(), HasSubstr("no map has a zone named 'kitchen'"));
+  EXPECT_EQ(stop(false, "hall", "kitchen", &stopped).error_code(), grpc::StatusCode::NOT_FOUND);
+  EXPECT_EQ(list().stops_size(), 0);
+  // A zone found by its name alone, with its outline; the same scope again is refused.
+  ASSERT_TRUE(stop(false, "", "door", &stopped).ok());
+  EXPECT_EQ(stopped.stop().map_id(), "hall");
+  EXPECT_EQ(stopped.stop().polygon_size(), 4);
+  EXPECT_EQ(stop(false, "hall", "door", &stopped).error_code(), grpc::StatusCode::ALREADY_EXISTS);
+  ASSERT_TRUE(stop(true, "", "", &stopped).ok());
+  ASSERT_EQ(list().stops_size(), 2);
+  {
+    // A robot that connects now hears both in its welcome.
+    std::unique_ptr<v1::AgentService::Stub> agents = v1::AgentService::NewStub(channel_);
+    grpc::ClientContext context;
+    std::unique_ptr<grpc::ClientReaderWriter<v1::AgentMessage, v1::ServerMessage>> agent =
+        agents->Connect(&context);
+    v1::AgentMessage hello;
+    *hello.mutable_hello() = ToProto(RobotIdentity{"omni1", MecanumPlatformModel(), {}, "t"});
+    ASSERT_TRUE(agent->Write(hello));
+    v1::ServerMessage welcome;
+    ASSERT_TRUE(agent->Read(&welcome));
+    ASSERT_TRUE(welcome.has_welcome());
+    ASSERT_EQ(welcome.welcome().stops_size(), 2);
+    EXPECT_EQ(welcome.welcome().stops(0).zone(), "door");
+    EXPECT_EQ(welcome.welcome().stops(1).zone(), "");
+    agent->WritesDone();
+    (void)agent->Finish();
+  }
+  // Kept through a restart.
+  StopServer();
+  StartServer();
+  const v1::ListStopsResponse kept = list();
+  ASSERT_EQ(kept.stops_size(), 2);
+  EXPECT_EQ(kept.stops(0).zone(), "door");
+  EXPECT_EQ(kept.stops(0).reason(), "cleaning");
+  EXPECT_EQ(kept.stops(1).zone(), "");
+  // Cleared one by one; clearing again is NOT_FOUND.
+  grpc::ClientContext resume_context;
+  v1::ResumeRobotsRequest resume;
+  resume.mutable_scope()->set_whole_fleet(true);
+  v1::ResumeRobotsResponse resumed;
+  ASSERT_TRUE(fleet_->ResumeRobots(&resume_context, resume, &resumed).ok());
+  grpc::ClientContext again_context;
+  EXPECT_EQ(fleet_->ResumeRobots(&again_context, resume, &resumed).error_code(),
+            grpc::StatusCode::NOT_FOUND);
+  ASSERT_EQ(list().stops_size(), 1);
+}
+
+TEST_F(ZonesTest, FleetnavctlStopsAndResumesAZoneOrTheFleet) {
+  PutHall();
+  v1::PutZonesResponse put;
+  ASSERT_TRUE(PutZones(ToProto(HallZones()), &put).ok());
+  const auto run = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), FLEETNAV_FLEETNAVCTL_PATH);
+    args.push_back("--server=127.0.0.1:" + std::to_string(port_));
+    const std::string base = testing::UniqueTempPath("stops-ctl");
+    scenario::ChildProcess child(args, base + ".out", base + ".err");
+    EXPECT_TRUE(child.started());
+    const int code = child.Wait(30.0).value_or(-1);
+    return std::tuple<int, std::string, std::string>{code, child.Stdout(), child.Stderr()};
+  };
+  EXPECT_EQ(std::get<0>(run({"stop"})), 2);  // neither --all nor --zone
+  EXPECT_EQ(std::get<0>(run({"stop", "--all", "--zone", "pen"})), 2);
+  EXPECT_EQ(std::get<0>(run({"stop", "--zone", "kitchen"})), 3);
+  auto [code, out, err] = run({"stop", "--zone", "pen", "--reason", "spill", "--json"});
+  ASSERT_EQ(code, 0) << err;
+  EXPECT_EQ(nlohmann::json::parse(out)["map_id"], "hall");
+  EXPECT_EQ(nlohmann::json::parse(out)["reason"], "spill");
+  auto [all_code, all_out, all_err] = run({"stop", "--all"});
+  ASSERT_EQ(all_code, 0) << all_err;
+  EXPECT_THAT(all_out, HasSubstr("stopped the whole fleet"));
+  auto [list_code, list_out, list_err] = run({"stops", "--json"});
+  ASSERT_EQ(list_code, 0) << list_err;
+  const nlohmann::json stops = nlohmann::json::parse(list_out);
+  ASSERT_EQ(stops.size(), 2u);
+  EXPECT_EQ(stops[0]["zone"], "pen");
+  EXPECT_EQ(stops[1]["whole_fleet"], true);
+  auto [resume_code, resume_out, resume_err] = run({"resume", "--zone", "pen", "--json"});
+  ASSERT_EQ(resume_code, 0) << resume_err;
+  EXPECT_EQ(nlohmann::json::parse(resume_out)["resumed"]["zone"], "pen");
+  EXPECT_EQ(std::get<0>(run({"resume", "--zone", "pen"})), 3);
+  EXPECT_EQ(std::get<0>(run({"resume", "--all"})), 0);
 }
 
 }  // namespace

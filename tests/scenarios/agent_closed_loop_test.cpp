@@ -323,7 +323,7 @@ std::vector<Eigen::Vector2d> ReadTruthTrack(const std::string& path, const std::
   std::string line;
   while (std::getline(in, line)) {
     std::vector<std::string> parts = absl::StrSplit(line, ',');
-    if (parts.size() == 5 && parts[0] == robot_id && parts[1] == "truth") {
+    if (parts.size() >= 5 && parts[0] == robot_id && parts[1] == "truth") {
       track.emplace_back(std::stod(parts[2]), std::stod(parts[3]));
     }
   }

@@ -89,6 +89,25 @@ int main(int argc, char** argv) {
   CLI::App* zones_list = zones->add_subcommand("list", "list the maps that have zones");
   CLI::App* zones_delete = zones->add_subcommand("delete", "delete every version of a map's zones");
   zones_delete->add_option("--map", zone_map, "map id")->required();
+  fleetnav::ctl::StopTarget stop_target;
+  std::string stop_reason;
+  CLI::App* stop = app.add_subcommand(
+      "stop", "stop every robot (--all) or those in or entering a zone (not a safety e-stop)");
+  CLI::App* resume = app.add_subcommand("resume", "clear a stop made with `stop`");
+  for (CLI::App* command : {stop, resume}) {
+    CLI::Option* all = command->add_flag("--all", stop_target.whole_fleet, "the whole fleet");
+    CLI::Option* zone = command->add_option("--zone", stop_target.zone, "a zone's name");
+    command->add_option("--map", stop_target.map_id,
+                        "the zone's map (needed when several maps have a zone of that name)");
+    all->excludes(zone);
+    command->callback([command, &stop_target] {
+      if (!stop_target.whole_fleet && stop_target.zone.empty()) {
+        throw CLI::ValidationError(command->get_name(), "give --all or --zone NAME");
+      }
+    });
+  }
+  stop->add_option("--reason", stop_reason, "why, for the log and the other operators");
+  CLI::App* stops = app.add_subcommand("stops", "list the stops in force");
   CLI::App* markers = app.add_subcommand("markers", "stripe-marker sets: put, get, delete");
   markers->require_subcommand(1);
   CLI::App* markers_put = markers->add_subcommand("put", "upload a marker YAML as a new version");
@@ -243,6 +262,12 @@ int main(int argc, char** argv) {
     status = fleetnav::ctl::DeleteMarkers(context, marker_map);
   } else if (markers_get->parsed()) {
     status = fleetnav::ctl::GetMarkers(context, marker_map, version);
+  } else if (stop->parsed()) {
+    status = fleetnav::ctl::StopRobots(context, stop_target, stop_reason);
+  } else if (resume->parsed()) {
+    status = fleetnav::ctl::ResumeRobots(context, stop_target);
+  } else if (stops->parsed()) {
+    status = fleetnav::ctl::ListStops(context);
   } else if (zones_put->parsed()) {
     status = fleetnav::ctl::PutZones(context, zone_map, yaml_path);
   } else if (zones_get->parsed()) {

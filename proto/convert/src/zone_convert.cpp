@@ -73,6 +73,38 @@ v1::ZoneSetSummary ToSummaryProto(const ZoneSet& zones, uint32_t version, int64_
   return out;
 }
 
+v1::RobotStop ToProto(const RobotStop& stop) {
+  v1::RobotStop out;
+  out.set_map_id(stop.map_id);
+  out.set_zone(stop.zone);
+  for (const Eigen::Vector2d& vertex : stop.polygon_in_map) *out.add_polygon() = ToProto(vertex);
+  out.set_reason(stop.reason);
+  out.set_created_unix_ms(stop.created_unix_ms);
+  return out;
+}
+
+absl::StatusOr<RobotStop> FromProto(const v1::RobotStop& stop) {
+  RobotStop out;
+  out.map_id = stop.map_id();
+  out.zone = stop.zone();
+  out.reason = stop.reason();
+  out.created_unix_ms = stop.created_unix_ms();
+  for (int j = 0; j < stop.polygon_size(); ++j) {
+    ASSIGN_OR_RETURN(Eigen::Vector2d vertex,
+                     FromProto(stop.polygon(j), absl::StrCat("stop.polygon[", j, "]")));
+    out.polygon_in_map.push_back(vertex);
+  }
+  if (out.whole_fleet() && (!out.map_id.empty() || !out.polygon_in_map.empty())) {
+    return absl::InvalidArgumentError("stop: a whole-fleet stop has no map and no outline");
+  }
+  if (!out.whole_fleet() && out.polygon_in_map.size() < 3) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("stop.polygon: a zone stop needs its outline, got ", out.polygon_in_map.size(),
+                     " vertices"));
+  }
+  return out;
+}
+
 absl::StatusOr<ZoneSet> FromProto(const v1::ZoneSet& zones) {
   ZoneSet out;
   out.map_id = zones.map_id();

@@ -90,8 +90,9 @@ ExecutorOutput JobRunner::Step(const ControlInput& input, const std::vector<int>
       }
       executor_->Abort(absl::AbortedError(verdict.reason));
     }
+    stopped_ = StopApplies(estimate);
     const bool was_running = executor_->state() == ExecutionState::kRunning;
-    if (was_running && !paused_) {
+    if (was_running && !paused_ && !stopped_) {
       output = executor_->Step(input, detected_markers);
       ReportProgress(output);
     } else {
@@ -122,7 +123,7 @@ ExecutorOutput JobRunner::Step(const ControlInput& input, const std::vector<int>
       output.command = CapTwist(output.command, *cap);
     }
   }
-  if (paused_) {
+  if (paused_ || stopped_) {
     output.mode = NavigationMode::kPaused;
     output.command = Twist2{};
   }
@@ -158,6 +159,7 @@ void JobRunner::Serve(const ExecutorOutput& output) {
   std::optional<JobAssignment> assignment = ports_.jobs->TakeAssignment();
   if (!assignment) return;
   job_id_ = assignment->job.job_id;
+  site_map_id_ = assignment->job.map_id;
   ports_.jobs->SetCurrentJob(job_id_);
   if (absl::Status site = PrepareSite(*assignment); !site.ok()) {
     // Nothing moves: the job fails at once with the reason.
@@ -178,6 +180,23 @@ void JobRunner::Serve(const ExecutorOutput& output) {
   for (const JobCommand& command : commands) {
     if (command.type != JobCommandType::kClearance) ApplyCommand(command, output);
   }
+}
+
+bool JobRunner::StopApplies(const localization::LocalizerEstimate& estimate) {
+  if (ports_.jobs == nullptr) return false;
+  const std::vector<RobotStop> stops = ports_.jobs->Stops();
+  if (stops.empty()) return false;
+  // The robot's reach: its footprint, its estimate grown by 2σ, and the way it needs to brake
+  // from its speed now, so that it stands before a stopped zone rather than in it.
+  const std::optional<Eigen::Vector2d> load = carried_load_m();
+  const RobotModel model = load ? context_.model.CarryingLoad(*load) : context_.model;
+  const Eigen::Matrix2d position = estimate.covariance.topLeftCorner<2, 2>();
+  const double sigma_m =
+      position.allFinite() ? std::sqrt(std::max(0.0, position.diagonal().maxCoeff())) : 0.0;
+  const double speed_mps = std::hypot(estimate.velocity.vx_mps, estimate.velocity.vy_mps);
+  const double reach_m = model.CircumscribedRadius() + zone_speed_.sigma_multiple * sigma_m +
+                         speed_mps * speed_mps / (2.0 * zone_speed_.braking_decel_mps2);
+  return ApplyingStop(stops, site_map_id_, estimate.pose_in_map.translation(), reach_m) != nullptr;
 }
 
 absl::Status JobRunner::PrepareSite(const JobAssignment& assignment) {

@@ -7,6 +7,7 @@
 #include "fleetnav/proto/job_convert.hpp"
 #include "fleetnav/proto/route_convert.hpp"
 #include "fleetnav/proto/telemetry_convert.hpp"
+#include "fleetnav/proto/zone_convert.hpp"
 
 namespace fleetnav::agent {
 
@@ -40,6 +41,11 @@ std::optional<JobAssignment> ServerLink::TakeAssignment() {
   JobAssignment next = std::move(assignments_.front());
   assignments_.pop_front();
   return next;
+}
+
+std::vector<RobotStop> ServerLink::Stops() {
+  absl::MutexLock lock(&mutex_);
+  return stops_;
 }
 
 std::vector<JobCommand> ServerLink::TakeCommands() {
@@ -188,6 +194,16 @@ void ServerLink::ApplyServerMessage(const v1::ServerMessage& message) {
     if (absl::StatusOr<JobCommand> command = FromProto(message.command()); command.ok()) {
       commands_.push_back(*std::move(command));
     }
+  } else if (message.has_stops() || message.has_welcome()) {
+    // The whole list in force (a new session's, or a change) replaces the last; one that does
+    // not parse is kept in force by standing (a stop of the whole fleet) rather than dropped.
+    const auto& wires = message.has_stops() ? message.stops().stops() : message.welcome().stops();
+    std::vector<RobotStop> stops;
+    for (const v1::RobotStop& wire : wires) {
+      absl::StatusOr<RobotStop> stop = FromProto(wire);
+      stops.push_back(stop.ok() ? *std::move(stop) : RobotStop{});
+    }
+    stops_ = std::move(stops);
   } else if (message.has_clearance()) {
     // A malformed hold is not acted on: the clearance before it stays.
     if (absl::StatusOr<JobCommand> clearance = FromProto(message.clearance()); clearance.ok()) {

@@ -48,6 +48,7 @@ absl::Status FleetApp::Open() {
   marker_repository_ = std::make_unique<storage::SqlMarkerSetRepository>(db_.get());
   route_repository_ = std::make_unique<storage::SqlRouteRepository>(db_.get());
   zone_repository_ = std::make_unique<storage::SqlZoneSetRepository>(db_.get());
+  stop_repository_ = std::make_unique<storage::SqlStopRepository>(db_.get());
   robot_repository_ = std::make_unique<storage::SqlRobotRepository>(db_.get());
   stored_jobs_ = std::make_unique<storage::SqlJobRepository>(db_.get());
   job_repository_ =
@@ -78,6 +79,9 @@ absl::Status FleetApp::Open() {
   zones_ = std::make_unique<ZoneCatalog>(zone_repository_.get(), site_data_.get(), clock_,
                                          params_.limits);
   site_->UseZones(zones_.get());
+  stops_ = std::make_unique<StopControl>(stop_repository_.get(), zones_.get(), clock_);
+  stops_->SetChangeListener(
+      [this](const std::vector<RobotStop>& stops) { robots_->BroadcastStops(stops); });
   coordinator_ = std::make_unique<TrafficCoordinator>(site_data_.get(), &registry_, robots_, clock_,
                                                       params_.traffic);
   coordinator_->UseZones(zones_.get());
@@ -87,6 +91,7 @@ absl::Status FleetApp::Open() {
   RETURN_IF_ERROR(jobs_->Recover());
   sessions_ = std::make_unique<RobotSessions>(&registry_, jobs_.get(), robots_, maps_.get(),
                                               site_.get(), params_.limits);
+  sessions_->UseStops(stops_.get());
   // Robots hear of every new map or marker-set version.
   maps_->SetChangeListener([this](const std::string& map_id) { sessions_->AnnounceSite(map_id); });
   site_->SetMarkerChangeListener(

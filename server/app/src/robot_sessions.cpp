@@ -13,6 +13,14 @@ uint64_t RobotSessions::Open(const RobotIdentity& identity, const std::string& r
   return session;
 }
 
+std::vector<RobotStop> RobotSessions::StopsInForce() {
+  if (stops_ == nullptr) return {};
+  absl::StatusOr<std::vector<RobotStop>> stops = stops_->InForce();
+  // A store that cannot be read now: the robot is told none, and hears of them with the next
+  // change.
+  return stops.ok() ? *std::move(stops) : std::vector<RobotStop>{};
+}
+
 absl::Status RobotSessions::RecordTelemetry(const std::string& robot_id, uint64_t session,
                                             const Telemetry& telemetry) {
   absl::Status recorded = registry_->RecordTelemetry(robot_id, session, telemetry);

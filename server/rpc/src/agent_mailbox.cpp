@@ -7,6 +7,7 @@
 #include "fleetnav/proto/geometry_convert.hpp"
 #include "fleetnav/proto/job_convert.hpp"
 #include "fleetnav/proto/route_convert.hpp"
+#include "fleetnav/proto/zone_convert.hpp"
 
 namespace fleetnav::server {
 
@@ -83,6 +84,28 @@ bool AgentMailbox::SendClearance(const std::string& robot_id, const ClearanceNot
   v1::ServerMessage message;
   *message.mutable_clearance() = ToProto(clearance);
   return Send(robot_id, std::move(message));
+}
+
+namespace {
+
+v1::ServerMessage StopsMessage(const std::vector<RobotStop>& stops) {
+  v1::ServerMessage message;
+  // Set even when empty: "no stops in force" is news too.
+  v1::StopUpdate* update = message.mutable_stops();
+  for (const RobotStop& stop : stops) *update->add_stops() = ToProto(stop);
+  return message;
+}
+
+}  // namespace
+
+void AgentMailbox::BroadcastStops(const std::vector<RobotStop>& stops) {
+  std::vector<std::shared_ptr<AgentOutbox>> outboxes;
+  {
+    absl::MutexLock lock(&mutex_);
+    for (const auto& [robot, outbox] : outboxes_) outboxes.push_back(outbox);
+  }
+  const v1::ServerMessage message = StopsMessage(stops);
+  for (const auto& outbox : outboxes) outbox->Push(message);
 }
 
 void AgentMailbox::BroadcastMapUpdate(const std::string& map_id, uint32_t map_version,

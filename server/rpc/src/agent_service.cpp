@@ -7,6 +7,7 @@
 #include "fleetnav/proto/grpc_status.hpp"
 #include "fleetnav/proto/job_convert.hpp"
 #include "fleetnav/proto/telemetry_convert.hpp"
+#include "fleetnav/proto/zone_convert.hpp"
 
 namespace fleetnav::server {
 
@@ -135,6 +136,10 @@ class AgentConnection final {
             std::chrono::steady_clock::now().time_since_epoch())
             .count());
     welcome.mutable_welcome()->set_telemetry_rate_hz(10.0);
+    // The stops it must keep to, before anything else it hears.
+    for (const RobotStop& stop : sessions_->StopsInForce()) {
+      *welcome.mutable_welcome()->add_stops() = ToProto(stop);
+    }
     // Settle the jobs this robot held before it shows as online, so that the dispatcher cannot
     // hand it new work in between; its outbox is open (welcome first) before then too.
     outbox_ = mailbox_->Open(robot_id_, [this] { PumpWrites(); });

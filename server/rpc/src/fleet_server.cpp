@@ -79,8 +79,8 @@ absl::StatusOr<int> FleetServer::Start() {
     credentials->SetAuthMetadataProcessor(access_gate_);
   }
   fleet_service_ = std::make_unique<FleetServiceImpl>(&app_->maps(), &app_->site(), &app_->zones(),
-                                                      &app_->jobs(), &app_->traffic_planner(),
-                                                      &app_->registry());
+                                                      &app_->stops(), &app_->jobs(),
+                                                      &app_->traffic_planner(), &app_->registry());
   access_service_ = std::make_unique<AccessServiceImpl>(&app_->tokens(), params_.on_token_change);
   TickWork tick_work;
   tick_work.first_join = [this] {

@@ -163,6 +163,51 @@ grpc::Status FleetServiceImpl::DeleteZones(grpc::ServerContext*,
   return ToGrpcStatus(zones_->DeleteZones(request->map_id()));
 }
 
+namespace {
+
+// A scope's zone and map; a whole-fleet scope that also names a zone or map is refused.
+absl::Status CheckScope(const v1::StopScope& scope) {
+  if (scope.whole_fleet() && (!scope.zone().empty() || !scope.map_id().empty())) {
+    return absl::InvalidArgumentError("scope: whole_fleet or a zone, not both");
+  }
+  if (!scope.whole_fleet() && scope.zone().empty()) {
+    return absl::InvalidArgumentError("scope: give whole_fleet or a zone");
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+grpc::Status FleetServiceImpl::StopRobots(grpc::ServerContext*,
+                                          const v1::StopRobotsRequest* request,
+                                          v1::StopRobotsResponse* response) {
+  if (absl::Status s = CheckScope(request->scope()); !s.ok()) return ToGrpcStatus(s);
+  absl::StatusOr<RobotStop> stop =
+      stops_->Stop(request->scope().map_id(), request->scope().zone(), request->reason());
+  if (!stop.ok()) return ToGrpcStatus(stop.status());
+  *response->mutable_stop() = ToProto(*stop);
+  return grpc::Status::OK;
+}
+
+grpc::Status FleetServiceImpl::ResumeRobots(grpc::ServerContext*,
+                                            const v1::ResumeRobotsRequest* request,
+                                            v1::ResumeRobotsResponse* response) {
+  if (absl::Status s = CheckScope(request->scope()); !s.ok()) return ToGrpcStatus(s);
+  absl::StatusOr<RobotStop> cleared =
+      stops_->Resume(request->scope().map_id(), request->scope().zone());
+  if (!cleared.ok()) return ToGrpcStatus(cleared.status());
+  *response->mutable_cleared() = ToProto(*cleared);
+  return grpc::Status::OK;
+}
+
+grpc::Status FleetServiceImpl::ListStops(grpc::ServerContext*, const v1::ListStopsRequest*,
+                                         v1::ListStopsResponse* response) {
+  absl::StatusOr<std::vector<RobotStop>> stops = stops_->InForce();
+  if (!stops.ok()) return ToGrpcStatus(stops.status());
+  for (const RobotStop& stop : *stops) *response->add_stops() = ToProto(stop);
+  return grpc::Status::OK;
+}
+
 grpc::Status FleetServiceImpl::PutRoute(grpc::ServerContext*, const v1::PutRouteRequest* request,
                                         v1::PutRouteResponse* response) {
   absl::StatusOr<Route> route = FromProto(request->route());

@@ -103,6 +103,37 @@ absl::Status MemoryZoneSetRepository::DeleteZoneSet(const std::string& map_id) {
   return EraseSeries(sets_, map_id, absl::StrCat("zones of map '", EchoInput(map_id), "'"));
 }
 
+absl::Status MemoryStopRepository::PutStop(const RobotStop& stop) {
+  absl::MutexLock lock(&mutex_);
+  for (const RobotStop& existing : stops_) {
+    if (existing.map_id == stop.map_id && existing.zone == stop.zone) {
+      return absl::AlreadyExistsError(
+          absl::StrCat("a stop of ", EchoInput(stop.Describe()), " is already in force"));
+    }
+  }
+  stops_.push_back(stop);
+  return absl::OkStatus();
+}
+
+absl::Status MemoryStopRepository::DeleteStop(const std::string& map_id, const std::string& zone) {
+  absl::MutexLock lock(&mutex_);
+  const auto erased = std::erase_if(
+      stops_, [&](const RobotStop& stop) { return stop.map_id == map_id && stop.zone == zone; });
+  if (erased == 0) {
+    RobotStop scope;
+    scope.map_id = map_id;
+    scope.zone = zone;
+    return absl::NotFoundError(
+        absl::StrCat("no stop of ", EchoInput(scope.Describe()), " is in force"));
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<std::vector<RobotStop>> MemoryStopRepository::ListStops() {
+  absl::MutexLock lock(&mutex_);
+  return stops_;
+}
+
 absl::StatusOr<uint32_t> MemoryRouteRepository::PutRoute(const Route& route,
                                                          int64_t created_unix_ms) {
   absl::MutexLock lock(&mutex_);

@@ -132,6 +132,18 @@ const std::vector<std::string>& PostgresFleetSchemaMigrations() {
           PRIMARY KEY (map_id, version)
         );
       )sql",
+      // 7: operators' stops in force (issue 39), one per scope: map "" and zone "" for the
+      // whole fleet; the zone's outline kept as "x y;x y;...".
+      R"sql(
+        CREATE TABLE stops (
+          map_id TEXT NOT NULL,
+          zone TEXT NOT NULL,
+          polygon TEXT NOT NULL,
+          reason TEXT NOT NULL,
+          created_unix_ms BIGINT NOT NULL,
+          PRIMARY KEY (map_id, zone)
+        );
+      )sql",
   };
   return kMigrations;
 }

@@ -55,5 +55,27 @@ TEST(ZoneTruthTest, TheSpeedInAZoneIsMeasuredWhileTheCentreIsInIt) {
   EXPECT_NEAR(fast.max_speed_in_zone_mps.at("slow"), 0.8, 1e-9);
 }
 
+TEST(ZoneTruthTest, AStoppedRobotThatMovesAndOneThatEntersAStoppedZoneAreCounted) {
+  // Robot "in" stands in the slow zone; robot "out" drives east along y = 0.5 from x = -6 at
+  // 0.5 m/s, through the zone from 12 s.
+  std::vector<TruthSample> in;
+  for (int i = 0; i <= 300; ++i) in.push_back({i * 0.1, 1.0, 0.0, 0.0});
+  std::vector<TruthSample> out;
+  for (int i = 0; i <= 300; ++i) out.push_back({i * 0.1, -6.0 + 0.05 * i, 0.5, 0.0});
+  const Polygon2 slow = Zones().zones[1].polygon_in_map;
+  StopWindow zone_stop{5.0, 25.0, "slow", slow};
+  const StopTruth judged = JudgeStops({zone_stop}, {{"in", in}, {"out", out}}, {});
+  EXPECT_DOUBLE_EQ(judged.max_motion_while_stopped_m, 0.0);
+  EXPECT_EQ(judged.stopped_zone_entries, 1);  // "out" reached x = 0 at 12 s
+  // A whole-fleet stop applies to both: "out" moved.
+  const StopTruth fleet = JudgeStops({{5.0, 25.0, "", {}}}, {{"in", in}, {"out", out}}, {});
+  EXPECT_NEAR(fleet.max_motion_while_stopped_m, 0.05 * (250 - 70), 1e-6);
+  EXPECT_THAT(fleet.worst, ::testing::HasSubstr("out moved"));
+  // Creeping 1 cm a second in the stopped zone shows as its distance.
+  for (int i = 0; i <= 300; ++i) in[i].x_m = 1.0 + 0.001 * i;
+  EXPECT_NEAR(JudgeStops({zone_stop}, {{"in", in}}, {}).max_motion_while_stopped_m,
+              0.001 * (250 - 70), 1e-9);
+}
+
 }  // namespace
 }  // namespace fleetnav::scenario

@@ -31,6 +31,7 @@ class FleetRepositoriesTest : public ::testing::TestWithParam<Backend> {
       ASSERT_NE(db_->get(), nullptr);
       markers_ = std::make_unique<SqlMarkerSetRepository>(db_->get());
       zones_ = std::make_unique<SqlZoneSetRepository>(db_->get());
+      stops_ = std::make_unique<SqlStopRepository>(db_->get());
       routes_ = std::make_unique<SqlRouteRepository>(db_->get());
       robots_ = std::make_unique<SqlRobotRepository>(db_->get());
       jobs_ = std::make_unique<SqlJobRepository>(db_->get());
@@ -38,6 +39,7 @@ class FleetRepositoriesTest : public ::testing::TestWithParam<Backend> {
     } else {
       markers_ = std::make_unique<MemoryMarkerSetRepository>();
       zones_ = std::make_unique<MemoryZoneSetRepository>();
+      stops_ = std::make_unique<MemoryStopRepository>();
       routes_ = std::make_unique<MemoryRouteRepository>();
       robots_ = std::make_unique<MemoryRobotRepository>();
       jobs_ = std::make_unique<MemoryJobRepository>();
@@ -68,6 +70,7 @@ class FleetRepositoriesTest : public ::testing::TestWithParam<Backend> {
   std::unique_ptr<testing::TestDatabase> db_;
   std::unique_ptr<MarkerSetRepository> markers_;
   std::unique_ptr<ZoneSetRepository> zones_;
+  std::unique_ptr<StopRepository> stops_;
   std::unique_ptr<RouteRepository> routes_;
   std::unique_ptr<RobotRepository> robots_;
   std::unique_ptr<JobRepository> jobs_;
@@ -153,6 +156,36 @@ TEST_P(FleetRepositoriesTest, ZoneSetsAreVersionedPerMapListedByLatestAndDeleted
   EXPECT_EQ(zones_->DeleteZoneSet("barn").code(), absl::StatusCode::kNotFound);
   EXPECT_TRUE(zones_->GetZoneSet("shop", 0).ok());
   EXPECT_EQ(*zones_->PutZoneSet(barn, 40), 1u);
+}
+
+TEST_P(FleetRepositoriesTest, StopsAreKeptOnePerScopeUntilCleared) {
+  RobotStop pen;
+  pen.map_id = "barn";
+  pen.zone = "pen";
+  pen.polygon_in_map = {{1.25, -0.1}, {3, 0.1}, {2.0000000001, 1.7}};
+  pen.reason = "cleaning";
+  pen.created_unix_ms = 10;
+  RobotStop fleet;
+  fleet.reason = "inspection";
+  fleet.created_unix_ms = 20;
+  ASSERT_TRUE(stops_->PutStop(pen).ok());
+  ASSERT_TRUE(stops_->PutStop(fleet).ok());
+  const absl::Status again = stops_->PutStop(pen);
+  EXPECT_EQ(again.code(), absl::StatusCode::kAlreadyExists);
+  EXPECT_THAT(std::string(again.message()), HasSubstr("zone 'pen' of map 'barn'"));
+  absl::StatusOr<std::vector<RobotStop>> listed = stops_->ListStops();
+  ASSERT_TRUE(listed.ok()) << listed.status();
+  ASSERT_EQ(listed->size(), 2u);
+  EXPECT_EQ((*listed)[0].zone, "pen");
+  EXPECT_EQ((*listed)[0].reason, "cleaning");
+  ASSERT_EQ((*listed)[0].polygon_in_map.size(), 3u);
+  EXPECT_EQ((*listed)[0].polygon_in_map[2], Eigen::Vector2d(2.0000000001, 1.7));  // exactly
+  EXPECT_TRUE((*listed)[1].whole_fleet());
+  ASSERT_TRUE(stops_->DeleteStop("", "").ok());
+  const absl::Status gone = stops_->DeleteStop("", "");
+  EXPECT_EQ(gone.code(), absl::StatusCode::kNotFound);
+  EXPECT_THAT(std::string(gone.message()), HasSubstr("the whole fleet"));
+  EXPECT_EQ(stops_->ListStops()->size(), 1u);
 }
 
 TEST_P(FleetRepositoriesTest, ADeletedMarkerSetIsGoneWithEveryVersionOfItsMapOnly) {

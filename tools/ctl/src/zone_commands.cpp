@@ -27,7 +27,78 @@ nlohmann::json ZoneJson(const Zone& zone) {
   return out;
 }
 
+nlohmann::json StopJson(const v1::RobotStop& stop) {
+  return {{"whole_fleet", stop.zone().empty()},
+          {"map_id", stop.map_id()},
+          {"zone", stop.zone()},
+          {"reason", stop.reason()},
+          {"created_unix_ms", stop.created_unix_ms()}};
+}
+
+std::string StopText(const v1::RobotStop& stop) {
+  return stop.zone().empty()
+             ? "the whole fleet"
+             : absl::StrCat("zone '", stop.zone(), "' of map '", stop.map_id(), "'");
+}
+
+v1::StopScope Scope(const StopTarget& target) {
+  v1::StopScope scope;
+  scope.set_whole_fleet(target.whole_fleet);
+  scope.set_map_id(target.map_id);
+  scope.set_zone(target.zone);
+  return scope;
+}
+
 }  // namespace
+
+absl::Status StopRobots(const CommandContext& context, const StopTarget& target,
+                        const std::string& reason) {
+  v1::StopRobotsRequest request;
+  *request.mutable_scope() = Scope(target);
+  request.set_reason(reason);
+  v1::StopRobotsResponse response;
+  return CallAndSay(
+      context,
+      [&] {
+        return context.json ? StopJson(response.stop()).dump()
+                            : absl::StrCat("stopped ", StopText(response.stop()),
+                                           " (until `fleetnavctl resume`)");
+      },
+      [&](auto& stub, auto* rpc) { return stub.StopRobots(rpc, request, &response); });
+}
+
+absl::Status ResumeRobots(const CommandContext& context, const StopTarget& target) {
+  v1::ResumeRobotsRequest request;
+  *request.mutable_scope() = Scope(target);
+  v1::ResumeRobotsResponse response;
+  return CallAndSay(
+      context,
+      [&] {
+        return context.json ? nlohmann::json{{"resumed", StopJson(response.cleared())}}.dump()
+                            : absl::StrCat("resumed ", StopText(response.cleared()));
+      },
+      [&](auto& stub, auto* rpc) { return stub.ResumeRobots(rpc, request, &response); });
+}
+
+absl::Status ListStops(const CommandContext& context) {
+  auto stub = v1::FleetService::NewStub(context.channel);
+  grpc::ClientContext rpc;
+  PrepareCall(context, &rpc);
+  v1::ListStopsResponse response;
+  if (absl::Status s = FromGrpcStatus(stub->ListStops(&rpc, {}, &response)); !s.ok()) return s;
+  if (context.json) {
+    nlohmann::json stops = nlohmann::json::array();
+    for (const v1::RobotStop& stop : response.stops()) stops.push_back(StopJson(stop));
+    *context.out << stops.dump() << '\n';
+    return absl::OkStatus();
+  }
+  Table table({"STOPPED", "SINCE_UNIX_MS", "REASON"});
+  for (const v1::RobotStop& stop : response.stops()) {
+    table.AddRow({StopText(stop), absl::StrCat(stop.created_unix_ms()), stop.reason()});
+  }
+  table.Print(*context.out);
+  return absl::OkStatus();
+}
 
 absl::Status PutZones(const CommandContext& context, const std::string& map_id,
                       const std::string& yaml_path) {

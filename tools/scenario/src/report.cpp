@@ -52,6 +52,12 @@ void PrintReport(const ScenarioReport& report, std::ostream& out) {
     }
     out << "\n";
   }
+  if (report.stops_made > 0) {
+    out << absl::StrFormat(
+        "stops: %d made; stopped robots moved at most %.3f m; %d entr%s into stopped zones\n",
+        report.stops_made, report.max_motion_while_stopped_m, report.stopped_zone_entries,
+        report.stopped_zone_entries == 1 ? "y" : "ies");
+  }
   const double per_sim_s = report.sim_time_s > 0.0 ? 1.0 / report.sim_time_s : 0.0;
   out << absl::StrFormat(
       "CPU: fleetnavd %.1f s (%.4f per sim-s), simulator %.1f s, agents %.1f s (%.4f per robot "
@@ -125,6 +131,9 @@ std::string ReportJson(const ScenarioReport& report) {
                         {"longest_standstill_s", report.longest_standstill_s},
                         {"no_go_entries", report.no_go_entries},
                         {"max_speed_in_zone_mps", report.max_speed_in_zone_mps},
+                        {"stops_made", report.stops_made},
+                        {"max_motion_while_stopped_m", report.max_motion_while_stopped_m},
+                        {"stopped_zone_entries", report.stopped_zone_entries},
                         {"server_cpu_s", report.server_cpu_s},
                         {"sim_cpu_s", report.sim_cpu_s},
                         {"agents_cpu_s", report.agents_cpu_s},

@@ -59,6 +59,28 @@ void Run::Inject(const ScenarioFault& fault) {
         link_restores_.push_back({fault.at_s + fault.duration_s, fault.robot_id});
       }
       return;
+    case ScenarioFaultType::kStopZone:
+    case ScenarioFaultType::kStopAll: {
+      const bool zone = fault.type == ScenarioFaultType::kStopZone;
+      const absl::Status stopped =
+          zone ? Ctl({"stop", "--zone", fault.zone, "--map", s_.map_id, "--reason", "scenario"})
+               : Ctl({"stop", "--all", "--reason", "scenario"});
+      if (!stopped.ok()) {
+        stop_failures_.push_back(
+            absl::StrCat("the stop at ", fault.at_s, " s failed: ", stopped.message()));
+        return;
+      }
+      StopWindow window;
+      window.start_s = fault.at_s;
+      window.end_s = fault.duration_s > 0.0 ? fault.at_s + fault.duration_s : 1e18;
+      if (zone) {
+        window.zone = fault.zone;
+        window.polygon = s_.zones->Find(fault.zone)->polygon_in_map;
+      }
+      stop_windows_.push_back(window);
+      if (fault.duration_s > 0.0) stop_ends_.push_back({window.end_s, window.zone});
+      return;
+    }
     case ScenarioFaultType::kSimFault: {
       const absl::StatusOr<FaultType> type = FaultTypeByName(fault.sim_type);
       FaultSpec spec;

@@ -103,6 +103,21 @@ absl::StatusOr<double> Run::Drive(Clock::time_point wall_start) {
       it = link_restores_.erase(it);
       changed = true;
     }
+    for (auto it = stop_ends_.begin(); it != stop_ends_.end();) {
+      if (!due(it->sim_s)) {
+        ++it;
+        continue;
+      }
+      const absl::Status resumed = it->zone.empty()
+                                       ? Ctl({"resume", "--all"})
+                                       : Ctl({"resume", "--zone", it->zone, "--map", s_.map_id});
+      if (!resumed.ok()) {
+        stop_failures_.push_back(
+            absl::StrCat("the resume at ", it->sim_s, " s failed: ", resumed.message()));
+      }
+      it = stop_ends_.erase(it);
+      changed = true;
+    }
     for (size_t i = 0; i < s_.faults.size(); ++i) {
       if (!injected_[i] && due(s_.faults[i].at_s)) {
         injected_[i] = true;
@@ -139,6 +154,7 @@ absl::StatusOr<double> Run::Drive(Clock::time_point wall_start) {
     earlier(s_.expect.deadline_s);
     for (const Restart& restart : restarts_) earlier(restart.due_sim_s);
     for (const LinkRestore& restore : link_restores_) earlier(restore.sim_s);
+    for (const StopEnd& end : stop_ends_) earlier(end.sim_s);
     for (size_t i = 0; i < s_.faults.size(); ++i) {
       if (!injected_[i]) earlier(s_.faults[i].at_s);
     }

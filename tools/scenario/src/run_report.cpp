@@ -186,6 +186,19 @@ void Run::Finish(ScenarioReport* report) {
       report->first_no_go_entry = zones.first_no_go_entry;
       report->max_speed_in_zone_mps = zones.max_speed_in_zone_mps;
     }
+    if (!stop_windows_.empty()) {
+      std::map<std::string, Polygon2> footprints;
+      for (const ScenarioRobot& robot : s_.robots) {
+        if (absl::StatusOr<RobotModel> model = RobotModelByKind(robot.kind_name); model.ok()) {
+          footprints[robot.robot_id] = model->footprint_m;
+        }
+      }
+      const StopTruth stops = JudgeStops(stop_windows_, samples, footprints);
+      report->stops_made = static_cast<int>(stop_windows_.size());
+      report->max_motion_while_stopped_m = stops.max_motion_while_stopped_m;
+      report->worst_motion_while_stopped = stops.worst;
+      report->stopped_zone_entries = stops.stopped_zone_entries;
+    }
     std::vector<JobWindow> windows;
     for (size_t i = 0; i < jobs_.size(); ++i) {
       // A job refused at submission ended there.
@@ -235,6 +248,18 @@ void Run::Finish(ScenarioReport* report) {
     report->failures.push_back(
         absl::StrCat(report->no_go_entries, " entry(ies) into no-go zones (at most ",
                      *s_.expect.max_no_go_entries, " expected): ", report->first_no_go_entry));
+  }
+  for (const std::string& failure : stop_failures_) report->failures.push_back(failure);
+  if (s_.expect.max_motion_while_stopped_m &&
+      report->max_motion_while_stopped_m > *s_.expect.max_motion_while_stopped_m) {
+    report->failures.push_back(
+        absl::StrFormat("a stopped robot moved %.3f m (at most %.3f m expected): %s",
+                        report->max_motion_while_stopped_m, *s_.expect.max_motion_while_stopped_m,
+                        report->worst_motion_while_stopped));
+  }
+  if (report->stopped_zone_entries > 0) {
+    report->failures.push_back(
+        absl::StrCat(report->stopped_zone_entries, " entry(ies) into a stopped zone (0 expected)"));
   }
   for (const auto& [zone, most_mps] : s_.expect.max_speed_in_zone_mps) {
     const auto driven = report->max_speed_in_zone_mps.find(zone);

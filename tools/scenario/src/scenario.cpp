@@ -191,10 +191,15 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
   }
   // Expectations first: the deadline bounds every time.
   if (const YAML::Node e = root["expect"]) {
-    RETURN_IF_ERROR(
-        CheckKeys(e, "expect",
-                  {"jobs", "contacts", "min_separation_m", "deadline_s", "max_waiting_s",
-                   "max_standstill_s", "no_go_entries", "max_speed_in_zone"}));
+    RETURN_IF_ERROR(CheckKeys(
+        e, "expect",
+        {"jobs", "contacts", "min_separation_m", "deadline_s", "max_waiting_s", "max_standstill_s",
+         "no_go_entries", "max_speed_in_zone", "max_motion_while_stopped_m"}));
+    if (e["max_motion_while_stopped_m"]) {
+      ASSIGN_OR_RETURN(
+          s.expect.max_motion_while_stopped_m,
+          Number(e["max_motion_while_stopped_m"], "expect.max_motion_while_stopped_m", 0));
+    }
     if (e["no_go_entries"]) {
       ASSIGN_OR_RETURN(const double entries, Number(e["no_go_entries"], "expect.no_go_entries", 0));
       s.expect.max_no_go_entries = static_cast<int>(entries);
@@ -321,7 +326,7 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
       const std::string where = absl::StrCat("faults[", i, "]");
       RETURN_IF_ERROR(CheckKeys(f, where,
                                 {"type", "at_s", "robot", "restart_after_s", "duration_s", "factor",
-                                 "sensor", "region"}));
+                                 "sensor", "region", "zone"}));
       ScenarioFault fault;
       const std::string type = Text(f["type"]);
       if (type == "kill_agent") {
@@ -336,13 +341,23 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
         }
       } else if (type == "cut_link") {
         fault.type = ScenarioFaultType::kCutLink;
+      } else if (type == "stop_zone") {
+        fault.type = ScenarioFaultType::kStopZone;
+        fault.zone = Text(f["zone"]);
+        if (!s.zones || s.zones->Find(fault.zone) == nullptr) {
+          return absl::InvalidArgumentError(absl::StrCat(
+              where, ".zone: '", fault.zone, "' is not a zone of the scenario's `zones`"));
+        }
+      } else if (type == "stop_all") {
+        fault.type = ScenarioFaultType::kStopAll;
       } else if (sim::FaultTypeByName(type).ok()) {
         fault.type = ScenarioFaultType::kSimFault;
         fault.sim_type = type;
       } else {
         return absl::InvalidArgumentError(absl::StrCat(
             where, ".type: unknown fault '", type,
-            "' (known: kill_agent, kill_server, kill_leader, cut_link and the simulator's faults: "
+            "' (known: kill_agent, kill_server, kill_leader, cut_link, stop_zone, stop_all and "
+            "the simulator's faults: "
             "hide_ultrasonic, "
             "remove_fence, remove_stripe, wheel_slip, sensor_dropout, slow_down)"));
       }
@@ -381,6 +396,10 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
       s.faults.push_back(fault);
     }
   }
+  const bool stops = std::any_of(s.faults.begin(), s.faults.end(), [](const ScenarioFault& f) {
+    return f.type == ScenarioFaultType::kStopZone || f.type == ScenarioFaultType::kStopAll;
+  });
+  if (stops && !s.expect.max_motion_while_stopped_m) s.expect.max_motion_while_stopped_m = 0.05;
   return s;
 }
 

@@ -21,6 +21,7 @@
 #include "fleetnav/scenario/child_process.hpp"
 #include "fleetnav/scenario/link_proxy.hpp"
 #include "fleetnav/scenario/scenario_runner.hpp"
+#include "fleetnav/scenario/zone_truth.hpp"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
 #include "fleetnav/v1/sim_service.grpc.pb.h"
 
@@ -167,6 +168,14 @@ class Run {
     std::string robot_id;
   };
   std::vector<LinkRestore> link_restores_;
+  /// Operators' stops made (stop_zone, stop_all faults): when, of what, and when they end.
+  std::vector<StopWindow> stop_windows_;
+  struct StopEnd {
+    double sim_s;
+    std::string zone;  ///< "" for the whole fleet
+  };
+  std::vector<StopEnd> stop_ends_;
+  std::vector<std::string> stop_failures_;  ///< stops or resumes fleetnavctl could not make
   std::map<std::string, int> agent_starts_;
   std::unique_ptr<v1::FleetService::Stub> fleet_;
   std::unique_ptr<v1::SimService::Stub> simulator_;

@@ -28,7 +28,55 @@ bool Overlaps(const Polygon2& zone, const Polygon2& body, const Eigen::Vector2d&
   return PolygonContains(body, zone.front());
 }
 
+const Polygon2& FootprintOf(const std::map<std::string, Polygon2>& footprints,
+                            const std::string& robot_id) {
+  static const Polygon2 kPoint;
+  const auto it = footprints.find(robot_id);
+  return it != footprints.end() ? it->second : kPoint;
+}
+
 }  // namespace
+
+StopTruth JudgeStops(const std::vector<StopWindow>& stops,
+                     const std::map<std::string, std::vector<TruthSample>>& truth,
+                     const std::map<std::string, Polygon2>& footprints, double grace_s) {
+  StopTruth out;
+  for (const StopWindow& stop : stops) {
+    const double from_s = stop.start_s + grace_s;
+    for (const auto& [robot_id, samples] : truth) {
+      const Polygon2& shape = FootprintOf(footprints, robot_id);
+      const auto overlaps = [&](const TruthSample& s) {
+        return Overlaps(stop.polygon, Placed(shape, s), Eigen::Vector2d(s.x_m, s.y_m));
+      };
+      const TruthSample* anchor = nullptr;
+      bool applies = false;
+      bool inside_before = false;
+      for (const TruthSample& s : samples) {
+        if (s.t_s < from_s || s.t_s > stop.end_s) continue;
+        if (anchor == nullptr) {
+          anchor = &s;
+          applies = stop.polygon.empty() || overlaps(s);
+          inside_before = applies;
+          continue;
+        }
+        if (applies) {
+          const double moved_m = std::hypot(s.x_m - anchor->x_m, s.y_m - anchor->y_m);
+          if (moved_m > out.max_motion_while_stopped_m) {
+            out.max_motion_while_stopped_m = moved_m;
+            out.worst = absl::StrFormat(
+                "%s moved %.3f m by %.2f s during the stop of %s", robot_id, moved_m, s.t_s,
+                stop.zone.empty() ? "the whole fleet" : "zone '" + stop.zone + "'");
+          }
+        } else {
+          const bool inside = overlaps(s);
+          if (inside && !inside_before) ++out.stopped_zone_entries;
+          inside_before = inside;
+        }
+      }
+    }
+  }
+  return out;
+}
 
 ZoneTruth JudgeZones(const ZoneSet& zones,
                      const std::map<std::string, std::vector<TruthSample>>& truth,

@@ -3,6 +3,7 @@
 #include <cstdint>
 
 #include "absl/status/statusor.h"
+#include "fleetnav/core/robot_stop.hpp"
 #include "fleetnav/core/zone.hpp"
 #include "fleetnav/v1/fleet_service.pb.h"
 #include "fleetnav/v1/types.pb.h"
@@ -17,6 +18,11 @@ v1::ZoneSet ToProto(const ZoneSet& zones);
 absl::StatusOr<ZoneSet> FromProto(const v1::ZoneSet& zones);
 
 v1::ZoneKind ToProto(ZoneKind kind);
+
+/// Operators' stops: a polygon of fewer than 3 vertices on a zone stop, or a whole-fleet stop
+/// with a map or outline, is InvalidArgument naming the field.
+v1::RobotStop ToProto(const RobotStop& stop);
+absl::StatusOr<RobotStop> FromProto(const v1::RobotStop& stop);
 
 /// One line of ListZones: the map, its latest version and when it was stored, and how many
 /// zones of each kind it holds.

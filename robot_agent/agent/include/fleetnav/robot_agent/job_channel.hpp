@@ -6,6 +6,7 @@
 
 #include "fleetnav/core/job.hpp"
 #include "fleetnav/core/job_assignment.hpp"
+#include "fleetnav/core/robot_stop.hpp"
 #include "fleetnav/core/sensor_frame.hpp"
 
 namespace fleetnav::agent {
@@ -33,6 +34,8 @@ class JobChannel {
   /// waits for that. Before a hold of the simulation (`frame.holds_after`) it returns only once
   /// the server has taken the tick in. By default there is nothing to tell.
   virtual void EndTick(const SensorFrame& frame) { (void)frame; }
+  /// The operators' stops in force, as the server last told them (none by default).
+  virtual std::vector<RobotStop> Stops() { return {}; }
 };
 
 }  // namespace fleetnav::agent

@@ -92,6 +92,8 @@ class JobRunner {
   /// Loads the assignment's site and localizer when it is not the one in use; the reason when
   /// the job cannot run here.
   absl::Status PrepareSite(const JobAssignment& assignment);
+  /// Whether an operator's stop in force applies to the robot where its estimate puts it.
+  bool StopApplies(const localization::LocalizerEstimate& estimate);
 
   RouteContext context_;  ///< the site in use (its map with no-go zones occupied); the loads
   /// The zones of the site in use (speed limits held each tick); nullopt: none.
@@ -106,6 +108,9 @@ class JobRunner {
   int finished_action_ = -1;  ///< the last action reported finished
   JobCommand clearance_;      ///< the latest traffic clearance, of any job
   bool paused_ = false;
+  /// An operator's stop applies: the robot stands, its job held where it is, until it lifts.
+  bool stopped_ = false;
+  std::string site_map_id_;  ///< the map of the job in hand (stops of its zones apply)
   bool end_reported_ = false;
   bool lift_raised_ = false;
   std::unique_ptr<localization::Localizer> job_localizer_;

@@ -48,6 +48,7 @@ class ServerLink final : public TelemetrySink, public JobChannel {
   void SetCurrentJob(const std::string& job_id) override;
   void BeginTick() override;
   void EndTick(const SensorFrame& frame) override;
+  std::vector<RobotStop> Stops() override;
   /// Sends what is queued (waiting up to timeout_s), then closes the stream.
   void Close(double timeout_s = 2.0);
 
@@ -90,6 +91,7 @@ class ServerLink final : public TelemetrySink, public JobChannel {
   std::deque<JobEvent> events_ ABSL_GUARDED_BY(mutex_);
   std::deque<JobAssignment> assignments_ ABSL_GUARDED_BY(mutex_);
   std::vector<JobCommand> commands_ ABSL_GUARDED_BY(mutex_);
+  std::vector<RobotStop> stops_ ABSL_GUARDED_BY(mutex_);  ///< in force, as last told
   std::string current_job_id_ ABSL_GUARDED_BY(mutex_);
   bool closing_ ABSL_GUARDED_BY(mutex_) = false;
   // Lockstep only:

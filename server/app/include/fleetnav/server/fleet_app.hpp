@@ -27,6 +27,7 @@
 #include "fleetnav/server/site/map_catalog.hpp"
 #include "fleetnav/server/site/site_cache.hpp"
 #include "fleetnav/server/site/site_catalog.hpp"
+#include "fleetnav/server/site/stop_control.hpp"
 #include "fleetnav/server/site/zone_catalog.hpp"
 #include "fleetnav/server/traffic/traffic_coordinator.hpp"
 #include "fleetnav/server/traffic/traffic_planner.hpp"
@@ -103,6 +104,7 @@ class FleetApp {
   MapCatalog& maps() { return *maps_; }
   SiteCatalog& site() { return *site_; }
   ZoneCatalog& zones() { return *zones_; }
+  StopControl& stops() { return *stops_; }
   JobService& jobs() { return *jobs_; }
   TrafficPlanner& traffic_planner() { return *traffic_planner_; }
   OperatorTokenService& tokens() { return *tokens_; }
@@ -139,6 +141,7 @@ class FleetApp {
   std::unique_ptr<storage::SqlMarkerSetRepository> marker_repository_;
   std::unique_ptr<storage::SqlRouteRepository> route_repository_;
   std::unique_ptr<storage::SqlZoneSetRepository> zone_repository_;
+  std::unique_ptr<storage::SqlStopRepository> stop_repository_;
   std::unique_ptr<storage::SqlRobotRepository> robot_repository_;
   std::unique_ptr<storage::SqlJobRepository> stored_jobs_;
   std::unique_ptr<NotifyingJobRepository> job_repository_;
@@ -151,6 +154,7 @@ class FleetApp {
   std::unique_ptr<MapCatalog> maps_;
   std::unique_ptr<SiteCatalog> site_;
   std::unique_ptr<ZoneCatalog> zones_;
+  std::unique_ptr<StopControl> stops_;
   std::unique_ptr<TrafficCoordinator> coordinator_;
   std::unique_ptr<JobService> jobs_;
   std::unique_ptr<RobotSessions> sessions_;

@@ -12,6 +12,7 @@
 #include "fleetnav/server/site/input_limits.hpp"
 #include "fleetnav/server/site/map_catalog.hpp"
 #include "fleetnav/server/site/site_catalog.hpp"
+#include "fleetnav/server/site/stop_control.hpp"
 
 namespace fleetnav::server {
 
@@ -51,6 +52,10 @@ class RobotSessions {
   void Close(const std::string& robot_id, uint64_t session);
   /// Tells every connected robot the latest map and marker-set versions of `map_id`.
   void AnnounceSite(const std::string& map_id);
+  /// Robots that connect are told the operators' stops in force. Set before sharing.
+  void UseStops(StopControl* stops) { stops_ = stops; }
+  /// The operators' stops in force, for a robot's welcome (none without UseStops).
+  std::vector<RobotStop> StopsInForce();
 
  private:
   FleetRegistry* registry_;
@@ -59,6 +64,7 @@ class RobotSessions {
   MapCatalog* maps_;
   SiteCatalog* site_;
   const InputLimits limits_;
+  StopControl* stops_ = nullptr;
 };
 
 }  // namespace fleetnav::server

@@ -10,6 +10,7 @@
 #include "fleetnav/storage/pose_history_repository.hpp"
 #include "fleetnav/storage/robot_repository.hpp"
 #include "fleetnav/storage/route_repository.hpp"
+#include "fleetnav/storage/stop_repository.hpp"
 #include "fleetnav/storage/zone_set_repository.hpp"
 
 namespace fleetnav::storage {
@@ -38,6 +39,18 @@ class MemoryZoneSetRepository final : public ZoneSetRepository {
  private:
   absl::Mutex mutex_;
   std::map<std::string, std::vector<StoredZoneSet>> sets_ ABSL_GUARDED_BY(mutex_);
+};
+
+/// StopRepository in memory, for unit tests of the layers above. Thread-safe.
+class MemoryStopRepository final : public StopRepository {
+ public:
+  absl::Status PutStop(const RobotStop& stop) override;
+  absl::Status DeleteStop(const std::string& map_id, const std::string& zone) override;
+  absl::StatusOr<std::vector<RobotStop>> ListStops() override;
+
+ private:
+  absl::Mutex mutex_;
+  std::vector<RobotStop> stops_ ABSL_GUARDED_BY(mutex_);  ///< in the order they were made
 };
 
 /// RouteRepository in memory, for unit tests of the layers above. Thread-safe.

@@ -7,6 +7,7 @@
 #include "fleetnav/storage/robot_repository.hpp"
 #include "fleetnav/storage/route_repository.hpp"
 #include "fleetnav/storage/sql/sql_database.hpp"
+#include "fleetnav/storage/stop_repository.hpp"
 #include "fleetnav/storage/zone_set_repository.hpp"
 
 namespace fleetnav::storage {
@@ -35,6 +36,19 @@ class SqlZoneSetRepository final : public ZoneSetRepository {
   absl::StatusOr<StoredZoneSet> GetZoneSet(const std::string& map_id, uint32_t version) override;
   absl::StatusOr<std::vector<StoredZoneSet>> ListZoneSets() override;
   absl::Status DeleteZoneSet(const std::string& map_id) override;
+
+ private:
+  SqlDatabase* db_;
+};
+
+/// Operators' stops on an SqlDatabase (SQLite or PostgreSQL), one row per scope. Thread-safe.
+class SqlStopRepository final : public StopRepository {
+ public:
+  explicit SqlStopRepository(SqlDatabase* db) : db_(db) {}
+
+  absl::Status PutStop(const RobotStop& stop) override;
+  absl::Status DeleteStop(const std::string& map_id, const std::string& zone) override;
+  absl::StatusOr<std::vector<RobotStop>> ListStops() override;
 
  private:
   SqlDatabase* db_;

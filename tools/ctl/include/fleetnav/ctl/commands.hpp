@@ -75,6 +75,20 @@ absl::Status GetZones(const CommandContext& context, const std::string& map_id, 
 absl::Status ListZones(const CommandContext& context);
 /// Deletes every version of a map's zones.
 absl::Status DeleteZones(const CommandContext& context, const std::string& map_id);
+/// What an operator's stop covers: the whole fleet, or a zone (of `map_id`, which may be empty
+/// when the zone's name is on one map only).
+struct StopTarget {
+  bool whole_fleet = false;
+  std::string map_id;
+  std::string zone;
+};
+/// Stops the robots of the target (not a safety-rated emergency stop).
+absl::Status StopRobots(const CommandContext& context, const StopTarget& target,
+                        const std::string& reason);
+/// Clears the target's stop.
+absl::Status ResumeRobots(const CommandContext& context, const StopTarget& target);
+/// Lists the stops in force.
+absl::Status ListStops(const CommandContext& context);
 /// Uploads a route YAML file as a new version of its route.
 absl::Status PutRoute(const CommandContext& context, const std::string& yaml_path);
 absl::Status GetRoute(const CommandContext& context, const std::string& name);

@@ -36,6 +36,8 @@ enum class ScenarioFaultType {
   kKillLeader,  ///< SIGKILL the replica leading the site; restarted as a follower
   kCutLink,     ///< the robot's link to fleetnavd cut for duration_s (sim time), then restored
   kSimFault,    ///< a simulator fault (SimService.InjectFault)
+  kStopZone,    ///< an operator stops a zone (fleetnavctl stop) for duration_s (0: to the end)
+  kStopAll,     ///< an operator stops the whole fleet for duration_s (0: to the end)
 };
 
 struct ScenarioFault {
@@ -47,6 +49,7 @@ struct ScenarioFault {
   double duration_s = 0.0;
   double factor = 1.0;
   std::string sensor;
+  std::string zone;                               ///< kStopZone: a zone of the scenario's `zones`
   std::optional<std::pair<Pose2, Pose2>> region;  ///< min and max corners (yaw unused)
 };
 
@@ -66,6 +69,9 @@ struct ScenarioExpectations {
   std::optional<int> max_no_go_entries;
   /// Per zone: the highest true speed (m/s) of a robot whose centre is inside it.
   std::map<std::string, double> max_speed_in_zone_mps;
+  /// With stops: how far a stopped robot may move once the stop has had 2 s of sim time to
+  /// reach it (StopTruth; default 0.05 m), and entries into stopped zones (default 0).
+  std::optional<double> max_motion_while_stopped_m;
 };
 
 /// A multi-robot scenario (docs/scenarios.md). Paths are resolved against the file's folder.

@@ -93,6 +93,12 @@ struct ScenarioReport {
   int no_go_entries = 0;
   std::string first_no_go_entry;
   std::map<std::string, double> max_speed_in_zone_mps;
+  /// With stops (StopTruth): how far a stopped robot moved at most, which and when, and
+  /// entries into stopped zones.
+  int stops_made = 0;
+  double max_motion_while_stopped_m = 0.0;
+  std::string worst_motion_while_stopped;
+  int stopped_zone_entries = 0;
   /// CPU time (user + system) of fleetnavd, the simulator and all agents over the run (every
   /// start of each counted), the machine's cost of the run.
   double server_cpu_s = 0.0;

@@ -21,6 +21,31 @@ struct ZoneTruth {
   std::map<std::string, double> max_speed_in_zone_mps;
 };
 
+/// An operator's stop during a run: from `start_s` to `end_s` (sim time), of the whole fleet
+/// (`polygon` empty) or of a zone.
+struct StopWindow {
+  double start_s = 0.0;
+  double end_s = 0.0;
+  std::string zone;  ///< "" for the whole fleet
+  Polygon2 polygon;
+};
+
+/// What the truth says of the robots during operators' stops, from `grace_s` after each stop
+/// was made (the command's way to the robot and its braking) to its end.
+struct StopTruth {
+  /// The farthest a robot the stop applied to (the whole fleet, or its footprint overlapping
+  /// the zone when the grace ended) moved from where it stood then.
+  double max_motion_while_stopped_m = 0.0;
+  std::string worst;  ///< that robot and stop, in words; empty when none moved
+  /// Entries of robots that were outside a stopped zone into it while it was stopped.
+  int stopped_zone_entries = 0;
+};
+
+/// Judges recorded true poses against the stops made in a run. Pure function.
+StopTruth JudgeStops(const std::vector<StopWindow>& stops,
+                     const std::map<std::string, std::vector<TruthSample>>& truth,
+                     const std::map<std::string, Polygon2>& footprints, double grace_s = 2.0);
+
 /// Judges recorded true poses against `zones`, each robot with its footprint (a polygon in
 /// base_link; robots without one count as a point). Pure function.
 ZoneTruth JudgeZones(const ZoneSet& zones,

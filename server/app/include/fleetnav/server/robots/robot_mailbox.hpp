@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "fleetnav/core/job_assignment.hpp"
+#include "fleetnav/core/robot_stop.hpp"
 
 namespace fleetnav::server {
 
@@ -22,6 +23,8 @@ class RobotMailbox {
   /// Tells every connected robot that a map or its marker set has a new version.
   virtual void BroadcastMapUpdate(const std::string& map_id, uint32_t map_version,
                                   uint32_t marker_set_version) = 0;
+  /// Tells every connected robot every operator's stop in force.
+  virtual void BroadcastStops(const std::vector<RobotStop>& stops) { (void)stops; }
 };
 
 }  // namespace fleetnav::server

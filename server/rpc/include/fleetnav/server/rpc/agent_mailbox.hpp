@@ -45,6 +45,7 @@ class AgentMailbox final : public RobotMailbox {
   bool SendAssignment(const std::string& robot_id, const JobAssignment& assignment) override;
   bool SendCommand(const std::string& robot_id, const JobCommand& command) override;
   bool SendClearance(const std::string& robot_id, const ClearanceNotice& clearance) override;
+  void BroadcastStops(const std::vector<RobotStop>& stops) override;
   void BroadcastMapUpdate(const std::string& map_id, uint32_t map_version,
                           uint32_t marker_set_version) override;
 

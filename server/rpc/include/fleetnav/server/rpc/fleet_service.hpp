@@ -5,6 +5,7 @@
 #include "fleetnav/server/rpc/watch_hub.hpp"
 #include "fleetnav/server/site/map_catalog.hpp"
 #include "fleetnav/server/site/site_catalog.hpp"
+#include "fleetnav/server/site/stop_control.hpp"
 #include "fleetnav/server/site/zone_catalog.hpp"
 #include "fleetnav/server/traffic/traffic_planner.hpp"
 #include "fleetnav/v1/fleet_service.grpc.pb.h"
@@ -16,11 +17,12 @@ namespace fleetnav::server {
 /// Thread-safe.
 class FleetServiceImpl final : public FleetServiceBase {
  public:
-  FleetServiceImpl(MapCatalog* maps, SiteCatalog* site, ZoneCatalog* zones, JobService* jobs,
-                   TrafficPlanner* traffic, FleetRegistry* registry)
+  FleetServiceImpl(MapCatalog* maps, SiteCatalog* site, ZoneCatalog* zones, StopControl* stops,
+                   JobService* jobs, TrafficPlanner* traffic, FleetRegistry* registry)
       : maps_(maps),
         site_(site),
         zones_(zones),
+        stops_(stops),
         jobs_(jobs),
         traffic_(traffic),
         registry_(registry) {}
@@ -54,6 +56,12 @@ class FleetServiceImpl final : public FleetServiceBase {
                          v1::ListZonesResponse* response) override;
   grpc::Status DeleteZones(grpc::ServerContext* context, const v1::DeleteZonesRequest* request,
                            v1::DeleteZonesResponse* response) override;
+  grpc::Status StopRobots(grpc::ServerContext* context, const v1::StopRobotsRequest* request,
+                          v1::StopRobotsResponse* response) override;
+  grpc::Status ResumeRobots(grpc::ServerContext* context, const v1::ResumeRobotsRequest* request,
+                            v1::ResumeRobotsResponse* response) override;
+  grpc::Status ListStops(grpc::ServerContext* context, const v1::ListStopsRequest* request,
+                         v1::ListStopsResponse* response) override;
   grpc::Status PutRoute(grpc::ServerContext* context, const v1::PutRouteRequest* request,
                         v1::PutRouteResponse* response) override;
   grpc::Status GetRoute(grpc::ServerContext* context, const v1::GetRouteRequest* request,
@@ -81,6 +89,7 @@ class FleetServiceImpl final : public FleetServiceBase {
   MapCatalog* maps_;
   SiteCatalog* site_;
   ZoneCatalog* zones_;
+  StopControl* stops_;
   JobService* jobs_;
   TrafficPlanner* traffic_;
   FleetRegistry* registry_;
