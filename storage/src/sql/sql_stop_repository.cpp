@@ -16,8 +16,8 @@ namespace {
 std::string PolygonText(const Polygon2& polygon) {
   std::string text;
   for (const Eigen::Vector2d& vertex : polygon) {
-    absl::StrAppend(&text, text.empty() ? "" : ";", absl::StrFormat("%.17g %.17g", vertex.x(),
-                                                                    vertex.y()));
+    absl::StrAppend(&text, text.empty() ? "" : ";",
+                    absl::StrFormat("%.17g %.17g", vertex.x(), vertex.y()));
   }
   return text;
 }

@@ -33,8 +33,7 @@ absl::StatusOr<std::string> StopControl::MapOfZone(const std::string& map_id,
   }
   if (maps.size() > 1) {
     return absl::InvalidArgumentError(absl::StrCat("scope.map_id: zone '", EchoInput(zone),
-                                                   "' is on ", maps.size(),
-                                                   " maps; name the map"));
+                                                   "' is on ", maps.size(), " maps; name the map"));
   }
   return maps.front();
 }
@@ -69,8 +68,7 @@ absl::StatusOr<RobotStop> StopControl::Stop(const std::string& map_id, const std
   return stop;
 }
 
-absl::StatusOr<RobotStop> StopControl::Resume(const std::string& map_id,
-                                              const std::string& zone) {
+absl::StatusOr<RobotStop> StopControl::Resume(const std::string& map_id, const std::string& zone) {
   std::string map = map_id;
   if (zone.empty() && !map_id.empty()) {
     return absl::InvalidArgumentError("scope: the whole fleet's stop names no map");

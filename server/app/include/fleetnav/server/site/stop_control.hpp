@@ -15,9 +15,10 @@ namespace fleetnav::server {
 /// Operators' stops (issue 39): a stop of the whole fleet or of one zone is checked (the zone
 /// is one of its map's latest zones; a name found on several maps needs the map), stored with
 /// the zone's outline, and told to every connected robot at once, as is its clearing (a robot
-/// that connects is told the stops in force with its welcome, RobotSessions::StopsInForce). The store is the only state: after a restart or
-/// a failover the new fleetnavd tells what the store holds. Not a safety-rated emergency stop.
-/// Thread-safe as its repository, catalog and mailbox are.
+/// that connects is told the stops in force with its welcome, RobotSessions::StopsInForce). The
+/// store is the only state: after a restart or a failover the new fleetnavd tells what the store
+/// holds. Not a safety-rated emergency stop. Thread-safe as its repository, catalog and mailbox
+/// are.
 class StopControl {
  public:
   StopControl(storage::StopRepository* stops, ZoneCatalog* zones, const Clock* clock)
