@@ -211,6 +211,11 @@ const Zone* ZoneSet::Find(std::string_view name) const {
   return nullptr;
 }
 
+bool ZoneSet::HasKind(ZoneKind kind) const {
+  return std::any_of(zones.begin(), zones.end(),
+                     [kind](const Zone& zone) { return zone.kind == kind; });
+}
+
 std::vector<const Zone*> ZoneSet::Touching(ZoneKind kind, const Eigen::Vector2d& point_in_map,
                                            double radius_m) const {
   std::vector<const Zone*> out;

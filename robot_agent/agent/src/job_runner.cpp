@@ -115,11 +115,8 @@ ExecutorOutput JobRunner::Step(const ControlInput& input, const std::vector<int>
     }
   }
   if (zones_) {
-    const std::optional<Eigen::Vector2d> load = carried_load_m();
-    const RobotModel model = load ? context_.model.CarryingLoad(*load) : context_.model;
-    if (const std::optional<double> cap =
-            ZoneSpeedCap(*zones_, estimate.pose_in_map, estimate.covariance,
-                         model.CircumscribedRadius(), zone_speed_)) {
+    if (const std::optional<double> cap = ZoneSpeedCap(
+            *zones_, estimate.pose_in_map, estimate.covariance, FootprintRadiusM(), zone_speed_)) {
       output.command = CapTwist(output.command, *cap);
     }
   }
@@ -182,19 +179,19 @@ void JobRunner::Serve(const ExecutorOutput& output) {
   }
 }
 
+double JobRunner::FootprintRadiusM() const {
+  const std::optional<Eigen::Vector2d> load = carried_load_m();
+  return (load ? context_.model.CarryingLoad(*load) : context_.model).CircumscribedRadius();
+}
+
 bool JobRunner::StopApplies(const localization::LocalizerEstimate& estimate) {
   if (ports_.jobs == nullptr) return false;
   const std::vector<RobotStop> stops = ports_.jobs->Stops();
   if (stops.empty()) return false;
   // The robot's reach: its footprint, its estimate grown by 2σ, and the way it needs to brake
   // from its speed now, so that it stands before a stopped zone rather than in it.
-  const std::optional<Eigen::Vector2d> load = carried_load_m();
-  const RobotModel model = load ? context_.model.CarryingLoad(*load) : context_.model;
-  const Eigen::Matrix2d position = estimate.covariance.topLeftCorner<2, 2>();
-  const double sigma_m =
-      position.allFinite() ? std::sqrt(std::max(0.0, position.diagonal().maxCoeff())) : 0.0;
   const double speed_mps = std::hypot(estimate.velocity.vx_mps, estimate.velocity.vy_mps);
-  const double reach_m = model.CircumscribedRadius() + zone_speed_.sigma_multiple * sigma_m +
+  const double reach_m = GrownReachM(estimate.covariance, FootprintRadiusM(), zone_speed_) +
                          speed_mps * speed_mps / (2.0 * zone_speed_.braking_decel_mps2);
   return ApplyingStop(stops, site_map_id_, estimate.pose_in_map.translation(), reach_m) != nullptr;
 }
@@ -234,9 +231,7 @@ absl::Status JobRunner::PrepareSite(const JobAssignment& assignment) {
   }
   job_localizer_ = *std::move(made);
   // Localization keeps the true map; navigation plans on it with the no-go zones occupied.
-  const bool has_no_go =
-      zones && std::any_of(zones->zones.begin(), zones->zones.end(),
-                           [](const Zone& zone) { return zone.kind == ZoneKind::kNoGo; });
+  const bool has_no_go = zones && zones->HasKind(ZoneKind::kNoGo);
   context_.map =
       has_no_go && site->map != nullptr
           ? std::make_shared<const OccupancyGrid>(WithNoGoZonesOccupied(*site->map, *zones))

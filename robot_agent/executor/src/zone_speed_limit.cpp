@@ -20,9 +20,8 @@ absl::Status ZoneSpeedParams::Validate() const {
   return absl::OkStatus();
 }
 
-std::optional<double> ZoneSpeedCap(const ZoneSet& zones, const Pose2& pose_in_map,
-                                   const Eigen::Matrix3d& covariance, double footprint_radius_m,
-                                   const ZoneSpeedParams& params) {
+double GrownReachM(const Eigen::Matrix3d& covariance, double footprint_radius_m,
+                   const ZoneSpeedParams& params) {
   const Eigen::Matrix2d position = covariance.topLeftCorner<2, 2>();
   const double largest_variance =
       position.allFinite() ? std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(
@@ -30,7 +29,13 @@ std::optional<double> ZoneSpeedCap(const ZoneSet& zones, const Pose2& pose_in_ma
                                                .eigenvalues()
                                                .maxCoeff())
                            : 0.0;
-  const double reach_m = footprint_radius_m + params.sigma_multiple * std::sqrt(largest_variance);
+  return footprint_radius_m + params.sigma_multiple * std::sqrt(largest_variance);
+}
+
+std::optional<double> ZoneSpeedCap(const ZoneSet& zones, const Pose2& pose_in_map,
+                                   const Eigen::Matrix3d& covariance, double footprint_radius_m,
+                                   const ZoneSpeedParams& params) {
+  const double reach_m = GrownReachM(covariance, footprint_radius_m, params);
   const Eigen::Vector2d center = pose_in_map.translation();
   std::optional<double> cap;
   for (const Zone& zone : zones.zones) {

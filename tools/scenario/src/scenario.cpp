@@ -185,8 +185,7 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
     }
     return false;
   };
-  if (s.zones && std::any_of(s.zones->zones.begin(), s.zones->zones.end(),
-                             [](const Zone& z) { return z.kind == ZoneKind::kNoGo; })) {
+  if (s.zones && s.zones->HasKind(ZoneKind::kNoGo)) {
     s.expect.max_no_go_entries = 0;  // unless the expectations say otherwise
   }
   // Expectations first: the deadline bounds every time.

@@ -62,6 +62,8 @@ struct ZoneSet {
 
   absl::Status Validate() const;
   const Zone* Find(std::string_view name) const;
+  /// Whether some zone is of `kind`.
+  bool HasKind(ZoneKind kind) const;
   /// Zones of `kind` that a disc of `radius_m` about `point_in_map` overlaps.
   std::vector<const Zone*> Touching(ZoneKind kind, const Eigen::Vector2d& point_in_map,
                                     double radius_m) const;

@@ -32,12 +32,7 @@ std::shared_ptr<const storage::StoredZoneSet> TrafficCoordinator::NoGoZonesOf(
     const std::string& map_id) const {
   if (zones_ == nullptr) return nullptr;
   std::shared_ptr<const storage::StoredZoneSet> zones = zones_->Latest(map_id);
-  if (zones == nullptr ||
-      std::none_of(zones->zones.zones.begin(), zones->zones.zones.end(),
-                   [](const Zone& zone) { return zone.kind == ZoneKind::kNoGo; })) {
-    return nullptr;
-  }
-  return zones;
+  return zones != nullptr && zones->zones.HasKind(ZoneKind::kNoGo) ? zones : nullptr;
 }
 
 TrafficCoordinator::PlannerCache TrafficCoordinator::BuildPlannerCache(const std::string& map_id,

@@ -92,6 +92,8 @@ class JobRunner {
   /// Loads the assignment's site and localizer when it is not the one in use; the reason when
   /// the job cannot run here.
   absl::Status PrepareSite(const JobAssignment& assignment);
+  /// The robot's circumscribed radius, grown to the trolley it carries.
+  double FootprintRadiusM() const;
   /// Whether an operator's stop in force applies to the robot where its estimate puts it.
   bool StopApplies(const localization::LocalizerEstimate& estimate);
 

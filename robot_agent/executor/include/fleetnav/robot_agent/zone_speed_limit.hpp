@@ -22,6 +22,12 @@ struct ZoneSpeedParams {
   absl::Status Validate() const;
 };
 
+/// How far the robot reaches for zones and stops: `footprint_radius_m` plus `sigma_multiple`
+/// standard deviations of its position estimate (the larger axis of the covariance's x-y block;
+/// a non-finite covariance counts as certain).
+double GrownReachM(const Eigen::Matrix3d& covariance, double footprint_radius_m,
+                   const ZoneSpeedParams& params = {});
+
 /// The highest speed (m/s, of base_link) the robot may drive now under the site's speed-limit
 /// zones: inside a zone, or within its footprint's circumscribed radius plus the grown
 /// uncertainty of one, the zone's limit; farther out, the speed from which it can brake to the
