@@ -189,7 +189,9 @@ TEST(ZoneTest, PlannersSeeNoGoZonesAsOccupiedCellsAndNothingElseChanges) {
         // Cells beside the pen may be marked (a cell the edge passes through); no others.
         const bool beside =
             center.x() > 1.85 && center.x() < 3.15 && center.y() > 0.85 && center.y() < 2.15;
-        if (!beside) EXPECT_EQ(marked.Value({x, y}), 0) << x << "," << y;
+        if (!beside) {
+          EXPECT_EQ(marked.Value({x, y}), 0) << x << "," << y;
+        }
       }
     }
   }
