@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 
 #include "absl/container/flat_hash_set.h"
@@ -12,6 +13,11 @@ namespace {
 
 uint64_t Key(int64_t ix, int64_t iy) {
   return (static_cast<uint64_t>(static_cast<uint32_t>(ix)) << 32) | static_cast<uint32_t>(iy);
+}
+
+int64_t KeyX(uint64_t key) { return static_cast<int32_t>(static_cast<uint32_t>(key >> 32)); }
+int64_t KeyY(uint64_t key) {
+  return static_cast<int32_t>(static_cast<uint32_t>(key & 0xffffffffU));
 }
 
 /// Distance from `p` to the polygon: 0 inside, else to the nearest edge.
@@ -62,19 +68,40 @@ CellSet CellSet::Sweep(const std::vector<Pose2>& poses,
         if (DistanceToPolygon(centre, placed) > reach_m) continue;
         taken.insert(key);
         out.keys_.push_back(key);
-        if (out.max_x_ < out.min_x_) {
-          out.min_x_ = out.max_x_ = ix;
-          out.min_y_ = out.max_y_ = iy;
-        }
-        out.min_x_ = std::min(out.min_x_, ix);
-        out.max_x_ = std::max(out.max_x_, ix);
-        out.min_y_ = std::min(out.min_y_, iy);
-        out.max_y_ = std::max(out.max_y_, iy);
+        out.GrowBoundsBy(ix, iy);
       }
     }
   }
   std::sort(out.keys_.begin(), out.keys_.end());
   out.keys_.shrink_to_fit();  // a server keeps thousands of these
+  return out;
+}
+
+void CellSet::GrowBoundsBy(int64_t ix, int64_t iy) {
+  if (max_x_ < min_x_) {
+    min_x_ = max_x_ = ix;
+    min_y_ = max_y_ = iy;
+  }
+  min_x_ = std::min(min_x_, ix);
+  max_x_ = std::max(max_x_, ix);
+  min_y_ = std::min(min_y_, iy);
+  max_y_ = std::max(max_y_, iy);
+}
+
+void CellSet::Add(const CellSet& other) {
+  if (other.keys_.empty()) return;
+  std::vector<uint64_t> merged;
+  merged.reserve(keys_.size() + other.keys_.size());
+  std::set_union(keys_.begin(), keys_.end(), other.keys_.begin(), other.keys_.end(),
+                 std::back_inserter(merged));
+  keys_ = std::move(merged);
+  GrowBounds(other);
+}
+
+CellSet CellSet::OfCell(int64_t ix, int64_t iy) {
+  CellSet out;
+  out.keys_.push_back(Key(ix, iy));
+  out.GrowBoundsBy(ix, iy);
   return out;
 }
 
@@ -124,9 +151,7 @@ std::vector<Eigen::Vector2d> CellSet::CellCentres(double cell_m) const {
   std::vector<Eigen::Vector2d> out;
   out.reserve(keys_.size());
   for (const uint64_t key : keys_) {
-    const auto ix = static_cast<int32_t>(static_cast<uint32_t>(key >> 32));
-    const auto iy = static_cast<int32_t>(static_cast<uint32_t>(key & 0xffffffffU));
-    out.emplace_back((ix + 0.5) * cell_m, (iy + 0.5) * cell_m);
+    out.emplace_back((KeyX(key) + 0.5) * cell_m, (KeyY(key) + 0.5) * cell_m);
   }
   return out;
 }

@@ -55,6 +55,37 @@ TEST(ZoneTruthTest, TheSpeedInAZoneIsMeasuredWhileTheCentreIsInIt) {
   EXPECT_NEAR(fast.max_speed_in_zone_mps.at("slow"), 0.8, 1e-9);
 }
 
+TEST(ZoneTruthTest, RobotsInAOneAtATimeZoneAreCountedAndAnEntryIntoAFullOneIsNamed) {
+  // A door 1 m wide from x = 4 to 5; robots drive east at 1 m/s along y = 0, each with a
+  // 0.6 m long box: one is in the door (footprint overlapping) for 1.6 s.
+  ZoneSet door;
+  door.zones.push_back({"door", ZoneKind::kOneAtATime, {{4, -1}, {5, -1}, {5, 1}, {4, 1}}, 0.0, 1});
+  const auto shifted = [](double start_s) {
+    std::vector<TruthSample> samples = Drive(0.0, 1.0, 10.0);
+    for (TruthSample& s : samples) s.x_m -= start_s;  // at x = 0 start_s later
+    return samples;
+  };
+  const std::map<std::string, Polygon2> boxes{{"a", kBox}, {"b", kBox}, {"c", kBox}};
+  // 2 s apart: the first has left before the second comes.
+  const ZoneTruth apart = JudgeZones(door, {{"a", shifted(0.0)}, {"b", shifted(2.0)}}, boxes);
+  EXPECT_EQ(apart.max_robots_in_zone.at("door"), 1);
+  EXPECT_EQ(apart.over_capacity_entries, 0);
+  EXPECT_TRUE(apart.first_over_capacity.empty());
+  // 1 s apart: the second enters while the first is still in it.
+  const ZoneTruth close = JudgeZones(door, {{"a", shifted(0.0)}, {"b", shifted(1.0)}}, boxes);
+  EXPECT_EQ(close.max_robots_in_zone.at("door"), 2);
+  EXPECT_EQ(close.over_capacity_entries, 1);
+  EXPECT_THAT(close.first_over_capacity,
+              ::testing::HasSubstr("b entered one-at-a-time zone 'door' (admits 1)"));
+  // A door for two: three close together are one entry too many.
+  door.zones[0].capacity = 2;
+  const ZoneTruth three =
+      JudgeZones(door, {{"a", shifted(0.0)}, {"b", shifted(0.5)}, {"c", shifted(1.0)}}, boxes);
+  EXPECT_EQ(three.max_robots_in_zone.at("door"), 3);
+  EXPECT_EQ(three.over_capacity_entries, 1);
+  EXPECT_THAT(three.first_over_capacity, ::testing::HasSubstr("c entered"));
+}
+
 TEST(ZoneTruthTest, AStoppedRobotThatMovesAndOneThatEntersAStoppedZoneAreCounted) {
   // Robot "in" stands in the slow zone; robot "out" drives east along y = 0.5 from x = -6 at
   // 0.5 m/s, through the zone from 12 s.

@@ -44,11 +44,20 @@ void PrintReport(const ScenarioReport& report, std::ostream& out) {
         return total;
       }(),
       report.no_wait_end_s, report.longest_standstill_s);
-  if (report.no_go_entries > 0 || !report.max_speed_in_zone_mps.empty()) {
+  if (report.no_go_entries > 0 || !report.max_speed_in_zone_mps.empty() ||
+      !report.max_robots_in_zone.empty()) {
     out << absl::StrFormat("zones: %d no-go entr%s", report.no_go_entries,
                            report.no_go_entries == 1 ? "y" : "ies");
     for (const auto& [zone, speed_mps] : report.max_speed_in_zone_mps) {
       out << absl::StrFormat(", %s at most %.3f m/s", zone, speed_mps);
+    }
+    for (const auto& [zone, robots] : report.max_robots_in_zone) {
+      out << absl::StrFormat(", %s at most %d robot%s at once", zone, robots,
+                             robots == 1 ? "" : "s");
+    }
+    if (report.over_capacity_entries > 0) {
+      out << absl::StrFormat(", %d entr%s into a full zone", report.over_capacity_entries,
+                             report.over_capacity_entries == 1 ? "y" : "ies");
     }
     out << "\n";
   }
@@ -131,6 +140,8 @@ std::string ReportJson(const ScenarioReport& report) {
                         {"longest_standstill_s", report.longest_standstill_s},
                         {"no_go_entries", report.no_go_entries},
                         {"max_speed_in_zone_mps", report.max_speed_in_zone_mps},
+                        {"max_robots_in_zone", report.max_robots_in_zone},
+                        {"over_capacity_entries", report.over_capacity_entries},
                         {"stops_made", report.stops_made},
                         {"max_motion_while_stopped_m", report.max_motion_while_stopped_m},
                         {"stopped_zone_entries", report.stopped_zone_entries},

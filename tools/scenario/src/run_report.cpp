@@ -185,6 +185,9 @@ void Run::Finish(ScenarioReport* report) {
       report->no_go_entries = zones.no_go_entries;
       report->first_no_go_entry = zones.first_no_go_entry;
       report->max_speed_in_zone_mps = zones.max_speed_in_zone_mps;
+      report->max_robots_in_zone = zones.max_robots_in_zone;
+      report->over_capacity_entries = zones.over_capacity_entries;
+      report->first_over_capacity = zones.first_over_capacity;
     }
     if (!stop_windows_.empty()) {
       std::map<std::string, Polygon2> footprints;
@@ -248,6 +251,12 @@ void Run::Finish(ScenarioReport* report) {
     report->failures.push_back(
         absl::StrCat(report->no_go_entries, " entry(ies) into no-go zones (at most ",
                      *s_.expect.max_no_go_entries, " expected): ", report->first_no_go_entry));
+  }
+  if (s_.expect.max_over_capacity_entries &&
+      report->over_capacity_entries > *s_.expect.max_over_capacity_entries) {
+    report->failures.push_back(absl::StrCat(
+        report->over_capacity_entries, " entry(ies) into full one-at-a-time zones (at most ",
+        *s_.expect.max_over_capacity_entries, " expected): ", report->first_over_capacity));
   }
   for (const std::string& failure : stop_failures_) report->failures.push_back(failure);
   if (s_.expect.max_motion_while_stopped_m &&

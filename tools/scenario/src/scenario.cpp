@@ -188,12 +188,14 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
   if (s.zones && s.zones->HasKind(ZoneKind::kNoGo)) {
     s.expect.max_no_go_entries = 0;  // unless the expectations say otherwise
   }
+  if (s.zones && s.zones->HasKind(ZoneKind::kOneAtATime)) s.expect.max_over_capacity_entries = 0;
   // Expectations first: the deadline bounds every time.
   if (const YAML::Node e = root["expect"]) {
-    RETURN_IF_ERROR(CheckKeys(
-        e, "expect",
-        {"jobs", "contacts", "min_separation_m", "deadline_s", "max_waiting_s", "max_standstill_s",
-         "no_go_entries", "max_speed_in_zone", "max_motion_while_stopped_m"}));
+    RETURN_IF_ERROR(
+        CheckKeys(e, "expect",
+                  {"jobs", "contacts", "min_separation_m", "deadline_s", "max_waiting_s",
+                   "max_standstill_s", "no_go_entries", "max_speed_in_zone",
+                   "max_motion_while_stopped_m", "over_capacity_entries"}));
     if (e["max_motion_while_stopped_m"]) {
       ASSIGN_OR_RETURN(
           s.expect.max_motion_while_stopped_m,
@@ -202,6 +204,11 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
     if (e["no_go_entries"]) {
       ASSIGN_OR_RETURN(const double entries, Number(e["no_go_entries"], "expect.no_go_entries", 0));
       s.expect.max_no_go_entries = static_cast<int>(entries);
+    }
+    if (e["over_capacity_entries"]) {
+      ASSIGN_OR_RETURN(const double entries,
+                       Number(e["over_capacity_entries"], "expect.over_capacity_entries", 0));
+      s.expect.max_over_capacity_entries = static_cast<int>(entries);
     }
     if (const YAML::Node speeds = e["max_speed_in_zone"]) {
       if (!speeds.IsMap()) {

@@ -78,10 +78,59 @@ StopTruth JudgeStops(const std::vector<StopWindow>& stops,
   return out;
 }
 
+namespace {
+
+// Counts the robots in a one-at-a-time zone over time: the most at once, and the entries made
+// when it was full.
+void JudgeCapacity(const Zone& zone, const std::map<std::string, std::vector<TruthSample>>& truth,
+                   const std::map<std::string, Polygon2>& footprints, ZoneTruth& out) {
+  struct Change {
+    double t_s = 0.0;
+    bool enters = false;
+    const std::string* robot_id = nullptr;
+  };
+  std::vector<Change> changes;
+  for (const auto& [robot_id, samples] : truth) {
+    const Polygon2& shape = FootprintOf(footprints, robot_id);
+    bool inside_before = false;
+    for (const TruthSample& s : samples) {
+      const bool inside =
+          Overlaps(zone.polygon_in_map, Placed(shape, s), Eigen::Vector2d(s.x_m, s.y_m));
+      if (inside != inside_before) changes.push_back({s.t_s, inside, &robot_id});
+      inside_before = inside;
+    }
+  }
+  // At one time, leaving before entering.
+  std::stable_sort(changes.begin(), changes.end(), [](const Change& a, const Change& b) {
+    return a.t_s != b.t_s ? a.t_s < b.t_s : (!a.enters && b.enters);
+  });
+  int inside = 0;
+  int& most = out.max_robots_in_zone[zone.name];
+  for (const Change& change : changes) {
+    if (!change.enters) {
+      --inside;
+      continue;
+    }
+    if (inside >= zone.capacity) {
+      if (out.over_capacity_entries++ == 0) {
+        out.first_over_capacity = absl::StrFormat(
+            "%s entered one-at-a-time zone '%s' (admits %d) at %.2f s with %d inside",
+            *change.robot_id, zone.name, zone.capacity, change.t_s, inside);
+      }
+    }
+    most = std::max(most, ++inside);
+  }
+}
+
+}  // namespace
+
 ZoneTruth JudgeZones(const ZoneSet& zones,
                      const std::map<std::string, std::vector<TruthSample>>& truth,
                      const std::map<std::string, Polygon2>& footprints) {
   ZoneTruth out;
+  for (const Zone& zone : zones.zones) {
+    if (zone.kind == ZoneKind::kOneAtATime) JudgeCapacity(zone, truth, footprints, out);
+  }
   double first_entry_s = 0.0;
   for (const auto& [robot_id, samples] : truth) {
     const auto footprint = footprints.find(robot_id);

@@ -152,6 +152,7 @@ void TrafficCoordinator::End(const std::string& job_id) {
     auto it = jobs_.find(job_id);
     if (it == jobs_.end()) return;
     robot_id = it->second.robot_id;
+    last_zone_lanes_[robot_id] = std::move(it->second.zone_lanes);
     jobs_.erase(it);
     changed_ = true;
     // It stands anew: it may be asked to make way again. (A request made while its job was held
@@ -293,11 +294,14 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
         routes.push_back(&*t->schedule);
         on_map[t->robot_id] = t;
       }
+      std::vector<planner::ParkedRobot> parked_in_zones;
+      const std::vector<planner::ParkedRobot>& parked_here =
+          ParkedWithCapacityZones(map_id, parked, parked_in_zones);
       std::vector<planner::TrafficClearanceDecision> decisions =
-          deciders_[map_id].Decide(routes, parked);
+          deciders_[map_id].Decide(routes, parked_here);
       HoldClearOfWhereRobotsAre(tracked_jobs, decisions, by_id);
-      AskIdleRobotsToMakeWay(map_id, tracked_jobs, decisions, parked, by_id);
-      BreakWaitCycles(map_id, tracked_jobs, decisions, parked, by_id);
+      AskIdleRobotsToMakeWay(map_id, tracked_jobs, decisions, parked_here, by_id);
+      BreakWaitCycles(map_id, tracked_jobs, decisions, parked_here, by_id);
       for (size_t i = 0; i < decisions.size(); ++i) {
         Tracked& t = *tracked_jobs[i];
         t.schedule->cleared_up_to = decisions[i].cleared_up_to;

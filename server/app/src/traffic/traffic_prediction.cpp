@@ -168,6 +168,7 @@ void TrafficCoordinator::TakePrediction(Tracked& tracked, Prediction prediction)
   tracked.schedule->cells_id = next_cells_id_++;
   tracked.steps = std::move(prediction.steps);
   tracked.predicted_end = prediction.predicted_end;
+  KeepCapacityZones(tracked);
   tracked.needs_prediction = false;
   tracked.prediction.reset();
   ++tracked.revision;

@@ -19,7 +19,13 @@ class CellSet {
                        const std::vector<Eigen::Vector2d>& footprint, double margin_m,
                        double cell_m);
 
+  /// The one cell (ix, iy): e.g. a token far off every map that two sets share to say that
+  /// they exclude each other (planner::CapacityZones).
+  static CellSet OfCell(int64_t ix, int64_t iy);
+
   bool Intersects(const CellSet& other) const;
+  /// Adds `other`'s cells to this set (a union).
+  void Add(const CellSet& other);
   /// Grows this set's bounds to cover `other`'s (the cells are not merged): a box to cull
   /// with before testing the sets it was built from.
   void GrowBounds(const CellSet& other);
@@ -33,6 +39,9 @@ class CellSet {
   size_t size() const { return keys_.size(); }
 
  private:
+  /// Adds a key to the bounds (not to keys_).
+  void GrowBoundsBy(int64_t ix, int64_t iy);
+
   std::vector<uint64_t> keys_;
   /// Bounds of the cells (inclusive), so that far-apart sets are told apart without a merge.
   int64_t min_x_ = 0, max_x_ = -1, min_y_ = 0, max_y_ = -1;

@@ -69,6 +69,9 @@ struct ScenarioExpectations {
   std::optional<int> max_no_go_entries;
   /// Per zone: the highest true speed (m/s) of a robot whose centre is inside it.
   std::map<std::string, double> max_speed_in_zone_mps;
+  /// Entries of true footprints into one-at-a-time zones that already held as many robots as
+  /// they admit (ZoneTruth) at most; 0 unless said when the scenario has such zones.
+  std::optional<int> max_over_capacity_entries;
   /// With stops: how far a stopped robot may move once the stop has had 2 s of sim time to
   /// reach it (StopTruth; default 0.05 m), and entries into stopped zones (default 0).
   std::optional<double> max_motion_while_stopped_m;

@@ -93,6 +93,11 @@ struct ScenarioReport {
   int no_go_entries = 0;
   std::string first_no_go_entry;
   std::map<std::string, double> max_speed_in_zone_mps;
+  /// With one-at-a-time zones (ZoneTruth): the most robots in each at once, and the entries
+  /// into one that was full (the first in words).
+  std::map<std::string, int> max_robots_in_zone;
+  int over_capacity_entries = 0;
+  std::string first_over_capacity;
   /// With stops (StopTruth): how far a stopped robot moved at most, which and when, and
   /// entries into stopped zones.
   int stops_made = 0;

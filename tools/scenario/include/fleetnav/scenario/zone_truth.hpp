@@ -19,6 +19,12 @@ struct ZoneTruth {
   /// Per zone, the highest true speed (m/s, base_link) of a robot whose centre lay inside the
   /// zone at both ends of a sample step; zones no robot drove in are absent.
   std::map<std::string, double> max_speed_in_zone_mps;
+  /// Per one-at-a-time zone, the most robots whose true footprints overlapped it at once.
+  std::map<std::string, int> max_robots_in_zone;
+  /// Entries of a robot into a one-at-a-time zone that already held as many robots as it
+  /// admits (a robot that leaves at the sample time another enters has left first).
+  int over_capacity_entries = 0;
+  std::string first_over_capacity;  ///< the first of them, in words; empty: none
 };
 
 /// An operator's stop during a run: from `start_s` to `end_s` (sim time), of the whole fleet

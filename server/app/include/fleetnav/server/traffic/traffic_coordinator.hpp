@@ -12,6 +12,7 @@
 #include "absl/status/status.h"
 #include "absl/synchronization/mutex.h"
 #include "fleetnav/core/clock.hpp"
+#include "fleetnav/planner/coordination/capacity_zones.hpp"
 #include "fleetnav/planner/coordination/detour.hpp"
 #include "fleetnav/planner/coordination/make_way.hpp"
 #include "fleetnav/planner/coordination/route_prediction.hpp"
@@ -207,6 +208,9 @@ class TrafficCoordinator {
     /// finished, a window ended, a prediction or a way round taken up).
     uint64_t revision = 0;
     std::shared_ptr<PendingPrediction> prediction;  ///< given, not yet taken up
+    /// Its lane of each one-at-a-time zone its schedule has entered, by zone name
+    /// (planner::CapacityZones), kept for the job so that a new window keeps the lane.
+    std::map<std::string, int> zone_lanes;
   };
   /// What a window's prediction is made from: copies, so that it runs on the search thread.
   struct PredictionInput {
@@ -316,6 +320,20 @@ class TrafficCoordinator {
   /// the no-go zones of `zones` (may be null) occupied.
   PlannerCache BuildPlannerCache(const std::string& map_id, uint32_t map_version,
                                  const RobotModel& model, const ZoneSet* zones) const;
+  /// The one-at-a-time zones of the map's latest zone set (nullptr when it has none), on the
+  /// coordinator's cells; built once per zone version.
+  std::shared_ptr<const planner::CapacityZones> CapacityZonesOf(const std::string& map_id)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// Adds to `tracked`'s schedule the lanes of the one-at-a-time zones it enters
+  /// (planner::CapacityZones::Apply): a zone it has no lane of yet is given the lane the
+  /// fewest other jobs of its map still to drive through the zone hold.
+  void KeepCapacityZones(Tracked& tracked) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// `parked` with the lane cells added to each robot that stands in a one-at-a-time zone of
+  /// `map_id` (the lane of its last job there, else the first), in `storage`; `parked` itself
+  /// when the map has no such zone.
+  const std::vector<planner::ParkedRobot>& ParkedWithCapacityZones(
+      const std::string& map_id, const std::vector<planner::ParkedRobot>& parked,
+      std::vector<planner::ParkedRobot>& storage) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// The map's latest zones when it has a no-go zone; nullptr else.
   std::shared_ptr<const storage::StoredZoneSet> NoGoZonesOf(const std::string& map_id) const;
   /// Costmaps and planners by (map id, map version, robot kind, zone version), built on first
@@ -447,6 +465,15 @@ class TrafficCoordinator {
     int count = 0;
   };
   std::map<std::string, CycleBreaks> cycle_breaks_ ABSL_GUARDED_BY(mutex_);
+  /// One-at-a-time zones per map, with the zone version they were built from.
+  struct BuiltCapacityZones {
+    uint32_t version = 0;
+    std::shared_ptr<const planner::CapacityZones> zones;
+  };
+  std::map<std::string, BuiltCapacityZones> capacity_zones_ ABSL_GUARDED_BY(mutex_);
+  /// The zone lanes of each robot's last job (Tracked::zone_lanes), by robot id: where it
+  /// stands in such a zone after the job, it holds that lane.
+  std::map<std::string, std::map<std::string, int>> last_zone_lanes_ ABSL_GUARDED_BY(mutex_);
   /// Robots whose job is still to be predicted (they stand, and are not sent aside).
   std::set<std::string> awaiting_prediction_ ABSL_GUARDED_BY(mutex_);
   /// The detour given to the search thread and not yet taken up (one at a time).
