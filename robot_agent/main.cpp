@@ -104,6 +104,10 @@ void AddFlags(CLI::App& app, Flags* f) {
                  "in job mode, exit after this many jobs have ended (0 = run until the sim ends)");
   app.add_option("--telemetry-hz", f->telemetry_hz, "telemetry rate in robot time (>= 10)")
       ->capture_default_str();
+  app.add_option("--stop-after-link-loss-s", f->params.safety.stop_after_link_loss_s,
+                 "in job mode, stand (the job held) once fleetnavd has not been heard for this "
+                 "long, robot time, until it is heard again (>= 0)")
+      ->capture_default_str();
   app.add_option("--record", f->record_path,
                  "append the estimated position of every telemetry message to this CSV "
                  "(f->robot_id,estimate,x,y,t_s: the fleetnav-sim --trajectories format)");

@@ -504,6 +504,28 @@ TEST(FleetScenario, ARobotCutOffStandsAtItsClearanceAndGoesOnWhenBack) {
   EXPECT_GT(moved_after_cut_m, 0.5) << "lely1 did not go on when its link was back";
 }
 
+// lely2's link cut for 10 s of sim time from t = 30 s while it drives along the north fence
+// within its clearance: an agent that does not hear the server for 1 s stands (a stop made
+// meanwhile could not reach it) and drives on once its link is back. Before the agent's
+// link-loss hold it drove on through the cut.
+TEST(FleetScenario, ARobotThatLosesTheServerWhileDrivingStandsUntilItHearsItAgain) {
+  int code = -1;
+  const std::string keep = TempPath("link-lost-driving");
+  const nlohmann::json report = RunShipped("barn_link_lost_driving.yaml", keep, &code);
+  ExpectBothRoundsEndWithoutContact(report, code);
+  const auto path = TruePath(keep + "/truth.csv", "lely2");
+  ASSERT_FALSE(path.empty());
+  // The runner injects at its first look at the sim time past 30 s (within 1 s); 1 s of grace.
+  const double moved_before_cut_m = MovedBetween(path, 25.0, 30.0);
+  const double moved_during_cut_m = MovedBetween(path, 32.5, 40.0);
+  const double moved_after_cut_m = MovedBetween(path, 41.5, 50.0);
+  std::printf("[ figures  ] lely2 moved %.2f m before, %.2f m during and %.2f m after the cut\n",
+              moved_before_cut_m, moved_during_cut_m, moved_after_cut_m);
+  EXPECT_GT(moved_before_cut_m, 0.5) << "lely2 was not driving when cut off";
+  EXPECT_LT(moved_during_cut_m, 0.05) << "lely2 drove on while it did not hear the server";
+  EXPECT_GT(moved_after_cut_m, 0.5) << "lely2 did not go on when its link was back";
+}
+
 // lely2 slowed to 0.2×: lely1, which depends on it, waits for it; lely2 depends on nobody and
 // is never held; both rounds end.
 TEST(FleetScenario, ASlowRobotHoldsOnlyThoseThatDependOnIt) {

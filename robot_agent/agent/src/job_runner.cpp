@@ -8,7 +8,11 @@ namespace fleetnav::agent {
 
 JobRunner::JobRunner(RouteContext context, JobRunnerPorts ports, ModeParams modes,
                      SafetyParams safety, std::optional<Route> route)
-    : context_(std::move(context)), ports_(std::move(ports)), modes_(modes), safety_(safety) {
+    : context_(std::move(context)),
+      ports_(std::move(ports)),
+      modes_(modes),
+      safety_(safety),
+      stop_after_link_loss_s_(safety.stop_after_link_loss_s) {
   if (route) StartRoute(std::move(*route));
 }
 
@@ -76,6 +80,8 @@ ExecutorOutput JobRunner::Step(const ControlInput& input, const std::vector<int>
                                const localization::LocalizerEstimate& estimate,
                                const Twist2& last_command) {
   ExecutorOutput output;
+  const bool hears_server = ports_.jobs == nullptr || ports_.jobs->HearsServer();
+  link_lost_s_ = hears_server ? 0.0 : link_lost_s_ + input.dt_s;
   if (executor_ && executor_->state() == ExecutionState::kRunning) {
     const SafetyVerdict& verdict = safety_.Check(input.perception, last_command, estimate.velocity,
                                                  estimate.lost, input.dt_s, estimate.lost_reason);
@@ -90,7 +96,8 @@ ExecutorOutput JobRunner::Step(const ControlInput& input, const std::vector<int>
       }
       executor_->Abort(absl::AbortedError(verdict.reason));
     }
-    stopped_ = StopApplies(estimate);
+    // A stop made while the robot does not hear the server cannot reach it: it stands.
+    stopped_ = StopApplies(estimate) || (!hears_server && link_lost_s_ >= stop_after_link_loss_s_);
     const bool was_running = executor_->state() == ExecutionState::kRunning;
     if (was_running && !paused_ && !stopped_) {
       output = executor_->Step(input, detected_markers);

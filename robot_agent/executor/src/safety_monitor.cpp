@@ -9,7 +9,7 @@ namespace fleetnav::agent {
 
 absl::Status SafetyParams::Validate() const {
   for (double v : {stall_after_s, stall_command_mps, stall_command_radps, stall_measured_mps,
-                   stall_measured_radps, lost_after_s}) {
+                   stall_measured_radps, lost_after_s, stop_after_link_loss_s}) {
     if (!(std::isfinite(v) && v >= 0.0)) {
       return absl::InvalidArgumentError("safety parameters: must be finite and >= 0");
     }

@@ -48,6 +48,11 @@ std::vector<RobotStop> ServerLink::Stops() {
   return stops_;
 }
 
+bool ServerLink::HearsServer() {
+  absl::MutexLock lock(&mutex_);
+  return welcomed_;
+}
+
 std::vector<JobCommand> ServerLink::TakeCommands() {
   absl::MutexLock lock(&mutex_);
   std::vector<JobCommand> out;
@@ -129,6 +134,7 @@ void ServerLink::SessionEnded() {
   for (const v1::ServerMessage& held : held_) ApplyServerMessage(held);
   held_.clear();
   session_live_ = false;
+  welcomed_ = false;
   tick_done_.reset();
   acknowledged_tick_.reset();
   for (auto sent = unacknowledged_.rbegin(); sent != unacknowledged_.rend(); ++sent) {
@@ -177,6 +183,7 @@ void ServerLink::MessageWritten(const v1::AgentMessage& message) {
 }
 
 void ServerLink::ApplyServerMessage(const v1::ServerMessage& message) {
+  if (message.has_welcome()) welcomed_ = true;
   if (message.has_assignment()) {
     absl::StatusOr<JobAssignment> assignment = FromProto(message.assignment());
     if (assignment.ok()) {
@@ -302,6 +309,7 @@ void ServerLink::RunSession() {
   {
     absl::MutexLock lock(&mutex_);
     session_live_ = false;  // a tick ending now waits for no one
+    welcomed_ = false;
     changed_.SignalAll();
   }
   // Half-close and let the server read everything it has; cancel only if it does not finish.

@@ -23,7 +23,9 @@ class ScriptedChannel : public JobChannel {
   std::vector<JobCommand> TakeCommands() override { return std::exchange(commands, {}); }
   void ReportEvent(const JobEvent& event) override { reported.push_back(event); }
   void SetCurrentJob(const std::string& job_id) override { current.push_back(job_id); }
+  bool HearsServer() override { return hears_server; }
 
+  bool hears_server = true;
   std::optional<JobAssignment> assignment;
   std::vector<JobCommand> commands;
   std::vector<JobEvent> reported;
@@ -87,6 +89,27 @@ TEST_F(JobRunnerTest, AJobWaitsForItsClearanceAndAPauseHoldsItStill) {
   EXPECT_EQ(out.command.vx_mps, 0.0);
   channel_.commands = {JobCommand{JobCommandType::kResume, "job-1", ""}};
   Tick(*runner);
+  EXPECT_GT(Tick(*runner).command.vx_mps, 0.0);
+}
+
+TEST_F(JobRunnerTest, ARobotThatDoesNotHearTheServerForASecondStandsUntilItHearsItAgain) {
+  auto runner = Runner();  // SafetyParams' default: 1 s
+  channel_.assignment = StraightJob("job-1");
+  channel_.commands = {JobCommand{JobCommandType::kClearance, "job-1", "", 0}};
+  Tick(*runner);
+  ASSERT_GT(Tick(*runner).command.vx_mps, 0.0);
+  channel_.hears_server = false;
+  // Within the second (49 ticks of 20 ms) it drives on within its clearance ...
+  for (int i = 0; i < 49; ++i) ASSERT_GT(Tick(*runner).command.vx_mps, 0.0) << i;
+  // ... then stands, its job held (not failed), for as long as the server is not heard.
+  for (int i = 0; i < 200; ++i) {
+    const ExecutorOutput out = Tick(*runner);
+    ASSERT_EQ(out.command.vx_mps, 0.0) << i;
+    ASSERT_EQ(out.mode, NavigationMode::kPaused);
+  }
+  EXPECT_EQ(runner->job_id(), "job-1");
+  EXPECT_EQ(runner->state(), ExecutionState::kRunning);
+  channel_.hears_server = true;
   EXPECT_GT(Tick(*runner).command.vx_mps, 0.0);
 }
 

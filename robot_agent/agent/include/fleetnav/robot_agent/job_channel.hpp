@@ -36,6 +36,9 @@ class JobChannel {
   virtual void EndTick(const SensorFrame& frame) { (void)frame; }
   /// The operators' stops in force, as the server last told them (none by default).
   virtual std::vector<RobotStop> Stops() { return {}; }
+  /// Whether the server is heard now: a stream is live and the server has welcomed the robot
+  /// on it. By default (no server) it is.
+  virtual bool HearsServer() { return true; }
 };
 
 }  // namespace fleetnav::agent

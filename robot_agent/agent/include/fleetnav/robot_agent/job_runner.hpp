@@ -110,9 +110,12 @@ class JobRunner {
   int finished_action_ = -1;  ///< the last action reported finished
   JobCommand clearance_;      ///< the latest traffic clearance, of any job
   bool paused_ = false;
-  /// An operator's stop applies: the robot stands, its job held where it is, until it lifts.
+  /// An operator's stop applies, or the robot has not heard the server for
+  /// stop_after_link_loss_s_: it stands, its job held where it is, until that ends.
   bool stopped_ = false;
-  std::string site_map_id_;  ///< the map of the job in hand (stops of its zones apply)
+  double stop_after_link_loss_s_ = 1.0;  ///< SafetyParams::stop_after_link_loss_s
+  double link_lost_s_ = 0.0;             ///< robot time since the server was last heard
+  std::string site_map_id_;              ///< the map of the job in hand (stops of its zones apply)
   bool end_reported_ = false;
   bool lift_raised_ = false;
   std::unique_ptr<localization::Localizer> job_localizer_;

@@ -18,6 +18,10 @@ struct SafetyParams {
   double stall_measured_radps = 0.01;
   /// Localization must report lost for this long before the robot is stopped.
   double lost_after_s = 0.5;
+  /// A robot whose agent has not heard the server (no live stream with its welcome) for this
+  /// long stands, its job held, until it hears it again: an operator's stop made meanwhile
+  /// cannot reach it (docs/server.md, "Stops"). Robot time (the agent's ticks).
+  double stop_after_link_loss_s = 1.0;
   absl::Status Validate() const;
 };
 
