@@ -79,6 +79,7 @@ struct LoadWorker::Agent {
   v1::AgentMessage out;
   v1::ServerMessage in;
   grpc::Status status;
+  int index = 0;          ///< of the agent in the whole run
   int64_t offset_ns = 0;  ///< due time within each period
   int64_t due_ns = 0;     ///< of the write in flight
   bool start_pending = true;
@@ -115,6 +116,7 @@ int LoadWorker::Connect(int64_t deadline_ns) {
     const int index = params_.indices[k];
     auto agent = std::make_unique<Agent>();
     agent->offset_ns = 0;
+    agent->index = index;
     FillHello(RobotId(index), index < params_.capable_agents, &agent->hello);
     FillTelemetry(index, &agent->out);
     // Neighbours in send order share a connection, so writes falling due together coalesce.
@@ -176,6 +178,9 @@ void LoadWorker::Handle(Agent* agent, Op op, bool ok, bool measuring) {
         if (!agent->welcomed) {  // the server has registered the robot
           agent->welcomed = true;
           ++ready_;
+        }
+        if (agent->in.has_stops() && agent->in.stops().stops_size() > 0) {
+          report_.stops_heard.emplace_back(agent->index, SteadyNowNs());
         }
         agent->reading = true;
         agent->stream->Read(&agent->in, Tag(agent, Op::kRead));

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fleetnav/v1/agent_service.grpc.pb.h"
@@ -28,6 +29,8 @@ struct WorkerReport {
   uint64_t skipped = 0;        ///< due while the agent's previous write was still in flight
   uint64_t delivered = 0;      ///< writes completed before the measured window closed
   std::vector<double> lag_ms;  ///< due time -> write completion, per delivered message
+  /// Each StopUpdate with a stop in force that an agent received: (agent index, steady ns).
+  std::vector<std::pair<int, int64_t>> stops_heard;
 };
 
 struct WorkerParams {

@@ -22,6 +22,7 @@
 #include "load_agents.hpp"
 #include "load_operators.hpp"
 #include "load_report.hpp"
+#include "load_stops.hpp"
 #include "load_tls.hpp"
 
 namespace {
@@ -41,7 +42,8 @@ int main(int argc, char** argv) {
   double rate_hz = 10.0, duration_s = 10.0, submit_rate_hz = 20.0;
   pid_t server_pid = 0;
   bool json = false;
-  int capable_agents = 0, idle_watchers = 0;
+  int capable_agents = 0, idle_watchers = 0, stop_rounds = 0;
+  double stop_every_s = 1.0;
   OperatorOptions operator_options;
   CLI::App app{"fleetnav-loadgen: load fleetnavd with agents and operators"};
   app.set_version_flag("--version", std::string(fleetnav::Version()));
@@ -82,16 +84,24 @@ int main(int argc, char** argv) {
                  "open this many WatchJob streams on a job that stays queued and as many "
                  "WatchFleet streams, and keep them open (idle) for the run")
       ->capture_default_str();
+  app.add_option("--stop-rounds", stop_rounds,
+                 "stop the whole fleet this many times during the run (StopRobots, cleared "
+                 "half-way to the next) and time how soon each agent hears it")
+      ->capture_default_str();
+  app.add_option("--stop-every-s", stop_every_s, "time between stop rounds")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   // Debian's abseil checks lock order on every absl::Mutex use (gRPC's too): measure without.
   absl::SetMutexDeadlockDetectionMode(absl::OnDeadlockCycle::kIgnore);
   if (agents < 0 || submitters < 0 || !(rate_hz > 0) || !(duration_s > 0) || threads < 1 ||
       streams_per_connection < 1 || capable_agents < 0 || idle_watchers < 0 ||
       operator_options.watch_every < 1 || operator_options.site.big_map_mb < 0 ||
-      (idle_watchers > 0 && submitters == 0)) {
+      (idle_watchers > 0 && submitters == 0) || stop_rounds < 0 || !(stop_every_s > 0) ||
+      (stop_rounds > 0 && (agents == 0 || stop_rounds * stop_every_s > duration_s))) {
     std::cerr << "fleetnav-loadgen: --agents/--submitters must be >= 0, rates and duration > 0, "
                  "--threads and --streams-per-connection >= 1, --watch-every >= 1; "
-                 "--idle-watchers needs a submitter (the operators prepare the site)\n";
+                 "--idle-watchers needs a submitter (the operators prepare the site); "
+                 "--stop-rounds needs agents and rounds x --stop-every-s (> 0) within "
+                 "--duration-s\n";
     return 2;
   }
 
@@ -167,6 +177,15 @@ int main(int argc, char** argv) {
   const int64_t run_start_ns = SteadyNowNs() + 20'000'000;
   start_ns.store(run_start_ns);
   if (submitters > 0) operators.Go();
+  std::vector<fleetnav::loadgen::StopRound> stop_rounds_made;
+  std::thread stopper;
+  if (stop_rounds > 0) {
+    const auto every_ns = static_cast<int64_t>(stop_every_s * 1e9);
+    stopper = std::thread([&, every_ns] {
+      stop_rounds_made = fleetnav::loadgen::RunStopRounds(target, stop_rounds,
+                                                          run_start_ns + every_ns / 4, every_ns);
+    });
+  }
   if (worker_count == 0) {
     std::this_thread::sleep_until(std::chrono::steady_clock::now() +
                                   std::chrono::nanoseconds(run_start_ns - SteadyNowNs()) +
@@ -175,6 +194,7 @@ int main(int argc, char** argv) {
   while (reported_workers.load() < worker_count) {
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
+  if (stopper.joinable()) stopper.join();
   const double elapsed_s = (SteadyNowNs() - run_start_ns) * 1e-9;
   const double cpu_end = server_pid > 0 ? fleetnav::loadgen::ProcessCpuSeconds(server_pid) : -1;
   const double rss_mb = server_pid > 0 ? fleetnav::loadgen::ProcessRssMb(server_pid) : -1;
@@ -184,7 +204,9 @@ int main(int argc, char** argv) {
   workers.clear();
   uint64_t delivered = 0, skipped = 0, scheduled = 0;
   std::vector<double> latencies;
+  std::vector<std::pair<int, int64_t>> stops_heard;
   for (fleetnav::loadgen::WorkerReport& report : reports) {
+    stops_heard.insert(stops_heard.end(), report.stops_heard.begin(), report.stops_heard.end());
     delivered += report.delivered;
     skipped += report.skipped;
     scheduled += report.scheduled;
@@ -224,6 +246,27 @@ int main(int argc, char** argv) {
       {"idle_watchers_open", watchers.open()},
       {"server_cpu_percent", cpu_start >= 0 ? 100.0 * (cpu_end - cpu_start) / elapsed_s : -1.0},
       {"server_rss_mb", rss_mb}};
+  if (stop_rounds > 0) {
+    const fleetnav::loadgen::StopLatency stops =
+        fleetnav::loadgen::MeasureStopLatency(stop_rounds_made, stops_heard, agents);
+    int failed = 0;
+    std::string first_error;
+    for (const auto& round : stop_rounds_made) {
+      if (round.ok) continue;
+      if (failed++ == 0) first_error = round.error;
+    }
+    out["stop_rounds"] = stop_rounds;
+    out["stop_rounds_failed"] = failed;
+    out["stop_first_error"] = first_error;
+    out["stop_heard"] = stops.heard;
+    out["stop_missed"] = stops.missed;
+    out["stop_rpc_ms_p50"] = fleetnav::loadgen::Percentile(stops.rpc_ms, 50);
+    out["stop_rpc_ms_p99"] = fleetnav::loadgen::Percentile(stops.rpc_ms, 99);
+    out["stop_heard_after_return_ms_p50"] = fleetnav::loadgen::Percentile(stops.from_return_ms, 50);
+    out["stop_heard_after_return_ms_p99"] = fleetnav::loadgen::Percentile(stops.from_return_ms, 99);
+    out["stop_heard_after_return_ms_max"] =
+        fleetnav::loadgen::Percentile(stops.from_return_ms, 100);
+  }
   std::cout << out.dump() << std::endl;
   return 0;
 }

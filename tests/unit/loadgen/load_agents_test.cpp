@@ -11,6 +11,7 @@
 #include "fleetnav/server/rpc/fleet_server.hpp"
 #include "integration/test_paths.hpp"
 #include "load_report.hpp"
+#include "load_stops.hpp"
 
 namespace fleetnav::loadgen {
 namespace {
@@ -101,6 +102,54 @@ TEST_F(LoadWorkerTest, AgentsRegisterAndEveryDueMessageIsDeliveredOrCountedAsSki
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   EXPECT_EQ(recorded(), report.delivered);
+  worker.Stop();
+}
+
+TEST(StopLatencyTest, EachAgentsFirstStopHeardInARoundIsMatchedToIt) {
+  // Round 0 called at 100, returned at 110; round 1 at 200 (returned 230); round 2 failed.
+  const std::vector<StopRound> rounds = {
+      {100, 110, true, ""}, {200, 230, true, ""}, {300, 301, false, "refused"}};
+  // Agent 0 heard round 0 twice (the first counts) and round 1; agent 1 only round 1, before
+  // its return; a sample before any round and one of an unknown agent are ignored.
+  const StopLatency latency =
+      MeasureStopLatency(rounds, {{0, 105}, {0, 150}, {0, 240}, {1, 220}, {1, 50}, {7, 120}}, 2);
+  EXPECT_EQ(latency.heard, 3);
+  EXPECT_EQ(latency.missed, 1);  // agent 1 in round 0; the failed round is not counted
+  ASSERT_EQ(latency.from_return_ms.size(), 3u);
+  EXPECT_DOUBLE_EQ(latency.from_return_ms[0], -5e-6);   // heard 5 ns before the return
+  EXPECT_DOUBLE_EQ(latency.from_return_ms[1], 10e-6);   // agent 0, round 1
+  EXPECT_DOUBLE_EQ(latency.from_return_ms[2], -10e-6);  // agent 1, round 1
+  ASSERT_EQ(latency.rpc_ms.size(), 2u);
+  EXPECT_DOUBLE_EQ(latency.rpc_ms[1], 30e-6);
+}
+
+TEST_F(LoadWorkerTest, EveryAgentHearsEveryStopOfTheWholeFleet) {
+  WorkerParams params;
+  params.target.address = address_;
+  params.agents = 6;
+  params.indices = {0, 1, 2, 3, 4, 5};
+  LoadWorker worker(params);
+  ASSERT_EQ(worker.Connect(SteadyNowNs() + 30'000'000'000), 6);
+  const int64_t start_ns = SteadyNowNs();
+  const int64_t every_ns = 400'000'000;
+  std::vector<StopRound> rounds;
+  std::thread stopper([&] { rounds = RunStopRounds(params.target, 2, start_ns, every_ns); });
+  worker.Run(start_ns, start_ns + 2 * every_ns, 50'000'000, start_ns + 3 * every_ns);
+  stopper.join();
+  const WorkerReport report = worker.TakeReport();
+  ASSERT_EQ(rounds.size(), 2u);
+  for (const StopRound& round : rounds) {
+    EXPECT_TRUE(round.ok) << round.error;
+    EXPECT_GE(round.return_ns, round.call_ns);
+  }
+  const StopLatency latency = MeasureStopLatency(rounds, report.stops_heard, 6);
+  EXPECT_EQ(latency.heard, 12);
+  EXPECT_EQ(latency.missed, 0);
+  EXPECT_EQ(latency.from_return_ms.size(), 12u);
+  // Both stops were cleared: none in force.
+  const absl::StatusOr<std::vector<RobotStop>> in_force = server_->app().stops().InForce();
+  ASSERT_TRUE(in_force.ok()) << in_force.status();
+  EXPECT_TRUE(in_force->empty());
   worker.Stop();
 }
 
