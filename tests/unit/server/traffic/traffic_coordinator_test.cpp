@@ -76,9 +76,19 @@ class TrafficCoordinatorTest : public ::testing::Test {
     ASSERT_TRUE(registry_.RecordTelemetry(robot_id, sessions_[robot_id], telemetry).ok());
   }
 
+  /// The coordinator's defaults with searches that never run out of time: what a search finds
+  /// must not depend on how fast this machine is (under TSan the 0.5 s budget of a way round
+  /// was spent before the lattice search ended).
+  static TrafficCoordinatorParams Unhurried() {
+    TrafficCoordinatorParams params;
+    params.detour.time_limit_s = 60.0;
+    params.prediction.plan_time_limit_s = 60.0;
+    return params;
+  }
+
   /// A coordinator over this fixture's site that looks for make-way places within `max_m`.
   std::unique_ptr<TrafficCoordinator> LookingForPlacesWithin(double max_m) {
-    TrafficCoordinatorParams params;
+    TrafficCoordinatorParams params = Unhurried();
     params.make_way.max_distance_m = max_m;
     return std::make_unique<TrafficCoordinator>(&site_data_, &registry_, &mailbox_, &clock_,
                                                 params);
@@ -137,8 +147,7 @@ class TrafficCoordinatorTest : public ::testing::Test {
   RecordingMailbox mailbox_;
   storage::MemoryRouteRepository routes_;
   SiteCache site_data_{&maps_, &markers_, &routes_};
-  TrafficCoordinator coordinator_{&site_data_, &registry_, &mailbox_, &clock_,
-                                  TrafficCoordinatorParams{}};
+  TrafficCoordinator coordinator_{&site_data_, &registry_, &mailbox_, &clock_, Unhurried()};
 };
 
 TEST_F(TrafficCoordinatorTest, CrossingRobotsAreClearedOneAfterTheOtherAndToldWhy) {
@@ -399,8 +408,7 @@ TEST_F(TrafficCoordinatorTest, AFreeNavigationLegIsPredictedRoundTheNoGoZonesAsI
       {"spill", ZoneKind::kNoGo, {{-2, -5}, {2, -5}, {2, 2.5}, {-2, 2.5}}, 0.0, 1});
   ASSERT_TRUE(zones.PutZones(closed).ok());
   RecordingMailbox mailbox;
-  TrafficCoordinator coordinator(&site_data_, &registry_, &mailbox, &clock_,
-                                 TrafficCoordinatorParams{});
+  TrafficCoordinator coordinator(&site_data_, &registry_, &mailbox, &clock_, Unhurried());
   coordinator.UseZones(&zones);
   coordinator.Begin("a", Job("job-a", {{GoEast(-8, 16.0), {}}}));
   coordinator.Update();
