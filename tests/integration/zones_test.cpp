@@ -202,6 +202,48 @@ TEST_F(ZonesTest, NoGoZonesRefuseTheWaypointsAndGoalsOfRoutesAndJobs) {
   EXPECT_TRUE(fleet_->SubmitJob(&outside, goal, &job).ok());
 }
 
+TEST_F(ZonesTest, PlanPathsKeepsOutOfNoGoZones) {
+  PutHall();
+  // A platform from the west of the pen to its east (in the middle of 1 m planning cells): the
+  // straight way crosses it.
+  const auto plan = [&] {
+    grpc::ClientContext context;
+    v1::PlanPathsRequest request;
+    request.set_map_id("hall");
+    request.set_time_limit_s(10.0);
+    v1::PlanPathsRequest::Agent* agent = request.add_agents();
+    agent->set_robot_id("omni1");
+    agent->set_kind_name("mecanum-platform");
+    agent->mutable_start()->set_x_m(0.5);
+    agent->mutable_start()->set_y_m(3.0);
+    agent->mutable_goal()->set_x_m(5.5);
+    agent->mutable_goal()->set_y_m(3.0);
+    v1::PlanPathsResponse response;
+    const grpc::Status status = fleet_->PlanPaths(&context, request, &response);
+    EXPECT_TRUE(status.ok()) << status.error_message();
+    EXPECT_EQ(response.paths_size(), 1);
+    return response;
+  };
+  const Polygon2 pen = Rectangle(2, 2, 4, 4);
+  const auto poses_in_pen = [&](const v1::PlanPathsResponse& response) {
+    int inside = 0;
+    for (const auto& pose : response.paths(0).poses()) {
+      if (PolygonContains(pen, {pose.pose().x_m(), pose.pose().y_m()})) ++inside;
+    }
+    return inside;
+  };
+  const v1::PlanPathsResponse straight = plan();
+  ASSERT_EQ(straight.paths_size(), 1);
+  EXPECT_GT(poses_in_pen(straight), 0);  // without zones it crosses the pen
+  v1::PutZonesResponse put;
+  ASSERT_TRUE(PutZones(ToProto(HallZones()), &put).ok());
+  const v1::PlanPathsResponse round = plan();
+  ASSERT_EQ(round.paths_size(), 1);
+  EXPECT_EQ(poses_in_pen(round), 0);
+  const auto& end = round.paths(0).poses(round.paths(0).poses_size() - 1).pose();
+  EXPECT_NEAR(end.x_m(), 5.5, 1e-9);
+}
+
 TEST_F(ZonesTest, FleetnavctlPutsGetsListsAndDeletesZones) {
   PutHall();
   const auto run = [&](std::vector<std::string> args) {

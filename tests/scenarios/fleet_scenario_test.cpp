@@ -194,6 +194,22 @@ TEST(FleetScenario, APlatformKeepsOutOfNoGoZonesAndToSpeedLimits) {
       << end.dump();
 }
 
+// Zones put while the fleet runs (issue 39), judged by the truth from the time they were put:
+// the platform's job after the put keeps out of the new no-go zone (its short way home crosses
+// it) and to the new speed limit.
+TEST(FleetScenario, ZonesPutDuringARunReachTheNextJob) {
+  int code = -1;
+  const nlohmann::json report =
+      RunShipped("store_zones_put.yaml", TempPath("store_zones_put.yaml.keep"), &code);
+  EXPECT_EQ(code, 0) << report.dump();
+  EXPECT_EQ(report.value("no_go_entries", -1), 0);
+  ASSERT_TRUE(report.contains("max_speed_in_zone_mps")) << report.dump();
+  const double checkout_mps = report["max_speed_in_zone_mps"].value("checkout", -1.0);
+  EXPECT_GT(checkout_mps, 0.05);  // home by the east, through the checkout area
+  EXPECT_LE(checkout_mps, 0.16);
+  for (const auto& job : report["jobs"]) EXPECT_EQ(job["state"], "succeeded") << job.dump();
+}
+
 // Operators' stops (issue 39), judged by the truth: the whole fleet, then the checkout zone the
 // platform drives through, each for a while; stopped, it stands (within 5 cm once the stop has
 // had 2 s of sim time to reach it) and the job still ends.
@@ -592,6 +608,22 @@ TEST(FleetScenario, BadScenarioFilesAreRefusedNamingTheFileAndTheKey) {
                                     "expect: {max_speed_in_zone: {kitchen: 0.3}}\n");
     EXPECT_EQ(code, 2);
     EXPECT_THAT(err, HasSubstr("expect.max_speed_in_zone.kitchen: 'kitchen' is not a zone"));
+  }
+  {
+    const auto [code, err] = RunBad("put-what.yaml", kHead +
+                                                         "jobs: [{route: barn-feeding}]\n"
+                                                         "faults: [{type: put_zones, at_s: 5}]\n");
+    EXPECT_EQ(code, 2);
+    EXPECT_THAT(err, HasSubstr("faults[0].file: put_zones needs a zone file"));
+  }
+  {
+    const auto [code, err] = RunBad(
+        "put-nowhere.yaml", kHead +
+                                "jobs: [{route: barn-feeding}]\n"
+                                "faults: [{type: put_zones, at_s: 5, file: nowhere.yaml}]\n");
+    EXPECT_EQ(code, 2);
+    EXPECT_THAT(err, HasSubstr("faults[0].file: "));
+    EXPECT_THAT(err, HasSubstr("nowhere.yaml"));
   }
   {
     const auto [code, err] = RunBad("wait-who.yaml", kHead +

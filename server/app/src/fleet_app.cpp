@@ -97,6 +97,7 @@ absl::Status FleetApp::Open() {
   site_->SetMarkerChangeListener(
       [this](const std::string& map_id) { sessions_->AnnounceSite(map_id); });
   traffic_planner_ = std::make_unique<TrafficPlanner>(site_data_.get());
+  traffic_planner_->UseZones(zones_.get());
   dispatcher_ = std::make_unique<DispatcherLoop>(jobs_.get(), params_.dispatch_period_s,
                                                  params_.on_dispatch_pass);
   dispatcher_->SetTraffic(coordinator_.get());

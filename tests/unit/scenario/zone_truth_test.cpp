@@ -86,6 +86,26 @@ TEST(ZoneTruthTest, RobotsInAOneAtATimeZoneAreCountedAndAnEntryIntoAFullOneIsNam
   EXPECT_THAT(three.first_over_capacity, ::testing::HasSubstr("c entered"));
 }
 
+TEST(ZoneTruthTest, ZonesPutDuringARunAreJudgedFromTheirTimeOn) {
+  // Through the pen (x from 4 to 5) at 1 m/s from x = 0: the box overlaps it from 3.7 s to 5.3 s.
+  const std::map<std::string, std::vector<TruthSample>> truth{{"omni1", Drive(0.0, 1.0, 8.0)}};
+  const std::map<std::string, Polygon2> boxes{{"omni1", kBox}};
+  const ZoneSet none;
+  // Put once the robot has passed it: no entry.
+  EXPECT_EQ(JudgeZonesOverTime({{0.0, none}, {6.0, Zones()}}, truth, boxes).no_go_entries, 0);
+  // Put while the robot is in it: an entry, named.
+  const ZoneTruth on_it = JudgeZonesOverTime({{0.0, none}, {5.0, Zones()}}, truth, boxes);
+  EXPECT_EQ(on_it.no_go_entries, 1);
+  EXPECT_THAT(on_it.first_no_go_entry, ::testing::HasSubstr("at 5.00 s"));
+  // Lifted before the robot came: no entry; the speed in the slow zone (passed before 2.3 s)
+  // is still measured while that version was in force.
+  const ZoneTruth lifted = JudgeZonesOverTime({{0.0, Zones()}, {3.0, none}}, truth, boxes);
+  EXPECT_EQ(lifted.no_go_entries, 0);
+  EXPECT_NEAR(lifted.max_speed_in_zone_mps.at("slow"), 1.0, 1e-9);
+  // In force all along: as JudgeZones.
+  EXPECT_EQ(JudgeZonesOverTime({{0.0, Zones()}}, truth, boxes).no_go_entries, 1);
+}
+
 TEST(ZoneTruthTest, AStoppedRobotThatMovesAndOneThatEntersAStoppedZoneAreCounted) {
   // Robot "in" stands in the slow zone; robot "out" drives east along y = 0.5 from x = -6 at
   // 0.5 m/s, through the zone from 12 s.

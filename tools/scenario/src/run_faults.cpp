@@ -81,6 +81,16 @@ void Run::Inject(const ScenarioFault& fault) {
       if (fault.duration_s > 0.0) stop_ends_.push_back({window.end_s, window.zone});
       return;
     }
+    case ScenarioFaultType::kPutZones: {
+      const absl::Status put = Ctl({"zones", "put", "--map", s_.map_id, fault.file});
+      if (!put.ok()) {
+        stop_failures_.push_back(
+            absl::StrCat("the zones put at ", fault.at_s, " s failed: ", put.message()));
+        return;
+      }
+      zones_put_.push_back({fault.at_s, *fault.zones});
+      return;
+    }
     case ScenarioFaultType::kSimFault: {
       const absl::StatusOr<FaultType> type = FaultTypeByName(fault.sim_type);
       FaultSpec spec;

@@ -174,14 +174,17 @@ void Run::Finish(ScenarioReport* report) {
     for (const auto& [id, trajectory] : truth) {
       for (const Sample& s : trajectory) samples[id].push_back({s.t_s, s.x, s.y, s.yaw_rad});
     }
-    if (s_.zones) {
-      std::map<std::string, Polygon2> footprints;
-      for (const ScenarioRobot& robot : s_.robots) {
-        if (absl::StatusOr<RobotModel> model = RobotModelByKind(robot.kind_name); model.ok()) {
-          footprints[robot.robot_id] = model->footprint_m;
-        }
+    std::map<std::string, Polygon2> footprints;
+    for (const ScenarioRobot& robot : s_.robots) {
+      if (absl::StatusOr<RobotModel> model = RobotModelByKind(robot.kind_name); model.ok()) {
+        footprints[robot.robot_id] = model->footprint_m;
       }
-      const ZoneTruth zones = JudgeZones(*s_.zones, samples, footprints);
+    }
+    if (s_.zones || !zones_put_.empty()) {
+      // The scenario's zones from the start (none: an empty set), then each version put.
+      std::vector<TimedZoneSet> versions{{0.0, s_.zones.value_or(ZoneSet{})}};
+      versions.insert(versions.end(), zones_put_.begin(), zones_put_.end());
+      const ZoneTruth zones = JudgeZonesOverTime(versions, samples, footprints);
       report->no_go_entries = zones.no_go_entries;
       report->first_no_go_entry = zones.first_no_go_entry;
       report->max_speed_in_zone_mps = zones.max_speed_in_zone_mps;
@@ -190,12 +193,6 @@ void Run::Finish(ScenarioReport* report) {
       report->first_over_capacity = zones.first_over_capacity;
     }
     if (!stop_windows_.empty()) {
-      std::map<std::string, Polygon2> footprints;
-      for (const ScenarioRobot& robot : s_.robots) {
-        if (absl::StatusOr<RobotModel> model = RobotModelByKind(robot.kind_name); model.ok()) {
-          footprints[robot.robot_id] = model->footprint_m;
-        }
-      }
       const StopTruth stops = JudgeStops(stop_windows_, samples, footprints);
       report->stops_made = static_cast<int>(stop_windows_.size());
       report->max_motion_while_stopped_m = stops.max_motion_while_stopped_m;

@@ -111,17 +111,23 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
           absl::StrCat("tls_dev_certs: no such file '", s.tls_dev_certs, "'"));
     }
   }
-  if (root["zones"]) {
-    s.zones_path = resolve(Text(root["zones"]));
-    absl::StatusOr<ZoneSet> zones = LoadZoneSet(s.zones_path);
-    if (!zones.ok())
-      return absl::InvalidArgumentError(absl::StrCat("zones: ", zones.status().message()));
+  // A zone file of the world's map, `where` naming the key for errors.
+  const auto load_zones = [&](const std::string& file,
+                              const std::string& where) -> absl::StatusOr<ZoneSet> {
+    absl::StatusOr<ZoneSet> zones = LoadZoneSet(file);
+    if (!zones.ok()) {
+      return absl::InvalidArgumentError(absl::StrCat(where, ": ", zones.status().message()));
+    }
     if (!zones->map_id.empty() && zones->map_id != s.map_id) {
-      return absl::InvalidArgumentError(absl::StrCat("zones: the file is of map '", zones->map_id,
+      return absl::InvalidArgumentError(absl::StrCat(where, ": the file is of map '", zones->map_id,
                                                      "', the world is '", s.map_id, "'"));
     }
     zones->map_id = s.map_id;
-    s.zones = *std::move(zones);
+    return zones;
+  };
+  if (root["zones"]) {
+    s.zones_path = resolve(Text(root["zones"]));
+    ASSIGN_OR_RETURN(s.zones, load_zones(s.zones_path, "zones"));
   }
   // Routes: loaded here so that a bad file is refused before anything starts.
   std::set<std::string> route_names;
@@ -217,10 +223,7 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
       for (const auto& entry : speeds) {
         const std::string zone = entry.first.as<std::string>();
         const std::string where = absl::StrCat("expect.max_speed_in_zone.", zone);
-        if (!s.zones || s.zones->Find(zone) == nullptr) {
-          return absl::InvalidArgumentError(
-              absl::StrCat(where, ": '", zone, "' is not a zone of the scenario's `zones`"));
-        }
+        // The zone is looked for once the faults (and their put_zones) are read.
         ASSIGN_OR_RETURN(s.expect.max_speed_in_zone_mps[zone], Number(entry.second, where, 0));
       }
     }
@@ -332,7 +335,7 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
       const std::string where = absl::StrCat("faults[", i, "]");
       RETURN_IF_ERROR(CheckKeys(f, where,
                                 {"type", "at_s", "robot", "restart_after_s", "duration_s", "factor",
-                                 "sensor", "region", "zone"}));
+                                 "sensor", "region", "zone", "file"}));
       ScenarioFault fault;
       const std::string type = Text(f["type"]);
       if (type == "kill_agent") {
@@ -356,13 +359,22 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
         }
       } else if (type == "stop_all") {
         fault.type = ScenarioFaultType::kStopAll;
+      } else if (type == "put_zones") {
+        fault.type = ScenarioFaultType::kPutZones;
+        if (!f["file"]) {
+          return absl::InvalidArgumentError(
+              absl::StrCat(where, ".file: put_zones needs a zone file"));
+        }
+        fault.file = resolve(Text(f["file"]));
+        ASSIGN_OR_RETURN(fault.zones, load_zones(fault.file, where + ".file"));
       } else if (sim::FaultTypeByName(type).ok()) {
         fault.type = ScenarioFaultType::kSimFault;
         fault.sim_type = type;
       } else {
         return absl::InvalidArgumentError(absl::StrCat(
             where, ".type: unknown fault '", type,
-            "' (known: kill_agent, kill_server, kill_leader, cut_link, stop_zone, stop_all and "
+            "' (known: kill_agent, kill_server, kill_leader, cut_link, stop_zone, stop_all, "
+            "put_zones and "
             "the simulator's faults: "
             "hide_ultrasonic, "
             "remove_fence, remove_stripe, wheel_slip, sensor_dropout, slow_down)"));
@@ -406,6 +418,25 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
     return f.type == ScenarioFaultType::kStopZone || f.type == ScenarioFaultType::kStopAll;
   });
   if (stops && !s.expect.max_motion_while_stopped_m) s.expect.max_motion_while_stopped_m = 0.05;
+  for (const auto& [zone, most_mps] : s.expect.max_speed_in_zone_mps) {
+    bool known = s.zones && s.zones->Find(zone) != nullptr;
+    for (const ScenarioFault& f : s.faults) known = known || (f.zones && f.zones->Find(zone));
+    if (!known) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("expect.max_speed_in_zone.", zone, ": '", zone,
+                       "' is not a zone of the scenario's `zones` or of a put_zones file"));
+    }
+  }
+  // Zones put during the run are judged from their time on, with the same defaults.
+  for (const ScenarioFault& f : s.faults) {
+    if (!f.zones) continue;
+    if (f.zones->HasKind(ZoneKind::kNoGo) && !s.expect.max_no_go_entries) {
+      s.expect.max_no_go_entries = 0;
+    }
+    if (f.zones->HasKind(ZoneKind::kOneAtATime) && !s.expect.max_over_capacity_entries) {
+      s.expect.max_over_capacity_entries = 0;
+    }
+  }
   return s;
 }
 

@@ -175,7 +175,9 @@ class Run {
     std::string zone;  ///< "" for the whole fleet
   };
   std::vector<StopEnd> stop_ends_;
-  std::vector<std::string> stop_failures_;  ///< stops or resumes fleetnavctl could not make
+  std::vector<std::string> stop_failures_;  ///< stops, resumes or zone puts that failed
+  /// Zone versions put during the run (put_zones faults), from when.
+  std::vector<TimedZoneSet> zones_put_;
   std::map<std::string, int> agent_starts_;
   std::unique_ptr<v1::FleetService::Stub> fleet_;
   std::unique_ptr<v1::SimService::Stub> simulator_;

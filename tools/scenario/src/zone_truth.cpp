@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "absl/strings/str_format.h"
 
@@ -164,6 +165,37 @@ ZoneTruth JudgeZones(const ZoneSet& zones,
         double& most = out.max_speed_in_zone_mps[zone.name];
         most = std::max(most, speed_mps);
       }
+    }
+  }
+  return out;
+}
+
+ZoneTruth JudgeZonesOverTime(const std::vector<TimedZoneSet>& versions,
+                             const std::map<std::string, std::vector<TruthSample>>& truth,
+                             const std::map<std::string, Polygon2>& footprints) {
+  ZoneTruth out;
+  for (size_t v = 0; v < versions.size(); ++v) {
+    const double from_s = versions[v].from_s;
+    const double to_s =
+        v + 1 < versions.size() ? versions[v + 1].from_s : std::numeric_limits<double>::infinity();
+    std::map<std::string, std::vector<TruthSample>> window;
+    for (const auto& [robot_id, samples] : truth) {
+      for (const TruthSample& s : samples) {
+        if (s.t_s >= from_s && s.t_s < to_s) window[robot_id].push_back(s);
+      }
+    }
+    const ZoneTruth part = JudgeZones(versions[v].zones, window, footprints);
+    out.no_go_entries += part.no_go_entries;
+    if (out.first_no_go_entry.empty()) out.first_no_go_entry = part.first_no_go_entry;
+    out.over_capacity_entries += part.over_capacity_entries;
+    if (out.first_over_capacity.empty()) out.first_over_capacity = part.first_over_capacity;
+    for (const auto& [zone, speed_mps] : part.max_speed_in_zone_mps) {
+      double& most = out.max_speed_in_zone_mps[zone];
+      most = std::max(most, speed_mps);
+    }
+    for (const auto& [zone, robots] : part.max_robots_in_zone) {
+      int& most = out.max_robots_in_zone[zone];
+      most = std::max(most, robots);
     }
   }
   return out;

@@ -9,6 +9,7 @@
 #include "fleetnav/core/echo_input.hpp"
 #include "fleetnav/core/robot_model.hpp"
 #include "fleetnav/core/status_macros.hpp"
+#include "fleetnav/core/zone.hpp"
 #include "fleetnav/planner/coordination/action_dependency_graph.hpp"
 #include "fleetnav/planner/coordination/kinematic_traffic.hpp"
 #include "fleetnav/planner/coordination/traffic_dependencies.hpp"
@@ -49,6 +50,12 @@ absl::StatusOr<TrafficPlan> TrafficPlanner::Plan(const std::string& map_id, uint
   ASSIGN_OR_RETURN(std::shared_ptr<const storage::StoredMap> shared,
                    site_data_->Map(map_id, map_version));
   const storage::StoredMap& stored = *shared;
+  // The agents plan round the no-go zones: so do the plans.
+  const std::shared_ptr<const storage::StoredZoneSet> zones =
+      zones_ != nullptr ? zones_->Latest(map_id) : nullptr;
+  const OccupancyGrid grid = zones != nullptr && zones->zones.HasKind(ZoneKind::kNoGo)
+                                 ? WithNoGoZonesOccupied(stored.grid, zones->zones)
+                                 : stored.grid;
   auto elapsed_ms = [&] {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started)
         .count();
@@ -58,7 +65,7 @@ absl::StatusOr<TrafficPlan> TrafficPlanner::Plan(const std::string& map_id, uint
   std::string kinematic_failure;
   if (planner::UseKinematicTraffic(models)) {
     absl::StatusOr<TrafficPlan> plan =
-        planner::PlanKinematicTraffic(stored.grid, agents, models, 0.5 * time_limit_s);
+        planner::PlanKinematicTraffic(grid, agents, models, 0.5 * time_limit_s);
     if (plan.ok()) {
       plan->planning_ms = elapsed_ms();
       return plan;
@@ -66,7 +73,7 @@ absl::StatusOr<TrafficPlan> TrafficPlanner::Plan(const std::string& map_id, uint
     kinematic_failure = std::string(plan.status().message());
     time_limit_s = std::max(time_limit_s - elapsed_ms() / 1000.0, 0.1 * time_limit_s);
   }
-  const planner::CoarseGrid coarse = planner::Coarsen(stored.grid, cell_m);
+  const planner::CoarseGrid coarse = planner::Coarsen(grid, cell_m);
   const planner::GridGraph graph(coarse.map);
 
   // Snap each start and goal to its coarse cell (in the map's own frame).

@@ -38,6 +38,7 @@ enum class ScenarioFaultType {
   kSimFault,    ///< a simulator fault (SimService.InjectFault)
   kStopZone,    ///< an operator stops a zone (fleetnavctl stop) for duration_s (0: to the end)
   kStopAll,     ///< an operator stops the whole fleet for duration_s (0: to the end)
+  kPutZones,    ///< an operator puts a new version of the map's zones (fleetnavctl zones put)
 };
 
 struct ScenarioFault {
@@ -50,6 +51,8 @@ struct ScenarioFault {
   double factor = 1.0;
   std::string sensor;
   std::string zone;                               ///< kStopZone: a zone of the scenario's `zones`
+  std::string file;                               ///< kPutZones: the zone YAML, resolved
+  std::optional<ZoneSet> zones;                   ///< kPutZones: that file's zones
   std::optional<std::pair<Pose2, Pose2>> region;  ///< min and max corners (yaw unused)
 };
 

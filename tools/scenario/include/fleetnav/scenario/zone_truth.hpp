@@ -58,4 +58,18 @@ ZoneTruth JudgeZones(const ZoneSet& zones,
                      const std::map<std::string, std::vector<TruthSample>>& truth,
                      const std::map<std::string, Polygon2>& footprints);
 
+/// A version of a map's zones and the sim time from which it was in force.
+struct TimedZoneSet {
+  double from_s = 0.0;
+  ZoneSet zones;
+};
+
+/// JudgeZones for zones that changed during the run: each version (in time order) judges the
+/// samples from its time until the next version's, and the figures add up (entries) or take
+/// the highest (speeds, robots at once). A robot a new no-go zone is put on counts as entering
+/// it. Pure function.
+ZoneTruth JudgeZonesOverTime(const std::vector<TimedZoneSet>& versions,
+                             const std::map<std::string, std::vector<TruthSample>>& truth,
+                             const std::map<std::string, Polygon2>& footprints);
+
 }  // namespace fleetnav::scenario

@@ -7,6 +7,7 @@
 #include "fleetnav/core/pose2.hpp"
 #include "fleetnav/core/traffic_plan.hpp"
 #include "fleetnav/server/site/site_cache.hpp"
+#include "fleetnav/server/site/zone_catalog.hpp"
 
 namespace fleetnav::server {
 
@@ -20,10 +21,14 @@ namespace fleetnav::server {
 /// multi-robot planner (EECBS for tens, LaCAM for hundreds, refined by LNS; rotations removed;
 /// planner/) solves it as point robots within the rest of the time. Either plan is compiled into
 /// an action dependency graph (Hönig et al., RA-L 2019) so that it stays collision-free under
-/// any delay. Thread-safe as its repository is.
+/// any delay. Robots are planned on the map with the no-go zones of its latest zone set occupied
+/// (WithNoGoZonesOccupied), as the agents plan. Thread-safe as its repository is.
 class TrafficPlanner {
  public:
   explicit TrafficPlanner(SiteCache* site_data) : site_data_(site_data) {}
+  /// The zones whose no-go areas the plans keep out of. Set before the planner is shared;
+  /// without it plans use the map alone.
+  void UseZones(ZoneCatalog* zones) { zones_ = zones; }
 
   /// InvalidArgument names `agents[i]` for an unknown kind, a start or goal off the free grid,
   /// or two robots on one cell; NotFound for the map; DeadlineExceeded when no plan is found
@@ -33,6 +38,7 @@ class TrafficPlanner {
 
  private:
   SiteCache* site_data_;
+  ZoneCatalog* zones_ = nullptr;
 };
 
 }  // namespace fleetnav::server
