@@ -6,34 +6,14 @@
 #include <string>
 #include <vector>
 
+#include "coordination/square_routes.hpp"
+
 namespace fleetnav::planner {
 namespace {
 
-const std::vector<Eigen::Vector2d> kSquare{{-0.5, -0.5}, {0.5, -0.5}, {0.5, 0.5}, {-0.5, 0.5}};
-constexpr double kCellM = 0.25;
-
-CellSet Line(Eigen::Vector2d from, Eigen::Vector2d to) {
-  std::vector<Pose2> poses;
-  for (int i = 0; i <= 20; ++i) {
-    const Eigen::Vector2d p = from + (to - from) * (i / 20.0);
-    poses.emplace_back(p.x(), p.y(), 0.0);
-  }
-  return CellSet::Sweep(poses, kSquare, 0.0, kCellM);
-}
-
-/// A route of 1 m squares along legs through `points`, each leg 10 s from t0.
-ScheduledRoute Route(const std::string& robot, std::vector<Eigen::Vector2d> points, double t0) {
-  ScheduledRoute r;
-  r.robot_id = robot;
-  r.job_id = "job-" + robot;
-  for (size_t i = 1; i < points.size(); ++i) {
-    r.action_cells.push_back(Line(points[i - 1], points[i]));
-    r.action_end_cells.push_back(Line(points[i], points[i]));
-    r.action_start_s.push_back(t0 + 10.0 * (i - 1));
-  }
-  r.start_cells = Line(points.front(), points.front());
-  return r;
-}
+constexpr double kCellM = 0.25;  // as square_routes.hpp sweeps
+using testing::Line;
+using testing::Route;
 
 /// A door 2 m wide (x) and 6 m deep (y) about the origin, admitting `capacity` robots.
 ZoneSet Door(int capacity) {
