@@ -236,6 +236,13 @@ std::optional<double> ZoneSet::SpeedLimitAt(const Eigen::Vector2d& point_in_map,
   return limit;
 }
 
+const OccupancyGrid& PlanningGrid(const OccupancyGrid& grid, const ZoneSet* zones,
+                                  std::optional<OccupancyGrid>& storage) {
+  if (zones == nullptr || !zones->HasKind(ZoneKind::kNoGo)) return grid;
+  storage = WithNoGoZonesOccupied(grid, *zones);
+  return *storage;
+}
+
 OccupancyGrid WithNoGoZonesOccupied(const OccupancyGrid& grid, const ZoneSet& zones) {
   OccupancyGrid out = grid;
   const double resolution_m = grid.resolution_m();

@@ -34,23 +34,21 @@ std::vector<size_t> CapacityZones::Meeting(const CellSet& cells) const {
   return out;
 }
 
-CellSet CapacityZones::WithLanes(const CellSet& cells, std::map<std::string, int>& lanes,
-                                 const std::function<int(size_t)>& choose) const {
-  CellSet out = cells;
+void CapacityZones::AddLanes(CellSet& cells, std::map<std::string, int>& lanes,
+                             const std::function<int(size_t)>& choose) const {
   for (const size_t z : Meeting(cells)) {
     auto [it, inserted] = lanes.try_emplace(zones_[z].name, 0);
     if (inserted) it->second = std::clamp(choose(z), 0, capacity(z) - 1);
-    out.Add(zones_[z].lanes[std::clamp(it->second, 0, capacity(z) - 1)]);
+    cells.Add(zones_[z].lanes[std::clamp(it->second, 0, capacity(z) - 1)]);
   }
-  return out;
 }
 
 void CapacityZones::Apply(ScheduledRoute& route, std::map<std::string, int>& lanes,
                           const std::function<int(size_t)>& choose) const {
   if (zones_.empty()) return;
-  route.start_cells = WithLanes(route.start_cells, lanes, choose);
-  for (CellSet& cells : route.action_cells) cells = WithLanes(cells, lanes, choose);
-  for (CellSet& cells : route.action_end_cells) cells = WithLanes(cells, lanes, choose);
+  AddLanes(route.start_cells, lanes, choose);
+  for (CellSet& cells : route.action_cells) AddLanes(cells, lanes, choose);
+  for (CellSet& cells : route.action_end_cells) AddLanes(cells, lanes, choose);
 }
 
 CellSet CapacityZones::Standing(const CellSet& cells,

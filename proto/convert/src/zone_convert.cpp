@@ -21,6 +21,23 @@ absl::StatusOr<ZoneKind> KindFromProto(v1::ZoneKind kind, const std::string& fie
   }
 }
 
+void PolygonToProto(const Polygon2& polygon, google::protobuf::RepeatedPtrField<v1::Point2>* out) {
+  for (const Eigen::Vector2d& vertex : polygon) *out->Add() = ToProto(vertex);
+}
+
+/// The vertices, each checked (`field`[j] named when one is not finite).
+absl::StatusOr<Polygon2> PolygonFromProto(
+    const google::protobuf::RepeatedPtrField<v1::Point2>& polygon, const std::string& field) {
+  Polygon2 out;
+  out.reserve(polygon.size());
+  for (int j = 0; j < polygon.size(); ++j) {
+    ASSIGN_OR_RETURN(Eigen::Vector2d vertex,
+                     FromProto(polygon.Get(j), absl::StrCat(field, "[", j, "]")));
+    out.push_back(vertex);
+  }
+  return out;
+}
+
 }  // namespace
 
 v1::ZoneKind ToProto(ZoneKind kind) {
@@ -42,8 +59,7 @@ v1::ZoneSet ToProto(const ZoneSet& zones) {
     v1::Zone* wire = out.add_zones();
     wire->set_name(zone.name);
     wire->set_kind(ToProto(zone.kind));
-    for (const Eigen::Vector2d& vertex : zone.polygon_in_map)
-      *wire->add_polygon() = ToProto(vertex);
+    PolygonToProto(zone.polygon_in_map, wire->mutable_polygon());
     if (zone.kind == ZoneKind::kSpeedLimit) wire->set_speed_limit_mps(zone.speed_limit_mps);
     if (zone.kind == ZoneKind::kOneAtATime) {
       wire->set_capacity(static_cast<uint32_t>(zone.capacity));
@@ -77,7 +93,7 @@ v1::RobotStop ToProto(const RobotStop& stop) {
   v1::RobotStop out;
   out.set_map_id(stop.map_id);
   out.set_zone(stop.zone);
-  for (const Eigen::Vector2d& vertex : stop.polygon_in_map) *out.add_polygon() = ToProto(vertex);
+  PolygonToProto(stop.polygon_in_map, out.mutable_polygon());
   out.set_reason(stop.reason);
   out.set_created_unix_ms(stop.created_unix_ms);
   return out;
@@ -89,11 +105,7 @@ absl::StatusOr<RobotStop> FromProto(const v1::RobotStop& stop) {
   out.zone = stop.zone();
   out.reason = stop.reason();
   out.created_unix_ms = stop.created_unix_ms();
-  for (int j = 0; j < stop.polygon_size(); ++j) {
-    ASSIGN_OR_RETURN(Eigen::Vector2d vertex,
-                     FromProto(stop.polygon(j), absl::StrCat("stop.polygon[", j, "]")));
-    out.polygon_in_map.push_back(vertex);
-  }
+  ASSIGN_OR_RETURN(out.polygon_in_map, PolygonFromProto(stop.polygon(), "stop.polygon"));
   if (out.whole_fleet() && (!out.map_id.empty() || !out.polygon_in_map.empty())) {
     return absl::InvalidArgumentError("stop: a whole-fleet stop has no map and no outline");
   }
@@ -115,12 +127,7 @@ absl::StatusOr<ZoneSet> FromProto(const v1::ZoneSet& zones) {
     Zone zone;
     zone.name = wire.name();
     ASSIGN_OR_RETURN(zone.kind, KindFromProto(wire.kind(), field + ".kind"));
-    zone.polygon_in_map.reserve(wire.polygon_size());
-    for (int j = 0; j < wire.polygon_size(); ++j) {
-      ASSIGN_OR_RETURN(Eigen::Vector2d vertex,
-                       FromProto(wire.polygon(j), absl::StrCat(field, ".polygon[", j, "]")));
-      zone.polygon_in_map.push_back(vertex);
-    }
+    ASSIGN_OR_RETURN(zone.polygon_in_map, PolygonFromProto(wire.polygon(), field + ".polygon"));
     if (zone.kind == ZoneKind::kSpeedLimit) {
       zone.speed_limit_mps = wire.speed_limit_mps();
     } else if (wire.speed_limit_mps() != 0.0) {

@@ -134,9 +134,7 @@ ZoneTruth JudgeZones(const ZoneSet& zones,
   }
   double first_entry_s = 0.0;
   for (const auto& [robot_id, samples] : truth) {
-    const auto footprint = footprints.find(robot_id);
-    const Polygon2 none;
-    const Polygon2& shape = footprint != footprints.end() ? footprint->second : none;
+    const Polygon2& shape = FootprintOf(footprints, robot_id);
     for (const Zone& zone : zones.zones) {
       bool inside_before = false;
       for (size_t i = 0; i < samples.size(); ++i) {

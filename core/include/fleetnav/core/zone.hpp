@@ -80,6 +80,10 @@ absl::Status CheckZonesOnMap(const ZoneSet& zones, const OccupancyGrid& grid);
 /// zones. Localization keeps the true map (a zone is no wall). Cells outside every no-go zone
 /// keep their value.
 OccupancyGrid WithNoGoZonesOccupied(const OccupancyGrid& grid, const ZoneSet& zones);
+/// The grid planners plan on: `grid` itself when `zones` is null or holds no no-go zone (no
+/// copy), else WithNoGoZonesOccupied, kept in `storage`.
+const OccupancyGrid& PlanningGrid(const OccupancyGrid& grid, const ZoneSet* zones,
+                                  std::optional<OccupancyGrid>& storage);
 
 /// Zone YAML:
 ///   map: barn                       # optional

@@ -2,6 +2,7 @@
 // free-navigation step waits for one standing in its way (parked, or held) is planned a way
 // round every robot that stands and drives it; issue 35's coordinated paths, in space.
 #include <cmath>
+#include <optional>
 #include <utility>
 
 #include "fleetnav/core/angles.hpp"
@@ -94,8 +95,9 @@ void TrafficCoordinator::PlanWayRound(
         std::vector<const planner::CellSet*> blocked_pointers;
         for (const planner::CellSet& cells : blocked) blocked_pointers.push_back(&cells);
         // Round the no-go zones, as the agent plans.
+        std::optional<OccupancyGrid> with_zones;
         return planner::PlanDetour(
-            zones != nullptr ? WithNoGoZonesOccupied(map->grid, zones->zones) : map->grid, model,
+            PlanningGrid(map->grid, zones != nullptr ? &zones->zones : nullptr, with_zones), model,
             blocked_pointers, params_.cell_m, from, nav, params_.detour);
       },
       records);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <set>
 
 #include "absl/strings/str_cat.h"
@@ -53,9 +54,9 @@ absl::StatusOr<TrafficPlan> TrafficPlanner::Plan(const std::string& map_id, uint
   // The agents plan round the no-go zones: so do the plans.
   const std::shared_ptr<const storage::StoredZoneSet> zones =
       zones_ != nullptr ? zones_->Latest(map_id) : nullptr;
-  const OccupancyGrid grid = zones != nullptr && zones->zones.HasKind(ZoneKind::kNoGo)
-                                 ? WithNoGoZonesOccupied(stored.grid, zones->zones)
-                                 : stored.grid;
+  std::optional<OccupancyGrid> with_zones;
+  const OccupancyGrid& grid =
+      PlanningGrid(stored.grid, zones != nullptr ? &zones->zones : nullptr, with_zones);
   auto elapsed_ms = [&] {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started)
         .count();

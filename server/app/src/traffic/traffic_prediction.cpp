@@ -2,6 +2,7 @@
 // the site's map with the planner of its kind) and the room it holds while standing.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <set>
 #include <utility>
 
@@ -48,9 +49,9 @@ TrafficCoordinator::PlannerCache TrafficCoordinator::BuildPlannerCache(const std
   planner::CostmapParams costmap_params;
   costmap_params.padding_m = 0.1;
   // The agent plans round the no-go zones: so does its prediction.
+  std::optional<OccupancyGrid> with_zones;
   absl::StatusOr<planner::Costmap> costmap = planner::Costmap::Build(
-      zones != nullptr ? WithNoGoZonesOccupied(map->grid, *zones) : map->grid, model.footprint_m,
-      costmap_params);
+      PlanningGrid(map->grid, zones, with_zones), model.footprint_m, costmap_params);
   if (costmap.ok()) {
     cache.costmap = std::make_unique<planner::Costmap>(*std::move(costmap));
     // The planner the robot's agent navigates with, so the prediction is its path.

@@ -57,9 +57,9 @@ class CapacityZones {
     CellSet cells;
     std::vector<CellSet> lanes;
   };
-  /// `cells` with the lanes of the zones it meets added; new lanes chosen into `lanes`.
-  CellSet WithLanes(const CellSet& cells, std::map<std::string, int>& lanes,
-                    const std::function<int(size_t)>& choose) const;
+  /// Adds to `cells` the lanes of the zones it meets; new lanes chosen into `lanes`.
+  void AddLanes(CellSet& cells, std::map<std::string, int>& lanes,
+                const std::function<int(size_t)>& choose) const;
 
   std::vector<Entry> zones_;
 };
