@@ -225,6 +225,23 @@ TEST(FleetScenario, StoppedRobotsStandUntilTheStopIsCleared) {
   EXPECT_GT(report["jobs"][0].value("end_sim_s", 0.0), 120.0);
 }
 
+// A stopped zone on a robot's way (issue 39), judged by the truth: the west passage is stopped
+// for good 2 s after the platform sets out beside it; it brakes short of the zone and is planned
+// a way round by the east end, which it drives while the stop holds (without the way round it
+// stands at the zone's edge until the deadline, and the run fails).
+TEST(FleetScenario, ARobotOutsideAStoppedZoneIsRoutedRoundIt) {
+  int code = -1;
+  const nlohmann::json report =
+      RunShipped("store_stop_way_round.yaml", TempPath("store_stop_way_round.yaml.keep"), &code);
+  EXPECT_EQ(code, 0) << report.dump();
+  EXPECT_EQ(report.value("stopped_zone_entries", -1), 0);
+  EXPECT_EQ(report.value("contacts", -1), 0);
+  const nlohmann::json& end = report["robots"][0]["final_pose"];
+  EXPECT_TRUE(Pose2(end.value("x_m", 1e9), end.value("y_m", 1e9), end.value("yaw_rad", 0.0))
+                  .IsNear(Pose2(3.0, -2.0, kPi / 2), 0.1, 0.06))
+      << end.dump();
+}
+
 // One-at-a-time zones (issue 39), judged by the truth: two platforms reach the aisles' west
 // ends together on ways that never meet; the floor there admits one robot at a time, so one
 // waits outside while the other is in it (without the zone's lanes both are in it at once and

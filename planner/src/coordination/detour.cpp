@@ -53,6 +53,7 @@ absl::Status DetourParams::Validate() const {
   if (!(std::isfinite(time_limit_s) && time_limit_s > 0.0)) {
     return absl::InvalidArgumentError("time_limit_s: must be finite and > 0");
   }
+  if (max_expansions <= 0) return absl::InvalidArgumentError("max_expansions: must be > 0");
   return absl::OkStatus();
 }
 
@@ -155,8 +156,11 @@ absl::StatusOr<std::vector<Eigen::Vector2d>> PlanDetour(const OccupancyGrid& gri
         absl::StrFormat("no way round the robots that stand: the goal (%.2f, %.2f) is cut off",
                         action.goal.x_m(), action.goal.y_m()));
   }
+  SingleRobotPlannerParams planner_params = NavigationPlannerParams(model);
+  planner_params.lattice.max_expansions =
+      std::min(planner_params.lattice.max_expansions, params.max_expansions);
   absl::StatusOr<std::unique_ptr<SingleRobotPlanner>> planner =
-      MakeSingleRobotPlanner(&*costmap, model, NavigationPlannerParams(model));
+      MakeSingleRobotPlanner(&*costmap, model, planner_params);
   if (!planner.ok()) return planner.status();
   absl::StatusOr<WaypointPath> path =
       PlanThroughWaypoints(**planner, marked.origin(), from, action.waypoints_m, action.goal,

@@ -5,6 +5,12 @@
 #include "absl/strings/str_cat.h"
 
 namespace fleetnav::agent {
+namespace {
+
+/// Kept between a stopped zone and the reach of a robot that braked before it.
+constexpr double kStopSpareM = 0.05;
+
+}  // namespace
 
 JobRunner::JobRunner(RouteContext context, JobRunnerPorts ports, ModeParams modes,
                      SafetyParams safety, std::optional<Route> route)
@@ -81,6 +87,8 @@ ExecutorOutput JobRunner::Step(const ControlInput& input, const std::vector<int>
                                const Twist2& last_command) {
   ExecutorOutput output;
   const bool hears_server = ports_.jobs == nullptr || ports_.jobs->HearsServer();
+  const std::vector<RobotStop> stops =
+      ports_.jobs != nullptr ? ports_.jobs->Stops() : std::vector<RobotStop>{};
   link_lost_s_ = hears_server ? 0.0 : link_lost_s_ + input.dt_s;
   if (executor_ && executor_->state() == ExecutionState::kRunning) {
     const SafetyVerdict& verdict = safety_.Check(input.perception, last_command, estimate.velocity,
@@ -96,8 +104,12 @@ ExecutorOutput JobRunner::Step(const ControlInput& input, const std::vector<int>
       }
       executor_->Abort(absl::AbortedError(verdict.reason));
     }
-    // A stop made while the robot does not hear the server cannot reach it: it stands.
-    stopped_ = StopApplies(estimate) || (!hears_server && link_lost_s_ >= stop_after_link_loss_s_);
+    // An operator's stop holds a robot in its zone or at its edge (one nearing the zone is
+    // slowed below). A stop made while the robot does not hear the server cannot reach it: it
+    // stands.
+    stopped_ = HoldingStop(stops, site_map_id_, estimate.pose_in_map.translation(),
+                           ReachM(estimate)) != nullptr ||
+               (!hears_server && link_lost_s_ >= stop_after_link_loss_s_);
     const bool was_running = executor_->state() == ExecutionState::kRunning;
     if (was_running && !paused_ && !stopped_) {
       output = executor_->Step(input, detected_markers);
@@ -127,6 +139,11 @@ ExecutorOutput JobRunner::Step(const ControlInput& input, const std::vector<int>
       output.command = CapTwist(output.command, *cap);
     }
   }
+  // It brakes to stand before a stopped zone with its reach and a margin to spare (so that it
+  // is not then held at the zone's edge), and drives on along or away from it.
+  output.command =
+      KeepOffStoppedZones(output.command, stops, site_map_id_, estimate.pose_in_map,
+                          ReachM(estimate) + kStopSpareM, zone_speed_.braking_decel_mps2);
   if (paused_ || stopped_) {
     output.mode = NavigationMode::kPaused;
     output.command = Twist2{};
@@ -191,16 +208,8 @@ double JobRunner::FootprintRadiusM() const {
   return (load ? context_.model.CarryingLoad(*load) : context_.model).CircumscribedRadius();
 }
 
-bool JobRunner::StopApplies(const localization::LocalizerEstimate& estimate) {
-  if (ports_.jobs == nullptr) return false;
-  const std::vector<RobotStop> stops = ports_.jobs->Stops();
-  if (stops.empty()) return false;
-  // The robot's reach: its footprint, its estimate grown by 2σ, and the way it needs to brake
-  // from its speed now, so that it stands before a stopped zone rather than in it.
-  const double speed_mps = std::hypot(estimate.velocity.vx_mps, estimate.velocity.vy_mps);
-  const double reach_m = GrownReachM(estimate.covariance, FootprintRadiusM(), zone_speed_) +
-                         speed_mps * speed_mps / (2.0 * zone_speed_.braking_decel_mps2);
-  return ApplyingStop(stops, site_map_id_, estimate.pose_in_map.translation(), reach_m) != nullptr;
+double JobRunner::ReachM(const localization::LocalizerEstimate& estimate) const {
+  return GrownReachM(estimate.covariance, FootprintRadiusM(), zone_speed_);
 }
 
 absl::Status JobRunner::PrepareSite(const JobAssignment& assignment) {

@@ -79,12 +79,17 @@ absl::Status FleetApp::Open() {
   zones_ = std::make_unique<ZoneCatalog>(zone_repository_.get(), site_data_.get(), clock_,
                                          params_.limits);
   site_->UseZones(zones_.get());
-  stops_ = std::make_unique<StopControl>(stop_repository_.get(), zones_.get(), clock_);
-  stops_->SetChangeListener(
-      [this](const std::vector<RobotStop>& stops) { robots_->BroadcastStops(stops); });
   coordinator_ = std::make_unique<TrafficCoordinator>(site_data_.get(), &registry_, robots_, clock_,
                                                       params_.traffic);
   coordinator_->UseZones(zones_.get());
+  stops_ = std::make_unique<StopControl>(stop_repository_.get(), zones_.get(), clock_);
+  // Every robot hears each change of the stops; traffic plans ways round stopped zones.
+  stops_->SetChangeListener([this](const std::vector<RobotStop>& stops) {
+    robots_->BroadcastStops(stops);
+    coordinator_->SetStops(stops);
+  });
+  ASSIGN_OR_RETURN(std::vector<RobotStop> stops_in_force, stops_->InForce());
+  coordinator_->SetStops(std::move(stops_in_force));
   jobs_ = std::make_unique<JobService>(job_repository_.get(), robot_repository_.get(),
                                        site_data_.get(), site_.get(), &registry_, robots_, clock_,
                                        params_.jobs, coordinator_.get());

@@ -75,7 +75,17 @@ void Run::Inject(const ScenarioFault& fault) {
       window.end_s = fault.duration_s > 0.0 ? fault.at_s + fault.duration_s : 1e18;
       if (zone) {
         window.zone = fault.zone;
-        window.polygon = s_.zones->Find(fault.zone)->polygon_in_map;
+        // The zones in force now: the last put, else the scenario's (fleetnavd knew the zone).
+        const ZoneSet* zones = !zones_put_.empty() ? &zones_put_.back().zones
+                               : s_.zones          ? &*s_.zones
+                                                   : nullptr;
+        const Zone* stopped = zones != nullptr ? zones->Find(fault.zone) : nullptr;
+        if (stopped == nullptr) {
+          stop_failures_.push_back(absl::StrCat("the stop at ", fault.at_s, " s: zone '",
+                                                fault.zone, "' is in none of the run's zones"));
+          return;
+        }
+        window.polygon = stopped->polygon_in_map;
       }
       stop_windows_.push_back(window);
       if (fault.duration_s > 0.0) stop_ends_.push_back({window.end_s, window.zone});

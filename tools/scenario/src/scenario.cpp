@@ -352,11 +352,7 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
         fault.type = ScenarioFaultType::kCutLink;
       } else if (type == "stop_zone") {
         fault.type = ScenarioFaultType::kStopZone;
-        fault.zone = Text(f["zone"]);
-        if (!s.zones || s.zones->Find(fault.zone) == nullptr) {
-          return absl::InvalidArgumentError(absl::StrCat(
-              where, ".zone: '", fault.zone, "' is not a zone of the scenario's `zones`"));
-        }
+        fault.zone = Text(f["zone"]);  // checked below, against the zones in force then
       } else if (type == "stop_all") {
         fault.type = ScenarioFaultType::kStopAll;
       } else if (type == "put_zones") {
@@ -414,6 +410,16 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
       s.faults.push_back(fault);
     }
   }
+  for (size_t i = 0; i < s.faults.size(); ++i) {
+    const ScenarioFault& f = s.faults[i];
+    if (f.type != ScenarioFaultType::kStopZone) continue;
+    const ZoneSet* zones = ZonesInForceAt(s, i);
+    if (zones == nullptr || zones->Find(f.zone) == nullptr) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("faults[", i, "].zone: '", f.zone, "' is not a zone in force at ", f.at_s,
+                       " s (the scenario's `zones`, or the last put_zones file before the stop)"));
+    }
+  }
   const bool stops = std::any_of(s.faults.begin(), s.faults.end(), [](const ScenarioFault& f) {
     return f.type == ScenarioFaultType::kStopZone || f.type == ScenarioFaultType::kStopAll;
   });
@@ -441,6 +447,21 @@ absl::StatusOr<Scenario> Parse(const YAML::Node& root, const std::string& path) 
 }
 
 }  // namespace
+
+const ZoneSet* ZonesInForceAt(const Scenario& scenario, size_t fault_index) {
+  const ScenarioFault& at = scenario.faults.at(fault_index);
+  const ZoneSet* out = scenario.zones ? &*scenario.zones : nullptr;
+  double put_at_s = -1.0;
+  for (size_t i = 0; i < scenario.faults.size(); ++i) {
+    const ScenarioFault& f = scenario.faults[i];
+    const bool before = f.at_s < at.at_s || (f.at_s == at.at_s && i < fault_index);
+    if (f.type == ScenarioFaultType::kPutZones && f.zones && before && f.at_s >= put_at_s) {
+      out = &*f.zones;
+      put_at_s = f.at_s;
+    }
+  }
+  return out;
+}
 
 absl::StatusOr<Scenario> LoadScenario(const std::string& path) {
   YAML::Node root;

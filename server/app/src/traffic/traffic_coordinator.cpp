@@ -323,6 +323,7 @@ std::vector<TrafficWaitChange> TrafficCoordinator::Update() {
         }
       }
       PlanDetours(map_id, tracked_jobs, decisions, by_id);
+      PlanWaysRoundStops(map_id, tracked_jobs, by_id);
     }
   }
   for (const auto& [robot_id, notice] : sends) {

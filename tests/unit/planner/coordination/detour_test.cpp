@@ -127,6 +127,26 @@ TEST(DetourTest, BadInputIsRefusedNamingIt) {
   EXPECT_NE(got.status().message().find("outside the map"), std::string::npos);
 }
 
+// The search ends on its expansion budget, not the wall clock: the same way round, or none,
+// however busy the machine is.
+TEST(DetourTest, TheSearchEndsOnItsExpansionBudget) {
+  const OccupancyGrid grid = Hall();
+  const RobotModel model = MecanumPlatformModel();
+  FreeNavigationAction action;
+  action.goal = Pose2(3.0, -1.0, 0.0);
+  DetourParams starved;
+  starved.max_expansions = 10;
+  starved.time_limit_s = 1000.0;
+  absl::StatusOr<std::vector<Eigen::Vector2d>> got =
+      PlanDetour(grid, model, {}, kCellM, Pose2(-3.0, -1.0, 0.0), action, starved);
+  EXPECT_TRUE(absl::IsNotFound(got.status())) << got.status();
+  EXPECT_TRUE(PlanDetour(grid, model, {}, kCellM, Pose2(-3.0, -1.0, 0.0), action).ok());
+  starved.max_expansions = 0;
+  got = PlanDetour(grid, model, {}, kCellM, Pose2(-3.0, -1.0, 0.0), action, starved);
+  EXPECT_TRUE(absl::IsInvalidArgument(got.status()));
+  EXPECT_NE(got.status().message().find("max_expansions"), std::string::npos);
+}
+
 TEST(DetourTest, AStraightWayNeedsNoWaypointsAndTheActionsOwnAreKept) {
   const OccupancyGrid grid = Hall();
   const RobotModel model = MecanumPlatformModel();

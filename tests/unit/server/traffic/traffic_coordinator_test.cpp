@@ -76,19 +76,9 @@ class TrafficCoordinatorTest : public ::testing::Test {
     ASSERT_TRUE(registry_.RecordTelemetry(robot_id, sessions_[robot_id], telemetry).ok());
   }
 
-  /// The coordinator's defaults with searches that never run out of time: what a search finds
-  /// must not depend on how fast this machine is (under TSan the 0.5 s budget of a way round
-  /// was spent before the lattice search ended).
-  static TrafficCoordinatorParams Unhurried() {
-    TrafficCoordinatorParams params;
-    params.detour.time_limit_s = 60.0;
-    params.prediction.plan_time_limit_s = 60.0;
-    return params;
-  }
-
   /// A coordinator over this fixture's site that looks for make-way places within `max_m`.
   std::unique_ptr<TrafficCoordinator> LookingForPlacesWithin(double max_m) {
-    TrafficCoordinatorParams params = Unhurried();
+    TrafficCoordinatorParams params = TrafficCoordinatorParams{};
     params.make_way.max_distance_m = max_m;
     return std::make_unique<TrafficCoordinator>(&site_data_, &registry_, &mailbox_, &clock_,
                                                 params);
@@ -147,7 +137,8 @@ class TrafficCoordinatorTest : public ::testing::Test {
   RecordingMailbox mailbox_;
   storage::MemoryRouteRepository routes_;
   SiteCache site_data_{&maps_, &markers_, &routes_};
-  TrafficCoordinator coordinator_{&site_data_, &registry_, &mailbox_, &clock_, Unhurried()};
+  TrafficCoordinator coordinator_{&site_data_, &registry_, &mailbox_, &clock_,
+                                  TrafficCoordinatorParams{}};
 };
 
 TEST_F(TrafficCoordinatorTest, CrossingRobotsAreClearedOneAfterTheOtherAndToldWhy) {
@@ -388,6 +379,80 @@ TEST_F(TrafficCoordinatorTest, ARobotWaitingForOneThatStandsInItsWayIsPlannedAWa
   EXPECT_GT(ClosestWaypointM(told.paths[0], {0, 0}), 1.0);
 }
 
+/// A stop of zone `pen` of map `map_id`: the box x in [-1, 1], y in [-1.5, 1.5].
+RobotStop PenStop(const std::string& map_id = "hall") {
+  RobotStop stop;
+  stop.map_id = map_id;
+  stop.zone = "pen";
+  stop.polygon_in_map = {{-1, -1.5}, {1, -1.5}, {1, 1.5}, {-1, 1.5}};
+  return stop;
+}
+
+/// The least distance from the legs through `path`'s waypoints (from `from` to `to`) to the
+/// polygon, sampled every 5 cm.
+double ClosestLegM(const Eigen::Vector2d& from, const ActionPath& path, const Eigen::Vector2d& to,
+                   const Polygon2& polygon) {
+  std::vector<Eigen::Vector2d> points = {from};
+  points.insert(points.end(), path.waypoints_m.begin(), path.waypoints_m.end());
+  points.push_back(to);
+  double closest_m = 1e9;
+  for (size_t k = 1; k < points.size(); ++k) {
+    const double length_m = (points[k] - points[k - 1]).norm();
+    for (double s = 0.0; s <= length_m; s += 0.05) {
+      const Eigen::Vector2d p = points[k - 1] + (points[k] - points[k - 1]) * (s / length_m);
+      closest_m = std::min(
+          closest_m, PolygonContains(polygon, p) ? 0.0 : DistanceToPolygonBoundary(polygon, p));
+    }
+  }
+  return closest_m;
+}
+
+TEST_F(TrafficCoordinatorTest, ARobotWhoseWayCrossesAStoppedZoneIsPlannedAWayRoundIt) {
+  // A platform that drives planned paths, sent 14 m east along y = 0, is cleared straight on.
+  const RobotModel model = MecanumPlatformModel();
+  Connect("a", Pose2(-8, 0, 0), model, /*segment_clearances=*/true, /*planned_paths=*/true);
+  coordinator_.Begin("a", Job("job-a", {{GoEast(-8, 14.0), {}}}));
+  coordinator_.Update();
+  ASSERT_FALSE(mailbox_.sent["a"].empty());
+  EXPECT_TRUE(mailbox_.sent["a"].back().paths.empty());
+  // A stop on another map changes nothing; the pen on its way stopped: a way round it.
+  coordinator_.SetStops({PenStop("store")});
+  clock_.AdvanceNs(500'000'000);
+  coordinator_.Update();
+  EXPECT_TRUE(mailbox_.sent["a"].back().paths.empty());
+  coordinator_.SetStops({PenStop("store"), PenStop()});
+  clock_.AdvanceNs(500'000'000);
+  coordinator_.Update();  // searched
+  clock_.AdvanceNs(500'000'000);
+  coordinator_.Update();  // told
+  const ClearanceNotice& told = mailbox_.sent["a"].back();
+  ASSERT_EQ(told.paths.size(), 1u);
+  EXPECT_EQ(told.paths[0].action_index, 0);
+  EXPECT_EQ(told.cleared_up_to_action, 0);
+  // Its centre keeps its body and a grown margin off the zone, so its agent never slows for
+  // it (within a cell for the thinning of the way).
+  EXPECT_GT(ClosestLegM({-8, 0}, told.paths[0], {6, 0}, PenStop().polygon_in_map),
+            model.CircumscribedRadius() + 0.2 - 0.1);
+}
+
+TEST_F(TrafficCoordinatorTest, ARobotInAStoppedZoneOrBoundIntoItIsNotPlannedAWayRound) {
+  // In the pen: it stands there. Sent into the pen: there is no way round to its goal.
+  Connect("in", Pose2(0, 0, 0), MecanumPlatformModel(), true, true);
+  Connect("into", Pose2(-8, 3, 0), MecanumPlatformModel(), true, true);
+  coordinator_.Begin("in", Job("job-in", {{GoEast(0, 6.0), {}}}));
+  coordinator_.Begin(
+      "into", Job("job-into", {{FreeNavigationAction{{}, Pose2(0.0, 0.5, 0.0), 0.5, {}}, {}}}));
+  coordinator_.SetStops({PenStop()});
+  for (int i = 0; i < 3; ++i) {
+    coordinator_.Update();
+    clock_.AdvanceNs(11'000'000'000);  // past detour_every_s
+  }
+  for (const char* robot : {"in", "into"}) {
+    ASSERT_FALSE(mailbox_.sent[robot].empty()) << robot;
+    EXPECT_TRUE(mailbox_.sent[robot].back().paths.empty()) << robot;
+  }
+}
+
 TEST_F(TrafficCoordinatorTest, AFreeNavigationLegIsPredictedRoundTheNoGoZonesAsItsAgentDrives) {
   // A platform sent 16 m east along y = 0; a Lely stands without a job 3.5 m north of its way.
   // On the map alone the way keeps far off the Lely: cleared.
@@ -408,7 +473,8 @@ TEST_F(TrafficCoordinatorTest, AFreeNavigationLegIsPredictedRoundTheNoGoZonesAsI
       {"spill", ZoneKind::kNoGo, {{-2, -5}, {2, -5}, {2, 2.5}, {-2, 2.5}}, 0.0, 1});
   ASSERT_TRUE(zones.PutZones(closed).ok());
   RecordingMailbox mailbox;
-  TrafficCoordinator coordinator(&site_data_, &registry_, &mailbox, &clock_, Unhurried());
+  TrafficCoordinator coordinator(&site_data_, &registry_, &mailbox, &clock_,
+                                 TrafficCoordinatorParams{});
   coordinator.UseZones(&zones);
   coordinator.Begin("a", Job("job-a", {{GoEast(-8, 16.0), {}}}));
   coordinator.Update();

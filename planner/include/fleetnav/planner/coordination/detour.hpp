@@ -16,9 +16,12 @@ namespace fleetnav::planner {
 
 /// How PlanDetour plans and thins its path.
 struct DetourParams {
-  double padding_m = 0.1;     ///< kept round the footprint, as the agent's free navigation
-  double max_leg_m = 6.0;     ///< the longest straight line between two waypoints
-  double time_limit_s = 0.5;  ///< for each leg's search
+  double padding_m = 0.1;  ///< kept round the footprint, as the agent's free navigation
+  double max_leg_m = 6.0;  ///< the longest straight line between two waypoints
+  /// Each leg's search ends after this many lattice expansions (about 0.5 s on an idle core),
+  /// so that a way round is the same however busy the machine is (a run replays exactly).
+  int max_expansions = 300'000;
+  double time_limit_s = 30.0;  ///< each leg's: a safety net; max_expansions ends a search first
   absl::Status Validate() const;
 };
 

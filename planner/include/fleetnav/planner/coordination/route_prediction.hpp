@@ -35,7 +35,10 @@ struct PredictedAction {
 struct RoutePredictionParams {
   double pose_step_m = 0.1;
   double yaw_step_rad = 0.15;
-  double plan_time_limit_s = 2.0;
+  /// A safety net, as the agent's (FreeNavigationParams::plan_time_limit_s): the planner's
+  /// expansion budget ends a search first, so the prediction is the path the agent plans
+  /// however busy the machine is (a run replays exactly).
+  double plan_time_limit_s = 60.0;
   /// A dock leg along a charger stripe that the marker set does not hold drives this far.
   double default_dock_distance_m = 2.0;
   /// A trolley dock: to this far before the trolley's nearer end (about the agent's approach

@@ -17,6 +17,7 @@
 #include "fleetnav/robot_agent/route_executor.hpp"
 #include "fleetnav/robot_agent/safety_monitor.hpp"
 #include "fleetnav/robot_agent/site_source.hpp"
+#include "fleetnav/robot_agent/stop_guard.hpp"
 #include "fleetnav/robot_agent/zone_speed_limit.hpp"
 
 namespace fleetnav::agent {
@@ -94,8 +95,9 @@ class JobRunner {
   absl::Status PrepareSite(const JobAssignment& assignment);
   /// The robot's circumscribed radius, grown to the trolley it carries.
   double FootprintRadiusM() const;
-  /// Whether an operator's stop in force applies to the robot where its estimate puts it.
-  bool StopApplies(const localization::LocalizerEstimate& estimate);
+  /// How far the robot reaches for zones and stops where its estimate puts it: its footprint's
+  /// radius grown by its uncertainty (GrownReachM).
+  double ReachM(const localization::LocalizerEstimate& estimate) const;
 
   RouteContext context_;  ///< the site in use (its map with no-go zones occupied); the loads
   /// The zones of the site in use (speed limits held each tick); nullopt: none.

@@ -50,7 +50,7 @@ struct ScenarioFault {
   double duration_s = 0.0;
   double factor = 1.0;
   std::string sensor;
-  std::string zone;                               ///< kStopZone: a zone of the scenario's `zones`
+  std::string zone;                               ///< kStopZone: a zone in force then
   std::string file;                               ///< kPutZones: the zone YAML, resolved
   std::optional<ZoneSet> zones;                   ///< kPutZones: that file's zones
   std::optional<std::pair<Pose2, Pose2>> region;  ///< min and max corners (yaw unused)
@@ -109,5 +109,10 @@ struct Scenario {
 /// twice are InvalidArgument naming the file and the key (e.g. "s.yaml: jobs[2].robot:
 /// 'lely9' is not a robot of world barn").
 absl::StatusOr<Scenario> LoadScenario(const std::string& path);
+
+/// The zones in force when fault `fault_index` (< faults.size()) is injected: those of the last
+/// put_zones fault injected before it (at an earlier time, or at the same time and earlier in
+/// the list; faults are injected in that order), else the scenario's `zones`; null for none.
+const ZoneSet* ZonesInForceAt(const Scenario& scenario, size_t fault_index);
 
 }  // namespace fleetnav::scenario

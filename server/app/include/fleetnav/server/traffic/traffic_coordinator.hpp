@@ -12,6 +12,7 @@
 #include "absl/status/status.h"
 #include "absl/synchronization/mutex.h"
 #include "fleetnav/core/clock.hpp"
+#include "fleetnav/core/robot_stop.hpp"
 #include "fleetnav/planner/coordination/capacity_zones.hpp"
 #include "fleetnav/planner/coordination/detour.hpp"
 #include "fleetnav/planner/coordination/make_way.hpp"
@@ -128,6 +129,10 @@ class TrafficCoordinator {
   /// (docs/server.md, "Zones"). Set before the coordinator is shared; without it they plan on
   /// the map alone.
   void UseZones(ZoneCatalog* zones) { zones_ = zones; }
+  /// The operators' stops in force (StopControl's), given whenever they change: a robot outside
+  /// a stopped zone whose free-navigation action crosses it is planned a way round it (docs/
+  /// server.md, "Stops").
+  void SetStops(std::vector<RobotStop> stops);
 
   /// Begin's resume_action for a job resumed after a server restart: the robot is in the
   /// action its telemetry reports. Until its robot has reported, no other robot on the job's
@@ -407,6 +412,17 @@ class TrafficCoordinator {
                     const std::vector<planner::TrafficClearanceDecision>& decisions,
                     const std::map<std::string, const RobotRecord*>& records)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// For a robot on `map_id` outside every stopped zone whose free-navigation action in hand
+  /// crosses one: a way round the stopped zones (grown so that its reach keeps off them), through
+  /// its own waypoints still ahead and off the zones, which its window is then predicted along.
+  /// At most one search at a time, each robot at most every detour_every_s.
+  void PlanWaysRoundStops(const std::string& map_id, const std::vector<Tracked*>& tracked_jobs,
+                          const std::map<std::string, const RobotRecord*>& records)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// The waypoints of `nav` a robot at `at` has still to pass: those from the leg it is nearest
+  /// to on (the polyline through them to the goal).
+  static std::vector<Eigen::Vector2d> WaypointsAhead(const FreeNavigationAction& nav,
+                                                     const Eigen::Vector2d& at);
   /// Why the decision holds the robot, for people ("" when it does not); `jobs_on_map` are
   /// the tracked jobs the decision's waits may name, by robot id.
   static std::string Describe(const planner::TrafficClearanceDecision& d,
@@ -476,6 +492,8 @@ class TrafficCoordinator {
   std::map<std::string, std::map<std::string, int>> last_zone_lanes_ ABSL_GUARDED_BY(mutex_);
   /// Robots whose job is still to be predicted (they stand, and are not sent aside).
   std::set<std::string> awaiting_prediction_ ABSL_GUARDED_BY(mutex_);
+  /// The operators' stops in force (SetStops).
+  std::vector<RobotStop> stops_ ABSL_GUARDED_BY(mutex_);
   /// The detour given to the search thread and not yet taken up (one at a time).
   std::shared_ptr<PendingDetour> detour_ ABSL_GUARDED_BY(mutex_);
   /// Last, so that it ends (and its searches with it) before what they use.
