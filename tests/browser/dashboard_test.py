@@ -9,6 +9,10 @@ the simulator's ground truth:
   * the page receives pushed updates at >= 4 per second (5 Hz nominal);
   * clicking a running job's pause button pauses the job at the server and its robot stops in
     the simulator (true position still within 2 cm over 3 s), and resume lets it go on;
+  * the map's zones are drawn and listed; a zone's stop button stops that zone at the server
+    (the page shows it stopped) and its resume button clears it; "stop all" stops the whole
+    fleet at the server and both robots stand in the simulator (within 2 cm over 3 s), and
+    "resume all" clears it;
 and saves a screenshot. Prints the time to interactive (first state drawn) and the update rate.
 
 Usage: dashboard_test.py BUILD_DIR ARTIFACT_DIR. Exit 0 when every check held, 1 otherwise,
@@ -162,6 +166,11 @@ def main():
         ctl("markers", "put", f"{work}/map/barn.markers.yaml")
         for route in ("barn_feeding.yaml", "barn_north_fence.yaml"):
             ctl("routes", "put", os.path.join(ROOT, "deploy/routes", route))
+        # A zone in the barn's south-east corner, away from both robots' work.
+        with open(f"{work}/barn.zones.yaml", "w") as f:
+            f.write("map: barn\nzones:\n  - {name: corner, kind: speed_limit, speed_limit: 1.0,"
+                    " polygon: [[8, -11], [11, -11], [11, -8], [8, -8]]}\n")
+        ctl("zones", "put", "--map", "barn", f"{work}/barn.zones.yaml")
         for robot, pose in (("lely1", ("-5.5", "0", "0")), ("lely2", ("-7.0", "4.15", "0"))):
             start([f"{build}/robot_agent/fleetnav-agent", "--robot-id", robot, "--kind",
                    "lely-vector", "--sim", sim, "--server", server, "--initial-pose", *pose],
@@ -258,6 +267,41 @@ def main():
         check.that(moved(after, truth("lely2")) > 0.05, "lely2 drives again after resume")
         check.that(ctl("job", "get", feeding)["state"] in ("assigned", "running", "succeeded"),
                    "lely1's job went on undisturbed")
+
+        # Zones and stops.
+        zones_shown = driver.script(
+            "return [(window.fleetnav.map.zones || {zones: []}).zones.length, "
+            "[...document.querySelectorAll('#zones tbody tr')].map(r => r.dataset.zone)];")
+        check.that(zones_shown == [1, ["corner"]], f"the map's zone is drawn and listed "
+                   f"({zones_shown})")
+
+        def stops():
+            return [(s["map_id"], s["zone"]) for s in ctl("stops")]
+
+        def row_stopped():
+            return driver.script(
+                "const r = document.querySelector(\"#zones tr[data-zone='corner']\");"
+                "return r ? r.dataset.stopped : null;")
+
+        driver.click("#zones tr[data-zone='corner'] button[data-action='stop']")
+        time.sleep(1.0)
+        check.that(stops() == [("barn", "corner")], f"the zone's stop button stopped it ({stops()})")
+        check.that(row_stopped() == "yes", "the page shows the zone stopped")
+        driver.screenshot(os.path.join(artifacts, "dashboard-zone-stopped.png"))
+        driver.click("#zones tr[data-zone='corner'] button[data-action='resume']")
+        time.sleep(1.0)
+        check.that(stops() == [], f"its resume button cleared the stop ({stops()})")
+        driver.click("#stop-all")
+        time.sleep(1.5)  # the robots brake
+        check.that(stops() == [("", "")], f"stop all stopped the whole fleet ({stops()})")
+        before = {r: truth(r) for r in ("lely1", "lely2")}
+        time.sleep(3.0)
+        stood = {r: moved(before[r], truth(r)) for r in before}
+        check.that(all(m < 0.02 for m in stood.values()),
+                   f"both robots stand while the fleet is stopped (moved {stood} m in 3 s)")
+        driver.click("#resume-all")
+        time.sleep(1.0)
+        check.that(stops() == [], f"resume all cleared the stop ({stops()})")
     except Exception as e:  # a broken setup is a failure, with the reason
         check.that(False, f"run: {e}")
     finally:

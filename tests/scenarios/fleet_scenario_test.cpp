@@ -210,6 +210,24 @@ TEST(FleetScenario, ZonesPutDuringARunReachTheNextJob) {
   for (const auto& job : report["jobs"]) EXPECT_EQ(job["state"], "succeeded") << job.dump();
 }
 
+// Zones put while a robot drives (issue 39), judged by the truth from the time they were put:
+// the job in hand keeps to them at once — it brakes short of the new no-go zone just ahead of
+// it, drives the way round fleetnavd plans, and keeps to the new speed limit on it (without the
+// agent taking the new zones it drives 0.25 m/s in the checkout area; without the way round it
+// stands at the spill until the deadline).
+TEST(FleetScenario, ZonesPutWhileARobotDrivesReachItsJobAtOnce) {
+  int code = -1;
+  const nlohmann::json report =
+      RunShipped("store_zones_live.yaml", TempPath("store_zones_live.yaml.keep"), &code);
+  EXPECT_EQ(code, 0) << report.dump();
+  EXPECT_EQ(report.value("no_go_entries", -1), 0);
+  ASSERT_TRUE(report.contains("max_speed_in_zone_mps")) << report.dump();
+  const double checkout_mps = report["max_speed_in_zone_mps"].value("checkout", -1.0);
+  EXPECT_GT(checkout_mps, 0.05);  // by the east, through the checkout area
+  EXPECT_LE(checkout_mps, 0.16);
+  for (const auto& job : report["jobs"]) EXPECT_EQ(job["state"], "succeeded") << job.dump();
+}
+
 // Operators' stops (issue 39), judged by the truth: the whole fleet, then the checkout zone the
 // platform drives through, each for a while; stopped, it stands (within 5 cm once the stop has
 // had 2 s of sim time to reach it) and the job still ends.

@@ -87,8 +87,13 @@ ExecutorOutput JobRunner::Step(const ControlInput& input, const std::vector<int>
                                const Twist2& last_command) {
   ExecutorOutput output;
   const bool hears_server = ports_.jobs == nullptr || ports_.jobs->HearsServer();
-  const std::vector<RobotStop> stops =
+  TakeZonesTold();
+  std::vector<RobotStop> stops =
       ports_.jobs != nullptr ? ports_.jobs->Stops() : std::vector<RobotStop>{};
+  if (!closed_zones_.empty() && executor_ && executor_->actions_started() != closed_since_start_) {
+    closed_zones_.clear();  // the action started again on the map with them occupied
+  }
+  stops.insert(stops.end(), closed_zones_.begin(), closed_zones_.end());
   link_lost_s_ = hears_server ? 0.0 : link_lost_s_ + input.dt_s;
   if (executor_ && executor_->state() == ExecutionState::kRunning) {
     const SafetyVerdict& verdict = safety_.Check(input.perception, last_command, estimate.velocity,
@@ -208,6 +213,40 @@ double JobRunner::FootprintRadiusM() const {
   return (load ? context_.model.CarryingLoad(*load) : context_.model).CircumscribedRadius();
 }
 
+void JobRunner::TakeZonesTold() {
+  if (ports_.jobs == nullptr || site_map_id_.empty() || site_map_ == nullptr || !executor_ ||
+      executor_->state() != ExecutionState::kRunning) {
+    return;
+  }
+  std::optional<ToldZones> told = ports_.jobs->Zones(site_map_id_);
+  if (!told || told->version == zone_version_) return;
+  zone_version_ = told->version;
+  std::vector<RobotStop> closed;
+  for (const Zone& zone : told->zones.zones) {
+    const Zone* before = zones_ ? zones_->Find(zone.name) : nullptr;
+    if (zone.kind != ZoneKind::kNoGo || (before != nullptr && before->kind == ZoneKind::kNoGo &&
+                                         before->polygon_in_map == zone.polygon_in_map)) {
+      continue;
+    }
+    RobotStop stop;
+    stop.map_id = site_map_id_;
+    stop.zone = zone.name;
+    stop.polygon_in_map = zone.polygon_in_map;
+    stop.reason = "a no-go zone put while the robot drove";
+    closed.push_back(std::move(stop));
+  }
+  closed_zones_ = std::move(closed);
+  closed_since_start_ = executor_->actions_started();
+  zones_.reset();
+  if (!told->zones.zones.empty()) zones_ = std::move(told->zones);
+  const bool has_no_go = zones_ && zones_->HasKind(ZoneKind::kNoGo);
+  context_.map =
+      has_no_go && site_map_ != nullptr
+          ? std::make_shared<const OccupancyGrid>(WithNoGoZonesOccupied(*site_map_, *zones_))
+          : site_map_;
+  executor_->SetNavigationMap(context_.map);
+}
+
 double JobRunner::ReachM(const localization::LocalizerEstimate& estimate) const {
   return GrownReachM(estimate.covariance, FootprintRadiusM(), zone_speed_);
 }
@@ -253,6 +292,9 @@ absl::Status JobRunner::PrepareSite(const JobAssignment& assignment) {
           ? std::make_shared<const OccupancyGrid>(WithNoGoZonesOccupied(*site->map, *zones))
           : site->map;
   zones_ = std::move(zones);
+  zone_version_ = assignment.zone_set_version;
+  site_map_ = site->map;
+  closed_zones_.clear();
   context_.markers = site->markers;
   context_.moved_loads = {};  // places on the map the agent worked on before
   site_key_ = key;

@@ -36,6 +36,7 @@ absl::Status RouteExecutor::StartAction(int index) {
                      index > 0 ? &route_.actions[index - 1] : nullptr);
   if (!controller.ok()) return controller.status();
   controller_ = *std::move(controller);
+  ++actions_started_;
   return absl::OkStatus();
 }
 

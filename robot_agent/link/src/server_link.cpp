@@ -48,6 +48,13 @@ std::vector<RobotStop> ServerLink::Stops() {
   return stops_;
 }
 
+std::optional<ToldZones> ServerLink::Zones(const std::string& map_id) {
+  absl::MutexLock lock(&mutex_);
+  auto it = zones_.find(map_id);
+  if (it == zones_.end()) return std::nullopt;
+  return it->second;
+}
+
 bool ServerLink::HearsServer() {
   absl::MutexLock lock(&mutex_);
   return welcomed_;
@@ -211,6 +218,12 @@ void ServerLink::ApplyServerMessage(const v1::ServerMessage& message) {
       stops.push_back(stop.ok() ? *std::move(stop) : RobotStop{});
     }
     stops_ = std::move(stops);
+  } else if (message.has_zones()) {
+    // A set that does not parse is not acted on: the zones the job began with stay.
+    if (absl::StatusOr<ZoneSet> zones = FromProto(message.zones().zones()); zones.ok()) {
+      const std::string map_id = zones->map_id;
+      zones_[map_id] = ToldZones{message.zones().version(), *std::move(zones)};
+    }
   } else if (message.has_clearance()) {
     // A malformed hold is not acted on: the clearance before it stays.
     if (absl::StatusOr<JobCommand> clearance = FromProto(message.clearance()); clearance.ok()) {

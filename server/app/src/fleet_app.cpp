@@ -79,12 +79,21 @@ absl::Status FleetApp::Open() {
   zones_ = std::make_unique<ZoneCatalog>(zone_repository_.get(), site_data_.get(), clock_,
                                          params_.limits);
   site_->UseZones(zones_.get());
+  // Every robot hears each new zone version at once: those driving on the map keep to it.
+  zones_->SetChangeListener([this](const std::string& map_id) {
+    const std::shared_ptr<const storage::StoredZoneSet> latest = zones_->Latest(map_id);
+    ZoneSet none;
+    none.map_id = map_id;
+    robots_->BroadcastZones(latest != nullptr ? latest->version : 0,
+                            latest != nullptr ? latest->zones : none);
+  });
   coordinator_ = std::make_unique<TrafficCoordinator>(site_data_.get(), &registry_, robots_, clock_,
                                                       params_.traffic);
   coordinator_->UseZones(zones_.get());
   stops_ = std::make_unique<StopControl>(stop_repository_.get(), zones_.get(), clock_);
   // Every robot hears each change of the stops; traffic plans ways round stopped zones.
   stops_->SetChangeListener([this](const std::vector<RobotStop>& stops) {
+    stop_changes_.fetch_add(1, std::memory_order_release);
     robots_->BroadcastStops(stops);
     coordinator_->SetStops(stops);
   });

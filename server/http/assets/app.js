@@ -1,5 +1,6 @@
-// The fleetnav dashboard: draws the selected map with its markers and routes, the robots live
-// (pose, covariance ellipse, what they wait for) and the unfinished jobs with their buttons.
+// The fleetnav dashboard: draws the selected map with its markers, routes and zones, the robots
+// live (pose, covariance ellipse, what they wait for), the unfinished jobs and the zones with
+// their buttons, and the operators' stops (a stop button per zone, and for the whole fleet).
 // State arrives as server-sent events on /api/events (read with fetch, so that the bearer
 // token can travel in a header); the page never polls.
 "use strict";
@@ -64,6 +65,7 @@ async function loadMap(mapId) {
   canvas.width = Math.round(map.width * scale);
   canvas.height = Math.round(map.height * scale);
   draw();
+  renderZones();
 }
 
 // Map-frame metres to canvas pixels (the grid's origin may be turned).
@@ -103,6 +105,7 @@ function draw() {
       ctx.stroke();
     }
   });
+  drawZones(ctx);
   if (!page.state) return;
   for (const r of page.state.robots) {
     if (!r.pose) continue;
@@ -134,6 +137,50 @@ function draw() {
   }
 }
 
+// The zone stops in force on the map shown, by zone name; whether the whole fleet is stopped.
+function stopsShown() {
+  const stops = (page.state && page.state.stops) || [];
+  const byZone = {};
+  for (const s of stops) if (s.zone && page.map && s.map_id === page.map.map_id) byZone[s.zone] = s;
+  return {byZone, fleet: stops.some((s) => !s.zone)};
+}
+
+function drawZones(ctx) {
+  const fills = {no_go: "rgba(200, 30, 30, 0.25)", speed_limit: "rgba(230, 180, 0, 0.25)",
+                 one_at_a_time: "rgba(40, 90, 200, 0.2)"};
+  const stopped = stopsShown().byZone;
+  const outline = (polygon) => {
+    ctx.beginPath();
+    polygon.forEach((p, j) => (j ? ctx.lineTo : ctx.moveTo).call(ctx, ...toCanvas(p[0], p[1])));
+    ctx.closePath();
+  };
+  for (const z of (page.map.zones && page.map.zones.zones) || []) {
+    outline(z.polygon);
+    ctx.fillStyle = fills[z.kind] || "rgba(120, 120, 120, 0.2)";
+    ctx.fill();
+    ctx.strokeStyle = "#555";
+    ctx.lineWidth = 1;
+    ctx.stroke();
+  }
+  // A stopped zone as it was stopped (its outline then), hatched over in dark red.
+  for (const s of Object.values(stopped)) {
+    outline(s.polygon);
+    ctx.strokeStyle = "#8b0000";
+    ctx.lineWidth = 3;
+    ctx.stroke();
+    ctx.save();
+    ctx.clip();
+    ctx.lineWidth = 1;
+    for (let d = -ctx.canvas.height; d < ctx.canvas.width; d += 8) {
+      ctx.beginPath();
+      ctx.moveTo(d, 0);
+      ctx.lineTo(d + ctx.canvas.height, ctx.canvas.height);
+      ctx.stroke();
+    }
+    ctx.restore();
+  }
+}
+
 function cell(text, className) {
   const td = document.createElement("td");
   td.textContent = text;
@@ -152,6 +199,7 @@ function renderTables() {
               cell(pose, "pose"), cell(r.job_id || "—"), cell(r.traffic_wait || ""));
     return tr;
   }));
+  renderZones();
   const jobs = document.querySelector("#jobs tbody");
   jobs.replaceChildren(...page.state.jobs.map((j) => {
     const tr = document.createElement("tr");
@@ -172,6 +220,42 @@ function renderTables() {
     tr.addEventListener("click", () => selectJob(j.job_id));
     return tr;
   }));
+}
+
+function renderZones() {
+  const {byZone, fleet} = stopsShown();
+  const zones = (page.map && page.map.zones && page.map.zones.zones) || [];
+  document.getElementById("stops-summary").textContent =
+      fleet ? "— the whole fleet is stopped" : Object.keys(byZone).length ? `— ${Object.keys(byZone).length} stopped` : "";
+  document.querySelector("#zones tbody").replaceChildren(...zones.map((z) => {
+    const tr = document.createElement("tr");
+    tr.dataset.zone = z.name;
+    const stop = byZone[z.name];
+    tr.dataset.stopped = stop ? "yes" : "no";
+    const rule = z.kind === "speed_limit" ? `${z.speed_limit_mps} m/s`
+               : z.kind === "one_at_a_time" ? `${z.capacity} at a time` : "never entered";
+    const buttons = document.createElement("td");
+    const b = document.createElement("button");
+    b.textContent = stop ? "resume" : "stop";
+    b.dataset.action = stop ? "resume" : "stop";
+    b.addEventListener("click", () => stopZone(z.name, !stop));
+    buttons.appendChild(b);
+    tr.append(cell(z.name), cell(z.kind.replace(/_/g, " ")), cell(rule),
+              cell(stop ? "stopped: " + stop.reason : "", "stop-state"), buttons);
+    return tr;
+  }));
+}
+
+// Stops (stop true) or resumes a zone of the map shown, or the whole fleet (zone "").
+async function stopZone(zone, stop) {
+  const body = zone ? {zone, map_id: page.map.map_id} : {};
+  try {
+    await getJson("/api/stops" + (stop ? "" : "/resume"), {
+      method: "POST", body: JSON.stringify(body)});
+    showError("");
+  } catch (e) {
+    showError(`${stop ? "stop" : "resume"} ${zone || "the whole fleet"}: ${e.message}`);
+  }
 }
 
 async function act(jobId, verb) {
@@ -259,5 +343,7 @@ document.getElementById("token").addEventListener("change", (e) => {
   loadMaps().catch((err) => showError(err.message));
 });
 document.getElementById("map-select").addEventListener("change", (e) => loadMap(e.target.value));
+document.getElementById("stop-all").addEventListener("click", () => stopZone("", true));
+document.getElementById("resume-all").addEventListener("click", () => stopZone("", false));
 loadMaps().catch((e) => showError(e.message));
 follow();

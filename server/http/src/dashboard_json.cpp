@@ -26,7 +26,7 @@ CovarianceEllipse EllipseOf(const std::array<double, 9>& covariance) {
 }
 
 nlohmann::json FleetStateJson(const std::vector<RobotRecord>& robots, const std::vector<Job>& jobs,
-                              int64_t server_unix_ms) {
+                              const std::vector<RobotStop>& stops, int64_t server_unix_ms) {
   nlohmann::json robot_list = nlohmann::json::array();
   for (const RobotRecord& robot : robots) {
     nlohmann::json entry = {{"robot_id", robot.identity.robot_id},
@@ -61,7 +61,46 @@ nlohmann::json FleetStateJson(const std::vector<RobotRecord>& robots, const std:
                         {"map_id", job.map_id},
                         {"reason", job.reason}});
   }
-  return {{"server_unix_ms", server_unix_ms}, {"robots", robot_list}, {"jobs", job_list}};
+  return {{"server_unix_ms", server_unix_ms},
+          {"robots", robot_list},
+          {"jobs", job_list},
+          {"stops", StopsJson(stops)}};
+}
+
+namespace {
+
+nlohmann::json PolygonJson(const Polygon2& polygon) {
+  nlohmann::json points = nlohmann::json::array();
+  for (const Eigen::Vector2d& vertex : polygon) points.push_back(PointJson(vertex));
+  return points;
+}
+
+}  // namespace
+
+nlohmann::json StopsJson(const std::vector<RobotStop>& stops) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const RobotStop& stop : stops) {
+    list.push_back({{"map_id", stop.map_id},
+                    {"zone", stop.zone},
+                    {"reason", stop.reason},
+                    {"created_unix_ms", stop.created_unix_ms},
+                    {"polygon", PolygonJson(stop.polygon_in_map)}});
+  }
+  return list;
+}
+
+nlohmann::json ZonesJson(uint32_t version, const ZoneSet* zones) {
+  nlohmann::json list = nlohmann::json::array();
+  if (zones != nullptr) {
+    for (const Zone& zone : zones->zones) {
+      list.push_back({{"name", zone.name},
+                      {"kind", std::string(ZoneKindName(zone.kind))},
+                      {"polygon", PolygonJson(zone.polygon_in_map)},
+                      {"speed_limit_mps", zone.speed_limit_mps},
+                      {"capacity", zone.capacity}});
+    }
+  }
+  return {{"version", version}, {"zones", list}};
 }
 
 nlohmann::json MapJson(const std::string& map_id, uint32_t version, const OccupancyGrid& grid) {

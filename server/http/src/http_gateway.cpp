@@ -24,6 +24,7 @@ int HttpCode(const absl::Status& status) {
     case absl::StatusCode::kInvalidArgument:
       return 400;
     case absl::StatusCode::kFailedPrecondition:
+    case absl::StatusCode::kAlreadyExists:
       return 409;
     case absl::StatusCode::kUnauthenticated:
       return 401;
@@ -94,8 +95,21 @@ std::vector<Job> HttpGateway::UnfinishedJobs() {
   return unfinished_jobs_;
 }
 
+std::vector<RobotStop> HttpGateway::StopsInForce() {
+  absl::MutexLock lock(&jobs_mutex_);
+  const uint64_t changes = app_->stop_changes();
+  if (changes != stops_read_at_) {
+    if (absl::StatusOr<std::vector<RobotStop>> stops = app_->stops().InForce(); stops.ok()) {
+      stops_ = *std::move(stops);
+      stops_read_at_ = changes;
+    }
+  }
+  return stops_;
+}
+
 std::string HttpGateway::StateJson() {
-  return FleetStateJson(app_->registry().Snapshot(), UnfinishedJobs(), app_->clock().UnixMs())
+  return FleetStateJson(app_->registry().Snapshot(), UnfinishedJobs(), StopsInForce(),
+                        app_->clock().UnixMs())
       .dump();
 }
 
@@ -169,7 +183,31 @@ void HttpGateway::AddHandlers() {
       for (const storage::StoredRoute& route : *stored) routes.push_back(route.route);
     }
     body["site"] = SiteJson(markers.ok() ? &(*markers)->markers : nullptr, routes);
+    const std::shared_ptr<const storage::StoredZoneSet> zones = app_->zones().Latest(map_id);
+    body["zones"] = ZonesJson(zones != nullptr ? zones->version : 0,
+                              zones != nullptr ? &zones->zones : nullptr);
     SendJson(res, body);
+  });
+  // Operators' stops: {"zone": Z, "map_id": M (optional), "reason": R} or {} for the whole
+  // fleet; POST /api/stops makes it, POST /api/stops/resume clears it.
+  http_->Post(R"(/api/stops(/resume)?)", [this, allowed](const httplib::Request& req,
+                                                         httplib::Response& res) {
+    if (!allowed(req, res, true)) return;
+    const nlohmann::json body = nlohmann::json::parse(req.body.empty() ? "{}" : req.body, nullptr,
+                                                      /*allow_exceptions=*/false);
+    if (!body.is_object()) {
+      return SendError(res, absl::InvalidArgumentError("body: expected a JSON object"));
+    }
+    const auto text = [&](const char* key) {
+      return body.contains(key) && body[key].is_string() ? body[key].get<std::string>() : "";
+    };
+    const bool resume = req.matches[1].length() > 0;
+    absl::StatusOr<RobotStop> done =
+        resume ? app_->stops().Resume(text("map_id"), text("zone"))
+               : app_->stops().Stop(text("map_id"), text("zone"),
+                                    text("reason").empty() ? "from the dashboard" : text("reason"));
+    if (!done.ok()) return SendError(res, done.status());
+    SendJson(res, StopsJson({*done}).at(0));
   });
   http_->Get(R"(/api/jobs/([A-Za-z0-9_-]{1,64})/events)",
              [this, allowed](const httplib::Request& req, httplib::Response& res) {

@@ -108,6 +108,18 @@ void AgentMailbox::BroadcastStops(const std::vector<RobotStop>& stops) {
   for (const auto& outbox : outboxes) outbox->Push(message);
 }
 
+void AgentMailbox::BroadcastZones(uint32_t version, const ZoneSet& zones) {
+  std::vector<std::shared_ptr<AgentOutbox>> outboxes;
+  {
+    absl::MutexLock lock(&mutex_);
+    for (const auto& [robot, outbox] : outboxes_) outboxes.push_back(outbox);
+  }
+  v1::ServerMessage message;
+  message.mutable_zones()->set_version(version);
+  *message.mutable_zones()->mutable_zones() = ToProto(zones);
+  for (const auto& outbox : outboxes) outbox->Push(message);
+}
+
 void AgentMailbox::BroadcastMapUpdate(const std::string& map_id, uint32_t map_version,
                                       uint32_t marker_set_version) {
   std::vector<std::shared_ptr<AgentOutbox>> outboxes;

@@ -1,8 +1,8 @@
-// TrafficCoordinator, part six: ways round stopped zones (issue 39). A robot outside an
-// operator's stopped zone whose free-navigation action crosses the zone is planned a way round
-// it, as round robots that stand; meanwhile its agent brakes to stand before the zone
-// (agent::KeepOffStoppedZones), and drives the way round once it comes. A robot in the zone,
-// or one whose goal is in it, stands until the stop is cleared.
+// TrafficCoordinator, part six: ways round closed zones (issue 39) — operators' stopped zones,
+// and no-go zones put while a robot drives an action planned without them. A robot outside them
+// whose free-navigation action crosses one is planned a way round, as round robots that stand;
+// meanwhile its agent brakes to stand before the zone (agent::KeepOffStoppedZones), and drives
+// the way round once it comes. A robot in such a zone, or one whose goal is in it, stands.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -63,18 +63,31 @@ void TrafficCoordinator::PlanWaysRoundStops(
     const std::string& map_id, const std::vector<Tracked*>& tracked_jobs,
     const std::map<std::string, const RobotRecord*>& records) {
   if (params_.detour_every_s <= 0.0 || detour_ != nullptr) return;
-  std::vector<const RobotStop*> stopped;
+  // Closed: the stopped zones, and for a job given before the map's latest zones the no-go
+  // zones of those (its agent planned its action in hand without them).
+  std::vector<const Polygon2*> stopped;
   for (const RobotStop& stop : stops_) {
     if (!stop.whole_fleet() && stop.map_id == map_id && stop.polygon_in_map.size() >= 3) {
-      stopped.push_back(&stop);
+      stopped.push_back(&stop.polygon_in_map);
     }
   }
-  if (stopped.empty()) return;
-  std::vector<planner::CellSet> zone_cells;
-  for (const RobotStop* stop : stopped) {
-    zone_cells.push_back(
-        planner::CellSet::Sweep({Pose2()}, stop->polygon_in_map, 0.0, params_.cell_m));
+  const std::shared_ptr<const storage::StoredZoneSet> zones = NoGoZonesOf(map_id);
+  std::vector<const Polygon2*> no_go;
+  if (zones != nullptr) {
+    for (const Zone& zone : zones->zones.zones) {
+      if (zone.kind == ZoneKind::kNoGo) no_go.push_back(&zone.polygon_in_map);
+    }
   }
+  if (stopped.empty() && no_go.empty()) return;
+  const auto cells_of = [&](const std::vector<const Polygon2*>& polygons, double grow_m) {
+    std::vector<planner::CellSet> out;
+    for (const Polygon2* polygon : polygons) {
+      out.push_back(planner::CellSet::Sweep({Pose2()}, *polygon, grow_m, params_.cell_m));
+    }
+    return out;
+  };
+  const std::vector<planner::CellSet> stopped_cells = cells_of(stopped, 0.0);
+  const std::vector<planner::CellSet> no_go_cells = cells_of(no_go, 0.0);
   const double now_s = static_cast<double>(clock_->NowNs()) * 1e-9;
   for (Tracked* tracked : tracked_jobs) {
     Tracked& t = *tracked;
@@ -90,10 +103,20 @@ void TrafficCoordinator::PlanWaysRoundStops(
     auto record = records.find(t.robot_id);
     if (nav == nullptr || record == records.end() || !record->second->last_telemetry) continue;
     // A robot in a stopped zone stands there; one whose action's steps meet none goes on.
+    const bool zones_changed = zones != nullptr && t.assignment.zone_set_version != zones->version;
+    std::vector<const Polygon2*> closed = stopped;
+    std::vector<const planner::CellSet*> closed_cells;
+    for (const planner::CellSet& cells : stopped_cells) closed_cells.push_back(&cells);
+    if (zones_changed) {
+      closed.insert(closed.end(), no_go.begin(), no_go.end());
+      for (const planner::CellSet& cells : no_go_cells) closed_cells.push_back(&cells);
+    }
+    if (closed.empty()) continue;
     const planner::CellSet here = WhereItStands(*record->second);
     bool inside = false;
     bool crosses = false;
-    for (const planner::CellSet& zone : zone_cells) {
+    for (const planner::CellSet* zone_pointer : closed_cells) {
+      const planner::CellSet& zone = *zone_pointer;
       inside = inside || here.Intersects(zone);
       for (int s = route.first_unfinished;
            !crosses && s < static_cast<int>(route.action_cells.size()) &&
@@ -113,11 +136,7 @@ void TrafficCoordinator::PlanWaysRoundStops(
     // slows a robot only as it nears a stopped zone within that reach.
     const double grow_m = t.model.CircumscribedRadius() - InscribedRadiusM(t.model.footprint_m) +
                           StandingMarginM(telemetry) + params_.cell_m;
-    std::vector<planner::CellSet> blocked;
-    for (const RobotStop* stop : stopped) {
-      blocked.push_back(
-          planner::CellSet::Sweep({Pose2()}, stop->polygon_in_map, grow_m, params_.cell_m));
-    }
+    std::vector<planner::CellSet> blocked = cells_of(closed, grow_m);
     // Through its own waypoints still ahead and off the zones.
     FreeNavigationAction ahead = *nav;
     ahead.waypoints_m.clear();
@@ -125,17 +144,16 @@ void TrafficCoordinator::PlanWaysRoundStops(
     const double reach_m = t.model.CircumscribedRadius() + StandingMarginM(telemetry);
     for (const Eigen::Vector2d& waypoint :
          WaypointsAhead(*nav, telemetry.pose_in_map.translation())) {
-      if (std::none_of(stopped.begin(), stopped.end(), [&](const RobotStop* stop) {
-            return DiscTouchesPolygon(stop->polygon_in_map, waypoint, reach_m);
+      if (std::none_of(closed.begin(), closed.end(), [&](const Polygon2* polygon) {
+            return DiscTouchesPolygon(*polygon, waypoint, reach_m);
           })) {
         ahead.waypoints_m.push_back(waypoint);
       }
     }
-    std::shared_ptr<const storage::StoredZoneSet> zones = NoGoZonesOf(map_id);
     GiveWayRound(
         t, action, ahead, telemetry, {},
-        [this, map = *std::move(map), zones = std::move(zones), blocked = std::move(blocked), ahead,
-         model = t.model, from = telemetry.pose_in_map] {
+        [this, map = *std::move(map), zones, blocked = std::move(blocked), ahead, model = t.model,
+         from = telemetry.pose_in_map] {
           std::vector<const planner::CellSet*> blocked_pointers;
           for (const planner::CellSet& cells : blocked) blocked_pointers.push_back(&cells);
           std::optional<OccupancyGrid> with_zones;

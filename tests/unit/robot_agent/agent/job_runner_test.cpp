@@ -24,8 +24,10 @@ class ScriptedChannel : public JobChannel {
   void ReportEvent(const JobEvent& event) override { reported.push_back(event); }
   void SetCurrentJob(const std::string& job_id) override { current.push_back(job_id); }
   bool HearsServer() override { return hears_server; }
+  std::vector<RobotStop> Stops() override { return stops; }
 
   bool hears_server = true;
+  std::vector<RobotStop> stops;
   std::optional<JobAssignment> assignment;
   std::vector<JobCommand> commands;
   std::vector<JobEvent> reported;
@@ -143,6 +145,41 @@ TEST_F(JobRunnerTest, TheCarriedLoadOutlivesTheRouteThatCarriedIt) {
   Tick(*runner);
   EXPECT_TRUE(runner->job_id().empty());
   EXPECT_EQ(runner->carried_load_m(), std::optional<Eigen::Vector2d>(trolley));
+}
+
+TEST_F(JobRunnerTest, AStoppedZoneAheadStopsTheRobotShortOfItOneBehindDoesNotOneUnderItHoldsIt) {
+  auto runner = Runner();
+  JobAssignment job = StraightJob("job-1");  // 2 m east from the origin
+  job.job.map_id = "hall";
+  channel_.assignment = job;
+  channel_.commands = {JobCommand{JobCommandType::kClearance, "job-1", "", 0}};
+  Tick(*runner);
+  ASSERT_GT(Tick(*runner).command.vx_mps, 0.0);
+  const double reach_m = MecanumPlatformModel().CircumscribedRadius();
+  const auto zone_from = [&](double x0_m, double x1_m, const std::string& map_id) {
+    RobotStop stop;
+    stop.map_id = map_id;
+    stop.zone = "pen";
+    stop.polygon_in_map = {{x0_m, -2.0}, {x1_m, -2.0}, {x1_m, 2.0}, {x0_m, 2.0}};
+    return stop;
+  };
+  // Ahead, its reach (and 5 cm to spare) at the zone's edge: it stands, its job not held.
+  channel_.stops = {zone_from(reach_m + 0.05, 5.0, "hall")};
+  ExecutorOutput out = Tick(*runner);
+  EXPECT_EQ(out.command.vx_mps, 0.0);
+  EXPECT_NE(out.mode, NavigationMode::kPaused);
+  // Another map's stop, or a zone behind it: it drives on.
+  channel_.stops = {zone_from(reach_m + 0.05, 5.0, "store"),
+                    zone_from(-5.0, -reach_m - 0.3, "hall")};
+  EXPECT_GT(Tick(*runner).command.vx_mps, 0.0);
+  // Its body in the zone: held.
+  channel_.stops = {zone_from(-1.0, 1.0, "hall")};
+  out = Tick(*runner);
+  EXPECT_EQ(out.command.vx_mps, 0.0);
+  EXPECT_EQ(out.mode, NavigationMode::kPaused);
+  channel_.stops = {};
+  EXPECT_GT(Tick(*runner).command.vx_mps, 0.0);
+  EXPECT_EQ(runner->state(), ExecutionState::kRunning);
 }
 
 }  // namespace

@@ -62,7 +62,12 @@ TEST(DashboardJsonTest, RobotsAndJobsCarryWhatTheDashboardShows) {
   job.state = JobState::kRunning;
   job.progress_fraction = 0.4;
   job.assigned_robot_id = "lely1";
-  const nlohmann::json state = http::FleetStateJson({robot, silent}, {job}, 1234);
+  RobotStop stop;
+  stop.map_id = "barn";
+  stop.zone = "pen";
+  stop.reason = "cleaning";
+  stop.polygon_in_map = {{0, 0}, {2, 0}, {2, 1}};
+  const nlohmann::json state = http::FleetStateJson({robot, silent}, {job}, {stop}, 1234);
   ASSERT_EQ(state["robots"].size(), 2u);
   EXPECT_EQ(state["robots"][0]["connection"], "stale");
   EXPECT_EQ(state["robots"][0]["pose"]["x_m"], 1.5);
@@ -72,6 +77,24 @@ TEST(DashboardJsonTest, RobotsAndJobsCarryWhatTheDashboardShows) {
   EXPECT_EQ(state["jobs"][0]["state"], "running");
   EXPECT_EQ(state["jobs"][0]["progress"], 0.4);
   EXPECT_EQ(state["server_unix_ms"], 1234);
+  ASSERT_EQ(state["stops"].size(), 1u);
+  EXPECT_EQ(state["stops"][0]["zone"], "pen");
+  EXPECT_EQ(state["stops"][0]["reason"], "cleaning");
+  EXPECT_EQ(state["stops"][0]["polygon"][1], nlohmann::json({2.0, 0.0}));
+}
+
+TEST(DashboardJsonTest, ZonesCarryTheirKindOutlineAndRule) {
+  ZoneSet zones;
+  zones.zones.push_back({"pen", ZoneKind::kNoGo, {{0, 0}, {2, 0}, {2, 1}}, 0.0, 1});
+  zones.zones.push_back({"door", ZoneKind::kSpeedLimit, {{4, 0}, {5, 0}, {5, 1}}, 0.3, 1});
+  const nlohmann::json json = http::ZonesJson(7, &zones);
+  EXPECT_EQ(json["version"], 7);
+  ASSERT_EQ(json["zones"].size(), 2u);
+  EXPECT_EQ(json["zones"][0]["kind"], "no_go");
+  EXPECT_EQ(json["zones"][1]["kind"], "speed_limit");
+  EXPECT_EQ(json["zones"][1]["speed_limit_mps"], 0.3);
+  EXPECT_EQ(json["zones"][0]["polygon"].size(), 3u);
+  EXPECT_EQ(http::ZonesJson(0, nullptr)["zones"].size(), 0u);
 }
 
 spdlog::details::log_msg Message(const std::string& payload) {

@@ -11,6 +11,12 @@
 
 namespace fleetnav::agent {
 
+/// A map's zones as the server last told them while the agent ran (ZoneUpdate).
+struct ToldZones {
+  uint32_t version = 0;  ///< 0: the map's zones were deleted
+  ZoneSet zones;
+};
+
 /// The agent's side of job dispatch: assignments and commands in, job events out. The server
 /// link implements it; tests use a fake. Only BeginTick and EndTick may block the control loop,
 /// and only in a simulated run's lockstep, where the simulator waits for the server anyway.
@@ -36,6 +42,12 @@ class JobChannel {
   virtual void EndTick(const SensorFrame& frame) { (void)frame; }
   /// The operators' stops in force, as the server last told them (none by default).
   virtual std::vector<RobotStop> Stops() { return {}; }
+  /// The zones of `map_id` as the server last told them since the agent started (nullopt:
+  /// none told; none by default).
+  virtual std::optional<ToldZones> Zones(const std::string& map_id) {
+    (void)map_id;
+    return std::nullopt;
+  }
   /// Whether the server is heard now: a stream is live and the server has welcomed the robot
   /// on it. By default (no server) it is.
   virtual bool HearsServer() { return true; }

@@ -98,10 +98,22 @@ class JobRunner {
   /// How far the robot reaches for zones and stops where its estimate puts it: its footprint's
   /// radius grown by its uncertainty (GrownReachM).
   double ReachM(const localization::LocalizerEstimate& estimate) const;
+  /// Takes the zones of the job's map the server told of since the job began, when they are a
+  /// version it does not use: their speed limits from now on, their no-go zones occupied on the
+  /// map its next actions plan on, and the no-go zones new to it kept like stopped zones
+  /// (closed_zones_) while the action in hand, planned without them, runs.
+  void TakeZonesTold();
 
   RouteContext context_;  ///< the site in use (its map with no-go zones occupied); the loads
   /// The zones of the site in use (speed limits held each tick); nullopt: none.
   std::optional<ZoneSet> zones_;
+  uint32_t zone_version_ = 0;                      ///< of zones_ (0: none)
+  std::shared_ptr<const OccupancyGrid> site_map_;  ///< the site's map as stored (no zones)
+  /// No-go zones put while the action in hand runs, planned without them: it brakes short of
+  /// them (and fleetnavd plans it a way round) until an action starts again
+  /// (closed_since_start_: the executor's actions_started() when they were taken).
+  std::vector<RobotStop> closed_zones_;
+  int closed_since_start_ = 0;
   ZoneSpeedParams zone_speed_;
   JobRunnerPorts ports_;
   ModeParams modes_;

@@ -81,6 +81,12 @@ class RouteExecutor {
   const MovedLoads& moved_loads() const { return context_.moved_loads; }
   /// The trolley on the lift now (its outer size); nullopt when none.
   const std::optional<Eigen::Vector2d>& carried_load_m() const { return context_.carried_load_m; }
+  /// The map the actions started from now on plan on (zones put while the route runs: their
+  /// no-go zones occupied); the action under way keeps its own.
+  void SetNavigationMap(std::shared_ptr<const OccupancyGrid> map) { context_.map = std::move(map); }
+  /// How many times an action's controller was made: it grows as an action starts or starts
+  /// again (a new path for it).
+  int actions_started() const { return actions_started_; }
 
  private:
   /// Moves the start to `position` (see the constructor).
@@ -98,6 +104,7 @@ class RouteExecutor {
   RouteContext context_;
   ModeParams params_;
   int index_ = -1;
+  int actions_started_ = 0;
   int cleared_up_to_ = std::numeric_limits<int>::max();
   bool waiting_ = false;         ///< action index_ is done; index_ + 1 is not cleared yet
   int resumed_index_ = -1;       ///< the action ResumeAt began in the middle of

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <deque>
+#include <map>
 #include <memory>
 #include <string>
 #include <thread>
@@ -49,6 +50,7 @@ class ServerLink final : public TelemetrySink, public JobChannel {
   void BeginTick() override;
   void EndTick(const SensorFrame& frame) override;
   std::vector<RobotStop> Stops() override;
+  std::optional<ToldZones> Zones(const std::string& map_id) override;
   bool HearsServer() override;
   /// Sends what is queued (waiting up to timeout_s), then closes the stream.
   void Close(double timeout_s = 2.0);
@@ -92,7 +94,8 @@ class ServerLink final : public TelemetrySink, public JobChannel {
   std::deque<JobEvent> events_ ABSL_GUARDED_BY(mutex_);
   std::deque<JobAssignment> assignments_ ABSL_GUARDED_BY(mutex_);
   std::vector<JobCommand> commands_ ABSL_GUARDED_BY(mutex_);
-  std::vector<RobotStop> stops_ ABSL_GUARDED_BY(mutex_);  ///< in force, as last told
+  std::vector<RobotStop> stops_ ABSL_GUARDED_BY(mutex_);            ///< in force, as last told
+  std::map<std::string, ToldZones> zones_ ABSL_GUARDED_BY(mutex_);  ///< by map, as last told
   /// The live session's welcome was handed over (false from the session's end on).
   bool welcomed_ ABSL_GUARDED_BY(mutex_) = false;
   std::string current_job_id_ ABSL_GUARDED_BY(mutex_);

@@ -115,6 +115,8 @@ class FleetApp {
   /// Grows with every job or job event stored: a reader that saw the same count has seen every
   /// job as it is.
   uint64_t job_changes() const { return job_changes_.load(std::memory_order_acquire); }
+  /// Grows with every stop made or cleared.
+  uint64_t stop_changes() const { return stop_changes_.load(std::memory_order_acquire); }
   /// Jobs by state, from the store.
   absl::StatusOr<std::map<JobState, int64_t>> CountJobsByState();
   /// The store's engine and place, never a password; after Open.
@@ -134,6 +136,7 @@ class FleetApp {
   const Clock* clock_;
   RobotMailbox* robots_;
   std::atomic<uint64_t> job_changes_{0};
+  std::atomic<uint64_t> stop_changes_{0};
   std::atomic<bool> lockstep_{false};  ///< EnterLockstep was called
   FleetRegistry registry_;
   std::unique_ptr<storage::SqlDatabase> db_;

@@ -25,6 +25,11 @@ class RobotMailbox {
                                   uint32_t marker_set_version) = 0;
   /// Tells every connected robot every operator's stop in force.
   virtual void BroadcastStops(const std::vector<RobotStop>& stops) { (void)stops; }
+  /// Tells every connected robot a map's zones as put (`version` 0 and no zones: deleted).
+  virtual void BroadcastZones(uint32_t version, const ZoneSet& zones) {
+    (void)version;
+    (void)zones;
+  }
 };
 
 }  // namespace fleetnav::server

@@ -412,10 +412,12 @@ class TrafficCoordinator {
                     const std::vector<planner::TrafficClearanceDecision>& decisions,
                     const std::map<std::string, const RobotRecord*>& records)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
-  /// For a robot on `map_id` outside every stopped zone whose free-navigation action in hand
-  /// crosses one: a way round the stopped zones (grown so that its reach keeps off them), through
+  /// For a robot on `map_id` outside every closed zone whose free-navigation action in hand
+  /// crosses one: a way round the closed zones (grown so that its reach keeps off them), through
   /// its own waypoints still ahead and off the zones, which its window is then predicted along.
-  /// At most one search at a time, each robot at most every detour_every_s.
+  /// Closed: the stopped zones, and for a job given before the map's latest zones their no-go
+  /// zones (its agent planned the action in hand without them, and brakes short of them). At
+  /// most one search at a time, each robot at most every detour_every_s.
   void PlanWaysRoundStops(const std::string& map_id, const std::vector<Tracked*>& tracked_jobs,
                           const std::map<std::string, const RobotRecord*>& records)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);

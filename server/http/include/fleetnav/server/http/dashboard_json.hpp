@@ -6,6 +6,7 @@
 #include "fleetnav/core/job.hpp"
 #include "fleetnav/core/occupancy_grid.hpp"
 #include "fleetnav/core/robot_state.hpp"
+#include "fleetnav/core/robot_stop.hpp"
 #include "fleetnav/core/route.hpp"
 #include "fleetnav/core/stripe_marker.hpp"
 
@@ -13,9 +14,16 @@ namespace fleetnav::server::http {
 
 /// The live part of the dashboard, pushed several times a second: every robot (pose, the
 /// covariance ellipse's half-axes and angle, mode, battery, link state, job, what traffic holds
-/// it for) and every unfinished job (state, progress, robot, route, reason).
+/// it for), every unfinished job (state, progress, robot, route, reason) and every operator's
+/// stop in force (StopsJson).
 nlohmann::json FleetStateJson(const std::vector<RobotRecord>& robots, const std::vector<Job>& jobs,
-                              int64_t server_unix_ms);
+                              const std::vector<RobotStop>& stops, int64_t server_unix_ms);
+/// Operators' stops in force: map, zone (both "" for the whole fleet), reason, when made and
+/// the zone's outline as stopped.
+nlohmann::json StopsJson(const std::vector<RobotStop>& stops);
+/// A map's zones for drawing: their version (0: none) and each zone's name, kind (no_go,
+/// speed_limit, one_at_a_time), outline, speed limit and capacity.
+nlohmann::json ZonesJson(uint32_t version, const ZoneSet* zones);
 
 /// The 1-sigma ellipse of a pose covariance (row-major 3x3 over x, y, yaw): half-axes in
 /// metres, the major axis's angle in radians.

@@ -55,6 +55,8 @@ class HttpGateway {
   std::string StateJson();
   /// The unfinished jobs, read from the store only when a job changed since the last read.
   std::vector<Job> UnfinishedJobs();
+  /// The operators' stops in force, read again only after a stop was made or cleared.
+  std::vector<RobotStop> StopsInForce();
 
   FleetApp* app_;
   std::function<std::string()> render_metrics_;
@@ -65,6 +67,8 @@ class HttpGateway {
   absl::Mutex jobs_mutex_;
   uint64_t jobs_read_at_ ABSL_GUARDED_BY(jobs_mutex_) = ~uint64_t{0};  ///< job_changes() then
   std::vector<Job> unfinished_jobs_ ABSL_GUARDED_BY(jobs_mutex_);
+  uint64_t stops_read_at_ ABSL_GUARDED_BY(jobs_mutex_) = ~uint64_t{0};  ///< stop_changes() then
+  std::vector<RobotStop> stops_ ABSL_GUARDED_BY(jobs_mutex_);
 };
 
 }  // namespace fleetnav::server::http

@@ -46,6 +46,7 @@ class AgentMailbox final : public RobotMailbox {
   bool SendCommand(const std::string& robot_id, const JobCommand& command) override;
   bool SendClearance(const std::string& robot_id, const ClearanceNotice& clearance) override;
   void BroadcastStops(const std::vector<RobotStop>& stops) override;
+  void BroadcastZones(uint32_t version, const ZoneSet& zones) override;
   void BroadcastMapUpdate(const std::string& map_id, uint32_t map_version,
                           uint32_t marker_set_version) override;
 
