@@ -86,6 +86,7 @@ absl::Status FleetApp::Open() {
     none.map_id = map_id;
     robots_->BroadcastZones(latest != nullptr ? latest->version : 0,
                             latest != nullptr ? latest->zones : none);
+    if (coordinator_ != nullptr) coordinator_->ZonesChanged();
   });
   coordinator_ = std::make_unique<TrafficCoordinator>(site_data_.get(), &registry_, robots_, clock_,
                                                       params_.traffic);

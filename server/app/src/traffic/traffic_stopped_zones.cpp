@@ -59,12 +59,47 @@ void TrafficCoordinator::SetStops(std::vector<RobotStop> stops) {
   changed_ = true;
 }
 
+void TrafficCoordinator::ZonesChanged() {
+  absl::MutexLock lock(&mutex_);
+  changed_ = true;
+}
+
+std::vector<size_t> TrafficCoordinator::NoGoZonesNewTo(const storage::StoredZoneSet& latest,
+                                                       uint32_t given_version) {
+  // The job's own version, read once per (map, version).
+  std::shared_ptr<const ZoneSet> given;
+  if (given_version > 0 && zones_ != nullptr) {
+    const auto key = std::make_pair(latest.zones.map_id, given_version);
+    auto it = given_zone_sets_.find(key);
+    if (it == given_zone_sets_.end()) {
+      absl::StatusOr<storage::StoredZoneSet> read =
+          zones_->GetZones(latest.zones.map_id, given_version);
+      it = given_zone_sets_
+               .emplace(key, read.ok() ? std::make_shared<const ZoneSet>(std::move(read->zones))
+                                       : nullptr)
+               .first;
+    }
+    given = it->second;
+  }
+  std::vector<size_t> out;
+  for (size_t i = 0; i < latest.zones.zones.size(); ++i) {
+    const Zone& zone = latest.zones.zones[i];
+    const Zone* before = given != nullptr ? given->Find(zone.name) : nullptr;
+    if (zone.kind == ZoneKind::kNoGo && (before == nullptr || before->kind != ZoneKind::kNoGo ||
+                                         before->polygon_in_map != zone.polygon_in_map)) {
+      out.push_back(i);
+    }
+  }
+  return out;
+}
+
 void TrafficCoordinator::PlanWaysRoundStops(
     const std::string& map_id, const std::vector<Tracked*>& tracked_jobs,
     const std::map<std::string, const RobotRecord*>& records) {
   if (params_.detour_every_s <= 0.0 || detour_ != nullptr) return;
-  // Closed: the stopped zones, and for a job given before the map's latest zones the no-go
-  // zones of those (its agent planned its action in hand without them).
+  // Closed: the stopped zones, and for a job given before the map's latest zones those of their
+  // no-go zones that its own version did not have (its agent planned its action in hand
+  // without them).
   std::vector<const Polygon2*> stopped;
   for (const RobotStop& stop : stops_) {
     if (!stop.whole_fleet() && stop.map_id == map_id && stop.polygon_in_map.size() >= 3) {
@@ -72,13 +107,7 @@ void TrafficCoordinator::PlanWaysRoundStops(
     }
   }
   const std::shared_ptr<const storage::StoredZoneSet> zones = NoGoZonesOf(map_id);
-  std::vector<const Polygon2*> no_go;
-  if (zones != nullptr) {
-    for (const Zone& zone : zones->zones.zones) {
-      if (zone.kind == ZoneKind::kNoGo) no_go.push_back(&zone.polygon_in_map);
-    }
-  }
-  if (stopped.empty() && no_go.empty()) return;
+  if (stopped.empty() && zones == nullptr) return;
   const auto cells_of = [&](const std::vector<const Polygon2*>& polygons, double grow_m) {
     std::vector<planner::CellSet> out;
     for (const Polygon2* polygon : polygons) {
@@ -87,7 +116,6 @@ void TrafficCoordinator::PlanWaysRoundStops(
     return out;
   };
   const std::vector<planner::CellSet> stopped_cells = cells_of(stopped, 0.0);
-  const std::vector<planner::CellSet> no_go_cells = cells_of(no_go, 0.0);
   const double now_s = static_cast<double>(clock_->NowNs()) * 1e-9;
   for (Tracked* tracked : tracked_jobs) {
     Tracked& t = *tracked;
@@ -103,20 +131,20 @@ void TrafficCoordinator::PlanWaysRoundStops(
     auto record = records.find(t.robot_id);
     if (nav == nullptr || record == records.end() || !record->second->last_telemetry) continue;
     // A robot in a stopped zone stands there; one whose action's steps meet none goes on.
-    const bool zones_changed = zones != nullptr && t.assignment.zone_set_version != zones->version;
     std::vector<const Polygon2*> closed = stopped;
-    std::vector<const planner::CellSet*> closed_cells;
-    for (const planner::CellSet& cells : stopped_cells) closed_cells.push_back(&cells);
-    if (zones_changed) {
-      closed.insert(closed.end(), no_go.begin(), no_go.end());
-      for (const planner::CellSet& cells : no_go_cells) closed_cells.push_back(&cells);
+    std::vector<planner::CellSet> closed_cells = stopped_cells;
+    if (zones != nullptr && t.assignment.zone_set_version != zones->version) {
+      for (const size_t z : NoGoZonesNewTo(*zones, t.assignment.zone_set_version)) {
+        closed.push_back(&zones->zones.zones[z].polygon_in_map);
+        closed_cells.push_back(
+            planner::CellSet::Sweep({Pose2()}, *closed.back(), 0.0, params_.cell_m));
+      }
     }
     if (closed.empty()) continue;
     const planner::CellSet here = WhereItStands(*record->second);
     bool inside = false;
     bool crosses = false;
-    for (const planner::CellSet* zone_pointer : closed_cells) {
-      const planner::CellSet& zone = *zone_pointer;
+    for (const planner::CellSet& zone : closed_cells) {
       inside = inside || here.Intersects(zone);
       for (int s = route.first_unfinished;
            !crosses && s < static_cast<int>(route.action_cells.size()) &&

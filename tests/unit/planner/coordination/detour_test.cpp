@@ -111,40 +111,39 @@ TEST(DetourTest, ARobotStandingCloseBesideTheStartDoesNotTrapIt) {
   EXPECT_TRUE(waypoints.ok()) << waypoints.status();
 }
 
-TEST(DetourTest, BadInputIsRefusedNamingIt) {
-  const OccupancyGrid grid = Hall();
-  const RobotModel model = MecanumPlatformModel();
+/// A platform on the hall planning a way from (x_m, -1) 6 m east (or as far as x = 3).
+absl::StatusOr<std::vector<Eigen::Vector2d>> EastFrom(double x_m, const DetourParams& params = {}) {
   FreeNavigationAction action;
   action.goal = Pose2(3.0, -1.0, 0.0);
+  return PlanDetour(Hall(), MecanumPlatformModel(), {}, kCellM, Pose2(x_m, -1.0, 0.0), action,
+                    params);
+}
+
+TEST(DetourTest, BadInputIsRefusedNamingIt) {
   DetourParams params;
   params.max_leg_m = 0.0;
-  absl::StatusOr<std::vector<Eigen::Vector2d>> got =
-      PlanDetour(grid, model, {}, kCellM, Pose2(-3.0, -1.0, 0.0), action, params);
+  absl::StatusOr<std::vector<Eigen::Vector2d>> got = EastFrom(-3.0, params);
   EXPECT_TRUE(absl::IsInvalidArgument(got.status()));
   EXPECT_NE(got.status().message().find("max_leg_m"), std::string::npos);
-  got = PlanDetour(grid, model, {}, kCellM, Pose2(30.0, -1.0, 0.0), action);
+  got = EastFrom(30.0);
   EXPECT_TRUE(absl::IsInvalidArgument(got.status()));
   EXPECT_NE(got.status().message().find("outside the map"), std::string::npos);
+  params = {};
+  params.max_expansions = 0;
+  got = EastFrom(-3.0, params);
+  EXPECT_TRUE(absl::IsInvalidArgument(got.status()));
+  EXPECT_NE(got.status().message().find("max_expansions"), std::string::npos);
 }
 
 // The search ends on its expansion budget, not the wall clock: the same way round, or none,
 // however busy the machine is.
 TEST(DetourTest, TheSearchEndsOnItsExpansionBudget) {
-  const OccupancyGrid grid = Hall();
-  const RobotModel model = MecanumPlatformModel();
-  FreeNavigationAction action;
-  action.goal = Pose2(3.0, -1.0, 0.0);
   DetourParams starved;
   starved.max_expansions = 10;
   starved.time_limit_s = 1000.0;
-  absl::StatusOr<std::vector<Eigen::Vector2d>> got =
-      PlanDetour(grid, model, {}, kCellM, Pose2(-3.0, -1.0, 0.0), action, starved);
+  const absl::StatusOr<std::vector<Eigen::Vector2d>> got = EastFrom(-3.0, starved);
   EXPECT_TRUE(absl::IsNotFound(got.status())) << got.status();
-  EXPECT_TRUE(PlanDetour(grid, model, {}, kCellM, Pose2(-3.0, -1.0, 0.0), action).ok());
-  starved.max_expansions = 0;
-  got = PlanDetour(grid, model, {}, kCellM, Pose2(-3.0, -1.0, 0.0), action, starved);
-  EXPECT_TRUE(absl::IsInvalidArgument(got.status()));
-  EXPECT_NE(got.status().message().find("max_expansions"), std::string::npos);
+  EXPECT_TRUE(EastFrom(-3.0).ok());
 }
 
 TEST(DetourTest, AStraightWayNeedsNoWaypointsAndTheActionsOwnAreKept) {

@@ -453,6 +453,70 @@ TEST_F(TrafficCoordinatorTest, ARobotInAStoppedZoneOrBoundIntoItIsNotPlannedAWay
   }
 }
 
+TEST_F(TrafficCoordinatorTest, ANoGoZonePutWhileRobotsDriveGetsTheOneItClosesAWayRoundAlone) {
+  // Platforms a along y = 0 and b along y = 4, both 14 m east, given with no zones.
+  storage::MemoryZoneSetRepository zone_store;
+  ZoneCatalog zones(&zone_store, &site_data_, &clock_);
+  RecordingMailbox mailbox;
+  TrafficCoordinator coordinator(&site_data_, &registry_, &mailbox, &clock_, {});
+  coordinator.UseZones(&zones);
+  Connect("a", Pose2(-8, 0, 0), MecanumPlatformModel(), true, true);
+  Connect("b", Pose2(-8, 4, 0), MecanumPlatformModel(), true, true);
+  coordinator.Begin("a", Job("job-a", {{GoEast(-8, 14.0), {}}}));
+  JobAssignment job_b = Job("job-b", {{FreeNavigationAction{{}, Pose2(6, 4, 0), 0.5, {}}, {}}});
+  coordinator.Begin("b", job_b);
+  coordinator.Update();
+  ASSERT_FALSE(mailbox.sent["a"].empty());
+  ASSERT_FALSE(mailbox.sent["b"].empty());
+  // A spill on a's way is closed.
+  ZoneSet closed;
+  closed.map_id = "hall";
+  closed.zones.push_back(
+      {"spill", ZoneKind::kNoGo, {{-1, -1.5}, {1, -1.5}, {1, 1.5}, {-1, 1.5}}, 0.0, 1});
+  ASSERT_TRUE(zones.PutZones(closed).ok());
+  coordinator.ZonesChanged();
+  for (int i = 0; i < 2; ++i) {
+    clock_.AdvanceNs(100'000'000);
+    coordinator.Update();
+  }
+  ASSERT_FALSE(mailbox.sent["a"].back().paths.empty());
+  EXPECT_GT(ClosestLegM({-8, 0}, mailbox.sent["a"].back().paths[0], {6, 0},
+                        closed.zones[0].polygon_in_map),
+            MecanumPlatformModel().CircumscribedRadius());
+  // b's way keeps clear of the spill: its way is left as it was (0 churn).
+  for (const ClearanceNotice& told : mailbox.sent["b"]) EXPECT_TRUE(told.paths.empty());
+}
+
+TEST_F(TrafficCoordinatorTest, AZoneAddedElsewhereLeavesARobotPlannedRoundTheOldOnesUntouched) {
+  // The hall closed south of y = 2.5 between x = -2 and 2 (version 1): a platform given that
+  // version is planned round it, close by its edge.
+  storage::MemoryZoneSetRepository zone_store;
+  ZoneCatalog zones(&zone_store, &site_data_, &clock_);
+  ZoneSet v1;
+  v1.map_id = "hall";
+  v1.zones.push_back({"spill", ZoneKind::kNoGo, {{-2, -5}, {2, -5}, {2, 2.5}, {-2, 2.5}}, 0.0, 1});
+  ASSERT_TRUE(zones.PutZones(v1).ok());
+  RecordingMailbox mailbox;
+  TrafficCoordinator coordinator(&site_data_, &registry_, &mailbox, &clock_, {});
+  coordinator.UseZones(&zones);
+  Connect("d", Pose2(-8, 0, 0), MecanumPlatformModel(), true, true);
+  JobAssignment job = Job("job-d", {{GoEast(-8, 16.0), {}}});
+  job.zone_set_version = 1;
+  coordinator.Begin("d", job);
+  coordinator.Update();
+  ASSERT_FALSE(mailbox.sent["d"].empty());
+  // Version 2 adds a zone far off its way: its way stays as it is.
+  ZoneSet v2 = v1;
+  v2.zones.push_back({"dock", ZoneKind::kNoGo, {{12, -4}, {14, -4}, {14, -3}, {12, -3}}, 0.0, 1});
+  ASSERT_TRUE(zones.PutZones(v2).ok());
+  coordinator.ZonesChanged();
+  for (int i = 0; i < 3; ++i) {
+    clock_.AdvanceNs(100'000'000);
+    coordinator.Update();
+  }
+  for (const ClearanceNotice& told : mailbox.sent["d"]) EXPECT_TRUE(told.paths.empty());
+}
+
 TEST_F(TrafficCoordinatorTest, AFreeNavigationLegIsPredictedRoundTheNoGoZonesAsItsAgentDrives) {
   // A platform sent 16 m east along y = 0; a Lely stands without a job 3.5 m north of its way.
   // On the map alone the way keeps far off the Lely: cleared.

@@ -133,6 +133,9 @@ class TrafficCoordinator {
   /// a stopped zone whose free-navigation action crosses it is planned a way round it (docs/
   /// server.md, "Stops").
   void SetStops(std::vector<RobotStop> stops);
+  /// A map's zones changed (ZoneCatalog's listener): robots whose ways cross a no-go zone new to
+  /// their job are looked at on the next Update, not at its next recheck.
+  void ZonesChanged();
 
   /// Begin's resume_action for a job resumed after a server restart: the robot is in the
   /// action its telemetry reports. Until its robot has reported, no other robot on the job's
@@ -421,6 +424,10 @@ class TrafficCoordinator {
   void PlanWaysRoundStops(const std::string& map_id, const std::vector<Tracked*>& tracked_jobs,
                           const std::map<std::string, const RobotRecord*>& records)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  /// The indices of `latest`'s no-go zones that the zone version a job was given
+  /// (`given_version`, 0: none) did not have with that name and outline.
+  std::vector<size_t> NoGoZonesNewTo(const storage::StoredZoneSet& latest, uint32_t given_version)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   /// The waypoints of `nav` a robot at `at` has still to pass: those from the leg it is nearest
   /// to on (the polyline through them to the goal).
   static std::vector<Eigen::Vector2d> WaypointsAhead(const FreeNavigationAction& nav,
@@ -496,6 +503,9 @@ class TrafficCoordinator {
   std::set<std::string> awaiting_prediction_ ABSL_GUARDED_BY(mutex_);
   /// The operators' stops in force (SetStops).
   std::vector<RobotStop> stops_ ABSL_GUARDED_BY(mutex_);
+  /// Zone versions jobs were given, by (map id, version), as read (nullptr: not readable).
+  std::map<std::pair<std::string, uint32_t>, std::shared_ptr<const ZoneSet>> given_zone_sets_
+      ABSL_GUARDED_BY(mutex_);
   /// The detour given to the search thread and not yet taken up (one at a time).
   std::shared_ptr<PendingDetour> detour_ ABSL_GUARDED_BY(mutex_);
   /// Last, so that it ends (and its searches with it) before what they use.
