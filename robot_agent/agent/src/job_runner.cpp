@@ -95,6 +95,7 @@ ExecutorOutput JobRunner::Step(const ControlInput& input, const std::vector<int>
   }
   stops.insert(stops.end(), closed_zones_.begin(), closed_zones_.end());
   link_lost_s_ = hears_server ? 0.0 : link_lost_s_ + input.dt_s;
+  const double reach_m = ReachM(estimate);
   if (executor_ && executor_->state() == ExecutionState::kRunning) {
     const SafetyVerdict& verdict = safety_.Check(input.perception, last_command, estimate.velocity,
                                                  estimate.lost, input.dt_s, estimate.lost_reason);
@@ -109,12 +110,12 @@ ExecutorOutput JobRunner::Step(const ControlInput& input, const std::vector<int>
       }
       executor_->Abort(absl::AbortedError(verdict.reason));
     }
-    // An operator's stop holds a robot in its zone or at its edge (one nearing the zone is
-    // slowed below). A stop made while the robot does not hear the server cannot reach it: it
-    // stands.
-    stopped_ = HoldingStop(stops, site_map_id_, estimate.pose_in_map.translation(),
-                           ReachM(estimate)) != nullptr ||
-               (!hears_server && link_lost_s_ >= stop_after_link_loss_s_);
+    // An operator's stop holds a robot in its zone or at its edge, its reach touching the zone
+    // (one nearing the zone is slowed below). A stop made while the robot does not hear the
+    // server cannot reach it: it stands.
+    stopped_ =
+        ApplyingStop(stops, site_map_id_, estimate.pose_in_map.translation(), reach_m) != nullptr ||
+        (!hears_server && link_lost_s_ >= stop_after_link_loss_s_);
     const bool was_running = executor_->state() == ExecutionState::kRunning;
     if (was_running && !paused_ && !stopped_) {
       output = executor_->Step(input, detected_markers);
@@ -146,9 +147,8 @@ ExecutorOutput JobRunner::Step(const ControlInput& input, const std::vector<int>
   }
   // It brakes to stand before a stopped zone with its reach and a margin to spare (so that it
   // is not then held at the zone's edge), and drives on along or away from it.
-  output.command =
-      KeepOffStoppedZones(output.command, stops, site_map_id_, estimate.pose_in_map,
-                          ReachM(estimate) + kStopSpareM, zone_speed_.braking_decel_mps2);
+  output.command = KeepOffStoppedZones(output.command, stops, site_map_id_, estimate.pose_in_map,
+                                       reach_m + kStopSpareM, zone_speed_.braking_decel_mps2);
   if (paused_ || stopped_) {
     output.mode = NavigationMode::kPaused;
     output.command = Twist2{};

@@ -16,18 +16,6 @@ double DistanceToZone(const Polygon2& zone, const Eigen::Vector2d& point) {
 
 }  // namespace
 
-const RobotStop* HoldingStop(const std::vector<RobotStop>& stops, const std::string& map_id,
-                             const Eigen::Vector2d& center, double body_radius_m) {
-  for (const RobotStop& stop : stops) {
-    if (stop.whole_fleet()) return &stop;
-    if (ZoneStopOn(stop, map_id) &&
-        DiscTouchesPolygon(stop.polygon_in_map, center, body_radius_m)) {
-      return &stop;
-    }
-  }
-  return nullptr;
-}
-
 Twist2 KeepOffStoppedZones(const Twist2& command, const std::vector<RobotStop>& stops,
                            const std::string& map_id, const Pose2& pose_in_map, double reach_m,
                            double braking_decel_mps2, double horizon_s) {

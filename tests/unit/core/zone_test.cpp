@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <limits>
 
+#include "fleetnav/core/robot_stop.hpp"
+
 namespace fleetnav {
 namespace {
 
@@ -212,6 +214,19 @@ TEST(ZoneTest, FilesRoundTrip) {
   EXPECT_EQ(ZoneSetToYaml(*loaded), ZoneSetToYaml(*zones));
   std::filesystem::remove(path);
   EXPECT_EQ(LoadZoneSet(path).status().code(), absl::StatusCode::kNotFound);
+}
+
+TEST(RobotStopTest, AStopAppliesToARobotWhoseReachTouchesItsZoneOrToAllForTheFleet) {
+  RobotStop pen;
+  pen.map_id = "barn";
+  pen.zone = "pen";
+  pen.polygon_in_map = {{0.0, 0.0}, {2.0, 0.0}, {2.0, 2.0}, {0.0, 2.0}};
+  const std::vector<RobotStop> stops = {pen};
+  EXPECT_NE(ApplyingStop(stops, "barn", {1.0, 1.0}, 0.5), nullptr);   // inside
+  EXPECT_NE(ApplyingStop(stops, "barn", {-0.4, 1.0}, 0.5), nullptr);  // its reach over the edge
+  EXPECT_EQ(ApplyingStop(stops, "barn", {-0.6, 1.0}, 0.5), nullptr);
+  EXPECT_EQ(ApplyingStop(stops, "store", {1.0, 1.0}, 0.5), nullptr);  // another map's zone
+  EXPECT_NE(ApplyingStop({RobotStop{}}, "store", {50.0, 50.0}, 0.5), nullptr);  // the fleet
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "fleetnav/core/segment_distance.hpp"
 #include "fleetnav/planner/coordination/detour.hpp"
 #include "fleetnav/server/traffic/traffic_coordinator.hpp"
 
@@ -17,12 +18,8 @@ namespace {
 double InscribedRadiusM(const Polygon2& footprint) {
   double out = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < footprint.size(); ++i) {
-    const Eigen::Vector2d& a = footprint[i];
-    const Eigen::Vector2d& b = footprint[(i + 1) % footprint.size()];
-    const Eigen::Vector2d ab = b - a;
-    const double t =
-        ab.squaredNorm() > 0.0 ? std::clamp(-a.dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
-    out = std::min(out, (a + t * ab).norm());
+    out = std::min(out, PointSegmentDistance(Eigen::Vector2d::Zero(), footprint[i],
+                                             footprint[(i + 1) % footprint.size()]));
   }
   return std::isfinite(out) ? out : 0.0;
 }
@@ -38,11 +35,7 @@ std::vector<Eigen::Vector2d> TrafficCoordinator::WaypointsAhead(const FreeNaviga
   size_t first = 0;
   double nearest_m = (points.front() - at).norm();
   for (size_t k = 1; k < points.size(); ++k) {
-    const Eigen::Vector2d ab = points[k] - points[k - 1];
-    const double t = ab.squaredNorm() > 0.0
-                         ? std::clamp((at - points[k - 1]).dot(ab) / ab.squaredNorm(), 0.0, 1.0)
-                         : 0.0;
-    const double distance_m = (points[k - 1] + t * ab - at).norm();
+    const double distance_m = PointSegmentDistance(at, points[k - 1], points[k]);
     if (distance_m < nearest_m) {
       nearest_m = distance_m;
       first = k;

@@ -16,16 +16,6 @@ RobotStop PenStop() {
   return stop;
 }
 
-TEST(StopGuardTest, ARobotInAStoppedZoneOrAtItsEdgeIsHeldAndOneFartherOffIsNot) {
-  const std::vector<RobotStop> stops = {PenStop()};
-  EXPECT_NE(HoldingStop(stops, "barn", {1.0, 1.0}, 0.5), nullptr);   // inside
-  EXPECT_NE(HoldingStop(stops, "barn", {-0.4, 1.0}, 0.5), nullptr);  // its body over the edge
-  EXPECT_EQ(HoldingStop(stops, "barn", {-0.6, 1.0}, 0.5), nullptr);
-  EXPECT_EQ(HoldingStop(stops, "store", {1.0, 1.0}, 0.5), nullptr);  // another map's zone
-  RobotStop fleet;
-  EXPECT_NE(HoldingStop({fleet}, "store", {50.0, 50.0}, 0.5), nullptr);
-}
-
 TEST(StopGuardTest, NearingAStoppedZoneIsSlowedToWhatBrakesBeforeItsReachMeetsTheZone) {
   const std::vector<RobotStop> stops = {PenStop()};
   // 1.5 m west of the pen, heading east at 1 m/s, reach 0.6 m: 0.9 m left to brake in.

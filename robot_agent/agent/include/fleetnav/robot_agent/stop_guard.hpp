@@ -9,13 +9,6 @@
 
 namespace fleetnav::agent {
 
-/// The stop that holds a robot whose body is the circle of `body_radius_m` round `center` (map
-/// frame) on map `map_id`: a whole-fleet stop, or a stopped zone of the map that the body
-/// touches (the robot is in it or at its edge); nullptr when none does. A held robot stands,
-/// whatever its job says.
-const RobotStop* HoldingStop(const std::vector<RobotStop>& stops, const std::string& map_id,
-                             const Eigen::Vector2d& center, double body_radius_m);
-
 /// `command` (robot frame) slowed so that the robot stops short of every stopped zone of
 /// `map_id`: the speed at which its centre nears a zone (driving `command` for `horizon_s`
 /// from `pose_in_map`) is at most sqrt(2·a·gap), where gap is what is left between the zone and
